@@ -1,0 +1,106 @@
+//! The error type of FE preprocessing.
+//!
+//! Every variant names the input it refers to (the spec's origin, a file, a
+//! field path), following the architecture rule "every public function that can
+//! fail on user input returns a `Result` with an error that names the input".
+
+use flexmbd_core::InvalidValue;
+
+/// Why FE preprocessing refused a model.
+#[derive(Debug, thiserror::Error)]
+pub enum FeError {
+    /// A value of the model is not physical or not consistent (names the field and value).
+    #[error(transparent)]
+    Invalid(#[from] InvalidValue),
+
+    /// The RON text could not be parsed into a [`crate::BeamBodySpec`].
+    #[error("{file}:{line}:{column}: {message}")]
+    Parse {
+        /// File (or origin name) of the text.
+        file: String,
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// The parser's message (names the offending field where serde knows it).
+        message: String,
+    },
+
+    /// A model file could not be read.
+    #[error("cannot read {file}: {source}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// The interior stiffness K_ii of the Craig–Bampton split is singular: the
+    /// frame DOFs together with the boundary DOFs do not hold all rigid motion
+    /// (methods.md §1.4).
+    #[error(
+        "{spec}: interior stiffness K_ii is singular ({detail}); the frame DOFs {frame} \
+         do not remove all rigid-body motion (methods.md §1.4: the r set must be an isostatic support)"
+    )]
+    SingularInterior {
+        /// The spec's origin name.
+        spec: String,
+        /// The frame (reference) DOFs, formatted.
+        frame: String,
+        /// Which pivot failed and by how much.
+        detail: String,
+    },
+
+    /// The reduced stiffness K_ff has an eigenvalue ≤ 0: a static mode is a
+    /// rigid-body motion (methods.md §1.4, "Pitfall").
+    #[error(
+        "{spec}: reduced stiffness K_ff has eigenvalue {eigenvalue:e} <= 0 (largest {largest:e}); \
+         the frame DOFs {frame} do not hold all rigid-body motion, so a static mode moves the body rigidly \
+         (methods.md §1.4, Pitfall)"
+    )]
+    RigidStaticMode {
+        /// The spec's origin name.
+        spec: String,
+        /// The frame (reference) DOFs, formatted.
+        frame: String,
+        /// The smallest eigenvalue of K_ff.
+        eigenvalue: f64,
+        /// The largest eigenvalue of K_ff.
+        largest: f64,
+    },
+
+    /// More normal modes were requested than the (interior) model has DOFs.
+    #[error("{requested} normal modes requested, but the model has only {available} interior DOFs")]
+    TooManyModes {
+        /// Requested number of modes.
+        requested: usize,
+        /// Number of DOFs available.
+        available: usize,
+    },
+
+    /// A matrix that must be symmetric positive definite is not (e.g. a mass matrix).
+    #[error("{what} is not positive definite (pivot {pivot} failed)")]
+    NotPositiveDefinite {
+        /// Which matrix.
+        what: String,
+        /// Index of the failing pivot.
+        pivot: usize,
+    },
+
+    /// The dense symmetric eigensolver did not converge.
+    #[error("eigensolver did not converge on {what}")]
+    EigenNoConvergence {
+        /// Which problem.
+        what: String,
+    },
+
+    /// Matrix sizes do not agree.
+    #[error("{what}: dimension mismatch ({detail})")]
+    Dimension {
+        /// Which operation.
+        what: String,
+        /// The sizes.
+        detail: String,
+    },
+}

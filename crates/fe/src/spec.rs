@@ -1,0 +1,592 @@
+//! The RON description of one flexible beam body, [`BeamBodySpec`], its loading
+//! and its validation.
+//!
+//! It describes the FE model of methods.md §1.2 (Euler–Bernoulli beams on a
+//! polyline, element axes from the orientation vector k̄), the reference
+//! conditions of §1.4 (clamped node or 2D pinned–roller chord frame), the
+//! Craig–Bampton boundary set and number of normal modes of §1.3, and the
+//! damping choice of §1.5. Units are SI throughout.
+//!
+//! ```ron
+//! (
+//!     dim: Planar,
+//!     material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)),
+//!     section: Rectangle(width: 0.01, height: 0.01),
+//!     geometry: (points: [[0.0, 0.0], [1.0, 0.0]], elements_per_segment: 20),
+//!     frame: Clamped(node: 0),
+//!     boundary: [(node: 20, dof: Uy)],
+//!     normal_modes: 4,
+//!     damping: None,
+//! )
+//! ```
+//!
+//! A scene format embeds this struct; [`BeamBodySpec::validate`] refuses a
+//! non-physical or inconsistent model with the field path and value
+//! ([`flexmbd_core::InvalidValue`]).
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use flexmbd_core::{Dim, InvalidValue, require_non_negative, require_positive};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::assembly::dof_slot;
+use crate::error::FeError;
+use crate::reduced::{Dof, NodeDof};
+
+/// Material constants (SI).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E (Pa).
+    pub young_modulus: f64,
+    /// Density ρ (kg/m³).
+    pub density: f64,
+    /// Poisson ratio ν; G = E / (2 (1 + ν)). Give this or `shear_modulus` (3D needs one).
+    #[serde(default)]
+    pub poisson_ratio: Option<f64>,
+    /// Shear modulus G (Pa), used for torsion (3D only).
+    #[serde(default)]
+    pub shear_modulus: Option<f64>,
+}
+
+/// Cross-section. Element axes y_e, z_e are those of methods.md §1.2 ("Element axes").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Section {
+    /// Solid rectangle: `width` along element y, `height` along element z (m).
+    Rectangle {
+        /// Extent along element y (m).
+        width: f64,
+        /// Extent along element z (m).
+        height: f64,
+    },
+    /// Solid circle of diameter d (m).
+    Circle {
+        /// Diameter (m).
+        diameter: f64,
+    },
+    /// Explicit section constants.
+    General {
+        /// Area A (m²).
+        area: f64,
+        /// I_y = ∫ z² dA (m⁴), bending in the x–z plane (w).
+        iy: f64,
+        /// I_z = ∫ y² dA (m⁴), bending in the x–y plane (v); the in-plane inertia in 2D.
+        iz: f64,
+        /// Saint-Venant torsion constant J (m⁴).
+        torsion_j: f64,
+    },
+}
+
+/// Derived section constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionProps {
+    /// Area (m²).
+    pub area: f64,
+    /// I_y = ∫ z² dA (m⁴).
+    pub iy: f64,
+    /// I_z = ∫ y² dA (m⁴).
+    pub iz: f64,
+    /// Saint-Venant J (m⁴), torsion stiffness.
+    pub j: f64,
+}
+
+impl SectionProps {
+    /// Polar moment I_p = I_y + I_z (m⁴), torsion inertia (methods.md §1.2, "Torsion constants").
+    pub fn ip(&self) -> f64 {
+        self.iy + self.iz
+    }
+}
+
+impl Section {
+    /// Area, inertias and Saint-Venant torsion constant.
+    ///
+    /// Rectangle J: the standard approximation (Roark) with long side t₁ and short
+    /// side t₂: J = t₁ t₂³ [1/3 − 0.21 (t₂/t₁)(1 − t₂⁴/(12 t₁⁴))]. Circle: J = π d⁴ / 32.
+    pub fn props(&self) -> SectionProps {
+        match *self {
+            Section::Rectangle { width, height } => {
+                let (t1, t2) = if width >= height {
+                    (width, height)
+                } else {
+                    (height, width)
+                };
+                let r = t2 / t1;
+                SectionProps {
+                    area: width * height,
+                    iy: width * height.powi(3) / 12.0,
+                    iz: height * width.powi(3) / 12.0,
+                    j: t1 * t2.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0)),
+                }
+            }
+            Section::Circle { diameter } => {
+                let i = std::f64::consts::PI * diameter.powi(4) / 64.0;
+                SectionProps {
+                    area: std::f64::consts::PI * diameter * diameter / 4.0,
+                    iy: i,
+                    iz: i,
+                    j: 2.0 * i,
+                }
+            }
+            Section::General {
+                area,
+                iy,
+                iz,
+                torsion_j,
+            } => SectionProps {
+                area,
+                iy,
+                iz,
+                j: torsion_j,
+            },
+        }
+    }
+}
+
+/// Geometry: a polyline in body components, each segment split into equal elements.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    /// Polyline points (m), body components: `[x, y]` in 2D, `[x, y, z]` in 3D.
+    /// Node 0 is the first point; nodes are numbered along the polyline.
+    pub points: Vec<Vec<f64>>,
+    /// Elements per segment (≥ 1).
+    pub elements_per_segment: usize,
+    /// Orientation vector k̄ (body components) that fixes the element axes:
+    /// y_e = k̄ × x_e / |k̄ × x_e|, z_e = x_e × y_e (methods.md §1.2). Default ē₃
+    /// (ē₂ for an element parallel to ē₃). In 2D only +ē₃ is allowed.
+    #[serde(default)]
+    pub orientation: Option<[f64; 3]>,
+}
+
+/// Reference conditions: which DOFs the floating frame takes (methods.md §1.4).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ReferenceFrame {
+    /// Clamped reference node: r = all DOFs of `node` (default node 0). The frame
+    /// is rigidly attached to that node's cross-section.
+    Clamped {
+        /// The reference node.
+        #[serde(default)]
+        node: usize,
+    },
+    /// 2D pinned–roller chord frame: r = {u_A, v_A, v_B}; the x axis passes
+    /// through nodes A and B, which must lie on the body x axis direction.
+    Chord {
+        /// Pinned node A.
+        a: usize,
+        /// Roller node B.
+        b: usize,
+    },
+    /// Expert: an explicit r set. It must be an isostatic support, otherwise the
+    /// reduction is refused.
+    Dofs(Vec<NodeDof>),
+}
+
+impl Default for ReferenceFrame {
+    fn default() -> Self {
+        ReferenceFrame::Clamped { node: 0 }
+    }
+}
+
+/// Damping choice (methods.md §1.5). Mass-proportional damping is deliberately absent.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Damping {
+    /// No damping: C_ff = 0.
+    #[default]
+    None,
+    /// C_ff = a_K K_ff.
+    StiffnessProportional {
+        /// a_K (s).
+        a_k: f64,
+    },
+    /// Modal ratio ζ on the normal modes (C_jj = 2 ζ ω_j) and a_K on the static block.
+    ModalRatio {
+        /// Damping ratio ζ of every normal mode.
+        zeta: f64,
+        /// a_K (s) applied to the static-mode block K̂_bb.
+        a_k_static: f64,
+    },
+}
+
+/// One flexible beam body, as written in RON.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamBodySpec {
+    /// Planar (x–y plane, DOFs u, v, θ per node) or spatial (6 DOFs per node).
+    pub dim: Dim,
+    /// Material.
+    pub material: Material,
+    /// Cross-section.
+    pub section: Section,
+    /// Polyline and mesh.
+    pub geometry: Geometry,
+    /// Reference conditions (default `Clamped(node: 0)`).
+    #[serde(default)]
+    pub frame: ReferenceFrame,
+    /// Boundary DOFs: one static mode each, in this order (methods.md §1.3–§1.4).
+    #[serde(default)]
+    pub boundary: Vec<NodeDof>,
+    /// Number of fixed-interface normal modes n_d.
+    pub normal_modes: usize,
+    /// Damping (default `None`).
+    #[serde(default)]
+    pub damping: Damping,
+    /// Where this spec came from (file name or the origin given to
+    /// [`BeamBodySpec::from_ron_str`]); used to name the spec in errors.
+    #[serde(skip)]
+    pub origin: String,
+}
+
+impl BeamBodySpec {
+    /// Parse a spec from RON text. `origin_name` (a file name or a label) is
+    /// named in parse errors and kept in [`BeamBodySpec::origin`].
+    /// The spec is **not** validated here; call [`BeamBodySpec::validate`].
+    pub fn from_ron_str(text: &str, origin_name: &str) -> Result<Self, FeError> {
+        let mut spec: BeamBodySpec = ron::from_str(text).map_err(|e| FeError::Parse {
+            file: origin_name.to_string(),
+            line: e.span.start.line,
+            column: e.span.start.col,
+            message: e.code.to_string(),
+        })?;
+        spec.origin = origin_name.to_string();
+        Ok(spec)
+    }
+
+    /// Read and parse a spec from a RON file (not validated).
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Self, FeError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| FeError::Io {
+            file: name.clone(),
+            source,
+        })?;
+        Self::from_ron_str(&text, &name)
+    }
+
+    /// Number of DOFs per node: 3 (2D) or 6 (3D).
+    pub fn dofs_per_node(&self) -> usize {
+        self.dim.n_rigid()
+    }
+
+    /// Number of FE nodes of the mesh.
+    pub fn n_nodes(&self) -> usize {
+        let segs = self.geometry.points.len().saturating_sub(1);
+        segs * self.geometry.elements_per_segment + 1
+    }
+
+    /// Number of DOFs N of the free-floating FE model.
+    pub fn n_fe_dofs(&self) -> usize {
+        self.n_nodes() * self.dofs_per_node()
+    }
+
+    /// The reference (r) DOFs implied by [`BeamBodySpec::frame`], in order.
+    pub fn frame_dofs(&self) -> Vec<NodeDof> {
+        match &self.frame {
+            ReferenceFrame::Clamped { node } => node_dofs(self.dim)
+                .iter()
+                .map(|&dof| NodeDof { node: *node, dof })
+                .collect(),
+            ReferenceFrame::Chord { a, b } => vec![
+                NodeDof {
+                    node: *a,
+                    dof: Dof::Ux,
+                },
+                NodeDof {
+                    node: *a,
+                    dof: Dof::Uy,
+                },
+                NodeDof {
+                    node: *b,
+                    dof: Dof::Uy,
+                },
+            ],
+            ReferenceFrame::Dofs(d) => d.clone(),
+        }
+    }
+
+    /// Shear modulus G: `shear_modulus`, else E / (2 (1 + ν)), else (2D only, unused) E / 2.6.
+    pub fn shear_modulus(&self) -> f64 {
+        let m = &self.material;
+        match (m.shear_modulus, m.poisson_ratio) {
+            (Some(g), _) => g,
+            (None, Some(nu)) => m.young_modulus / (2.0 * (1.0 + nu)),
+            (None, None) => m.young_modulus / 2.6,
+        }
+    }
+
+    /// A polyline point as a 3-vector (2D points get z = 0).
+    pub fn point(&self, i: usize) -> Vector3<f64> {
+        let p = &self.geometry.points[i];
+        Vector3::new(
+            p.first().copied().unwrap_or(0.0),
+            p.get(1).copied().unwrap_or(0.0),
+            p.get(2).copied().unwrap_or(0.0),
+        )
+    }
+
+    /// Check the spec; refuses with the field path and value of the first problem found.
+    pub fn validate(&self) -> Result<(), FeError> {
+        self.validate_inner().map_err(FeError::Invalid)
+    }
+
+    fn validate_inner(&self) -> Result<(), InvalidValue> {
+        // Material.
+        let m = &self.material;
+        require_positive("material.young_modulus", m.young_modulus)?;
+        require_positive("material.density", m.density)?;
+        if m.poisson_ratio.is_some() && m.shear_modulus.is_some() {
+            return Err(InvalidValue::new(
+                "material.shear_modulus",
+                m.shear_modulus.unwrap_or_default(),
+                "give either poisson_ratio or shear_modulus, not both",
+            ));
+        }
+        if let Some(nu) = m.poisson_ratio
+            && !(nu.is_finite() && nu > -1.0 && nu <= 0.5)
+        {
+            return Err(InvalidValue::new(
+                "material.poisson_ratio",
+                nu,
+                "must be finite and in (-1, 0.5]",
+            ));
+        }
+        if let Some(g) = m.shear_modulus {
+            require_positive("material.shear_modulus", g)?;
+        }
+        if self.dim == Dim::Spatial && m.poisson_ratio.is_none() && m.shear_modulus.is_none() {
+            return Err(InvalidValue::new(
+                "material.shear_modulus",
+                "None",
+                "a 3D beam needs poisson_ratio or shear_modulus (torsion)",
+            ));
+        }
+
+        // Section.
+        match self.section {
+            Section::Rectangle { width, height } => {
+                require_positive("section.width", width)?;
+                require_positive("section.height", height)?;
+            }
+            Section::Circle { diameter } => {
+                require_positive("section.diameter", diameter)?;
+            }
+            Section::General {
+                area,
+                iy,
+                iz,
+                torsion_j,
+            } => {
+                require_positive("section.area", area)?;
+                require_positive("section.iy", iy)?;
+                require_positive("section.iz", iz)?;
+                require_positive("section.torsion_j", torsion_j)?;
+            }
+        }
+
+        // Geometry.
+        let g = &self.geometry;
+        if g.points.len() < 2 {
+            return Err(InvalidValue::new(
+                "geometry.points",
+                format!("{} point(s)", g.points.len()),
+                "a polyline needs at least 2 points",
+            ));
+        }
+        let want = self.dim.n_trans();
+        for (i, p) in g.points.iter().enumerate() {
+            let field = format!("geometry.points[{i}]");
+            if p.len() != want {
+                return Err(InvalidValue::new(
+                    field,
+                    format!("{p:?}"),
+                    format!("a {} point has {want} components", self.dim),
+                ));
+            }
+            if p.iter().any(|x| !x.is_finite()) {
+                return Err(InvalidValue::new(field, format!("{p:?}"), "must be finite"));
+            }
+        }
+        for i in 1..g.points.len() {
+            let len = (self.point(i) - self.point(i - 1)).norm();
+            if len.is_nan() || len <= 0.0 {
+                return Err(InvalidValue::new(
+                    format!("geometry.points[{i}]"),
+                    format!("{:?} (segment length {len})", g.points[i]),
+                    format!(
+                        "segment {} has zero length: points[{i}] coincides with points[{}]",
+                        i - 1,
+                        i - 1
+                    ),
+                ));
+            }
+        }
+        if g.elements_per_segment == 0 {
+            return Err(InvalidValue::new(
+                "geometry.elements_per_segment",
+                0,
+                "must be at least 1",
+            ));
+        }
+        if let Some(k) = g.orientation {
+            let kv = Vector3::from(k);
+            let kval = format!("{k:?}");
+            if !kv.iter().all(|x| x.is_finite()) || kv.norm() == 0.0 {
+                return Err(InvalidValue::new(
+                    "geometry.orientation",
+                    kval,
+                    "must be a finite non-zero vector",
+                ));
+            }
+            match self.dim {
+                Dim::Planar => {
+                    if kv.x != 0.0 || kv.y != 0.0 || kv.z <= 0.0 {
+                        return Err(InvalidValue::new(
+                            "geometry.orientation",
+                            kval,
+                            "in 2D the element axes are fixed by k = +e3; omit it or give [0, 0, 1]",
+                        ));
+                    }
+                }
+                Dim::Spatial => {
+                    for i in 1..g.points.len() {
+                        let x = (self.point(i) - self.point(i - 1)).normalize();
+                        if kv.normalize().cross(&x).norm() < 1e-9 {
+                            return Err(InvalidValue::new(
+                                "geometry.orientation",
+                                kval,
+                                format!("is parallel to segment {}; element axes undefined", i - 1),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+
+        // Frame.
+        let n_nodes = self.n_nodes();
+        let check_node = |field: &str, node: usize| -> Result<(), InvalidValue> {
+            if node >= n_nodes {
+                Err(InvalidValue::new(
+                    field,
+                    node,
+                    format!("no such node (the mesh has nodes 0..{})", n_nodes - 1),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        match &self.frame {
+            ReferenceFrame::Clamped { node } => check_node("frame.node", *node)?,
+            ReferenceFrame::Chord { a, b } => {
+                check_node("frame.a", *a)?;
+                check_node("frame.b", *b)?;
+                if a == b {
+                    return Err(InvalidValue::new(
+                        "frame.b",
+                        b,
+                        "the chord needs two different nodes",
+                    ));
+                }
+                if self.dim == Dim::Planar {
+                    let pa = crate::assembly::node_position(self, *a);
+                    let pb = crate::assembly::node_position(self, *b);
+                    let d = pb - pa;
+                    if d.y.abs() > 1e-12 * d.norm() {
+                        return Err(InvalidValue::new(
+                            "frame.b",
+                            b,
+                            "nodes A and B of the chord frame must lie on a line parallel to body x \
+                             (v_B is the body-y DOF of B)",
+                        ));
+                    }
+                }
+            }
+            ReferenceFrame::Dofs(d) => {
+                for (k, nd) in d.iter().enumerate() {
+                    check_node(&format!("frame.dofs[{k}].node"), nd.node)?;
+                    if dof_slot(self.dim, nd.dof).is_none() {
+                        return Err(InvalidValue::new(
+                            format!("frame.dofs[{k}].dof"),
+                            format!("{:?}", nd.dof),
+                            format!("not a DOF of a {} beam node", self.dim),
+                        ));
+                    }
+                }
+            }
+        }
+        let frame = self.frame_dofs();
+        let frame_set: HashSet<NodeDof> = frame.iter().copied().collect();
+        if frame_set.len() != frame.len() {
+            return Err(InvalidValue::new(
+                "frame",
+                format!("{:?}", self.frame),
+                "repeats a DOF",
+            ));
+        }
+
+        // Boundary.
+        let mut seen = HashSet::new();
+        for (k, nd) in self.boundary.iter().enumerate() {
+            check_node(&format!("boundary[{k}].node"), nd.node)?;
+            if dof_slot(self.dim, nd.dof).is_none() {
+                return Err(InvalidValue::new(
+                    format!("boundary[{k}].dof"),
+                    format!("{:?}", nd.dof),
+                    format!(
+                        "not a DOF of a {} beam node (2D nodes have Ux, Uy, Rz)",
+                        self.dim
+                    ),
+                ));
+            }
+            if !seen.insert(*nd) {
+                return Err(InvalidValue::new(
+                    format!("boundary[{k}]"),
+                    format!("(node: {}, dof: {:?})", nd.node, nd.dof),
+                    "duplicate boundary DOF",
+                ));
+            }
+            if frame_set.contains(nd) {
+                return Err(InvalidValue::new(
+                    format!("boundary[{k}]"),
+                    format!("(node: {}, dof: {:?})", nd.node, nd.dof),
+                    "is a frame (reference) DOF; every mode vanishes there",
+                ));
+            }
+        }
+
+        // Modes.
+        let interior = self.n_fe_dofs() - frame.len() - self.boundary.len();
+        if self.normal_modes > interior {
+            return Err(InvalidValue::new(
+                "normal_modes",
+                self.normal_modes,
+                format!("the model has only {interior} interior DOFs"),
+            ));
+        }
+
+        // Damping.
+        match self.damping {
+            Damping::None => {}
+            Damping::StiffnessProportional { a_k } => {
+                require_non_negative("damping.a_k", a_k)?;
+            }
+            Damping::ModalRatio { zeta, a_k_static } => {
+                require_non_negative("damping.zeta", zeta)?;
+                require_non_negative("damping.a_k_static", a_k_static)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The DOFs of one node, in storage order: 2D (Ux, Uy, Rz), 3D (Ux, Uy, Uz, Rx, Ry, Rz).
+pub fn node_dofs(dim: Dim) -> &'static [Dof] {
+    match dim {
+        Dim::Planar => &[Dof::Ux, Dof::Uy, Dof::Rz],
+        Dim::Spatial => &[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz],
+    }
+}
