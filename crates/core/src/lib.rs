@@ -4,6 +4,10 @@
 //! Everything here is plain data with no dependency on the later stages
 //! (`fe` → `body` → formulations → integrators), so every crate can use it.
 
+pub mod formulation;
+
+pub use formulation::{Formulation, Request, SystemTerms};
+
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 

@@ -1,0 +1,130 @@
+//! The contract between a formulation (absolute or relative coordinates) and the
+//! integrators (ARCHITECTURE.md, "The `Formulation` trait"; methods.md §5).
+//!
+//! At a trial state (t, q, q̇) a formulation computes, in **one pass** over its
+//! bodies, whatever [`Request`] asks for, into the [`SystemTerms`] that the
+//! integrator sized once:
+//!
+//! - the mass matrix **M** and the generalized forces **Q** (inertial quadratic-velocity
+//!   terms, gravity, springs, elastic forces);
+//! - approximations of the tangents **K** = −∂Q/∂q and **C** = −∂Q/∂q̇;
+//! - the constraints **Φ**, their Jacobian **Φ_q**, **Φ_t**, and the acceleration term
+//!   **c** = Φ̇_q q̇ + Φ̇_t.
+//!
+//! Coordinates update additively, q ← q + Δq.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Which terms one evaluation pass must write. Terms not requested may be left stale.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Request {
+    /// M and Q.
+    pub dynamics: bool,
+    /// K and C (only read when `dynamics` is also set).
+    pub tangents: bool,
+    /// Φ.
+    pub constraints: bool,
+    /// Φ_q and Φ_t.
+    pub jacobian: bool,
+    /// c = Φ̇_q q̇ + Φ̇_t.
+    pub accel_term: bool,
+}
+
+impl Request {
+    /// Everything.
+    pub const ALL: Request = Request {
+        dynamics: true,
+        tangents: true,
+        constraints: true,
+        jacobian: true,
+        accel_term: true,
+    };
+    /// Φ only (after a Newton update, for the multiplier update).
+    pub const CONSTRAINTS: Request = Request {
+        dynamics: false,
+        tangents: false,
+        constraints: true,
+        jacobian: false,
+        accel_term: false,
+    };
+}
+
+/// Storage for the terms of one evaluation, sized once per scene by [`SystemTerms::new`].
+#[derive(Clone, Debug)]
+pub struct SystemTerms {
+    /// Mass matrix M (n × n).
+    pub mass: DMatrix<f64>,
+    /// Generalized forces Q (n).
+    pub forces: DVector<f64>,
+    /// Stiffness tangent K = −∂Q/∂q (n × n).
+    pub stiffness: DMatrix<f64>,
+    /// Damping tangent C = −∂Q/∂q̇ (n × n).
+    pub damping: DMatrix<f64>,
+    /// Constraints Φ (m).
+    pub phi: DVector<f64>,
+    /// Constraint Jacobian Φ_q (m × n).
+    pub phi_q: DMatrix<f64>,
+    /// ∂Φ/∂t (m).
+    pub phi_t: DVector<f64>,
+    /// c = Φ̇_q q̇ + Φ̇_t (m).
+    pub accel_term: DVector<f64>,
+}
+
+impl SystemTerms {
+    /// Zeroed storage for `n` coordinates and `m` constraints.
+    pub fn new(n: usize, m: usize) -> Self {
+        SystemTerms {
+            mass: DMatrix::zeros(n, n),
+            forces: DVector::zeros(n),
+            stiffness: DMatrix::zeros(n, n),
+            damping: DMatrix::zeros(n, n),
+            phi: DVector::zeros(m),
+            phi_q: DMatrix::zeros(m, n),
+            phi_t: DVector::zeros(m),
+            accel_term: DVector::zeros(m),
+        }
+    }
+    /// Set to zero the terms `req` asks for, before a formulation adds into them.
+    pub fn clear(&mut self, req: Request) {
+        if req.dynamics {
+            self.mass.fill(0.0);
+            self.forces.fill(0.0);
+            if req.tangents {
+                self.stiffness.fill(0.0);
+                self.damping.fill(0.0);
+            }
+        }
+        if req.constraints {
+            self.phi.fill(0.0);
+        }
+        if req.jacobian {
+            self.phi_q.fill(0.0);
+            self.phi_t.fill(0.0);
+        }
+        if req.accel_term {
+            self.accel_term.fill(0.0);
+        }
+    }
+}
+
+/// A multibody formulation the integrators can drive.
+pub trait Formulation {
+    /// Number of coordinates n.
+    fn n_coordinates(&self) -> usize;
+    /// Number of constraint equations m (redundant ones included).
+    fn n_constraints(&self) -> usize;
+    /// The user's initial guess of positions and velocities (not yet consistent).
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>);
+    /// Coordinates whose initial position and velocity the user specified; they are held
+    /// while the initial conditions are made consistent (methods.md §5.4).
+    fn specified_coordinates(&self) -> &[usize];
+    /// One pass: set the requested terms of `out` at (t, q, q̇). `out` comes cleared.
+    fn evaluate(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    );
+}

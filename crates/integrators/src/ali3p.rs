@@ -1,0 +1,374 @@
+//! ALI3-P: the index-3 augmented Lagrangian formulation with mass-orthogonal
+//! projections of velocities and accelerations, on the trapezoidal rule
+//! (thesis ch. 2; methods.md §5; Bayo & Ledesma 1996, Cuadrado et al. 2001).
+//!
+//! Equations of motion with a scalar penalty α and multipliers λ*:
+//!
+//! M q̈ + Φ_qᵀ α Φ + Φ_qᵀ λ* = Q,  λ*_{i+1} = λ*_i + α Φ_{i+1}.
+//!
+//! Trapezoidal rule with q_{n+1} the unknown: q̇ = (2/h) q + q̂̇, q̈ = (4/h²) q + q̂̈.
+//! Residual and tangent (scaled by h²/4):
+//!
+//! f = h²/4 (M q̈ + Φ_qᵀ(αΦ + λ*) − Q),  f_q ≈ M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K).
+//!
+//! After Newton converges, velocities and accelerations are projected onto the
+//! constraint manifold with the same f_q (W = M + h/2 C + h²/4 K):
+//!
+//! f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t,  f_q q̈ = W q̈* − h²/4 Φ_qᵀ α c.
+//!
+//! Deviations from the literal text, both from methods.md's checked corrections:
+//! the penalty scales with h² (α = 4·10⁴ m_ref / h², §5.3), and a step that reaches the
+//! iteration limit with ‖Φ‖∞ ≤ `accept_phi` is accepted and counted (singular
+//! configurations, §5.2).
+
+use std::time::Instant;
+
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use nalgebra::{DMatrix, DVector};
+
+use crate::lu::DenseLu;
+
+/// Solver settings (methods.md §5.2–§5.3; defaults there are marked CHOSEN).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ali3pSettings {
+    /// Time step h (s).
+    pub step: f64,
+    /// Penalty α; `None` for 4·10⁴ m_ref / h² with m_ref the largest diagonal entry of M at t₀.
+    pub penalty: Option<f64>,
+    /// Relative position tolerance ε_q: ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞).
+    pub tol_q: f64,
+    /// Constraint tolerance ε_Φ on ‖Φ‖∞.
+    pub tol_phi: f64,
+    /// At the iteration limit, accept the iterate when ‖Φ‖∞ is below this.
+    pub accept_phi: f64,
+    /// Newton iteration limit per step.
+    pub max_iterations: usize,
+}
+
+impl Default for Ali3pSettings {
+    fn default() -> Self {
+        Ali3pSettings {
+            step: 1e-3,
+            penalty: None,
+            tol_q: 1e-9,
+            tol_phi: 1e-9,
+            accept_phi: 1e-6,
+            max_iterations: 20,
+        }
+    }
+}
+
+/// What a run did (russell-style counters, asserted by tests).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations, all steps.
+    pub newton_iterations: usize,
+    /// LU factorisations of the leading matrix.
+    pub factorizations: usize,
+    /// Formulation evaluation passes.
+    pub evaluations: usize,
+    /// Steps accepted at the iteration limit with ‖Φ‖∞ ≤ accept_phi.
+    pub accepted_unconverged: usize,
+    /// Steps that failed (the run stops at the first).
+    pub failed_steps: usize,
+    /// Seconds in formulation evaluations.
+    pub time_evaluation: f64,
+    /// Seconds forming and factorising the leading matrix and solving.
+    pub time_factorization: f64,
+    /// Seconds in the velocity and acceleration projections (their evaluations included).
+    pub time_projection: f64,
+}
+
+/// Why the integrator stopped.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum IntegratorError {
+    /// Newton did not converge within the iteration limit.
+    #[error(
+        "Newton did not converge at t = {t:.6} s after {iterations} iterations: ‖Δq‖∞ = {dq:.3e}, ‖Φ‖∞ = {phi:.3e}; try a smaller step, fewer or softer modes, or more damping"
+    )]
+    NoConvergence {
+        /// Time of the step being solved.
+        t: f64,
+        /// Iterations made.
+        iterations: usize,
+        /// Last correction norm.
+        dq: f64,
+        /// Last constraint violation.
+        phi: f64,
+    },
+    /// The iteration produced non-finite numbers.
+    #[error("the solution diverged (non-finite values) at t = {t:.6} s; try a smaller step")]
+    Diverged {
+        /// Time of the step being solved.
+        t: f64,
+    },
+    /// The leading matrix could not be factorised.
+    #[error(
+        "the leading matrix is singular at t = {t:.6} s (pivot ratio {pivot_ratio:.3e}); check for bodies without mass or coordinates without stiffness or constraint"
+    )]
+    Singular {
+        /// Time.
+        t: f64,
+        /// Smallest / largest pivot.
+        pivot_ratio: f64,
+    },
+    /// Initial conditions could not be made consistent.
+    #[error(
+        "initial positions could not be made consistent: ‖Φ‖∞ = {phi:.3e} after {iterations} iterations"
+    )]
+    InconsistentStart {
+        /// Remaining violation.
+        phi: f64,
+        /// Iterations made.
+        iterations: usize,
+    },
+}
+
+/// The ALI3-P integrator with its state and workspace, sized once for one formulation.
+pub struct Ali3p {
+    settings: Ali3pSettings,
+    alpha: f64,
+    /// Current time.
+    pub t: f64,
+    /// Positions q.
+    pub q: DVector<f64>,
+    /// Velocities q̇.
+    pub qd: DVector<f64>,
+    /// Accelerations q̈.
+    pub qdd: DVector<f64>,
+    /// Multipliers λ*.
+    pub lambda: DVector<f64>,
+    /// Counters.
+    pub stats: Stats,
+    terms: SystemTerms,
+    lead: DMatrix<f64>,
+    w: DMatrix<f64>,
+    lu: DenseLu,
+    rhs: DVector<f64>,
+    qd_hat: DVector<f64>,
+    qdd_hat: DVector<f64>,
+    tmp_m: DVector<f64>,
+    q_prev: DVector<f64>,
+}
+
+impl Ali3p {
+    /// Build the integrator for `f` and make its initial conditions consistent (methods.md §5.4).
+    pub fn new<F: Formulation>(
+        f: &mut F,
+        t0: f64,
+        settings: Ali3pSettings,
+    ) -> Result<Self, IntegratorError> {
+        let (n, m) = (f.n_coordinates(), f.n_constraints());
+        let mut s = Ali3p {
+            alpha: 0.0,
+            t: t0,
+            q: DVector::zeros(n),
+            qd: DVector::zeros(n),
+            qdd: DVector::zeros(n),
+            lambda: DVector::zeros(m),
+            stats: Stats::default(),
+            terms: SystemTerms::new(n, m),
+            lead: DMatrix::zeros(n, n),
+            w: DMatrix::zeros(n, n),
+            lu: DenseLu::new(n),
+            rhs: DVector::zeros(n),
+            qd_hat: DVector::zeros(n),
+            qdd_hat: DVector::zeros(n),
+            tmp_m: DVector::zeros(m),
+            q_prev: DVector::zeros(n),
+            settings,
+        };
+        f.initial_guess(&mut s.q, &mut s.qd);
+        s.eval(f, Request::ALL);
+        let h = s.settings.step;
+        let m_ref = (0..n)
+            .map(|i| s.terms.mass[(i, i)].abs())
+            .fold(0.0, f64::max)
+            .max(1e-12);
+        s.alpha = s.settings.penalty.unwrap_or(4e4 * m_ref / (h * h));
+        crate::initial::make_consistent(&mut s, f)?;
+        Ok(s)
+    }
+
+    /// The penalty α in use.
+    pub fn penalty(&self) -> f64 {
+        self.alpha
+    }
+    /// The settings.
+    pub fn settings(&self) -> &Ali3pSettings {
+        &self.settings
+    }
+    /// The terms of the last evaluation (M, Q, Φ, ...).
+    pub fn terms(&self) -> &SystemTerms {
+        &self.terms
+    }
+
+    pub(crate) fn eval<F: Formulation>(&mut self, f: &mut F, req: Request) {
+        let t0 = Instant::now();
+        self.terms.clear(req);
+        f.evaluate(self.t, &self.q, &self.qd, req, &mut self.terms);
+        self.stats.evaluations += 1;
+        self.stats.time_evaluation += t0.elapsed().as_secs_f64();
+    }
+
+    /// Form f_q = M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K) (and W without the penalty) and factorise it.
+    fn factor_leading(&mut self, with_w: bool) -> Result<(), IntegratorError> {
+        let h = self.settings.step;
+        let tt = &self.terms;
+        self.lead.copy_from(&tt.mass);
+        self.lead.zip_apply(&tt.damping, |a, c| *a += 0.5 * h * c);
+        self.lead
+            .zip_apply(&tt.stiffness, |a, k| *a += 0.25 * h * h * k);
+        if with_w {
+            self.w.copy_from(&self.lead);
+        }
+        self.lead
+            .gemm_tr(0.25 * h * h * self.alpha, &tt.phi_q, &tt.phi_q, 1.0);
+        self.stats.factorizations += 1;
+        self.lu.factor(&self.lead).map_err(|e| {
+            self.stats.failed_steps += 1;
+            IntegratorError::Singular {
+                t: self.t,
+                pivot_ratio: e.pivot_ratio,
+            }
+        })
+    }
+
+    /// Advance one step of size h.
+    pub fn step<F: Formulation>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
+        let h = self.settings.step;
+        let (a1, a2) = (2.0 / h, 4.0 / (h * h));
+        // Predictor and the Newmark constants of the step.
+        self.qd_hat.copy_from(&self.qd);
+        self.qd_hat.axpy(-a1, &self.q, -1.0);
+        self.qdd_hat.copy_from(&self.qdd);
+        self.qdd_hat.axpy(-4.0 / h, &self.qd, -1.0);
+        self.qdd_hat.axpy(-a2, &self.q, 1.0);
+        self.q_prev.copy_from(&self.q);
+        self.q.axpy(h, &self.qd, 1.0);
+        self.q.axpy(0.5 * h * h, &self.qdd, 1.0);
+        self.t += h;
+        let (mut dq_norm, mut phi_norm) = (f64::INFINITY, f64::INFINITY);
+        let mut converged = false;
+        let mut iterations = 0;
+        while iterations < self.settings.max_iterations {
+            iterations += 1;
+            self.set_newmark_rates();
+            self.eval(
+                f,
+                Request {
+                    dynamics: true,
+                    tangents: true,
+                    constraints: true,
+                    jacobian: true,
+                    accel_term: false,
+                },
+            );
+            let t0 = Instant::now();
+            // rhs = −f = −h²/4 (M q̈ + Φ_qᵀ(αΦ + λ) − Q)
+            let tt = &self.terms;
+            self.tmp_m.copy_from(&self.lambda);
+            self.tmp_m.axpy(self.alpha, &tt.phi, 1.0);
+            self.rhs.copy_from(&tt.forces);
+            self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0);
+            self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
+            self.rhs *= 0.25 * h * h;
+            self.factor_leading(false)?;
+            self.lu.solve_in_place(&mut self.rhs);
+            self.stats.time_factorization += t0.elapsed().as_secs_f64();
+            if !self.rhs.iter().all(|v| v.is_finite()) {
+                self.stats.failed_steps += 1;
+                return Err(IntegratorError::Diverged { t: self.t });
+            }
+            self.q += &self.rhs;
+            dq_norm = self.rhs.amax();
+            self.eval(f, Request::CONSTRAINTS);
+            phi_norm = self.terms.phi.amax();
+            self.lambda.axpy(self.alpha, &self.terms.phi, 1.0);
+            if !(dq_norm.is_finite() && phi_norm.is_finite()) {
+                self.stats.failed_steps += 1;
+                return Err(IntegratorError::Diverged { t: self.t });
+            }
+            if dq_norm <= self.settings.tol_q * self.q.amax().max(1.0)
+                && phi_norm <= self.settings.tol_phi
+            {
+                converged = true;
+                break;
+            }
+        }
+        self.stats.newton_iterations += iterations;
+        if !converged {
+            if phi_norm <= self.settings.accept_phi && dq_norm.is_finite() {
+                self.stats.accepted_unconverged += 1;
+            } else {
+                self.stats.failed_steps += 1;
+                return Err(IntegratorError::NoConvergence {
+                    t: self.t,
+                    iterations,
+                    dq: dq_norm,
+                    phi: phi_norm,
+                });
+            }
+        }
+        self.set_newmark_rates();
+        self.project(f)?;
+        self.stats.steps += 1;
+        Ok(())
+    }
+
+    fn set_newmark_rates(&mut self) {
+        let h = self.settings.step;
+        self.qd.copy_from(&self.qd_hat);
+        self.qd.axpy(2.0 / h, &self.q, 1.0);
+        self.qdd.copy_from(&self.qdd_hat);
+        self.qdd.axpy(4.0 / (h * h), &self.q, 1.0);
+    }
+
+    /// Velocity and acceleration projections at the converged positions (methods.md §5.2, steps 3–4).
+    fn project<F: Formulation>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
+        let t0 = Instant::now();
+        let h = self.settings.step;
+        let c = 0.25 * h * h * self.alpha;
+        self.eval(
+            f,
+            Request {
+                dynamics: true,
+                tangents: true,
+                constraints: false,
+                jacobian: true,
+                accel_term: false,
+            },
+        );
+        self.factor_leading(true)?;
+        // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t
+        self.rhs.gemv(1.0, &self.w, &self.qd, 0.0);
+        self.rhs
+            .gemv_tr(-c, &self.terms.phi_q, &self.terms.phi_t, 1.0);
+        self.lu.solve_in_place(&mut self.rhs);
+        self.qd.copy_from(&self.rhs);
+        self.eval(
+            f,
+            Request {
+                dynamics: false,
+                tangents: false,
+                constraints: false,
+                jacobian: false,
+                accel_term: true,
+            },
+        );
+        // f_q q̈ = W q̈* − h²/4 Φ_qᵀ α c
+        self.rhs.gemv(1.0, &self.w, &self.qdd, 0.0);
+        self.rhs
+            .gemv_tr(-c, &self.terms.phi_q, &self.terms.accel_term, 1.0);
+        self.lu.solve_in_place(&mut self.rhs);
+        self.qdd.copy_from(&self.rhs);
+        self.stats.time_projection += t0.elapsed().as_secs_f64();
+        if !(self.qd.iter().all(|v| v.is_finite()) && self.qdd.iter().all(|v| v.is_finite())) {
+            self.stats.failed_steps += 1;
+            return Err(IntegratorError::Diverged { t: self.t });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,138 @@
+//! Consistent initial conditions (methods.md §5.4, with its checked corrections):
+//!
+//! 1. positions: Φ(q₀) = 0 with the user-specified coordinates held, by a
+//!    regularised Gauss–Newton iteration (μI + JᵀJ) Δq = −Jᵀ Φ_ext that tolerates
+//!    redundant constraints;
+//! 2. velocities: the augmented-Lagrangian projection
+//!    (M + Φ_qᵀ α₀ Φ_q) q̇ = M q̇* − Φ_qᵀ(α₀ Φ_t + σ), σ ← σ + α₀(Φ_q q̇ + Φ_t),
+//!    with the specified velocities as extra rheonomic constraints and α₀ = h²α/4;
+//! 3. accelerations and multipliers:
+//!    (M + Φ_qᵀ α₀ Φ_q) q̈ = Q − Φ_qᵀ(α₀ c + λ), λ ← λ + α₀(Φ_q q̈ + c).
+//!
+//! This runs once per scene; it may allocate.
+
+use flexmbd_core::{Formulation, Request};
+use nalgebra::{DMatrix, DVector};
+
+use crate::ali3p::{Ali3p, IntegratorError};
+use crate::lu::DenseLu;
+
+const MAX_ITER: usize = 200;
+
+pub(crate) fn make_consistent<F: Formulation>(
+    s: &mut Ali3p,
+    f: &mut F,
+) -> Result<(), IntegratorError> {
+    let n = f.n_coordinates();
+    let m = f.n_constraints();
+    let held: Vec<usize> = f.specified_coordinates().to_vec();
+    let q_spec = s.q.clone();
+    let qd_spec = s.qd.clone();
+    let me = m + held.len();
+    let mut lu = DenseLu::new(n);
+    let singular = |t: f64| {
+        move |e: crate::lu::Singular| IntegratorError::Singular {
+            t,
+            pivot_ratio: e.pivot_ratio,
+        }
+    };
+
+    // 1. Positions.
+    let mut j = DMatrix::zeros(me, n);
+    let mut r = DVector::zeros(me);
+    let mut phi_norm = f64::INFINITY;
+    let mut it = 0;
+    while it < MAX_ITER {
+        s.eval(
+            f,
+            Request {
+                constraints: true,
+                jacobian: true,
+                ..Request::default()
+            },
+        );
+        let tt = s.terms();
+        j.rows_mut(0, m).copy_from(&tt.phi_q);
+        r.rows_mut(0, m).copy_from(&tt.phi);
+        for (k, &c) in held.iter().enumerate() {
+            j.row_mut(m + k).fill(0.0);
+            j[(m + k, c)] = 1.0;
+            r[m + k] = s.q[c] - q_spec[c];
+        }
+        phi_norm = r.amax();
+        if phi_norm <= 1e-13 * s.q.amax().max(1.0) {
+            break;
+        }
+        let mut a = j.transpose() * &j;
+        let mu = 1e-10 * (0..n).map(|i| a[(i, i)]).fold(0.0, f64::max).max(1e-300);
+        for i in 0..n {
+            a[(i, i)] += mu;
+        }
+        let mut dq = -(j.transpose() * &r);
+        lu.factor(&a).map_err(singular(s.t))?;
+        lu.solve_in_place(&mut dq);
+        s.q += &dq;
+        it += 1;
+    }
+    if phi_norm > 1e-9 * s.q.amax().max(1.0) {
+        return Err(IntegratorError::InconsistentStart {
+            phi: phi_norm,
+            iterations: it,
+        });
+    }
+
+    // 2. Velocities.
+    let h = s.settings().step;
+    let alpha0 = 0.25 * h * h * s.penalty();
+    s.qd.copy_from(&qd_spec);
+    s.eval(f, Request::ALL);
+    let mass = s.terms().mass.clone();
+    let mut jt = DVector::zeros(me);
+    {
+        let tt = s.terms();
+        j.rows_mut(0, m).copy_from(&tt.phi_q);
+        jt.rows_mut(0, m).copy_from(&tt.phi_t);
+        for (k, &c) in held.iter().enumerate() {
+            j.row_mut(m + k).fill(0.0);
+            j[(m + k, c)] = 1.0;
+            jt[m + k] = -qd_spec[c];
+        }
+    }
+    let lead = &mass + alpha0 * j.transpose() * &j;
+    lu.factor(&lead).map_err(singular(s.t))?;
+    let m_qd_star = &mass * &qd_spec;
+    let mut sigma = DVector::zeros(me);
+    for _ in 0..MAX_ITER {
+        let mut rhs = &m_qd_star - j.transpose() * (alpha0 * &jt + &sigma);
+        lu.solve_in_place(&mut rhs);
+        s.qd.copy_from(&rhs);
+        let viol = &j * &s.qd + &jt;
+        sigma += alpha0 * &viol;
+        if viol.amax() <= 1e-12 * s.qd.amax().max(1.0) {
+            break;
+        }
+    }
+
+    // 3. Accelerations and multipliers.
+    s.eval(f, Request::ALL);
+    let tt = s.terms();
+    let phi_q = tt.phi_q.clone();
+    let c = tt.accel_term.clone();
+    let forces = tt.forces.clone();
+    let lead = &tt.mass + alpha0 * phi_q.transpose() * &phi_q;
+    lu.factor(&lead).map_err(singular(s.t))?;
+    let mut lambda = DVector::zeros(m);
+    for _ in 0..MAX_ITER {
+        let mut rhs = &forces - phi_q.transpose() * (alpha0 * &c + &lambda);
+        lu.solve_in_place(&mut rhs);
+        let change = (&rhs - &s.qdd).amax();
+        s.qdd.copy_from(&rhs);
+        let viol = &phi_q * &s.qdd + &c;
+        lambda += alpha0 * &viol;
+        if viol.amax() <= 1e-10 * s.qdd.amax().max(1.0) && change <= 1e-10 * s.qdd.amax().max(1.0) {
+            break;
+        }
+    }
+    s.lambda.copy_from(&lambda);
+    Ok(())
+}

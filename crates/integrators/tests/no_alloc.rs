@@ -1,0 +1,103 @@
+//! The step loop allocates nothing after set-up (counting global allocator).
+
+// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
+#![allow(unsafe_code)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_integrators::{Ali3p, Ali3pSettings};
+use nalgebra::DVector;
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Two point masses on rods: a double pendulum in natural coordinates (4 coordinates, 2 constraints).
+struct DoublePendulum;
+
+impl Formulation for DoublePendulum {
+    fn n_coordinates(&self) -> usize {
+        4
+    }
+    fn n_constraints(&self) -> usize {
+        2
+    }
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        q.copy_from_slice(&[1.0, 0.0, 2.0, 0.0]);
+        qd.fill(0.0);
+    }
+    fn specified_coordinates(&self) -> &[usize] {
+        &[]
+    }
+    fn evaluate(
+        &mut self,
+        _t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        let d = [q[2] - q[0], q[3] - q[1]];
+        let dd = [qd[2] - qd[0], qd[3] - qd[1]];
+        if req.dynamics {
+            for i in 0..4 {
+                out.mass[(i, i)] = 1.0;
+            }
+            out.forces[1] = -9.81;
+            out.forces[3] = -9.81;
+        }
+        if req.constraints {
+            out.phi[0] = q[0] * q[0] + q[1] * q[1] - 1.0;
+            out.phi[1] = d[0] * d[0] + d[1] * d[1] - 1.0;
+        }
+        if req.jacobian {
+            out.phi_q[(0, 0)] = 2.0 * q[0];
+            out.phi_q[(0, 1)] = 2.0 * q[1];
+            out.phi_q[(1, 0)] = -2.0 * d[0];
+            out.phi_q[(1, 1)] = -2.0 * d[1];
+            out.phi_q[(1, 2)] = 2.0 * d[0];
+            out.phi_q[(1, 3)] = 2.0 * d[1];
+        }
+        if req.accel_term {
+            out.accel_term[0] = 2.0 * (qd[0] * qd[0] + qd[1] * qd[1]);
+            out.accel_term[1] = 2.0 * (dd[0] * dd[0] + dd[1] * dd[1]);
+        }
+    }
+}
+
+#[test]
+fn steps_allocate_nothing() {
+    let mut f = DoublePendulum;
+    let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
+    s.step(&mut f).unwrap();
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for _ in 0..500 {
+        s.step(&mut f).unwrap();
+    }
+    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    assert_eq!(
+        after - before,
+        0,
+        "the step loop allocated {} times",
+        after - before
+    );
+    assert!(s.stats.newton_iterations >= 500);
+}

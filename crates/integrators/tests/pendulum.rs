@@ -1,0 +1,281 @@
+//! ALI3-P on a planar pendulum in natural coordinates (a point mass on a massless
+//! rod): period against the exact elliptic-integral solution, second-order
+//! convergence, energy conservation, constraint satisfaction, consistent initial
+//! conditions, redundancy, and a clean failure on an absurd step.
+
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError};
+use nalgebra::DVector;
+
+const G: f64 = 9.81;
+
+/// q = (x, y) of the bob; Φ = x² + y² − L² (repeated `copies` times to test redundancy).
+struct Pendulum {
+    mass: f64,
+    length: f64,
+    q0: [f64; 2],
+    qd0: [f64; 2],
+    held: Vec<usize>,
+    copies: usize,
+}
+
+impl Formulation for Pendulum {
+    fn n_coordinates(&self) -> usize {
+        2
+    }
+    fn n_constraints(&self) -> usize {
+        self.copies
+    }
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        q.copy_from_slice(&self.q0);
+        qd.copy_from_slice(&self.qd0);
+    }
+    fn specified_coordinates(&self) -> &[usize] {
+        &self.held
+    }
+    fn evaluate(
+        &mut self,
+        _t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        if req.dynamics {
+            out.mass[(0, 0)] = self.mass;
+            out.mass[(1, 1)] = self.mass;
+            out.forces[1] = -self.mass * G;
+        }
+        for k in 0..self.copies {
+            if req.constraints {
+                out.phi[k] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
+            }
+            if req.jacobian {
+                out.phi_q[(k, 0)] = 2.0 * q[0];
+                out.phi_q[(k, 1)] = 2.0 * q[1];
+            }
+            if req.accel_term {
+                out.accel_term[k] = 2.0 * (qd[0] * qd[0] + qd[1] * qd[1]);
+            }
+        }
+    }
+}
+
+fn pendulum(theta0: f64) -> Pendulum {
+    Pendulum {
+        mass: 2.0,
+        length: 1.5,
+        q0: [1.5 * theta0.sin(), -1.5 * theta0.cos()],
+        qd0: [0.0, 0.0],
+        held: vec![],
+        copies: 1,
+    }
+}
+
+fn energy(p: &Pendulum, s: &Ali3p) -> f64 {
+    0.5 * p.mass * s.qd.norm_squared() + p.mass * G * s.q[1]
+}
+
+/// Complete elliptic integral of the first kind K(k) by the arithmetic–geometric mean.
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0, (1.0 - k * k).sqrt());
+    for _ in 0..30 {
+        let an = 0.5 * (a + b);
+        b = (a * b).sqrt();
+        a = an;
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+fn run(p: &mut Pendulum, h: f64, duration: f64) -> Ali3p {
+    let mut s = Ali3p::new(
+        p,
+        0.0,
+        Ali3pSettings {
+            step: h,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let steps = (duration / h).round() as usize;
+    for _ in 0..steps {
+        s.step(p).unwrap();
+    }
+    s
+}
+
+#[test]
+fn large_amplitude_period_matches_the_elliptic_integral() {
+    let theta0 = std::f64::consts::FRAC_PI_2;
+    let mut p = pendulum(theta0);
+    let exact = 4.0 * (p.length / G).sqrt() * elliptic_k((theta0 / 2.0).sin());
+    let h = 1e-3;
+    let mut s = Ali3p::new(
+        &mut p,
+        0.0,
+        Ali3pSettings {
+            step: h,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // x = 0 is crossed at T/4 (+ → −) and 3T/4 (− → +).
+    let mut crossings = Vec::new();
+    let mut x_prev = s.q[0];
+    while crossings.len() < 2 {
+        s.step(&mut p).unwrap();
+        let x = s.q[0];
+        if x_prev.signum() != x.signum() && x != 0.0 {
+            let frac = x_prev / (x_prev - x);
+            crossings.push(s.t - h + frac * h);
+        }
+        x_prev = x;
+    }
+    let period = 2.0 * (crossings[1] - crossings[0]);
+    let rel = (period - exact).abs() / exact;
+    assert!(
+        rel < 2e-5,
+        "period {period} against exact {exact}: relative error {rel:e}"
+    );
+}
+
+#[test]
+fn second_order_convergence_and_energy() {
+    let duration = 2.0;
+    let reference = run(&mut pendulum(1.0), 1e-4 / 4.0, duration);
+    let mut errors = Vec::new();
+    let mut drifts = Vec::new();
+    for h in [4e-3, 2e-3, 1e-3] {
+        let mut p = pendulum(1.0);
+        let e0 = {
+            let s = Ali3p::new(
+                &mut p,
+                0.0,
+                Ali3pSettings {
+                    step: h,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            energy(&p, &s)
+        };
+        let mut s = Ali3p::new(
+            &mut p,
+            0.0,
+            Ali3pSettings {
+                step: h,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut drift: f64 = 0.0;
+        for _ in 0..(duration / h).round() as usize {
+            s.step(&mut p).unwrap();
+            drift = drift.max((energy(&p, &s) - e0).abs());
+            let phi = s.q.norm_squared() - p.length * p.length;
+            assert!(phi.abs() < 1e-9, "constraint violated: {phi:e}");
+        }
+        errors.push((s.q.clone() - reference.q.clone()).amax());
+        drifts.push(drift);
+    }
+    for w in errors.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(
+            (3.5..4.5).contains(&ratio),
+            "position error ratio {ratio} (errors {errors:?})"
+        );
+    }
+    for w in drifts.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(
+            (3.0..5.0).contains(&ratio),
+            "energy drift ratio {ratio} (drifts {drifts:?})"
+        );
+    }
+    assert!(
+        drifts[2] < 1e-4 * 2.0 * G * 1.5,
+        "energy drift {:e}",
+        drifts[2]
+    );
+}
+
+#[test]
+fn inconsistent_start_is_projected_holding_the_specified_coordinate() {
+    let mut p = Pendulum {
+        mass: 1.0,
+        length: 1.0,
+        q0: [0.6, -0.9],
+        qd0: [1.0, 0.7],
+        held: vec![0],
+        copies: 1,
+    };
+    let s = Ali3p::new(&mut p, 0.0, Ali3pSettings::default()).unwrap();
+    assert!((s.q[0] - 0.6).abs() < 1e-12, "held x moved: {}", s.q[0]);
+    assert!(
+        (s.q[1] + 0.8).abs() < 1e-12,
+        "y not on the circle: {}",
+        s.q[1]
+    );
+    // Velocity tangent to the circle, with the specified ẋ kept.
+    assert!((s.qd[0] - 1.0).abs() < 1e-9);
+    assert!((s.q[0] * s.qd[0] + s.q[1] * s.qd[1]).abs() < 1e-10);
+    // Acceleration consistent: Φ_q q̈ + c = 0, and the multiplier balances gravity and centripetal load.
+    let c = 2.0 * s.qd.norm_squared();
+    assert!((2.0 * s.q.dot(&s.qdd) + c).abs() < 1e-8);
+}
+
+#[test]
+fn redundant_constraints_give_the_same_motion() {
+    let single = run(&mut pendulum(0.8), 1e-3, 1.0);
+    let mut doubled = pendulum(0.8);
+    doubled.copies = 2;
+    let double = run(&mut doubled, 1e-3, 1.0);
+    assert!((single.q.clone() - double.q.clone()).amax() < 1e-7);
+}
+
+#[test]
+fn counters_add_up() {
+    let mut p = pendulum(0.5);
+    let mut s = Ali3p::new(&mut p, 0.0, Ali3pSettings::default()).unwrap();
+    let e0 = s.stats.evaluations;
+    for _ in 0..100 {
+        s.step(&mut p).unwrap();
+    }
+    let st = &s.stats;
+    assert_eq!(st.steps, 100);
+    assert!(st.newton_iterations >= 100);
+    // Per iteration: one full pass + one Φ pass; per step: two projection passes.
+    assert_eq!(st.evaluations - e0, 2 * st.newton_iterations + 2 * st.steps);
+    assert_eq!(st.factorizations, st.newton_iterations + st.steps);
+    assert_eq!(st.failed_steps, 0);
+}
+
+#[test]
+fn an_absurd_step_fails_cleanly() {
+    let mut p = pendulum(1.4);
+    let settings = Ali3pSettings {
+        step: 50.0,
+        max_iterations: 10,
+        penalty: Some(1e3),
+        ..Default::default()
+    };
+    let mut s = Ali3p::new(&mut p, 0.0, settings).unwrap();
+    let mut failure = None;
+    for _ in 0..20 {
+        if let Err(e) = s.step(&mut p) {
+            failure = Some(e);
+            break;
+        }
+    }
+    match failure {
+        Some(
+            IntegratorError::NoConvergence { t, .. }
+            | IntegratorError::Diverged { t }
+            | IntegratorError::Singular { t, .. },
+        ) => {
+            assert!(t > 0.0);
+            assert_eq!(s.stats.failed_steps, 1);
+        }
+        other => panic!("expected a convergence failure, got {other:?}"),
+    }
+}
