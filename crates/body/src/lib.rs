@@ -1,1 +1,577 @@
-//! placeholder
+//! The reduced flexible body of flexmbd at run time (methods.md §1.1, §1.5, §2;
+//! thesis chapters 2–3).
+//!
+//! A [`FlexibleBody`] is built once from a [`ReducedBody`] (FE preprocessing output)
+//! and then evaluates, without allocating, the inertia terms of one body in the
+//! **relative set** of methods.md §2.4 / §4.1,
+//!
+//! ```text
+//! Z = {ṡ; ω; ẏ}   (3D: 6 + n entries)        Z = {ṡx; ṡy; ωz; ẏ}   (2D: 3 + n entries)
+//! ```
+//!
+//! where ṡ is the velocity of the body point that coincides with the global origin
+//! and ω the global angular velocity. With a material point at
+//! `r = r0 + A (r̄_u + X y)` (§1.1) its velocity is `ṙ = ṡ + ω × r + A X ẏ`, i.e.
+//! `ṙ = B Z` with `B = [I  −r̃  A X]`, and `ṙ0 = ṡ − r̃0 ω` (so `ṡ = ṙ0 + r0 × ω`).
+//!
+//! The mass matrix `M̄ = ∫ Bᵀ B dm` and the velocity-dependent inertia force
+//! `Q̄_v = −∫ Bᵀ Ḃ Z dm` are evaluated by either of two routes
+//! ([`InertiaMethod`]), which act on the **same** mass cloud (§2.1) and agree to round-off (§2.7):
+//!
+//! * [`InertiaMethod::BMatrix`] (§2.2): for each cloud point k,
+//!   `B_k = [I  −r̃_k  A X_k]`, `Ḃ_k Z = ω × ṡ + ω × (ω × r_k) + 2 ω × A X_k ẏ`,
+//!   `M̄ = Σ w_k B_kᵀ B_k`, `Q̄_v = −Σ w_k B_kᵀ (Ḃ_k Z)`. Cost O(N_p n²).
+//! * [`InertiaMethod::ShapeIntegrals`] (§2.3–§2.4 steps 1–3): the configuration-dependent
+//!   `m̄(y)`, `P(y)`, `Ī_O(y)`, `L_b(y)`, `C(y)`, `h(y)`, `G(ω̄)`, `W(y, ω̄)` from the 13
+//!   shape integrals, the body-frame origin form `M̄_body`, `Q̄_v,body`, rotated to
+//!   global components and shifted to the point s with `D`. Cost O(n²), independent
+//!   of the mesh.
+//!
+//! The modal block of both routes is `M_yy = Σ_a Sᵃᵃ` (2D: `S¹¹ + S²²`) of the cloud,
+//! which equals the reduced body's `M_ff` when the cloud is consistent with the FE
+//! mass (§2.3 identity); using the cloud's value keeps the two routes identical on any cloud.
+//!
+//! Also: elastic and damping forces `Q_el = −K_ff y − C_ff ẏ` (§1.5) through the
+//! [`ElasticModel`] hook (stiffening models of §6 plug in there), gravity in the
+//! s form (§2.6), and the invariants at y = 0.
+//!
+//! 2D (§0 reduction rule): a planar body lives in z = 0, `A` is a rotation about z,
+//! ω = ω_z e_z, and the planar set keeps the x, y, θ_z rows and columns of the 3D
+//! formulas. It is implemented as its own lean path (see `docs/body.md` for why).
+
+mod bmatrix;
+pub mod elastic;
+mod shape;
+
+pub use elastic::{ElasticModel, LinearElastic};
+pub use flexmbd_core::{Dim, InvalidValue};
+pub use flexmbd_fe::ReducedBody;
+
+use nalgebra::{
+    DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3,
+};
+use serde::{Deserialize, Serialize};
+
+/// Which route evaluates the inertia terms (methods.md §2.2 / §2.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum InertiaMethod {
+    /// Route (a): projection `Σ w_k B_kᵀ B_k` over the mass cloud, O(N_p n²).
+    BMatrix,
+    /// Route (b): the 13 inertia shape integrals, O(n²).
+    ShapeIntegrals,
+}
+
+/// The state of one body in the relative set (plain data).
+///
+/// * `r0`: global position of the body-frame origin O;
+/// * `a`: rotation matrix, columns = body axes in global components;
+/// * `omega`: global angular velocity ω (2D: `(0, 0, ω_z)`);
+/// * `s_dot`: ṡ, the velocity of the body point that coincides with the global
+///   origin: `ṡ = ṙ0 + r0 × ω`, equivalently `ṙ0 = ṡ − r̃0 ω`;
+/// * `y`, `y_dot`: modal coordinates and their rates (length n).
+///
+/// In 2D the z components of `r0`, `omega.xy`, `s_dot` must be zero and `a` a
+/// rotation about z ([`BodyState::planar`] builds one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyState<'a> {
+    /// Global position of the frame origin O (m).
+    pub r0: Vector3<f64>,
+    /// Orientation A (columns = body axes, global components).
+    pub a: Matrix3<f64>,
+    /// Global angular velocity ω (rad/s).
+    pub omega: Vector3<f64>,
+    /// ṡ = ṙ0 + r0 × ω (m/s).
+    pub s_dot: Vector3<f64>,
+    /// Modal coordinates y.
+    pub y: &'a [f64],
+    /// Modal rates ẏ.
+    pub y_dot: &'a [f64],
+}
+
+impl<'a> BodyState<'a> {
+    /// Build from the velocity of the frame origin: `ṡ = ṙ0 + r0 × ω`.
+    pub fn from_origin_velocity(
+        r0: Vector3<f64>,
+        a: Matrix3<f64>,
+        omega: Vector3<f64>,
+        r0_dot: Vector3<f64>,
+        y: &'a [f64],
+        y_dot: &'a [f64],
+    ) -> Self {
+        Self {
+            r0,
+            a,
+            omega,
+            s_dot: r0_dot + r0.cross(&omega),
+            y,
+            y_dot,
+        }
+    }
+
+    /// A planar state: origin (x, y), angle θ about z, ṡ = (ṡx, ṡy), ω_z.
+    pub fn planar(
+        r0: Vector2<f64>,
+        theta: f64,
+        s_dot: Vector2<f64>,
+        omega_z: f64,
+        y: &'a [f64],
+        y_dot: &'a [f64],
+    ) -> Self {
+        let (s, c) = theta.sin_cos();
+        Self {
+            r0: Vector3::new(r0.x, r0.y, 0.0),
+            a: Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+            omega: Vector3::new(0.0, 0.0, omega_z),
+            s_dot: Vector3::new(s_dot.x, s_dot.y, 0.0),
+            y,
+            y_dot,
+        }
+    }
+
+    /// Velocity of the frame origin, `ṙ0 = ṡ − r0 × ω`.
+    pub fn r0_dot(&self) -> Vector3<f64> {
+        self.s_dot - self.r0.cross(&self.omega)
+    }
+}
+
+/// Scratch storage sized once at construction (no allocation per evaluation).
+#[derive(Clone, Debug)]
+pub(crate) struct Workspace {
+    /// 9n: u^{ab} = S^{ab} y (3D), or [M_yy y; G_3 y; G_3 ẏ] (2D, 3n).
+    pub(crate) u: Vec<f64>,
+    /// 9n: rows (L_b)_a at (3b + a) n.
+    pub(crate) l: Vec<f64>,
+    /// 3n: G_c ẏ (3D).
+    pub(crate) gy: Vec<f64>,
+    /// 3n: A X_k of one cloud point, or B-route accumulators.
+    pub(crate) ax: Vec<f64>,
+    /// 3n: B-route Σ w A X_k.
+    pub(crate) sy: Vec<f64>,
+    /// 3n: B-route Σ w r̃_k A X_k.
+    pub(crate) wy: Vec<f64>,
+    /// n²: B-route Σ w (A X_k)ᵀ (A X_k) (upper triangle).
+    pub(crate) yy: Vec<f64>,
+    /// n: B-route modal inertia force, or shape-route scratch.
+    pub(crate) qy: Vec<f64>,
+    /// 3n: shape route C(y) rows.
+    pub(crate) c: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(n: usize) -> Self {
+        Self {
+            u: vec![0.0; 9 * n],
+            l: vec![0.0; 9 * n],
+            gy: vec![0.0; 3 * n],
+            ax: vec![0.0; 3 * n],
+            sy: vec![0.0; 3 * n],
+            wy: vec![0.0; 3 * n],
+            yy: vec![0.0; n * n],
+            qy: vec![0.0; n],
+            c: vec![0.0; 3 * n],
+        }
+    }
+}
+
+/// One reduced flexible (or rigid, n = 0) body at run time.
+#[derive(Clone, Debug)]
+pub struct FlexibleBody {
+    pub(crate) dim: Dim,
+    pub(crate) n: usize,
+    pub(crate) mass: f64,
+    /// m̄_u.
+    pub(crate) m_u: Vector3<f64>,
+    /// P̄_u.
+    pub(crate) p_u: Matrix3<f64>,
+    /// S, rows a at a n (3n).
+    pub(crate) s: Vec<f64>,
+    /// Sᵇ row a at (3b + a) n (9n).
+    pub(crate) sa: Vec<f64>,
+    /// Sᵃᵇ row-major at (3a + b) n² (9n²).
+    pub(crate) sab: Vec<f64>,
+    /// G_1, G_2, G_3 row-major (3n²).
+    pub(crate) g: Vec<f64>,
+    /// M_yy = Σ_a Sᵃᵃ (3D) or S¹¹ + S²² (2D), row-major (n²).
+    pub(crate) m_yy: Vec<f64>,
+    /// Cloud positions r̄_u,k.
+    pub(crate) pos: Vec<Vector3<f64>>,
+    /// Cloud weights w_k.
+    pub(crate) w: Vec<f64>,
+    /// Cloud mode rows, point-major, 3n per point.
+    pub(crate) rows: Vec<f64>,
+    cloud_description: String,
+    m_ff: DMatrix<f64>,
+    k_ff: DMatrix<f64>,
+    c_ff: DMatrix<f64>,
+    elastic: Box<dyn ElasticModel>,
+    pub(crate) ws: Workspace,
+}
+
+fn check_shape(field: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), InvalidValue> {
+    if m.shape() != (r, c) {
+        return Err(InvalidValue::new(
+            field,
+            format!("{}x{}", m.nrows(), m.ncols()),
+            format!("must be {r}x{c}"),
+        ));
+    }
+    if !m.iter().all(|v| v.is_finite()) {
+        return Err(InvalidValue::new(
+            field,
+            "non-finite entry",
+            "must be finite",
+        ));
+    }
+    Ok(())
+}
+
+impl FlexibleBody {
+    /// Build the run-time body: copies the invariants into contiguous storage,
+    /// precomputes `G_1, G_2, G_3` and `M_yy`, sizes the workspace, and uses the
+    /// linear elastic model. Refuses inconsistent sizes, negative or non-finite
+    /// weights, and (2D) a cloud that leaves the plane z = 0.
+    pub fn new(reduced: &ReducedBody) -> Result<Self, InvalidValue> {
+        let cloud = &reduced.cloud;
+        let n = cloud.n_modes;
+        if reduced.n_modes() != n {
+            return Err(InvalidValue::new(
+                "cloud.n_modes",
+                n,
+                format!("must equal the mode inventory's {}", reduced.n_modes()),
+            ));
+        }
+        if cloud.positions.len() != cloud.weights.len() {
+            return Err(InvalidValue::new(
+                "cloud.positions",
+                cloud.positions.len(),
+                format!("must have one entry per weight ({})", cloud.weights.len()),
+            ));
+        }
+        if cloud.mode_rows.len() != 3 * n * cloud.len() {
+            return Err(InvalidValue::new(
+                "cloud.mode_rows",
+                cloud.mode_rows.len(),
+                format!("must hold 3 n N_p = {} entries", 3 * n * cloud.len()),
+            ));
+        }
+        for (k, w) in cloud.weights.iter().enumerate() {
+            if !(w.is_finite() && *w >= 0.0) {
+                return Err(InvalidValue::new(
+                    format!("cloud.weights[{k}]"),
+                    w,
+                    "must be finite and >= 0",
+                ));
+            }
+        }
+        for (k, p) in cloud.positions.iter().enumerate() {
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(InvalidValue::new(
+                    format!("cloud.positions[{k}]"),
+                    format!("{p:?}"),
+                    "must be finite",
+                ));
+            }
+            if reduced.dim == Dim::Planar && p.z != 0.0 {
+                return Err(InvalidValue::new(
+                    format!("cloud.positions[{k}].z"),
+                    p.z,
+                    "a planar body lives in z = 0",
+                ));
+            }
+        }
+        if let Some(v) = cloud.mode_rows.iter().find(|v| !v.is_finite()) {
+            return Err(InvalidValue::new("cloud.mode_rows", v, "must be finite"));
+        }
+        if reduced.dim == Dim::Planar {
+            for k in 0..cloud.len() {
+                let zr = &cloud.rows(k)[2 * n..3 * n];
+                if let Some(v) = zr.iter().find(|v| **v != 0.0) {
+                    return Err(InvalidValue::new(
+                        format!("cloud.mode_rows[{k}].z"),
+                        v,
+                        "a planar body has zero z mode rows",
+                    ));
+                }
+            }
+        }
+        check_shape("k_ff", &reduced.k_ff, n, n)?;
+        check_shape("c_ff", &reduced.c_ff, n, n)?;
+        let si = &reduced.shape_integrals;
+        crate_require_positive("shape_integrals.mass", si.mass)?;
+        check_shape("shape_integrals.s", &si.s, 3, n)?;
+        for a in 0..3 {
+            check_shape(&format!("shape_integrals.s_a[{a}]"), &si.s_a[a], 3, n)?;
+            for b in 0..3 {
+                check_shape(
+                    &format!("shape_integrals.s_ab[{a}][{b}]"),
+                    &si.s_ab[a][b],
+                    n,
+                    n,
+                )?;
+            }
+        }
+
+        let mut s = vec![0.0; 3 * n];
+        let mut sa = vec![0.0; 9 * n];
+        let mut sab = vec![0.0; 9 * n * n];
+        for a in 0..3 {
+            for j in 0..n {
+                s[a * n + j] = si.s[(a, j)];
+            }
+        }
+        for b in 0..3 {
+            for a in 0..3 {
+                for j in 0..n {
+                    sa[(3 * b + a) * n + j] = si.s_a[b][(a, j)];
+                }
+            }
+        }
+        for a in 0..3 {
+            for b in 0..3 {
+                let off = (3 * a + b) * n * n;
+                for i in 0..n {
+                    for j in 0..n {
+                        sab[off + i * n + j] = si.s_ab[a][b][(i, j)];
+                    }
+                }
+            }
+        }
+        // G_1 = S³² − S²³, G_2 = S¹³ − S³¹, G_3 = S²¹ − S¹² (0-based pairs).
+        let pairs = [(2, 1, 1, 2), (0, 2, 2, 0), (1, 0, 0, 1)];
+        let mut g = vec![0.0; 3 * n * n];
+        for (c, &(a1, b1, a2, b2)) in pairs.iter().enumerate() {
+            for i in 0..n {
+                for j in 0..n {
+                    g[c * n * n + i * n + j] = si.s_ab[a1][b1][(i, j)] - si.s_ab[a2][b2][(i, j)];
+                }
+            }
+        }
+        let n_axes = if reduced.dim == Dim::Planar { 2 } else { 3 };
+        let mut m_yy = vec![0.0; n * n];
+        for a in 0..n_axes {
+            for i in 0..n {
+                for j in 0..n {
+                    m_yy[i * n + j] += si.s_ab[a][a][(i, j)];
+                }
+            }
+        }
+        // Symmetrize exactly (round-off of the cloud sums).
+        for i in 0..n {
+            for j in 0..i {
+                let v = 0.5 * (m_yy[i * n + j] + m_yy[j * n + i]);
+                m_yy[i * n + j] = v;
+                m_yy[j * n + i] = v;
+            }
+        }
+
+        Ok(Self {
+            dim: reduced.dim,
+            n,
+            mass: si.mass,
+            m_u: si.first_moment,
+            p_u: si.second_moment,
+            s,
+            sa,
+            sab,
+            g,
+            m_yy,
+            pos: cloud.positions.clone(),
+            w: cloud.weights.clone(),
+            rows: cloud.mode_rows.clone(),
+            cloud_description: cloud.description.clone(),
+            m_ff: reduced.m_ff.clone(),
+            k_ff: reduced.k_ff.clone(),
+            c_ff: reduced.c_ff.clone(),
+            elastic: Box::new(LinearElastic::from_reduced(reduced)),
+            ws: Workspace::new(n),
+        })
+    }
+
+    /// Planar or spatial.
+    pub fn dim(&self) -> Dim {
+        self.dim
+    }
+    /// Number of modal coordinates n.
+    pub fn n_modes(&self) -> usize {
+        self.n
+    }
+    /// Size of the body's velocity set: 6 + n (3D) or 3 + n (2D).
+    pub fn n_coords(&self) -> usize {
+        self.dim.n_rigid() + self.n
+    }
+    /// Total mass m (kg).
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+    /// First moment about the frame origin at y = 0, m̄_u (kg·m, body components).
+    pub fn first_moment(&self) -> Vector3<f64> {
+        self.m_u
+    }
+    /// Centre of mass at y = 0 (m, body components).
+    pub fn center_of_mass(&self) -> Vector3<f64> {
+        self.m_u / self.mass
+    }
+    /// Second moment about the frame origin at y = 0, P̄_u = ∫ r̄_u r̄_uᵀ dm.
+    pub fn second_moment(&self) -> Matrix3<f64> {
+        self.p_u
+    }
+    /// Inertia tensor about the frame origin at y = 0, `tr(P̄_u) I − P̄_u` (body axes).
+    pub fn inertia_about_origin(&self) -> Matrix3<f64> {
+        Matrix3::identity() * self.p_u.trace() - self.p_u
+    }
+    /// The modal mass block both routes use, `Σ_a Sᵃᵃ` (2D: `S¹¹ + S²²`).
+    pub fn m_yy(&self) -> DMatrix<f64> {
+        DMatrix::from_row_slice(self.n, self.n, &self.m_yy)
+    }
+    /// The reduced body's `M_ff = Xᵀ M X` as given by FE preprocessing.
+    pub fn m_ff(&self) -> &DMatrix<f64> {
+        &self.m_ff
+    }
+    /// Reduced stiffness K_ff.
+    pub fn k_ff(&self) -> &DMatrix<f64> {
+        &self.k_ff
+    }
+    /// Reduced damping C_ff.
+    pub fn c_ff(&self) -> &DMatrix<f64> {
+        &self.c_ff
+    }
+    /// Number of mass-cloud points (the B-matrix route's cost driver).
+    pub fn cloud_len(&self) -> usize {
+        self.w.len()
+    }
+    /// Which cloud this is (reported beside cost comparisons, methods.md §2.7).
+    pub fn cloud_description(&self) -> &str {
+        &self.cloud_description
+    }
+
+    /// M̄ and Q̄_v in the relative set {ṡ, ω, ẏ} (3D, (6+n)²) or {ṡx, ṡy, ωz, ẏ}
+    /// (2D, (3+n)²), written into caller storage (every entry is overwritten).
+    /// Works with `&mut DMatrix`/`&mut DVector` and with mutable views.
+    ///
+    /// # Panics
+    /// If the output sizes or `state.y`, `state.y_dot` lengths do not match.
+    pub fn inertia<SM, SQ>(
+        &mut self,
+        state: &BodyState<'_>,
+        method: InertiaMethod,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        qv_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let nc = self.n_coords();
+        assert_eq!(m_out.shape(), (nc, nc), "inertia: m_out must be {nc}x{nc}");
+        assert_eq!(qv_out.nrows(), nc, "inertia: qv_out must have {nc} rows");
+        assert_eq!(state.y.len(), self.n, "inertia: y must have n entries");
+        assert_eq!(
+            state.y_dot.len(),
+            self.n,
+            "inertia: y_dot must have n entries"
+        );
+        match (self.dim, method) {
+            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => self.shape_3d(state, m_out, qv_out),
+            (Dim::Planar, InertiaMethod::ShapeIntegrals) => self.shape_2d(state, m_out, qv_out),
+            (Dim::Spatial, InertiaMethod::BMatrix) => self.bmatrix_3d(state, m_out, qv_out),
+            (Dim::Planar, InertiaMethod::BMatrix) => self.bmatrix_2d(state, m_out, qv_out),
+        }
+    }
+
+    /// Elastic and damping forces on the modal coordinates, `Q_el(y, ẏ)` (length n),
+    /// by the body's elastic model (linear: `−K_ff y − C_ff ẏ`, methods.md §1.5).
+    pub fn elastic_forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
+        self.elastic.forces(y, y_dot, out);
+    }
+
+    /// Add `k_scale · (−∂Q_el/∂y) + c_scale · (−∂Q_el/∂ẏ)` (n × n) to `out`.
+    pub fn add_elastic_tangents(
+        &self,
+        y: &[f64],
+        y_dot: &[f64],
+        k_scale: f64,
+        c_scale: f64,
+        out: DMatrixViewMut<'_, f64>,
+    ) {
+        self.elastic.add_tangents(y, y_dot, k_scale, c_scale, out);
+    }
+
+    /// The elastic model in use.
+    pub fn elastic_model(&self) -> &dyn ElasticModel {
+        self.elastic.as_ref()
+    }
+
+    /// Replace the elastic model (e.g. by a geometric-stiffening model of §6).
+    pub fn set_elastic_model(&mut self, model: Box<dyn ElasticModel>) {
+        self.elastic = model;
+    }
+
+    /// Current first moment in body components, `m̄(y) = m̄_u + S y`.
+    pub fn first_moment_at(&self, y: &[f64]) -> Vector3<f64> {
+        let n = self.n;
+        assert_eq!(y.len(), n);
+        let mut m = self.m_u;
+        for a in 0..3 {
+            m[a] += dot(&self.s[a * n..(a + 1) * n], y);
+        }
+        m
+    }
+
+    /// Gravity in the s form (methods.md §2.6):
+    /// `{m g; (m r0 + A m̄(y)) × g; Sᵀ Aᵀ g}`, written into `out`
+    /// (length 6 + n in 3D; 3 + n in 2D, with the x, y, θz rows).
+    pub fn gravity_forces(&self, state: &BodyState<'_>, g: &Vector3<f64>, out: &mut [f64]) {
+        let n = self.n;
+        let nr = self.dim.n_rigid();
+        assert_eq!(
+            out.len(),
+            nr + n,
+            "gravity_forces: out must have n_coords entries"
+        );
+        let mb = self.first_moment_at(state.y);
+        let lever = self.mass * state.r0 + state.a * mb;
+        let f = self.mass * g;
+        let tq = lever.cross(g);
+        let gb = state.a.tr_mul(g);
+        match self.dim {
+            Dim::Spatial => {
+                out[..3].copy_from_slice(f.as_slice());
+                out[3..6].copy_from_slice(tq.as_slice());
+            }
+            Dim::Planar => {
+                out[0] = f.x;
+                out[1] = f.y;
+                out[2] = tq.z;
+            }
+        }
+        let na = if self.dim == Dim::Planar { 2 } else { 3 };
+        for j in 0..n {
+            let mut v = 0.0;
+            for a in 0..na {
+                v += self.s[a * n + j] * gb[a];
+            }
+            out[nr + j] = v;
+        }
+    }
+}
+
+fn crate_require_positive(field: &str, v: f64) -> Result<f64, InvalidValue> {
+    flexmbd_core::require_positive(field, v)
+}
+
+/// Dot product of two equal-length slices.
+#[inline(always)]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut s = 0.0;
+    for i in 0..n {
+        s += a[i] * b[i];
+    }
+    s
+}
+
+/// The in-plane 2 × 2 block of a rotation about z.
+#[inline(always)]
+pub(crate) fn planar_rotation(a: &Matrix3<f64>) -> Matrix2<f64> {
+    a.fixed_view::<2, 2>(0, 0).into_owned()
+}

@@ -5,6 +5,7 @@ pub mod beam;
 pub mod error;
 pub mod modal;
 pub mod reduced;
+pub mod rigid;
 pub mod spec;
 
 pub use error::FeError;

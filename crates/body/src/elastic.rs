@@ -1,0 +1,117 @@
+//! Elastic and damping forces of the modal coordinates (methods.md §1.5, §6).
+//!
+//! The body calls its elastic model through the [`ElasticModel`] trait, so that the
+//! geometric-stiffening models of §6 (FNL1 with `StiffeningIntegrals::k_g`, FNL2,
+//! …, in the `flexmbd-stiffening` crate) plug in later through
+//! [`FlexibleBody::set_elastic_model`](crate::FlexibleBody::set_elastic_model)
+//! without changing the body's interface. Only the linear model is implemented here.
+
+use flexmbd_fe::ReducedBody;
+use nalgebra::{DMatrix, DMatrixViewMut};
+
+/// Generalized elastic + damping force on the modal coordinates, `Q_el(y, ẏ)`.
+///
+/// Implementations must not allocate in [`forces`](ElasticModel::forces) or
+/// [`add_tangents`](ElasticModel::add_tangents) (they run once per evaluation).
+pub trait ElasticModel: Send + Sync + std::fmt::Debug {
+    /// Short name for reports (`"linear"`, `"FNL1"`, …).
+    fn name(&self) -> &str;
+    /// Write `Q_el(y, ẏ)` (length n) into `out`, overwriting it.
+    fn forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]);
+    /// Add `k_scale · (−∂Q_el/∂y) + c_scale · (−∂Q_el/∂ẏ)` (n × n) to `out`.
+    fn add_tangents(
+        &self,
+        y: &[f64],
+        y_dot: &[f64],
+        k_scale: f64,
+        c_scale: f64,
+        out: DMatrixViewMut<'_, f64>,
+    );
+    /// A boxed copy (lets [`FlexibleBody`](crate::FlexibleBody) be `Clone`).
+    fn clone_box(&self) -> Box<dyn ElasticModel>;
+}
+
+impl Clone for Box<dyn ElasticModel> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+/// Linear FFR elasticity (methods.md §1.5): `Q_el = −K_ff y − C_ff ẏ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearElastic {
+    n: usize,
+    /// K_ff row-major (n²).
+    k: Vec<f64>,
+    /// C_ff row-major (n²).
+    c: Vec<f64>,
+}
+
+impl LinearElastic {
+    /// From the reduced stiffness and damping of a body.
+    pub fn new(k_ff: &DMatrix<f64>, c_ff: &DMatrix<f64>) -> Self {
+        let n = k_ff.nrows();
+        assert_eq!(k_ff.shape(), (n, n), "K_ff must be square");
+        assert_eq!(c_ff.shape(), (n, n), "C_ff must have the shape of K_ff");
+        let row_major = |m: &DMatrix<f64>| -> Vec<f64> {
+            let mut v = Vec::with_capacity(n * n);
+            for i in 0..n {
+                for j in 0..n {
+                    v.push(m[(i, j)]);
+                }
+            }
+            v
+        };
+        Self {
+            n,
+            k: row_major(k_ff),
+            c: row_major(c_ff),
+        }
+    }
+
+    /// From a reduced body's `k_ff` and `c_ff`.
+    pub fn from_reduced(body: &ReducedBody) -> Self {
+        Self::new(&body.k_ff, &body.c_ff)
+    }
+}
+
+impl ElasticModel for LinearElastic {
+    fn name(&self) -> &str {
+        "linear"
+    }
+
+    fn forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        assert!(y.len() == n && y_dot.len() == n && out.len() == n);
+        for i in 0..n {
+            let kr = &self.k[i * n..(i + 1) * n];
+            let cr = &self.c[i * n..(i + 1) * n];
+            let mut s = 0.0;
+            for j in 0..n {
+                s += kr[j] * y[j] + cr[j] * y_dot[j];
+            }
+            out[i] = -s;
+        }
+    }
+
+    fn add_tangents(
+        &self,
+        _y: &[f64],
+        _y_dot: &[f64],
+        k_scale: f64,
+        c_scale: f64,
+        mut out: DMatrixViewMut<'_, f64>,
+    ) {
+        let n = self.n;
+        assert_eq!(out.shape(), (n, n));
+        for i in 0..n {
+            for j in 0..n {
+                out[(i, j)] += k_scale * self.k[i * n + j] + c_scale * self.c[i * n + j];
+            }
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn ElasticModel> {
+        Box::new(self.clone())
+    }
+}

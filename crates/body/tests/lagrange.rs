@@ -1,0 +1,238 @@
+//! Independent checks of the inertia formulas, not using B_k or Ḃ_k:
+//!
+//! * kinetic energy: ½ Zᵀ M̄ Z = ½ Σ w_k |ṙ_k|² with ṙ_k from differencing the point
+//!   positions along a motion (methods.md §8 item 4);
+//! * virtual power / Jourdain: along a smooth prescribed motion,
+//!   Σ w_k B_kᵀ r̈_k (r̈_k from differencing positions) = M̄ Ż − Q̄_v (§8 item 5),
+//!   with Ż = {s̈; ω̇; ÿ} also from differencing. This catches a sign error common to
+//!   both routes. The B_kᵀ used to project is the velocity Jacobian ∂ṙ_k/∂Z written
+//!   afresh from the velocity law; Ḃ_k is never used.
+
+mod common;
+use common::*;
+use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_fe::ReducedBody;
+use nalgebra::{DVector, Matrix3, Vector3};
+
+/// A smooth motion: r0(t), A(t) = Rz(α) Ry(β) Rx(γ) (3D) or Rz(α) (2D), y(t).
+struct Motion {
+    dim: Dim,
+    c: [[f64; 3]; 12],
+    n: usize,
+    yc: Vec<[f64; 3]>,
+}
+
+fn f(c: &[f64; 3], t: f64) -> f64 {
+    c[0] + c[1] * t + c[2] * (1.3 * t + 0.4 * c[0]).sin()
+}
+
+impl Motion {
+    fn new(seed: u64, dim: Dim, n: usize) -> Self {
+        let mut r = rng(seed);
+        let mut c = [[0.0; 3]; 12];
+        for row in c.iter_mut() {
+            for v in row.iter_mut() {
+                *v = uni(&mut r, -1.0, 1.0);
+            }
+        }
+        let yc = (0..n)
+            .map(|_| {
+                [
+                    uni(&mut r, -0.3, 0.3),
+                    uni(&mut r, -0.5, 0.5),
+                    uni(&mut r, -0.5, 0.5),
+                ]
+            })
+            .collect();
+        Self { dim, c, n, yc }
+    }
+    fn r0(&self, t: f64) -> Vector3<f64> {
+        let z = if self.dim == Dim::Planar {
+            0.0
+        } else {
+            f(&self.c[2], t)
+        };
+        Vector3::new(f(&self.c[0], t), f(&self.c[1], t), z)
+    }
+    fn a(&self, t: f64) -> Matrix3<f64> {
+        let rz = rot_z(f(&self.c[3], t));
+        if self.dim == Dim::Planar {
+            return rz;
+        }
+        let (sb, cb) = f(&self.c[4], t).sin_cos();
+        let (sg, cg) = f(&self.c[5], t).sin_cos();
+        let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
+        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
+        rz * ry * rx
+    }
+    fn y(&self, t: f64) -> Vec<f64> {
+        (0..self.n).map(|j| f(&self.yc[j], t)).collect()
+    }
+}
+
+/// 4th-order central first and second derivatives of a vector function.
+fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
+}
+fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
+        / (12.0 * h * h)
+}
+
+fn positions(rb: &ReducedBody, m: &Motion, t: f64) -> DVector<f64> {
+    let (r0, a, y) = (m.r0(t), m.a(t), m.y(t));
+    let n = m.n;
+    let np = rb.cloud.len();
+    let mut out = DVector::zeros(3 * np);
+    for k in 0..np {
+        let x = rb.cloud.rows(k);
+        let mut rb_k = rb.cloud.positions[k];
+        for c in 0..3 {
+            for j in 0..n {
+                rb_k[c] += x[c * n + j] * y[j];
+            }
+        }
+        let r = r0 + a * rb_k;
+        out.fixed_rows_mut::<3>(3 * k).copy_from(&r);
+    }
+    out
+}
+
+/// Z(t) = {ṡ; ω; ẏ} from the motion: ω̃ = Ȧ Aᵀ, ṡ = ṙ0 + r0 × ω (differenced).
+fn z_of(m: &Motion, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
+    let vec9 = |t: f64| DVector::from_column_slice(m.a(t).as_slice());
+    let ad = d1(vec9, t, h);
+    let ad = Matrix3::from_column_slice(ad.as_slice());
+    let w = ad * m.a(t).transpose();
+    let omega = Vector3::new(
+        0.5 * (w[(2, 1)] - w[(1, 2)]),
+        0.5 * (w[(0, 2)] - w[(2, 0)]),
+        0.5 * (w[(1, 0)] - w[(0, 1)]),
+    );
+    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
+    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
+    let s_dot = r0d + m.r0(t).cross(&omega);
+    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
+    (s_dot, omega, yd.as_slice().to_vec())
+}
+
+/// Reduced Z vector (2D keeps ṡx, ṡy, ωz).
+fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
+    let mut v = match dim {
+        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
+        Dim::Planar => vec![s.x, s.y, w.z],
+    };
+    v.extend_from_slice(yd);
+    DVector::from_vec(v)
+}
+
+fn check(seed: u64, dim: Dim, n: usize) {
+    let mut r = rng(seed);
+    let rb = random_body(&mut r, dim, n, 13);
+    let mut body = FlexibleBody::new(&rb).unwrap();
+    let m = Motion::new(seed + 100, dim, n);
+    let h = 1e-3;
+    for &t in &[0.0, 0.37, 1.1] {
+        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
+        let y = m.y(t);
+        let st = BodyState {
+            r0: m.r0(t),
+            a: m.a(t),
+            omega,
+            s_dot,
+            y: &y,
+            y_dot: &yd,
+        };
+        let z = z_vec(dim, &s_dot, &omega, &yd);
+        // Ż by differencing Z(t) (itself from differences of an analytic motion).
+        let zd = d1(
+            |t| {
+                let (s, w, yd) = z_of(&m, t, 1e-4);
+                z_vec(dim, &s, &w, &yd)
+            },
+            t,
+            h,
+        );
+        let rdot = d1(|t| positions(&rb, &m, t), t, h);
+        let rddot = d2(|t| positions(&rb, &m, t), t, h);
+        // Velocity Jacobian column i = ṙ_k at the unit velocity Z = e_i, straight from the
+        // velocity law ṙ = ṡ + ω × r + A X ẏ (§1.1, §4.1), not from the crate's B_k code.
+        let nc = body.n_coords();
+        let pos_now = positions(&rb, &m, t);
+        let np = rb.cloud.len();
+        let a = m.a(t);
+        let jac = |i: usize| -> DVector<f64> {
+            let mut ev = DVector::zeros(nc);
+            ev[i] = 1.0;
+            let (sd, w, ydv) = match dim {
+                Dim::Spatial => (
+                    Vector3::new(ev[0], ev[1], ev[2]),
+                    Vector3::new(ev[3], ev[4], ev[5]),
+                    ev.rows(6, n).iter().copied().collect::<Vec<_>>(),
+                ),
+                Dim::Planar => (
+                    Vector3::new(ev[0], ev[1], 0.0),
+                    Vector3::new(0.0, 0.0, ev[2]),
+                    ev.rows(3, n).iter().copied().collect::<Vec<_>>(),
+                ),
+            };
+            let mut out = DVector::zeros(3 * np);
+            for k in 0..np {
+                let x = rb.cloud.rows(k);
+                let rk = pos_now.fixed_rows::<3>(3 * k).into_owned();
+                let mut dxy = Vector3::zeros();
+                for c in 0..3 {
+                    for j in 0..n {
+                        dxy[c] += x[c * n + j] * ydv[j];
+                    }
+                }
+                let v = sd + w.cross(&rk) + a * dxy;
+                out.fixed_rows_mut::<3>(3 * k).copy_from(&v);
+            }
+            out
+        };
+        let bt: Vec<DVector<f64>> = (0..nc).map(jac).collect();
+        let mut lhs = DVector::zeros(nc);
+        let mut ke = 0.0;
+        for k in 0..np {
+            let w = rb.cloud.weights[k];
+            let acc = rddot.fixed_rows::<3>(3 * k);
+            for i in 0..nc {
+                lhs[i] += w * bt[i].fixed_rows::<3>(3 * k).dot(&acc);
+            }
+            ke += 0.5 * w * rdot.fixed_rows::<3>(3 * k).norm_squared();
+        }
+        for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
+            let (mm, qv) = eval(&mut body, &st, method);
+            let rhs = &mm * &zd - &qv;
+            let d = rel_diff_v(&rhs, &lhs);
+            eprintln!(
+                "{dim} n={n} {method:?} t={t}: virtual power rel diff {d:.1e}, |Q_v|/|lhs| = {:.2}",
+                qv.amax() / lhs.amax()
+            );
+            assert!(
+                d < 1e-7,
+                "{dim} n={n} {method:?}: Σ w Bᵀ r̈ vs M̄Ż − Q̄_v: {d:e}"
+            );
+            let ke_m = 0.5 * z.dot(&(&mm * &z));
+            assert!(
+                (ke_m - ke).abs() < 1e-8 * ke,
+                "{dim} {method:?}: T {ke_m} vs {ke}"
+            );
+            // The sign check is meaningful only if Q̄_v is not negligible.
+            assert!(qv.amax() > 1e-3 * lhs.amax());
+        }
+    }
+}
+
+#[test]
+fn virtual_power_and_energy_3d() {
+    check(1, Dim::Spatial, 0);
+    check(2, Dim::Spatial, 4);
+}
+
+#[test]
+fn virtual_power_and_energy_2d() {
+    check(3, Dim::Planar, 0);
+    check(4, Dim::Planar, 3);
+}
