@@ -1,16 +1,144 @@
 //! Finite-element preprocessing for flexmbd (methods.md §1–§2.3, §6.1).
+//!
+//! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
+//! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)
+//! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 
 pub mod assembly;
 pub mod beam;
+pub mod cloud;
+pub mod craig_bampton;
 pub mod error;
 pub mod modal;
 pub mod reduced;
 pub mod rigid;
 pub mod spec;
+pub mod stiffening;
 
+use flexmbd_core::Dim;
+use nalgebra::{DMatrix, Vector3};
+
+pub use assembly::{DofSets, Mesh};
+pub use craig_bampton::Reduction;
 pub use error::FeError;
 pub use reduced::{
     Dof, MassCloud, ModeInventory, NodeDof, NodeModes, ReducedBody, ShapeIntegrals,
     StiffeningIntegrals,
 };
 pub use spec::{BeamBodySpec, Damping, Geometry, Material, ReferenceFrame, Section};
+
+/// Everything [`reduce`] computes, including the FE-level intermediates that
+/// tests and the `modes` command may want to inspect.
+#[derive(Clone, Debug)]
+pub struct Preprocessed {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Free-floating stiffness K (dense, N × N).
+    pub k: DMatrix<f64>,
+    /// Free-floating mass M (dense, N × N; the default mass model of the dimension).
+    pub m: DMatrix<f64>,
+    /// The Craig–Bampton reduction.
+    pub reduction: Reduction,
+    /// The reduced body.
+    pub body: ReducedBody,
+}
+
+/// Validate, mesh, assemble, reduce and fill a [`ReducedBody`].
+pub fn reduce(spec: &BeamBodySpec) -> Result<ReducedBody, FeError> {
+    preprocess(spec).map(|p| p.body)
+}
+
+/// Like [`reduce`], keeping the FE-level intermediates.
+pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
+    spec.validate()?;
+    let mesh = Mesh::from_spec(spec);
+    let asm = mesh.assemble(mesh.default_mass_model());
+    let k = assembly::to_dense(&asm.k);
+    let m = assembly::to_dense(&asm.m);
+    let frame_dofs = spec.frame_dofs();
+    let sets = DofSets::from_node_dofs(spec.dim, mesh.n_dofs(), &frame_dofs, &spec.boundary);
+    let frame_txt = format_dofs(&frame_dofs);
+    let name = if spec.origin.is_empty() {
+        "<beam body spec>"
+    } else {
+        spec.origin.as_str()
+    };
+    let red = craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?;
+    let c_ff = craig_bampton::damping_matrix(&spec.damping, &red);
+    let cloud = cloud::build_cloud(&mesh, &red.x);
+    let shape_integrals = ShapeIntegrals::from_cloud(&cloud);
+    let nodes = node_modes(&mesh, &red.x);
+    let k_g = stiffening::geometric_stiffness(&mesh, &red.x);
+    let inventory = ModeInventory {
+        n_fe_dofs: mesh.n_dofs(),
+        frame_dofs,
+        static_modes: spec.boundary.clone(),
+        normal_frequencies_hz: red
+            .omega_sq
+            .iter()
+            .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect(),
+    };
+    let body = ReducedBody {
+        dim: spec.dim,
+        inventory,
+        modes: red.x.clone(),
+        m_ff: red.m_ff.clone(),
+        k_ff: red.k_ff.clone(),
+        c_ff,
+        cloud,
+        shape_integrals,
+        nodes,
+        stiffening: StiffeningIntegrals { k_g },
+    };
+    Ok(Preprocessed {
+        mesh,
+        k,
+        m,
+        reduction: red,
+        body,
+    })
+}
+
+/// Nodal mode rows: translation X^t and rotation X^r (3 × n each, body components).
+/// In 2D the z translation row and the x, y rotation rows are zero.
+pub fn node_modes(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<NodeModes> {
+    let n = x.ncols();
+    let d = mesh.dofs_per_node();
+    mesh.nodes
+        .iter()
+        .enumerate()
+        .map(|(k, pos)| {
+            let mut t = DMatrix::zeros(3, n);
+            let mut r = DMatrix::zeros(3, n);
+            for j in 0..n {
+                match mesh.dim {
+                    Dim::Planar => {
+                        t[(0, j)] = x[(k * d, j)];
+                        t[(1, j)] = x[(k * d + 1, j)];
+                        r[(2, j)] = x[(k * d + 2, j)];
+                    }
+                    Dim::Spatial => {
+                        for a in 0..3 {
+                            t[(a, j)] = x[(k * d + a, j)];
+                            r[(a, j)] = x[(k * d + 3 + a, j)];
+                        }
+                    }
+                }
+            }
+            NodeModes {
+                position: Vector3::new(pos.x, pos.y, pos.z),
+                translation: t,
+                rotation: r,
+            }
+        })
+        .collect()
+}
+
+fn format_dofs(d: &[NodeDof]) -> String {
+    let parts: Vec<String> = d
+        .iter()
+        .map(|nd| format!("{}@{}", nd.dof.name(), nd.node))
+        .collect();
+    format!("{{{}}}", parts.join(", "))
+}

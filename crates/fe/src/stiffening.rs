@@ -1,0 +1,49 @@
+//! Per-mode geometric stiffness K_Gk (methods.md §6.1, §6.2 "Precomputation").
+//!
+//! With linear axial and Hermite transverse shape functions, the axial strain
+//! of mode k is constant on an element, g_u,k = Δu_k,e / L_e, so
+//!
+//! K_Gk = Σ_e EA (Δu_k,e / L_e) (X_e^(v)ᵀ K_σ X_e^(v) + X_e^(w)ᵀ K_σ^(w) X_e^(w)),
+//!
+//! where X_e^(v) are the mode rows of (v₁, θz₁, v₂, θz₂) and X_e^(w) those of
+//! (w₁, θy₁, w₂, θy₂), in element axes. Then U₁ = ½ Σ_k y_k yᵀ K_Gk y.
+//! On a polyline each element uses its own axial direction (§6 is written for
+//! a straight beam along ē₁).
+
+use flexmbd_core::Dim;
+use nalgebra::DMatrix;
+
+use crate::assembly::Mesh;
+use crate::beam::{AXIAL_2D, AXIAL_3D, VPLANE_2D, VPLANE_3D, WPLANE_3D, k_sigma, k_sigma_w};
+use crate::cloud::element_local_modes;
+
+/// K_Gk for every mode k of `x` (N × n): n symmetric n × n matrices.
+pub fn geometric_stiffness(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<DMatrix<f64>> {
+    let n = x.ncols();
+    let mut kg = vec![DMatrix::zeros(n, n); n];
+    let ea = mesh.props.e * mesh.props.area;
+    for (e, el) in mesh.elements.iter().enumerate() {
+        let l = el.length;
+        let xl = element_local_modes(mesh, e, x);
+        let (ax, vp): ([usize; 2], [usize; 4]) = match mesh.dim {
+            Dim::Planar => (AXIAL_2D, VPLANE_2D),
+            Dim::Spatial => (AXIAL_3D, VPLANE_3D),
+        };
+        let xv = DMatrix::from_fn(4, n, |i, j| xl[(vp[i], j)]);
+        let mut g = xv.transpose() * k_sigma(l) * &xv;
+        if mesh.dim == Dim::Spatial {
+            let xw = DMatrix::from_fn(4, n, |i, j| xl[(WPLANE_3D[i], j)]);
+            g += xw.transpose() * k_sigma_w(l) * &xw;
+        }
+        for (k, kgk) in kg.iter_mut().enumerate() {
+            let du = xl[(ax[1], k)] - xl[(ax[0], k)];
+            if du != 0.0 {
+                *kgk += &g * (ea * du / l);
+            }
+        }
+    }
+    for m in kg.iter_mut() {
+        *m = (&*m + m.transpose()) * 0.5;
+    }
+    kg
+}
