@@ -1,0 +1,74 @@
+//! Errors of scene loading: each names the file and the item or field.
+
+use flexmbd_core::InvalidValue;
+use flexmbd_fe::FeError;
+
+/// Why a scene was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// The file could not be read.
+    #[error("cannot read {file}: {source}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// RON syntax or schema error (misspelt field, wrong type).
+    #[error("{file}:{line}:{column}: {message}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong (names the field).
+        message: String,
+    },
+    /// A value is not physical or not consistent.
+    #[error("{file}: {error}")]
+    Invalid {
+        /// The file.
+        file: String,
+        /// Field path, value and reason.
+        error: InvalidValue,
+    },
+    /// An item names another that does not exist.
+    #[error("{file}: {item} names {kind} `{name}`, which does not exist{hint}")]
+    Missing {
+        /// The file.
+        file: String,
+        /// The referring field (e.g. `joints[A0].body2`).
+        item: String,
+        /// What kind of thing was named (body, marker, joint).
+        kind: &'static str,
+        /// The missing name.
+        name: String,
+        /// The known names, if few.
+        hint: String,
+    },
+    /// A `--set PATH=VALUE` override could not be applied.
+    #[error("--set {path}: {message}")]
+    Set {
+        /// The path given.
+        path: String,
+        /// Why.
+        message: String,
+    },
+    /// A flexible body's FE model was refused.
+    #[error("{file}: body `{body}`: {source}")]
+    Fe {
+        /// The file.
+        file: String,
+        /// The body.
+        body: String,
+        /// The cause.
+        #[source]
+        source: FeError,
+    },
+    /// The requested formulation or option cannot run this scene.
+    #[error("{0}")]
+    Unsupported(String),
+}

@@ -1,0 +1,455 @@
+//! Loading a scene from RON, validating it, and `--set PATH=VALUE` overrides.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use flexmbd_core::{InvalidValue, require_non_negative, require_positive};
+use flexmbd_fe::reduced::Dof;
+use serde_json::Value;
+
+use crate::error::ModelError;
+use crate::scene::{BodyModel, Force, GROUND, JointKind, Scene, SensorKind};
+
+impl Scene {
+    /// Parse RON text; `origin` names the file in errors. Not validated.
+    pub fn from_ron_str(text: &str, origin: &str) -> Result<Scene, ModelError> {
+        let mut scene: Scene = ron::from_str(text).map_err(|e| ModelError::Parse {
+            file: origin.to_string(),
+            line: e.span.start.line,
+            column: e.span.start.col,
+            message: e.code.to_string(),
+        })?;
+        scene.origin = origin.to_string();
+        for b in &mut scene.bodies {
+            if let BodyModel::Beam(spec) = &mut b.model {
+                spec.origin = format!("{origin}: bodies[{}]", b.name);
+            }
+        }
+        Ok(scene)
+    }
+
+    /// Read, parse and validate a scene file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, ModelError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        let scene = Scene::from_ron_str(&text, &file)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    fn invalid(&self, e: InvalidValue) -> ModelError {
+        ModelError::Invalid {
+            file: self.origin.clone(),
+            error: e,
+        }
+    }
+
+    /// Check names, references and values. Errors name the file and the field.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let s = &self.solver;
+        require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
+        require_positive("solver.duration", s.duration).map_err(|e| self.invalid(e))?;
+        if let Some(o) = s.output_interval {
+            require_positive("solver.output_interval", o).map_err(|e| self.invalid(e))?;
+        }
+        require_positive("solver.newton_tolerance", s.newton_tolerance)
+            .map_err(|e| self.invalid(e))?;
+        if s.max_iterations == 0 {
+            return Err(self.invalid(InvalidValue::new(
+                "solver.max_iterations",
+                0,
+                "must be at least 1",
+            )));
+        }
+        if let Some(p) = s.penalty {
+            require_positive("solver.penalty", p).map_err(|e| self.invalid(e))?;
+        }
+        for (i, g) in self.gravity.0.iter().enumerate() {
+            if !g.is_finite() {
+                return Err(self.invalid(InvalidValue::new(
+                    format!("gravity[{i}]"),
+                    g,
+                    "must be finite",
+                )));
+            }
+        }
+        let mut body_names = HashSet::new();
+        for b in &self.bodies {
+            let f = |field: &str| format!("bodies[{}].{field}", b.name);
+            if b.name == GROUND {
+                return Err(self.invalid(InvalidValue::new(
+                    "bodies.name",
+                    GROUND,
+                    "`ground` is the fixed body; choose another name",
+                )));
+            }
+            if !body_names.insert(b.name.as_str()) {
+                return Err(self.invalid(InvalidValue::new(
+                    "bodies.name",
+                    &b.name,
+                    "duplicate body name",
+                )));
+            }
+            let mut markers = HashSet::new();
+            for m in &b.markers {
+                if !markers.insert(m.name.as_str()) {
+                    return Err(self.invalid(InvalidValue::new(
+                        f("markers.name"),
+                        &m.name,
+                        "duplicate marker name",
+                    )));
+                }
+            }
+            match &b.model {
+                BodyModel::Rigid { mass, inertia, .. } => {
+                    require_positive(&f("model.Rigid.mass"), *mass).map_err(|e| self.invalid(e))?;
+                    let t = inertia.tensor();
+                    for k in 0..3 {
+                        require_non_negative(&f("model.Rigid.inertia"), t[(k, k)])
+                            .map_err(|e| self.invalid(e))?;
+                    }
+                }
+                BodyModel::Beam(spec) => {
+                    if spec.dim != self.dim {
+                        return Err(self.invalid(InvalidValue::new(
+                            f("model.Beam.dim"),
+                            format!("{:?}", spec.dim),
+                            format!("the scene is {:?}", self.dim),
+                        )));
+                    }
+                    spec.validate().map_err(|source| ModelError::Fe {
+                        file: self.origin.clone(),
+                        body: b.name.clone(),
+                        source,
+                    })?;
+                }
+            }
+        }
+        let mut ground_markers = HashSet::new();
+        for m in &self.ground {
+            if !ground_markers.insert(m.name.as_str()) {
+                return Err(self.invalid(InvalidValue::new(
+                    "ground.name",
+                    &m.name,
+                    "duplicate marker name",
+                )));
+            }
+        }
+        let mut joint_names = HashSet::new();
+        for j in &self.joints {
+            if !joint_names.insert(j.name.as_str()) {
+                return Err(self.invalid(InvalidValue::new(
+                    "joints.name",
+                    &j.name,
+                    "duplicate joint name",
+                )));
+            }
+            let item = |f: &str| format!("joints[{}].{f}", j.name);
+            self.check_marker(&item("body1"), &j.body1, &item("marker1"), &j.marker1)?;
+            self.check_marker(&item("body2"), &j.body2, &item("marker2"), &j.marker2)?;
+            if j.body1 == j.body2 {
+                return Err(self.invalid(InvalidValue::new(
+                    item("body2"),
+                    &j.body2,
+                    "a joint needs two different bodies",
+                )));
+            }
+            let planar = self.dim == flexmbd_core::Dim::Planar;
+            let spatial_only = matches!(
+                j.kind,
+                JointKind::Spherical | JointKind::Universal { .. } | JointKind::Cylindrical { .. }
+            );
+            if planar && spatial_only {
+                return Err(self.invalid(InvalidValue::new(
+                    item("kind"),
+                    format!("{:?}", j.kind),
+                    "not a planar joint",
+                )));
+            }
+        }
+        for d in &self.drivers {
+            if !self.joints.iter().any(|j| j.name == d.joint) {
+                return Err(self.missing(format!("drivers[{}].joint", d.name), "joint", &d.joint));
+            }
+            if let crate::scene::MotionLaw::SpinUp { t_s, .. } = d.law {
+                require_positive(&format!("drivers[{}].law.SpinUp.t_s", d.name), t_s)
+                    .map_err(|e| self.invalid(e))?;
+            }
+        }
+        for force in &self.forces {
+            let Force::SpringDamper {
+                name,
+                body1,
+                marker1,
+                body2,
+                marker2,
+                stiffness,
+                damping,
+                free_length,
+            } = force;
+            let item = |f: &str| format!("forces[{name}].{f}");
+            self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
+            self.check_marker(&item("body2"), body2, &item("marker2"), marker2)?;
+            require_non_negative(&item("stiffness"), *stiffness).map_err(|e| self.invalid(e))?;
+            require_non_negative(&item("damping"), *damping).map_err(|e| self.invalid(e))?;
+            if let Some(l) = free_length {
+                require_non_negative(&item("free_length"), *l).map_err(|e| self.invalid(e))?;
+            }
+        }
+        let mut sensor_names = HashSet::new();
+        for sn in &self.sensors {
+            if !sensor_names.insert(sn.name.as_str()) || sn.name == "t" {
+                return Err(self.invalid(InvalidValue::new(
+                    "sensors.name",
+                    &sn.name,
+                    "duplicate sensor name (or `t`)",
+                )));
+            }
+            let item = |f: &str| format!("sensors[{}].{f}", sn.name);
+            match &sn.kind {
+                SensorKind::Position {
+                    body,
+                    marker,
+                    frame,
+                    ..
+                }
+                | SensorKind::Velocity {
+                    body,
+                    marker,
+                    frame,
+                    ..
+                } => {
+                    self.check_marker(&item("body"), body, &item("marker"), marker)?;
+                    if let Some(fr) = frame
+                        && fr != GROUND
+                        && !self.bodies.iter().any(|b| &b.name == fr)
+                    {
+                        return Err(self.missing(item("frame"), "body", fr));
+                    }
+                }
+                SensorKind::JointCoordinate { joint } => {
+                    if !self.joints.iter().any(|j| &j.name == joint) {
+                        return Err(self.missing(item("joint"), "joint", joint));
+                    }
+                }
+                SensorKind::Modal { body, index } => {
+                    let Some(b) = self.bodies.iter().find(|b| &b.name == body) else {
+                        return Err(self.missing(item("body"), "body", body));
+                    };
+                    let n = match &b.model {
+                        BodyModel::Beam(spec) if b.flexible => {
+                            spec.boundary.len() + spec.normal_modes
+                        }
+                        _ => 0,
+                    };
+                    if *index >= n {
+                        return Err(self.invalid(InvalidValue::new(
+                            item("index"),
+                            index,
+                            format!("body `{body}` has {n} modal coordinates"),
+                        )));
+                    }
+                }
+                SensorKind::Energy => {}
+            }
+        }
+        Ok(())
+    }
+
+    fn missing(&self, item: String, kind: &'static str, name: &str) -> ModelError {
+        let known: Vec<&str> = match kind {
+            "body" => std::iter::once(GROUND)
+                .chain(self.bodies.iter().map(|b| b.name.as_str()))
+                .collect(),
+            "joint" => self.joints.iter().map(|j| j.name.as_str()).collect(),
+            _ => Vec::new(),
+        };
+        let hint = if !known.is_empty() && known.len() <= 12 {
+            format!(" (known: {})", known.join(", "))
+        } else {
+            String::new()
+        };
+        ModelError::Missing {
+            file: self.origin.clone(),
+            item,
+            kind,
+            name: name.to_string(),
+            hint,
+        }
+    }
+
+    fn check_marker(
+        &self,
+        body_item: &str,
+        body: &str,
+        marker_item: &str,
+        marker: &str,
+    ) -> Result<(), ModelError> {
+        let markers: Vec<&str> = if body == GROUND {
+            self.ground.iter().map(|m| m.name.as_str()).collect()
+        } else {
+            match self.bodies.iter().find(|b| b.name == body) {
+                Some(b) => b.markers.iter().map(|m| m.name.as_str()).collect(),
+                None => return Err(self.missing(body_item.to_string(), "body", body)),
+            }
+        };
+        if !markers.contains(&marker) {
+            let hint = format!(" (markers of `{body}`: {})", markers.join(", "));
+            return Err(ModelError::Missing {
+                file: self.origin.clone(),
+                item: marker_item.to_string(),
+                kind: "marker",
+                name: marker.to_string(),
+                hint,
+            });
+        }
+        Ok(())
+    }
+
+    /// Apply `PATH=VALUE` overrides: `PATH` is a dotted path of field names; in a list of
+    /// named items (bodies, joints, sensors, ...) an item is selected by its `name`
+    /// (e.g. `bodies.crank1.flexible=true`, `solver.step=5e-4`,
+    /// `bodies.bar.model.Beam.material.young_modulus=7e10`). The value must be a scalar of
+    /// the field's type. The scene is validated again afterwards.
+    pub fn apply_sets(&mut self, sets: &[(String, String)]) -> Result<(), ModelError> {
+        if sets.is_empty() {
+            return Ok(());
+        }
+        let origin = self.origin.clone();
+        let mut tree = serde_json::to_value(&*self).map_err(|e| ModelError::Set {
+            path: String::new(),
+            message: e.to_string(),
+        })?;
+        for (path, value) in sets {
+            set_path(&mut tree, path, value)?;
+        }
+        let mut scene: Scene = serde_json::from_value(tree).map_err(|e| ModelError::Set {
+            path: sets
+                .iter()
+                .map(|(p, v)| format!("{p}={v}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            message: e.to_string(),
+        })?;
+        scene.origin = origin;
+        for b in &mut scene.bodies {
+            if let BodyModel::Beam(spec) = &mut b.model {
+                spec.origin = format!("{}: bodies[{}]", scene.origin, b.name);
+            }
+        }
+        scene.validate()?;
+        *self = scene;
+        Ok(())
+    }
+}
+
+/// Parse `PATH=VALUE`.
+pub fn parse_set(arg: &str) -> Result<(String, String), ModelError> {
+    match arg.split_once('=') {
+        Some((p, v)) if !p.is_empty() => Ok((p.trim().to_string(), v.trim().to_string())),
+        _ => Err(ModelError::Set {
+            path: arg.to_string(),
+            message: "expected PATH=VALUE".into(),
+        }),
+    }
+}
+
+fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError> {
+    let err = |m: String| ModelError::Set {
+        path: path.to_string(),
+        message: m,
+    };
+    let mut node = tree;
+    let parts: Vec<&str> = path.split('.').collect();
+    for (i, part) in parts.iter().enumerate() {
+        let here = parts[..i].join(".");
+        node = match node {
+            Value::Object(map) => {
+                let keys: Vec<String> = map.keys().cloned().collect();
+                map.get_mut(*part).ok_or_else(|| {
+                    err(format!(
+                        "`{part}` is not a field of `{}` (fields: {})",
+                        if here.is_empty() { "scene" } else { &here },
+                        keys.join(", ")
+                    ))
+                })?
+            }
+            Value::Array(items) => {
+                let names: Vec<String> = items
+                    .iter()
+                    .filter_map(|it| it.get("name").and_then(|n| n.as_str()).map(String::from))
+                    .collect();
+                if let Some(pos) = items
+                    .iter()
+                    .position(|it| it.get("name").and_then(|n| n.as_str()) == Some(part))
+                {
+                    &mut items[pos]
+                } else if let Ok(k) = part.parse::<usize>() {
+                    let n = items.len();
+                    items.get_mut(k).ok_or_else(|| {
+                        err(format!("index {k} out of range ({n} items in `{here}`)"))
+                    })?
+                } else {
+                    return Err(err(format!(
+                        "`{here}` has no item named `{part}` (names: {})",
+                        names.join(", ")
+                    )));
+                }
+            }
+            _ => {
+                return Err(err(format!(
+                    "`{here}` is a scalar; `{part}` cannot be selected in it"
+                )));
+            }
+        };
+    }
+    let new = match node {
+        Value::Bool(_) => Value::Bool(
+            value
+                .parse()
+                .map_err(|_| err(format!("`{value}` is not true or false")))?,
+        ),
+        Value::Number(_) => {
+            let x: f64 = value
+                .parse()
+                .map_err(|_| err(format!("`{value}` is not a number")))?;
+            if value.contains(['.', 'e', 'E']) || x.fract() != 0.0 || x < 0.0 {
+                serde_json::Number::from_f64(x)
+                    .map(Value::Number)
+                    .ok_or_else(|| err(format!("`{value}` is not finite")))?
+            } else {
+                Value::Number((x as u64).into())
+            }
+        }
+        Value::String(_) => Value::String(value.to_string()),
+        Value::Null => {
+            // An omitted optional field: take a number, a bool, or a string.
+            if let Ok(x) = value.parse::<f64>() {
+                serde_json::Number::from_f64(x)
+                    .map(Value::Number)
+                    .ok_or_else(|| err(format!("`{value}` is not finite")))?
+            } else if let Ok(b) = value.parse::<bool>() {
+                Value::Bool(b)
+            } else {
+                Value::String(value.to_string())
+            }
+        }
+        Value::Object(_) | Value::Array(_) => {
+            // Unit enum variants serialise as strings; anything else is not a scalar.
+            return Err(err(
+                "this path names a structure, not a scalar; extend the path to a field".into(),
+            ));
+        }
+    };
+    *node = new;
+    Ok(())
+}
+
+/// Dimension check used by formulations: the DOFs a planar model may use.
+pub fn planar_dof(d: Dof) -> bool {
+    matches!(d, Dof::Ux | Dof::Uy | Dof::Rz)
+}

@@ -1,0 +1,508 @@
+//! The scene: the physics described once, independent of the formulation that
+//! will run it. Units are SI throughout (m, kg, s, N, rad); vectors are written
+//! `(x, y)` in 2D scenes and `(x, y, z)` in 3D scenes.
+
+use flexmbd_body::InertiaMethod;
+use flexmbd_core::Dim;
+use flexmbd_fe::BeamBodySpec;
+use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// A vector written with 2 (planar) or 3 numbers; stored with z = 0 in 2D.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "Vec<f64>", into = "Vec<f64>")]
+pub struct V3(pub [f64; 3]);
+
+impl TryFrom<Vec<f64>> for V3 {
+    type Error = String;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        match v.as_slice() {
+            [x, y] => Ok(V3([*x, *y, 0.0])),
+            [x, y, z] => Ok(V3([*x, *y, *z])),
+            _ => Err(format!(
+                "expected a vector of 2 or 3 numbers, found {} numbers",
+                v.len()
+            )),
+        }
+    }
+}
+
+impl From<V3> for Vec<f64> {
+    fn from(v: V3) -> Self {
+        v.0.to_vec()
+    }
+}
+
+impl V3 {
+    /// As a nalgebra vector.
+    pub fn vec(&self) -> Vector3<f64> {
+        Vector3::from(self.0)
+    }
+}
+
+/// The name of the implicit fixed body; its markers are [`Scene::ground`].
+pub const GROUND: &str = "ground";
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name.
+    pub name: String,
+    /// Free text: what the scene is and where its data come from.
+    #[serde(default)]
+    pub description: String,
+    /// Planar (x–y) or spatial.
+    pub dim: Dim,
+    /// Gravitational acceleration (m/s²), ground components.
+    #[serde(default)]
+    pub gravity: V3,
+    /// Named points of the fixed ground (ground components, m).
+    #[serde(default)]
+    pub ground: Vec<Marker>,
+    /// The moving bodies.
+    pub bodies: Vec<Body>,
+    /// Joints between bodies (or a body and the ground).
+    #[serde(default)]
+    pub joints: Vec<Joint>,
+    /// Force elements.
+    #[serde(default)]
+    pub forces: Vec<Force>,
+    /// Prescribed joint motions.
+    #[serde(default)]
+    pub drivers: Vec<Driver>,
+    /// Named outputs, one CSV column each.
+    #[serde(default)]
+    pub sensors: Vec<Sensor>,
+    /// Solver settings.
+    pub solver: Solver,
+    /// File the scene was read from (named in errors).
+    #[serde(skip)]
+    pub origin: String,
+}
+
+/// A named point of a body, in body-frame components (m). On a flexible body it
+/// must sit on an FE node (joints attach to nodes).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Marker {
+    /// Name, unique within its body.
+    pub name: String,
+    /// Position (m), body components (ground components for ground markers).
+    pub position: V3,
+}
+
+/// Orientation of a body frame in the ground at t = 0.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum Orientation {
+    /// Body axes parallel to the ground axes.
+    #[default]
+    Identity,
+    /// Planar rotation by an angle about z (rad).
+    Angle(f64),
+    /// Rotation by `angle` (rad) about `axis` (ground components).
+    AxisAngle {
+        /// Rotation axis (normalised on use).
+        axis: V3,
+        /// Angle (rad).
+        angle: f64,
+    },
+    /// Body x and y axes in ground components (orthonormalised: z = x × y, y = z × x).
+    Axes {
+        /// Body x axis.
+        x: V3,
+        /// Body y axis (approximately).
+        y: V3,
+    },
+}
+
+impl Orientation {
+    /// The rotation matrix A (columns: body axes in ground components).
+    pub fn matrix(&self) -> Matrix3<f64> {
+        match self {
+            Orientation::Identity => Matrix3::identity(),
+            Orientation::Angle(a) => *Rotation3::from_axis_angle(&Vector3::z_axis(), *a).matrix(),
+            Orientation::AxisAngle { axis, angle } => {
+                *Rotation3::from_axis_angle(&Unit::new_normalize(axis.vec()), *angle).matrix()
+            }
+            Orientation::Axes { x, y } => {
+                let ex = x.vec().normalize();
+                let ez = ex.cross(&y.vec()).normalize();
+                let ey = ez.cross(&ex);
+                Matrix3::from_columns(&[ex, ey, ez])
+            }
+        }
+    }
+}
+
+/// Initial velocity of a body frame: its origin's velocity and its angular velocity, ground components.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Velocity {
+    /// Velocity of the frame origin (m/s).
+    #[serde(default)]
+    pub linear: V3,
+    /// Angular velocity (rad/s); in 2D only z is used.
+    #[serde(default)]
+    pub angular: V3,
+}
+
+/// One moving body.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Body {
+    /// Name, unique in the scene (not `ground`).
+    pub name: String,
+    /// Frame origin at t = 0, ground components (m).
+    #[serde(default)]
+    pub origin: V3,
+    /// Frame orientation at t = 0.
+    #[serde(default)]
+    pub orientation: Orientation,
+    /// Mass model.
+    pub model: BodyModel,
+    /// For a beam model: run it flexible (`true`, the default) or as the rigid body with
+    /// the beam's mass properties (`false`). Ignored for rigid models.
+    #[serde(default = "yes")]
+    pub flexible: bool,
+    /// Named points (body components).
+    #[serde(default)]
+    pub markers: Vec<Marker>,
+    /// Initial velocity guess (made consistent with the joints before the first step).
+    #[serde(default)]
+    pub velocity: Velocity,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// The mass model of a body.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum BodyModel {
+    /// A rigid body.
+    Rigid {
+        /// Mass (kg).
+        mass: f64,
+        /// Centre of mass, body components (m).
+        center_of_mass: V3,
+        /// Inertia about the centre of mass, body axes.
+        inertia: Inertia,
+    },
+    /// A flexible Euler–Bernoulli beam body (FE model, Craig–Bampton modes).
+    Beam(BeamBodySpec),
+}
+
+/// Inertia about the centre of mass (kg·m²), body axes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Inertia {
+    /// Planar: I_zz only.
+    Planar(f64),
+    /// Principal values along the body axes (I_xx, I_yy, I_zz).
+    Diagonal(V3),
+    /// Full symmetric tensor, rows.
+    Full([[f64; 3]; 3]),
+}
+
+impl Inertia {
+    /// The 3×3 tensor (planar: diag(0, 0, I_zz) — a planar body is a thin sheet in z = 0
+    /// whose out-of-plane inertia does not enter 2D dynamics).
+    pub fn tensor(&self) -> Matrix3<f64> {
+        match self {
+            Inertia::Planar(izz) => Matrix3::from_diagonal(&Vector3::new(0.0, 0.0, *izz)),
+            Inertia::Diagonal(d) => Matrix3::from_diagonal(&d.vec()),
+            Inertia::Full(r) => Matrix3::from_row_slice(&[
+                r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+            ]),
+        }
+    }
+}
+
+/// A joint between marker `marker1` of `body1` and marker `marker2` of `body2`
+/// (`ground` for the fixed body). The two markers coincide at t = 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Joint {
+    /// Name, unique among joints.
+    pub name: String,
+    /// Type and axes.
+    pub kind: JointKind,
+    /// First body (the parent, when the tree is built from the ground).
+    pub body1: String,
+    /// Marker on the first body.
+    pub marker1: String,
+    /// Second body.
+    pub body2: String,
+    /// Marker on the second body.
+    pub marker2: String,
+}
+
+/// Joint types. Axes are ground components at t = 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum JointKind {
+    /// Rotation about one axis (2D: about z; the axis is implied).
+    Revolute {
+        /// Axis (3D only).
+        #[serde(default)]
+        axis: Option<V3>,
+    },
+    /// Ball joint (3D).
+    Spherical,
+    /// Cardan joint with cross arms `axis1` (fixed in body 1) and `axis2` (fixed in body 2), 3D.
+    Universal {
+        /// Arm fixed in body 1.
+        axis1: V3,
+        /// Arm fixed in body 2, perpendicular to `axis1`.
+        axis2: V3,
+    },
+    /// Sliding along an axis.
+    Prismatic {
+        /// Sliding axis.
+        axis: V3,
+    },
+    /// Sliding along and turning about an axis (3D).
+    Cylindrical {
+        /// Axis.
+        axis: V3,
+    },
+    /// Rigid connection (bracket): no relative motion.
+    Rigid,
+}
+
+/// Force elements.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Force {
+    /// Linear spring and damper between two markers, acting along the line joining them.
+    SpringDamper {
+        /// Name.
+        name: String,
+        /// First body.
+        body1: String,
+        /// Marker on the first body.
+        marker1: String,
+        /// Second body.
+        body2: String,
+        /// Marker on the second body.
+        marker2: String,
+        /// Stiffness (N/m).
+        stiffness: f64,
+        /// Damping (N·s/m).
+        damping: f64,
+        /// Free length (m); the initial distance when omitted.
+        #[serde(default)]
+        free_length: Option<f64>,
+    },
+}
+
+/// A prescribed motion of a joint coordinate, relative to its value at t = 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Driver {
+    /// Name.
+    pub name: String,
+    /// The driven joint (revolute: angle; prismatic: distance).
+    pub joint: String,
+    /// The law θ(t).
+    pub law: MotionLaw,
+}
+
+/// Closed-form motion laws θ(t) with θ(0) = 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum MotionLaw {
+    /// Held at its initial value.
+    Locked,
+    /// Constant rate: θ = rate · t.
+    ConstantRate(f64),
+    /// The spin-up manoeuvre (thesis ch. 4, methods.md §6.5):
+    /// ω(t) = Ωs/Ts [t − Ts/(2π) sin(2πt/Ts)] for t < Ts, Ωs after.
+    SpinUp {
+        /// Final angular speed Ωs (rad/s).
+        omega_s: f64,
+        /// Spin-up time Ts (s).
+        t_s: f64,
+    },
+    /// θ = amplitude · sin(2π frequency t + phase) − amplitude · sin(phase).
+    Harmonic {
+        /// Amplitude (rad or m).
+        amplitude: f64,
+        /// Frequency (Hz).
+        frequency: f64,
+        /// Phase (rad).
+        #[serde(default)]
+        phase: f64,
+    },
+}
+
+impl MotionLaw {
+    /// θ(t), θ̇(t), θ̈(t).
+    pub fn eval(&self, t: f64) -> (f64, f64, f64) {
+        use std::f64::consts::PI;
+        match *self {
+            MotionLaw::Locked => (0.0, 0.0, 0.0),
+            MotionLaw::ConstantRate(r) => (r * t, r, 0.0),
+            MotionLaw::SpinUp { omega_s, t_s } => {
+                if t < t_s {
+                    let k = 2.0 * PI / t_s;
+                    let theta = omega_s / t_s * (0.5 * t * t + ((k * t).cos() - 1.0) / (k * k));
+                    let omega = omega_s / t_s * (t - (k * t).sin() / k);
+                    let alpha = omega_s / t_s * (1.0 - (k * t).cos());
+                    (theta, omega, alpha)
+                } else {
+                    (omega_s * (t - 0.5 * t_s), omega_s, 0.0)
+                }
+            }
+            MotionLaw::Harmonic {
+                amplitude,
+                frequency,
+                phase,
+            } => {
+                let w = 2.0 * PI * frequency;
+                let arg = w * t + phase;
+                (
+                    amplitude * (arg.sin() - phase.sin()),
+                    amplitude * w * arg.cos(),
+                    -amplitude * w * w * arg.sin(),
+                )
+            }
+        }
+    }
+}
+
+/// A ground-frame axis or a body-frame axis, for sensor components.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Axis {
+    /// x.
+    X,
+    /// y.
+    Y,
+    /// z.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// A named output, one CSV column.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensor {
+    /// Column name.
+    pub name: String,
+    /// What it measures.
+    pub kind: SensorKind,
+}
+
+/// What a sensor measures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SensorKind {
+    /// A marker's position (m): ground components, or components in `frame`'s body frame
+    /// relative to its origin.
+    Position {
+        /// Body of the marker.
+        body: String,
+        /// The marker.
+        marker: String,
+        /// Component.
+        component: Axis,
+        /// Body whose frame the components are taken in (`None`: ground).
+        #[serde(default)]
+        frame: Option<String>,
+    },
+    /// A marker's velocity (m/s), components as for `Position`.
+    Velocity {
+        /// Body of the marker.
+        body: String,
+        /// The marker.
+        marker: String,
+        /// Component.
+        component: Axis,
+        /// Body whose axes the components are taken in (`None`: ground).
+        #[serde(default)]
+        frame: Option<String>,
+    },
+    /// A joint coordinate (rad or m), relative to its value at t = 0.
+    JointCoordinate {
+        /// The joint.
+        joint: String,
+    },
+    /// A modal coordinate of a flexible body.
+    Modal {
+        /// The body.
+        body: String,
+        /// Mode index (0-based, static modes first).
+        index: usize,
+    },
+    /// Total mechanical energy (J): kinetic + gravity + elastic + springs.
+    Energy,
+}
+
+/// Which formulation runs the scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FormulationKind {
+    /// Natural (fully Cartesian) coordinates.
+    #[default]
+    Absolute,
+    /// Semi-recursive relative coordinates.
+    Relative,
+}
+
+/// Geometric stiffening method for the flexible beams (thesis ch. 4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Stiffening {
+    /// Linear floating-frame elasticity (none).
+    #[default]
+    Linear,
+    /// First nonlinear term, K_G.
+    Fnl1,
+    /// Full Euler–Bernoulli strain energy, K_G + K_H + Q_g.
+    Fnl2,
+    /// Foreshortening, FS0.
+    Foreshortening,
+    /// Substructuring into n bodies.
+    Substructuring(usize),
+}
+
+/// Solver settings (methods.md §5).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Solver {
+    /// Time step h (s).
+    pub step: f64,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Output interval (s); every step when omitted. Rounded to a whole number of steps.
+    #[serde(default)]
+    pub output_interval: Option<f64>,
+    /// Formulation.
+    #[serde(default)]
+    pub formulation: FormulationKind,
+    /// Inertia route of the flexible bodies.
+    #[serde(default = "default_inertia")]
+    pub inertia: InertiaMethod,
+    /// Geometric stiffening of the flexible beams.
+    #[serde(default)]
+    pub stiffening: Stiffening,
+    /// Newton tolerance ε_q (relative) and ε_Φ.
+    #[serde(default = "default_tolerance")]
+    pub newton_tolerance: f64,
+    /// Newton iteration limit per step.
+    #[serde(default = "default_iterations")]
+    pub max_iterations: usize,
+    /// Penalty α; 4·10⁴ m_ref / h² when omitted (methods.md §5.3).
+    #[serde(default)]
+    pub penalty: Option<f64>,
+}
+
+fn default_inertia() -> InertiaMethod {
+    InertiaMethod::ShapeIntegrals
+}
+fn default_tolerance() -> f64 {
+    1e-9
+}
+fn default_iterations() -> usize {
+    20
+}
