@@ -1,0 +1,67 @@
+//! One inertia evaluation (both routes, 2D and 3D), the elastic forces and gravity
+//! allocate nothing after set-up (counting global allocator).
+//!
+//! A global allocator needs `unsafe impl GlobalAlloc`; it only forwards to `System`.
+#![allow(unsafe_code)]
+
+mod common;
+use common::*;
+use flexmbd_body::{Dim, FlexibleBody, InertiaMethod};
+use nalgebra::{DMatrix, DVector, Vector3};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, s: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.realloc(p, l, s) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn evaluation_allocates_nothing() {
+    for (dim, n) in [
+        (Dim::Spatial, 8),
+        (Dim::Spatial, 0),
+        (Dim::Planar, 5),
+        (Dim::Planar, 0),
+    ] {
+        let mut r = rng(3);
+        let rb = random_body(&mut r, dim, n, 40);
+        let mut body = FlexibleBody::new(&rb).unwrap();
+        let st = random_state(&mut r, dim, n);
+        let view = st.view();
+        let nc = body.n_coords();
+        let mut m = DMatrix::zeros(nc, nc);
+        let mut q = DVector::zeros(nc);
+        let mut qel = vec![0.0; n];
+        let mut qg = vec![0.0; nc];
+        let g = Vector3::new(0.0, -9.81, 0.0);
+        let before = ALLOCS.load(Ordering::SeqCst);
+        for _ in 0..3 {
+            body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
+            body.inertia(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
+            body.elastic_forces(view.y, view.y_dot, &mut qel);
+            body.gravity_forces(&view, &g, &mut qg);
+        }
+        let after = ALLOCS.load(Ordering::SeqCst);
+        assert_eq!(
+            after - before,
+            0,
+            "{dim} n={n}: allocations in the evaluation path"
+        );
+    }
+}
