@@ -96,7 +96,7 @@ pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
                         &mut mode_rows,
                         pos,
                         w,
-                        &(&lam_t * &tr),
+                        &(lam_t * &tr),
                     );
                 }
                 Dim::Spatial => {
@@ -116,7 +116,7 @@ pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
                             &mut mode_rows,
                             pos + lam_t * d,
                             0.25 * w,
-                            &(&lam_t * &rows),
+                            &(lam_t * &rows),
                         );
                     }
                 }

@@ -1,0 +1,297 @@
+//! Bad input is refused with an error that names the field and value; no panic.
+
+mod common;
+
+use common::*;
+use flexmbd_core::Dim;
+use flexmbd_fe::{BeamBodySpec, Dof, FeError, NodeDof, ReferenceFrame, Section, reduce};
+
+fn invalid(spec: &BeamBodySpec) -> flexmbd_core::InvalidValue {
+    // reduce() validates first; validate() gives the same error.
+    match reduce(spec) {
+        Err(FeError::Invalid(e)) => {
+            let again = spec.validate().unwrap_err();
+            assert!(matches!(again, FeError::Invalid(ref x) if *x == e));
+            println!("refused: {e}");
+            e
+        }
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+}
+
+fn base() -> BeamBodySpec {
+    cantilever(Dim::Planar, square10(), 4, 2)
+}
+
+fn general(area: f64, iy: f64, iz: f64, torsion_j: f64) -> Section {
+    Section::General {
+        area,
+        iy,
+        iz,
+        torsion_j,
+    }
+}
+
+#[test]
+fn coincident_polyline_points() {
+    let mut s = base();
+    s.geometry.points = vec![
+        vec![0.0, 0.0],
+        vec![0.5, 0.0],
+        vec![0.5, 0.0],
+        vec![1.0, 0.0],
+    ];
+    let e = invalid(&s);
+    assert_eq!(e.field, "geometry.points[2]");
+    assert!(
+        e.value.contains("0.5") && e.value.contains("length 0"),
+        "{}",
+        e.value
+    );
+}
+
+#[test]
+fn zero_area() {
+    let mut s = base();
+    s.section = general(0.0, 1e-9, 1e-9, 2e-9);
+    let e = invalid(&s);
+    assert_eq!((e.field.as_str(), e.value.as_str()), ("section.area", "0"));
+}
+
+#[test]
+fn negative_width() {
+    let mut s = base();
+    s.section = Section::Rectangle {
+        width: -0.01,
+        height: 0.01,
+    };
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("section.width", "-0.01")
+    );
+}
+
+#[test]
+fn negative_density() {
+    let mut s = base();
+    s.material.density = -7850.0;
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("material.density", "-7850")
+    );
+}
+
+#[test]
+fn zero_modulus() {
+    let mut s = base();
+    s.material.young_modulus = 0.0;
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("material.young_modulus", "0")
+    );
+}
+
+#[test]
+fn non_finite_modulus() {
+    let mut s = base();
+    s.material.young_modulus = f64::INFINITY;
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("material.young_modulus", "inf")
+    );
+}
+
+#[test]
+fn negative_inertia() {
+    let mut s = base();
+    s.section = general(1e-4, 1e-9, -1e-9, 2e-9);
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("section.iz", "-0.000000001")
+    );
+}
+
+#[test]
+fn zero_elements() {
+    let mut s = base();
+    s.geometry.elements_per_segment = 0;
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("geometry.elements_per_segment", "0")
+    );
+}
+
+#[test]
+fn boundary_on_missing_node() {
+    let mut s = base();
+    s.boundary = vec![NodeDof {
+        node: 5,
+        dof: Dof::Uy,
+    }];
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("boundary[0].node", "5")
+    );
+}
+
+#[test]
+fn boundary_dof_invalid_in_2d() {
+    let mut s = base();
+    s.boundary = vec![NodeDof {
+        node: 4,
+        dof: Dof::Uz,
+    }];
+    let e = invalid(&s);
+    assert_eq!(
+        (e.field.as_str(), e.value.as_str()),
+        ("boundary[0].dof", "Uz")
+    );
+}
+
+#[test]
+fn duplicate_boundary_dof() {
+    let mut s = base();
+    s.boundary = vec![
+        NodeDof {
+            node: 4,
+            dof: Dof::Uy,
+        },
+        NodeDof {
+            node: 4,
+            dof: Dof::Uy,
+        },
+    ];
+    let e = invalid(&s);
+    assert_eq!(e.field, "boundary[1]");
+    assert!(e.value.contains("node: 4") && e.value.contains("Uy"));
+}
+
+#[test]
+fn boundary_dof_that_is_a_frame_dof() {
+    let mut s = base();
+    s.boundary = vec![NodeDof {
+        node: 0,
+        dof: Dof::Rz,
+    }];
+    let e = invalid(&s);
+    assert_eq!(e.field, "boundary[0]");
+    assert!(e.reason.contains("frame"));
+}
+
+#[test]
+fn more_modes_than_the_model_has() {
+    // 4 elements, 2D: 15 DOFs, 3 frame, 1 boundary → 11 interior.
+    let mut s = base();
+    s.boundary = vec![NodeDof {
+        node: 4,
+        dof: Dof::Uy,
+    }];
+    s.normal_modes = 12;
+    let e = invalid(&s);
+    assert_eq!((e.field.as_str(), e.value.as_str()), ("normal_modes", "12"));
+    assert!(e.reason.contains("11"));
+    s.normal_modes = 11;
+    assert_eq!(reduce(&s).unwrap().n_modes(), 12);
+}
+
+#[test]
+fn chord_frame_in_3d_has_singular_interior() {
+    let mut s = cantilever(Dim::Spatial, square10(), 4, 2);
+    s.frame = ReferenceFrame::Chord { a: 0, b: 4 };
+    s.origin = "bar3d.ron".into();
+    match reduce(&s) {
+        Err(e @ FeError::SingularInterior { .. }) => {
+            let msg = e.to_string();
+            println!("refused: {msg}");
+            assert!(msg.contains("bar3d.ron") && msg.contains("ux@0"));
+        }
+        other => panic!("expected SingularInterior, got {other:?}"),
+    }
+}
+
+#[test]
+fn pin_only_frame_makes_a_rigid_static_mode() {
+    // methods.md §1.4 Pitfall: r = pin at A, b = {v_B}: the v_B "static mode" is a rigid rotation.
+    let mut s = base();
+    s.frame = ReferenceFrame::Dofs(vec![
+        NodeDof {
+            node: 0,
+            dof: Dof::Ux,
+        },
+        NodeDof {
+            node: 0,
+            dof: Dof::Uy,
+        },
+    ]);
+    s.boundary = vec![NodeDof {
+        node: 4,
+        dof: Dof::Uy,
+    }];
+    s.origin = "pitfall".into();
+    match reduce(&s) {
+        Err(e @ FeError::RigidStaticMode { .. }) => {
+            println!("refused: {e}");
+            assert!(e.to_string().contains("pitfall"));
+        }
+        other => panic!("expected RigidStaticMode, got {other:?}"),
+    }
+    // Without the boundary, the interior itself is singular.
+    s.boundary.clear();
+    assert!(matches!(reduce(&s), Err(FeError::SingularInterior { .. })));
+}
+
+#[test]
+fn ron_with_misspelt_field_names_file_line_and_field() {
+    let text = "(\n    dim: Planar,\n    material: (young_modulus: 2.1e11, density: 7850.0),\n    section: Circle(diameter: 0.01),\n    geometry: (points: [[0.0, 0.0], [1.0, 0.0]], elements_per_segmnet: 4),\n    normal_modes: 2,\n)\n";
+    match BeamBodySpec::from_ron_str(text, "models/typo.ron") {
+        Err(e @ FeError::Parse { .. }) => {
+            let FeError::Parse {
+                ref file,
+                line,
+                column,
+                ref message,
+            } = e
+            else {
+                unreachable!()
+            };
+            let msg = e.to_string();
+            println!("refused: {msg}");
+            assert_eq!(file, "models/typo.ron");
+            assert_eq!(line, 5);
+            assert!(column > 1);
+            assert!(message.contains("elements_per_segmnet"), "{message}");
+            assert!(msg.starts_with("models/typo.ron:5:"));
+        }
+        other => panic!("expected Parse, got {other:?}"),
+    }
+}
+
+#[test]
+fn missing_file_is_an_io_error_naming_it() {
+    let e = BeamBodySpec::from_file("/nonexistent/beam.ron").unwrap_err();
+    assert!(matches!(e, FeError::Io { .. }));
+    assert!(e.to_string().contains("/nonexistent/beam.ron"));
+}
+
+#[test]
+fn model_files_load_and_reduce() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/");
+    for (f, n_s, n_d) in [
+        ("cantilever_2d.ron", 0, 4),
+        ("cantilever_3d.ron", 0, 6),
+        ("four_bar_bar_2d.ron", 2, 2),
+    ] {
+        let spec = BeamBodySpec::from_file(format!("{dir}{f}")).unwrap();
+        let b = reduce(&spec).unwrap();
+        assert_eq!(b.inventory.static_modes.len(), n_s, "{f}");
+        assert_eq!(b.inventory.normal_frequencies_hz.len(), n_d, "{f}");
+        println!("{f}: {:?} Hz", b.inventory.normal_frequencies_hz);
+    }
+}
