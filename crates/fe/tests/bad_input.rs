@@ -295,3 +295,12 @@ fn model_files_load_and_reduce() {
         println!("{f}: {:?} Hz", b.inventory.normal_frequencies_hz);
     }
 }
+
+#[test]
+fn ron_with_misspelt_section_field_is_refused() {
+    let text = "(dim: Planar, material: (young_modulus: 2.1e11, density: 7850.0),\n section: Rectangle(width: 0.01, heigth: 0.01),\n geometry: (points: [[0.0, 0.0], [1.0, 0.0]], elements_per_segment: 4), normal_modes: 2)";
+    let e = BeamBodySpec::from_ron_str(text, "inline").unwrap_err();
+    println!("refused: {e}");
+    assert!(matches!(e, FeError::Parse { line: 2, .. }));
+    assert!(e.to_string().contains("heigth"));
+}

@@ -175,6 +175,14 @@ fn chord_frame_gives_pinned_pinned_modes() {
     let f = b.inventory.normal_frequencies_hz[0];
     println!("chord frame first normal mode {f} Hz");
     assert!((f - 25.9).abs() < 0.05);
+    // scenes.md §1 reading: chord frame, static modes θ_A, θ_B, clamped–clamped modes 58.6, 162 Hz.
+    spec.boundary = vec![nd(0, Dof::Rz), nd(10, Dof::Rz)];
+    let b = reduce(&spec).unwrap();
+    let f = &b.inventory.normal_frequencies_hz;
+    println!("chord frame, end-rotation static modes: {f:?} Hz");
+    assert!((f[0] - 58.6).abs() < 0.1 && (f[1] - 162.0).abs() < 0.5);
+    // The chord keeps length L: u_B = v_B = 0 in every mode.
+    assert!(b.nodes[10].translation.amax() < 1e-12);
 }
 
 fn rigid_check(spec: &BeamBodySpec) {
