@@ -1,1 +1,1 @@
-//! Criterion benchmarks live in `benches/`.
+//! Criterion benchmarks of flexmbd live in `benches/`; run `cargo bench -p flexmbd-benches`.

@@ -1,1 +1,18 @@
-//! placeholder
+//! **flexmbd** — real-time flexible multibody dynamics after U. Lugrís,
+//! *Real-time methods in flexible multibody dynamics* (PhD thesis, 2008).
+//!
+//! This facade re-exports the layered crates, in the order data flows through them
+//! (see `docs/design.md`):
+//!
+//! - [`core`]: shared vocabulary (dimension, skew helpers, the error that names a bad input);
+//! - [`fe`]: finite-element preprocessing — beams, modal analysis, Craig–Bampton,
+//!   the mass cloud and the 13 inertia shape integrals;
+//! - [`body`]: the reduced flexible body at run time, its inertia terms by
+//!   B-matrix projection or by shape integrals, and its elastic forces.
+
+pub use flexmbd_body as body;
+pub use flexmbd_core as core;
+pub use flexmbd_fe as fe;
+
+pub mod fixtures;
+pub mod inventory;

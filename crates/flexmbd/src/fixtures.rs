@@ -1,0 +1,75 @@
+//! Standard bodies and states shared by the report (`xtask`) and the benchmarks,
+//! so both measure exactly the same thing.
+
+use flexmbd_body::BodyState;
+use flexmbd_core::Dim;
+use flexmbd_fe::BeamBodySpec;
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+/// A steel cantilever, L = 1 m, clamped at x = 0, `modes` normal modes, `elements` elements
+/// (2D: 10 mm square; 3D: 10 mm × 20 mm so the bending planes differ).
+pub fn cantilever(dim: Dim, elements: usize, modes: usize) -> BeamBodySpec {
+    let (points, section) = match dim {
+        Dim::Planar => (
+            "[[0.0, 0.0], [1.0, 0.0]]",
+            "Rectangle(width: 0.01, height: 0.01)",
+        ),
+        Dim::Spatial => (
+            "[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]",
+            "Rectangle(width: 0.01, height: 0.02)",
+        ),
+    };
+    let text = format!(
+        "(dim: {dim:?}, material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)), \
+         section: {section}, geometry: (points: {points}, elements_per_segment: {elements}), \
+         frame: Clamped(node: 0), normal_modes: {modes})"
+    );
+    BeamBodySpec::from_ron_str(&text, "fixture cantilever").expect("the fixture's own spec parses")
+}
+
+/// A fixed, non-trivial state (deterministic).
+pub struct Probe {
+    y: Vec<f64>,
+    yd: Vec<f64>,
+    r0: Vector3<f64>,
+    a: Matrix3<f64>,
+    omega: Vector3<f64>,
+    s_dot: Vector3<f64>,
+}
+
+impl Probe {
+    /// The state used for every measurement of a body with `n` modes.
+    pub fn new(dim: Dim, n: usize) -> Self {
+        let y = (0..n).map(|i| 1e-3 * (1.0 + i as f64).sin()).collect();
+        let yd = (0..n).map(|i| 1e-2 * (2.0 + i as f64).cos()).collect();
+        match dim {
+            Dim::Planar => Probe {
+                y,
+                yd,
+                r0: Vector3::new(0.3, -0.2, 0.0),
+                a: *Rotation3::from_axis_angle(&Vector3::z_axis(), 0.7).matrix(),
+                omega: Vector3::new(0.0, 0.0, 1.3),
+                s_dot: Vector3::new(0.4, 0.1, 0.0),
+            },
+            Dim::Spatial => Probe {
+                y,
+                yd,
+                r0: Vector3::new(0.3, -0.2, 0.5),
+                a: *Rotation3::from_euler_angles(0.3, -0.5, 0.9).matrix(),
+                omega: Vector3::new(0.7, -1.1, 1.3),
+                s_dot: Vector3::new(0.4, 0.1, -0.3),
+            },
+        }
+    }
+    /// As a body state.
+    pub fn state(&self) -> BodyState<'_> {
+        BodyState {
+            r0: self.r0,
+            a: self.a,
+            omega: self.omega,
+            s_dot: self.s_dot,
+            y: &self.y,
+            y_dot: &self.yd,
+        }
+    }
+}

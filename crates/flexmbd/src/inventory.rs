@@ -1,0 +1,126 @@
+//! The mode inventory of a reduced body as printed by `flexmbd modes`.
+
+use flexmbd_fe::ReducedBody;
+use serde::Serialize;
+
+/// One static (constraint) mode: the boundary DOF it belongs to.
+#[derive(Debug, Serialize)]
+pub struct StaticModeRow {
+    /// Mode index in **X** (0-based).
+    pub index: usize,
+    /// FE node of the boundary DOF.
+    pub node: usize,
+    /// The DOF (`ux`, `uy`, `uz`, `rx`, `ry`, `rz`, in body axes).
+    pub dof: &'static str,
+}
+
+/// One fixed-interface normal mode.
+#[derive(Debug, Serialize)]
+pub struct NormalModeRow {
+    /// Mode index in **X** (0-based; normal modes follow the static ones).
+    pub index: usize,
+    /// Natural frequency with the boundary held fixed (Hz).
+    pub frequency_hz: f64,
+}
+
+/// A DOF taken by the floating frame.
+#[derive(Debug, Serialize)]
+pub struct FrameDofRow {
+    /// FE node.
+    pub node: usize,
+    /// The DOF.
+    pub dof: &'static str,
+}
+
+/// The inventory of one body, serialised as the `--json` output of `flexmbd modes`.
+#[derive(Debug, Serialize)]
+pub struct Inventory {
+    /// The model file it came from.
+    pub model: String,
+    /// `2D` or `3D`.
+    pub dim: String,
+    /// DOFs of the free-floating FE model.
+    pub n_fe_dofs: usize,
+    /// Modal coordinates n = static + normal.
+    pub n_modes: usize,
+    /// Total mass (kg).
+    pub mass: f64,
+    /// DOFs the floating frame takes (every mode vanishes there).
+    pub frame_dofs: Vec<FrameDofRow>,
+    /// Static modes, in mode order.
+    pub static_modes: Vec<StaticModeRow>,
+    /// Normal modes, in mode order.
+    pub normal_modes: Vec<NormalModeRow>,
+}
+
+impl Inventory {
+    /// Collect the inventory of `body`, loaded from `model`.
+    pub fn of(model: &str, body: &ReducedBody) -> Self {
+        let inv = &body.inventory;
+        let ns = inv.static_modes.len();
+        Inventory {
+            model: model.to_string(),
+            dim: body.dim.to_string(),
+            n_fe_dofs: inv.n_fe_dofs,
+            n_modes: inv.n_modes(),
+            mass: body.mass(),
+            frame_dofs: inv
+                .frame_dofs
+                .iter()
+                .map(|d| FrameDofRow {
+                    node: d.node,
+                    dof: d.dof.name(),
+                })
+                .collect(),
+            static_modes: inv
+                .static_modes
+                .iter()
+                .enumerate()
+                .map(|(index, d)| StaticModeRow {
+                    index,
+                    node: d.node,
+                    dof: d.dof.name(),
+                })
+                .collect(),
+            normal_modes: inv
+                .normal_frequencies_hz
+                .iter()
+                .enumerate()
+                .map(|(j, &f)| NormalModeRow {
+                    index: ns + j,
+                    frequency_hz: f,
+                })
+                .collect(),
+        }
+    }
+
+    /// Human-readable table.
+    pub fn to_text(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "model        {}", self.model);
+        let _ = writeln!(s, "dimension    {}", self.dim);
+        let _ = writeln!(s, "FE DOFs      {}", self.n_fe_dofs);
+        let _ = writeln!(s, "mass         {:.6} kg", self.mass);
+        let frame: Vec<String> = self
+            .frame_dofs
+            .iter()
+            .map(|d| format!("{}@{}", d.dof, d.node))
+            .collect();
+        let _ = writeln!(s, "frame takes  {}", frame.join(" "));
+        let _ = writeln!(
+            s,
+            "modes        {} ({} static + {} normal)",
+            self.n_modes,
+            self.static_modes.len(),
+            self.normal_modes.len()
+        );
+        for m in &self.static_modes {
+            let _ = writeln!(s, "  [{:2}] static  node {:3} {}", m.index, m.node, m.dof);
+        }
+        for m in &self.normal_modes {
+            let _ = writeln!(s, "  [{:2}] normal  {:12.4} Hz", m.index, m.frequency_hz);
+        }
+        s
+    }
+}

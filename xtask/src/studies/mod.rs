@@ -1,0 +1,28 @@
+//! The studies of the report, in the order they appear.
+
+use crate::Settings;
+use crate::report::Report;
+
+pub mod inertia_cost;
+
+/// What a study returns when it cannot finish.
+pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
+
+/// One study of the report.
+pub struct Study {
+    /// Name for `--only`.
+    pub name: &'static str,
+    /// Section title.
+    pub title: &'static str,
+    /// Runs the study and appends its section.
+    pub run: fn(&Settings, &mut Report) -> StudyResult,
+}
+
+/// Every study, in report order.
+pub fn all() -> Vec<Study> {
+    vec![Study {
+        name: "inertia-cost",
+        title: "Cost of the inertia terms against mesh size (thesis ch. 3)",
+        run: inertia_cost::run,
+    }]
+}
