@@ -16,7 +16,7 @@
 //! 2D: `B_k = [I₂  E r_k  A X_k]` (E = 90° rotation, `e_z × r = E r`),
 //! `Ḃ_k Z = ω E ṡ − ω² r_k + 2 ω E A X_k ẏ`.
 
-use crate::{BodyState, FlexibleBody, dot, planar_rotation};
+use crate::{BodyState, FlexibleBody, planar_rotation};
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 impl FlexibleBody {
@@ -50,9 +50,19 @@ impl FlexibleBody {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
             let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
-            let rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
+            // X_k y and X_k ẏ in one pass (six independent sums).
+            let (mut xy, mut xyd) = ([0.0f64; 3], [0.0f64; 3]);
+            for (((&u, &v), &w), (&p, &q)) in x0.iter().zip(x1).zip(x2).zip(y.iter().zip(yd)) {
+                xy[0] += u * p;
+                xy[1] += v * p;
+                xy[2] += w * p;
+                xyd[0] += u * q;
+                xyd[1] += v * q;
+                xyd[2] += w * q;
+            }
+            let rb = self.pos[k] + Vector3::from(xy);
             let r = r0 + a * rb;
-            let axyd = a * Vector3::new(dot(x0, yd), dot(x1, yd), dot(x2, yd));
+            let axyd = a * Vector3::from(xyd);
             let acc = w_sd + om.cross(&om.cross(&r)) + 2.0 * om.cross(&axyd);
             msum += wk;
             gsum += wk * r;
@@ -64,28 +74,42 @@ impl FlexibleBody {
             {
                 let (ax0, rest) = ws.ax.split_at_mut(n);
                 let (ax1, ax2) = rest.split_at_mut(n);
+                let (sy0, rest) = ws.sy.split_at_mut(n);
+                let (sy1, sy2) = rest.split_at_mut(n);
+                let (wy0, rest) = ws.wy.split_at_mut(n);
+                let (wy1, wy2) = rest.split_at_mut(n);
+                let qy = &mut ws.qy[..n];
+                let (ax2, sy2, wy2) = (&mut ax2[..n], &mut sy2[..n], &mut wy2[..n]);
+                let (x0, x1, x2) = (&x0[..n], &x1[..n], &x2[..n]);
+                // Row-wise (vectorizable over j): A X_k, then the accumulators.
+                let (a00, a01, a02) = (a[(0, 0)], a[(0, 1)], a[(0, 2)]);
+                let (a10, a11, a12) = (a[(1, 0)], a[(1, 1)], a[(1, 2)]);
+                let (a20, a21, a22) = (a[(2, 0)], a[(2, 1)], a[(2, 2)]);
                 for j in 0..n {
-                    let axj = a * Vector3::new(x0[j], x1[j], x2[j]);
-                    ax0[j] = axj.x;
-                    ax1[j] = axj.y;
-                    ax2[j] = axj.z;
-                    ws.sy[j] += wk * axj.x;
-                    ws.sy[n + j] += wk * axj.y;
-                    ws.sy[2 * n + j] += wk * axj.z;
-                    let c = wr.cross(&axj);
-                    ws.wy[j] += c.x;
-                    ws.wy[n + j] += c.y;
-                    ws.wy[2 * n + j] += c.z;
-                    ws.qy[j] += wacc.dot(&axj);
+                    let (u, v, w) = (x0[j], x1[j], x2[j]);
+                    ax0[j] = a00 * u + a01 * v + a02 * w;
+                    ax1[j] = a10 * u + a11 * v + a12 * w;
+                    ax2[j] = a20 * u + a21 * v + a22 * w;
+                }
+                for j in 0..n {
+                    let (p, q, r) = (ax0[j], ax1[j], ax2[j]);
+                    sy0[j] += wk * p;
+                    sy1[j] += wk * q;
+                    sy2[j] += wk * r;
+                    wy0[j] += wr.y * r - wr.z * q;
+                    wy1[j] += wr.z * p - wr.x * r;
+                    wy2[j] += wr.x * q - wr.y * p;
+                    qy[j] += wacc.x * p + wacc.y * q + wacc.z * r;
                 }
             }
+            if n == 0 {
+                continue;
+            }
             let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
-            for i in 0..n {
+            for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
                 let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
-                let row = &mut ws.yy[i * n + i..(i + 1) * n];
-                let (b0, b1, b2) = (&ax0[i..], &ax1[i..], &ax2[i..]);
-                for j in 0..row.len() {
-                    row[j] += p0 * b0[j] + p1 * b1[j] + p2 * b2[j];
+                for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
+                    *o += p0 * b0 + p1 * b1 + p2 * b2;
                 }
             }
         }
@@ -152,9 +176,16 @@ impl FlexibleBody {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
             let (x0, x1) = (&x[..n], &x[n..2 * n]);
-            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
+            let (mut xy, mut xyd) = ([0.0f64; 2], [0.0f64; 2]);
+            for ((&u, &v), (&p, &q)) in x0.iter().zip(x1).zip(y.iter().zip(yd)) {
+                xy[0] += u * p;
+                xy[1] += v * p;
+                xyd[0] += u * q;
+                xyd[1] += v * q;
+            }
+            let rb = self.pos[k].xy() + Vector2::from(xy);
             let r = r0 + a * rb;
-            let axyd = a * Vector2::new(dot(x0, yd), dot(x1, yd));
+            let axyd = a * Vector2::from(xyd);
             let acc = w_sd - w * w * r + 2.0 * w * e(axyd);
             msum += wk;
             gsum += wk * r;

@@ -477,6 +477,46 @@ impl FlexibleBody {
         }
     }
 
+    /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (methods.md §2.4 step 2), written
+    /// into caller storage. Same sizes as [`inertia`](Self::inertia); the velocity of
+    /// the origin is `state.r0_dot()`.
+    ///
+    /// Computed as the s form at the state moved so that O is at the global origin
+    /// (there `D = I` and ṡ = ṙ0), plus the term `M̄_0 {ω × ṙ0; 0; 0}` that the s form
+    /// subtracts (s̈ is not a material acceleration, §4.1): one extra (6+n) × 3 product.
+    pub fn inertia_origin<SM, SQ>(
+        &mut self,
+        state: &BodyState<'_>,
+        method: InertiaMethod,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        qv_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let r0_dot = state.r0_dot();
+        let at_origin = BodyState {
+            r0: Vector3::zeros(),
+            s_dot: r0_dot,
+            ..*state
+        };
+        self.inertia(&at_origin, method, m_out, qv_out);
+        let c = state.omega.cross(&r0_dot);
+        let nc = self.n_coords();
+        match self.dim {
+            Dim::Spatial => {
+                for i in 0..nc {
+                    qv_out[i] += m_out[(i, 0)] * c.x + m_out[(i, 1)] * c.y + m_out[(i, 2)] * c.z;
+                }
+            }
+            Dim::Planar => {
+                for i in 0..nc {
+                    qv_out[i] += m_out[(i, 0)] * c.x + m_out[(i, 1)] * c.y;
+                }
+            }
+        }
+    }
+
     /// Elastic and damping forces on the modal coordinates, `Q_el(y, ẏ)` (length n),
     /// by the body's elastic model (linear: `−K_ff y − C_ff ẏ`, methods.md §1.5).
     pub fn elastic_forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
@@ -558,14 +598,24 @@ fn crate_require_positive(field: &str, v: f64) -> Result<f64, InvalidValue> {
     flexmbd_core::require_positive(field, v)
 }
 
-/// Dot product of two equal-length slices.
+/// Dot product of two equal-length slices, with four independent accumulators
+/// (a single running sum is latency-bound for the short rows used here).
 #[inline(always)]
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
-    let mut s = 0.0;
-    for i in 0..n {
-        s += a[i] * b[i];
+    let mut acc = [0.0f64; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        acc[0] += x[0] * y[0];
+        acc[1] += x[1] * y[1];
+        acc[2] += x[2] * y[2];
+        acc[3] += x[3] * y[3];
+    }
+    let mut s = (acc[0] + acc[2]) + (acc[1] + acc[3]);
+    for (x, y) in ra.iter().zip(rb) {
+        s += x * y;
     }
     s
 }

@@ -236,3 +236,69 @@ fn virtual_power_and_energy_2d() {
     check(3, Dim::Planar, 0);
     check(4, Dim::Planar, 3);
 }
+
+/// The origin form {ṙ0, ω, ẏ} against its own B-matrix written out here:
+/// B_k = [I  −(A r̄_k)~  A X_k], Ḃ_k Z_0 = ω × (ω × A r̄_k) + 2 ω × A X_k ẏ.
+#[test]
+fn origin_form_against_direct_projection() {
+    for (dim, n, seed) in [
+        (Dim::Spatial, 4, 41),
+        (Dim::Spatial, 0, 42),
+        (Dim::Planar, 3, 43),
+    ] {
+        let mut r = rng(seed);
+        let rb = random_body(&mut r, dim, n, 11);
+        let mut body = FlexibleBody::new(&rb).unwrap();
+        for _ in 0..5 {
+            let st = random_state(&mut r, dim, n);
+            let v = st.view();
+            let r0d = v.r0_dot();
+            let full = 6 + n;
+            let mut mref = nalgebra::DMatrix::zeros(full, full);
+            let mut qref = DVector::zeros(full);
+            for k in 0..rb.cloud.len() {
+                let x = rb.cloud.rows(k);
+                let mut rbk = rb.cloud.positions[k];
+                let mut xyd = Vector3::zeros();
+                for c in 0..3 {
+                    for j in 0..n {
+                        rbk[c] += x[c * n + j] * v.y[j];
+                        xyd[c] += x[c * n + j] * v.y_dot[j];
+                    }
+                }
+                let rho = v.a * rbk;
+                let mut b = nalgebra::DMatrix::zeros(3, full);
+                b.view_mut((0, 0), (3, 3)).copy_from(&Matrix3::identity());
+                b.view_mut((0, 3), (3, 3))
+                    .copy_from(&(-flexmbd_core::skew(&rho)));
+                for j in 0..n {
+                    let mut col = Vector3::zeros();
+                    for c in 0..3 {
+                        col[c] = x[c * n + j];
+                    }
+                    b.view_mut((0, 6 + j), (3, 1)).copy_from(&(v.a * col));
+                }
+                let w = v.omega;
+                let bd = w.cross(&w.cross(&rho)) + 2.0 * w.cross(&(v.a * xyd));
+                let wk = rb.cloud.weights[k];
+                mref += wk * b.transpose() * &b;
+                qref -= wk * b.transpose() * bd;
+            }
+            let _ = r0d;
+            let keep: Vec<usize> = match dim {
+                Dim::Spatial => (0..full).collect(),
+                Dim::Planar => [0, 1, 5].into_iter().chain(6..full).collect(),
+            };
+            let nc = keep.len();
+            let mref = nalgebra::DMatrix::from_fn(nc, nc, |i, j| mref[(keep[i], keep[j])]);
+            let qref = DVector::from_fn(nc, |i, _| qref[keep[i]]);
+            for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
+                let mut m = nalgebra::DMatrix::zeros(nc, nc);
+                let mut q = DVector::zeros(nc);
+                body.inertia_origin(&v, method, &mut m, &mut q);
+                assert!(rel_diff_m(&m, &mref) < 1e-12, "{dim} {method:?} M̄_0");
+                assert!(rel_diff_v(&q, &qref) < 1e-12, "{dim} {method:?} Q̄_v0");
+            }
+        }
+    }
+}

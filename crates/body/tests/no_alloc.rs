@@ -54,6 +54,7 @@ fn evaluation_allocates_nothing() {
         for _ in 0..3 {
             body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
             body.inertia(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
+            body.inertia_origin(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
             body.elastic_forces(view.y, view.y_dot, &mut qel);
             body.gravity_forces(&view, &g, &mut qg);
         }

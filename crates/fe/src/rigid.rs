@@ -110,7 +110,7 @@ impl ReducedBody {
                 let sym = 0.5 * (i + i.transpose());
                 let eig = SymmetricEigen::new(sym);
                 let min = eig.eigenvalues.min();
-                if !(min > 0.0) {
+                if min.is_nan() || min <= 0.0 {
                     return bad("must be positive definite (principal moments > 0)");
                 }
                 let tr = eig.eigenvalues.sum();
