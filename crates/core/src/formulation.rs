@@ -127,4 +127,10 @@ pub trait Formulation {
         req: Request,
         out: &mut SystemTerms,
     );
+    /// Names of the sensors, in output order.
+    fn sensor_names(&self) -> &[String] {
+        &[]
+    }
+    /// Sensor values at (t, q, q̇), one per name. Called at output instants only.
+    fn sensors(&mut self, _t: f64, _q: &DVector<f64>, _qd: &DVector<f64>, _out: &mut [f64]) {}
 }

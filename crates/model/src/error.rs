@@ -64,9 +64,9 @@ pub enum ModelError {
         file: String,
         /// The body.
         body: String,
-        /// The cause.
+        /// The cause (boxed: FE errors carry a lot of context).
         #[source]
-        source: FeError,
+        source: Box<FeError>,
     },
     /// The requested formulation or option cannot run this scene.
     #[error("{0}")]

@@ -124,7 +124,7 @@ impl Scene {
                     spec.validate().map_err(|source| ModelError::Fe {
                         file: self.origin.clone(),
                         body: b.name.clone(),
-                        source,
+                        source: Box::new(source),
                     })?;
                 }
             }

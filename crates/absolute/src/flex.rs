@@ -1,0 +1,157 @@
+//! A flexible body's terms in the planar natural set, projected on its basis.
+//!
+//! The body crate gives M_f and Q_v,f in frame coordinates {r0, u, y}
+//! (methods.md §2.5); gravity (§2.6, folded 2D rows) and the elastic forces are
+//! added here, and the constant basis map T (see `planar`) gives
+//! M_b = T_extᵀ M_f T_ext, Q_b = T_extᵀ Q_f with T_ext = blockdiag(T, I_n).
+
+use flexmbd_body::{FlexibleBody, InertiaMethod};
+use flexmbd_fe::ReducedBody;
+use nalgebra::{DMatrix, DVector, Matrix4, Vector2};
+
+/// Storage of one flexible body, sized once.
+pub(crate) struct Flex2 {
+    n: usize,
+    /// Node rows: X^t_x, X^t_y and X^r_z (n each), node-major.
+    trans_x: Vec<f64>,
+    trans_y: Vec<f64>,
+    rot_z: Vec<f64>,
+    /// Frame-coordinate terms.
+    m_f: DMatrix<f64>,
+    q_f: DVector<f64>,
+    elastic: Vec<f64>,
+    /// Basis-coordinate terms (read by `planar`).
+    pub(crate) m_b: DMatrix<f64>,
+    pub(crate) q_b: DVector<f64>,
+}
+
+impl Flex2 {
+    pub(crate) fn new(body: &FlexibleBody, reduced: &ReducedBody) -> Self {
+        let n = body.n_modes();
+        let mut trans_x = Vec::with_capacity(reduced.nodes.len() * n);
+        let mut trans_y = Vec::with_capacity(reduced.nodes.len() * n);
+        let mut rot_z = Vec::with_capacity(reduced.nodes.len() * n);
+        for node in &reduced.nodes {
+            for j in 0..n {
+                trans_x.push(node.translation[(0, j)]);
+                trans_y.push(node.translation[(1, j)]);
+                rot_z.push(node.rotation[(2, j)]);
+            }
+        }
+        Flex2 {
+            n,
+            trans_x,
+            trans_y,
+            rot_z,
+            m_f: DMatrix::zeros(4 + n, 4 + n),
+            q_f: DVector::zeros(4 + n),
+            elastic: vec![0.0; n],
+            m_b: DMatrix::zeros(4 + n, 4 + n),
+            q_b: DVector::zeros(4 + n),
+        }
+    }
+
+    /// X^r_z row of a node.
+    pub(crate) fn rot_row(&self, node: usize) -> &[f64] {
+        &self.rot_z[node * self.n..(node + 1) * self.n]
+    }
+
+    /// X^t_x and X^t_y rows of a node.
+    pub(crate) fn trans_rows(&self, node: usize) -> (&[f64], &[f64]) {
+        let r = node * self.n..(node + 1) * self.n;
+        (&self.trans_x[r.clone()], &self.trans_y[r])
+    }
+
+    /// M_b and Q_b (inertia, gravity, elastic) at the given frame state.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn evaluate(
+        &mut self,
+        body: &FlexibleBody,
+        method: InertiaMethod,
+        r0: Vector2<f64>,
+        u: Vector2<f64>,
+        r0d: Vector2<f64>,
+        ud: Vector2<f64>,
+        y: &[f64],
+        yd: &[f64],
+        g: Vector2<f64>,
+        t: &Matrix4<f64>,
+    ) {
+        crate::natural::planar_terms(
+            body,
+            method,
+            r0,
+            u,
+            r0d,
+            ud,
+            y,
+            yd,
+            &mut self.m_f,
+            &mut self.q_f,
+        );
+        crate::natural::planar_gravity(body, u, y, g, &mut self.q_f);
+        body.elastic_forces(y, yd, &mut self.elastic);
+        let n = self.n;
+        for j in 0..n {
+            self.q_f[4 + j] += self.elastic[j];
+        }
+        // T_ext = blockdiag(T, I): only the 4 basis rows/columns are transformed.
+        let nl = 4 + n;
+        for c in 0..nl {
+            for r in 0..nl {
+                let mut v = 0.0;
+                match (r < 4, c < 4) {
+                    (true, true) => {
+                        for a in 0..4 {
+                            let mut inner = 0.0;
+                            for b in 0..4 {
+                                inner += self.m_f[(a, b)] * t[(b, c)];
+                            }
+                            v += t[(a, r)] * inner;
+                        }
+                    }
+                    (true, false) => {
+                        for a in 0..4 {
+                            v += t[(a, r)] * self.m_f[(a, c)];
+                        }
+                    }
+                    (false, true) => {
+                        for b in 0..4 {
+                            v += self.m_f[(r, b)] * t[(b, c)];
+                        }
+                    }
+                    (false, false) => v = self.m_f[(r, c)],
+                }
+                self.m_b[(r, c)] = v;
+            }
+        }
+        for r in 0..nl {
+            self.q_b[r] = if r < 4 {
+                (0..4).map(|a| t[(a, r)] * self.q_f[a]).sum()
+            } else {
+                self.q_f[r]
+            };
+        }
+    }
+
+    /// Gravity and elastic potential energy: −gᵀ(m r0 + A m̄(y)) + ½ yᵀ K_ff y.
+    pub(crate) fn potential(
+        &self,
+        body: &FlexibleBody,
+        r0: Vector2<f64>,
+        u: Vector2<f64>,
+        y: &[f64],
+        g: Vector2<f64>,
+    ) -> f64 {
+        let mb = body.first_moment_at(y);
+        let am = crate::planar::c_of(&Vector2::new(mb.x, mb.y)) * u;
+        let k = body.k_ff();
+        let mut el = 0.0;
+        for i in 0..self.n {
+            for j in 0..self.n {
+                el += y[i] * k[(i, j)] * y[j];
+            }
+        }
+        -g.dot(&(r0 * body.mass() + am)) + 0.5 * el
+    }
+}
