@@ -41,11 +41,13 @@
 
 mod bmatrix;
 pub mod elastic;
+mod natural;
 mod shape;
 
 pub use elastic::{ElasticModel, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
+pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
 
 use nalgebra::{
     DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3,
@@ -514,6 +516,119 @@ impl FlexibleBody {
                     qv_out[i] += m_out[(i, 0)] * c.x + m_out[(i, 1)] * c.y;
                 }
             }
+        }
+    }
+
+    /// A workspace for [`inertia_natural`](Self::inertia_natural), sized for this body.
+    pub fn natural_workspace(&self) -> NaturalWorkspace {
+        NaturalWorkspace(Workspace::new(self.n))
+    }
+
+    /// Size of the natural-coordinate set: 12 + n (3D: r0, u, v, w, y) or 4 + n (2D: r0, u, y).
+    pub fn n_natural_coords(&self) -> usize {
+        match self.dim {
+            Dim::Spatial => 12 + self.n,
+            Dim::Planar => 4 + self.n,
+        }
+    }
+
+    /// M and Q_v in natural coordinates (methods.md §2.5) by either route, written into
+    /// caller storage ((12+n)² in 3D, (4+n)² in 2D; every entry overwritten). Takes
+    /// `&self` and a workspace from [`natural_workspace`](Self::natural_workspace).
+    /// The exact `e_a·e_b` is used in M_yy, so M and Q_v derive from one kinetic
+    /// energy even when the orthonormality constraints are violated.
+    ///
+    /// # Panics
+    /// If the output sizes or `y`, `y_dot` lengths do not match.
+    pub fn inertia_natural<SM, SQ>(
+        &self,
+        state: &NaturalState<'_>,
+        method: InertiaMethod,
+        ws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        qv_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let nc = self.n_natural_coords();
+        assert_eq!(
+            m_out.shape(),
+            (nc, nc),
+            "inertia_natural: m_out must be {nc}x{nc}"
+        );
+        assert_eq!(
+            qv_out.nrows(),
+            nc,
+            "inertia_natural: qv_out must have {nc} rows"
+        );
+        assert_eq!(
+            state.y.len(),
+            self.n,
+            "inertia_natural: y must have n entries"
+        );
+        assert_eq!(
+            state.y_dot.len(),
+            self.n,
+            "inertia_natural: y_dot must have n entries"
+        );
+        assert_eq!(
+            ws.0.qy.len(),
+            self.n,
+            "inertia_natural: workspace of another body"
+        );
+        match (self.dim, method) {
+            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
+                self.natural_shape_3d(state, ws, m_out, qv_out)
+            }
+            (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
+                self.natural_shape_2d(state, ws, m_out, qv_out)
+            }
+            (Dim::Spatial, InertiaMethod::BMatrix) => {
+                self.natural_bmatrix_3d(state, ws, m_out, qv_out)
+            }
+            (Dim::Planar, InertiaMethod::BMatrix) => {
+                self.natural_bmatrix_2d(state, ws, m_out, qv_out)
+            }
+        }
+    }
+
+    /// Gravity in natural coordinates (methods.md §2.6): 3D
+    /// `{m g; m̄_1 g; m̄_2 g; m̄_3 g; Sᵀ Aᵀ g}`, 2D `{m g; (m̄_1 I − m̄_2 E) g; Sᵀ Aᵀ g}`
+    /// (length 12 + n or 4 + n), with m̄ = m̄(y).
+    pub fn gravity_natural(&self, state: &NaturalState<'_>, g: &Vector3<f64>, out: &mut [f64]) {
+        let n = self.n;
+        let nc = self.n_natural_coords();
+        assert_eq!(
+            out.len(),
+            nc,
+            "gravity_natural: out must have n_natural_coords entries"
+        );
+        let mb = self.first_moment_at(state.y);
+        let gb = state.a.tr_mul(g);
+        let (o, na) = match self.dim {
+            Dim::Spatial => {
+                out[..3].copy_from_slice((self.mass * g).as_slice());
+                for b in 0..3 {
+                    out[3 + 3 * b..6 + 3 * b].copy_from_slice((mb[b] * g).as_slice());
+                }
+                (12, 3)
+            }
+            Dim::Planar => {
+                out[0] = self.mass * g.x;
+                out[1] = self.mass * g.y;
+                // (m̄1 I − m̄2 E) g = (m̄1 g_x + m̄2 g_y, m̄1 g_y − m̄2 g_x).
+                out[2] = mb.x * g.x + mb.y * g.y;
+                out[3] = mb.x * g.y - mb.y * g.x;
+                (4, 2)
+            }
+        };
+        for j in 0..n {
+            let mut v = 0.0;
+            for a in 0..na {
+                v += self.s[a * n + j] * gb[a];
+            }
+            out[o + j] = v;
         }
     }
 

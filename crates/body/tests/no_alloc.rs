@@ -50,6 +50,19 @@ fn evaluation_allocates_nothing() {
         let mut qel = vec![0.0; n];
         let mut qg = vec![0.0; nc];
         let g = Vector3::new(0.0, -9.81, 0.0);
+        let mut nws = body.natural_workspace();
+        let nn = body.n_natural_coords();
+        let mut mn = DMatrix::zeros(nn, nn);
+        let mut qn = DVector::zeros(nn);
+        let mut gn = vec![0.0; nn];
+        let nat = flexmbd_body::NaturalState {
+            r0: view.r0,
+            a: view.a,
+            r0_dot: view.s_dot,
+            a_dot: view.a,
+            y: view.y,
+            y_dot: view.y_dot,
+        };
         let before = ALLOCS.load(Ordering::SeqCst);
         for _ in 0..3 {
             body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
@@ -57,6 +70,15 @@ fn evaluation_allocates_nothing() {
             body.inertia_origin(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
             body.elastic_forces(view.y, view.y_dot, &mut qel);
             body.gravity_forces(&view, &g, &mut qg);
+            body.inertia_natural(&nat, InertiaMethod::BMatrix, &mut nws, &mut mn, &mut qn);
+            body.inertia_natural(
+                &nat,
+                InertiaMethod::ShapeIntegrals,
+                &mut nws,
+                &mut mn,
+                &mut qn,
+            );
+            body.gravity_natural(&nat, &g, &mut gn);
         }
         let after = ALLOCS.load(Ordering::SeqCst);
         assert_eq!(

@@ -5,6 +5,7 @@ mod common;
 use common::*;
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
 use nalgebra::{DMatrix, DVector};
+use std::ops::AddAssign;
 
 const TOL: f64 = 1e-10;
 
@@ -109,4 +110,68 @@ fn writes_into_views() {
     assert_eq!(big.view((2, 2), (9, 9)).into_owned(), m);
     assert_eq!(bq.rows(3, 9).into_owned(), q);
     let _ = BodyState::planar;
+}
+
+/// Gravity in the s form equals Σ w_k B_kᵀ g, and the elastic force is −K y − C ẏ
+/// with tangents K and C.
+#[test]
+fn gravity_and_elastic_rows() {
+    for (dim, n, seed) in [
+        (Dim::Spatial, 3, 51),
+        (Dim::Spatial, 0, 52),
+        (Dim::Planar, 4, 53),
+    ] {
+        let mut r = rng(seed);
+        let rb = random_body(&mut r, dim, n, 9);
+        let body = FlexibleBody::new(&rb).unwrap();
+        let st = random_state(&mut r, dim, n);
+        let v = st.view();
+        let g = if dim == Dim::Planar {
+            nalgebra::Vector3::new(0.4, -9.81, 0.0)
+        } else {
+            nalgebra::Vector3::new(0.4, -9.81, 2.0)
+        };
+        let mut refv = DVector::zeros(6 + n);
+        for k in 0..rb.cloud.len() {
+            let x = rb.cloud.rows(k);
+            let mut p = rb.cloud.positions[k];
+            for c in 0..3 {
+                for j in 0..n {
+                    p[c] += x[c * n + j] * v.y[j];
+                }
+            }
+            let rk = v.r0 + v.a * p;
+            let w = rb.cloud.weights[k];
+            refv.rows_mut(0, 3).add_assign(&(w * g));
+            refv.rows_mut(3, 3).add_assign(&(w * rk.cross(&g)));
+            for j in 0..n {
+                let col = nalgebra::Vector3::new(x[j], x[n + j], x[2 * n + j]);
+                refv[6 + j] += w * (v.a * col).dot(&g);
+            }
+        }
+        let keep: Vec<usize> = match dim {
+            Dim::Spatial => (0..6 + n).collect(),
+            Dim::Planar => [0, 1, 5].into_iter().chain(6..6 + n).collect(),
+        };
+        let refv = DVector::from_fn(keep.len(), |i, _| refv[keep[i]]);
+        let mut out = vec![0.0; body.n_coords()];
+        body.gravity_forces(&v, &g, &mut out);
+        assert!(
+            rel_diff_v(&DVector::from_vec(out), &refv) < 1e-12,
+            "{dim} gravity"
+        );
+
+        let mut qel = vec![0.0; n];
+        body.elastic_forces(v.y, v.y_dot, &mut qel);
+        let yv = DVector::from_column_slice(v.y);
+        let ydv = DVector::from_column_slice(v.y_dot);
+        let expect = -(&rb.k_ff * &yv) - &rb.c_ff * &ydv;
+        if n > 0 {
+            assert!(rel_diff_v(&DVector::from_vec(qel), &expect) < 1e-14);
+        }
+        let mut kt = DMatrix::zeros(n, n);
+        body.add_elastic_tangents(v.y, v.y_dot, 2.0, 0.5, kt.view_mut((0, 0), (n, n)));
+        assert!((kt - (2.0 * &rb.k_ff + 0.5 * &rb.c_ff)).amax() < 1e-12);
+        assert_eq!(body.elastic_model().name(), "linear");
+    }
 }

@@ -1,0 +1,567 @@
+//! Inertia terms in natural coordinates (methods.md §2.5), both routes.
+//!
+//! 3D: `q = {r0; u; v; w; y}` (12 + n), `A = [u v w]` (not necessarily orthonormal),
+//! `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X_k]`, `Ḃ_k q̇ = 2 Ȧ X_k ẏ`:
+//!
+//! ```text
+//! M_r0r0 = m I, M_r0ea = m̄_a(y) I, M_eaeb = P_ab(y) I, M_r0y = A S, M_eay = A L_a(y),
+//! M_yy = Σ_ab (e_a·e_b) Sᵃᵇ,
+//! Q_v = −2 {Ȧ S ẏ; Ȧ L_1 ẏ; Ȧ L_2 ẏ; Ȧ L_3 ẏ; Σ_ab (e_a·ė_b) Sᵃᵇ ẏ}.
+//! ```
+//!
+//! 2D: `q = {r0; u; y}` (4 + n), `A = [u  E u]`, `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X_k]`:
+//! `M_r0u = m̄_1 I + m̄_2 E`, `M_uu = (P_11 + P_22) I`, `M_uy = A L_1 − E A L_2`,
+//! `M_yy = |u|² (S¹¹ + S²²)`, `Q_v = −2 {Ȧ S ẏ; (Ȧ L_1 − E Ȧ L_2) ẏ; Σ_ab (AᵀȦ)_ab Sᵃᵇ ẏ}`
+//! with `Ȧ = [u̇  E u̇]`, and `Σ_ab (AᵀȦ)_ab Sᵃᵇ = (u·u̇)(S¹¹ + S²²) − (u·E u̇) G_3`.
+//!
+//! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block.
+
+use crate::{FlexibleBody, Workspace, dot};
+use flexmbd_fe::NodeModes;
+use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+
+/// The state of one body in natural coordinates (plain data).
+///
+/// 3D: `a = [u v w]` and `a_dot = [u̇ v̇ ẇ]` (columns, global components; the
+/// orthonormality constraints need not hold). 2D: use [`NaturalState::planar`];
+/// there `a = [u  E u  e_z]` and only `u`, `u̇` are coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NaturalState<'a> {
+    /// Position of the frame origin r0.
+    pub r0: Vector3<f64>,
+    /// A = [u v w].
+    pub a: Matrix3<f64>,
+    /// ṙ0.
+    pub r0_dot: Vector3<f64>,
+    /// Ȧ = [u̇ v̇ ẇ].
+    pub a_dot: Matrix3<f64>,
+    /// Modal coordinates y.
+    pub y: &'a [f64],
+    /// Modal rates ẏ.
+    pub y_dot: &'a [f64],
+}
+
+impl<'a> NaturalState<'a> {
+    /// A planar natural state {r0, u, y}: `A = [u  E u]`, `Ȧ = [u̇  E u̇]`.
+    pub fn planar(
+        r0: Vector2<f64>,
+        u: Vector2<f64>,
+        r0_dot: Vector2<f64>,
+        u_dot: Vector2<f64>,
+        y: &'a [f64],
+        y_dot: &'a [f64],
+    ) -> Self {
+        Self {
+            r0: Vector3::new(r0.x, r0.y, 0.0),
+            a: Matrix3::new(u.x, -u.y, 0.0, u.y, u.x, 0.0, 0.0, 0.0, 1.0),
+            r0_dot: Vector3::new(r0_dot.x, r0_dot.y, 0.0),
+            a_dot: Matrix3::new(u_dot.x, -u_dot.y, 0.0, u_dot.y, u_dot.x, 0.0, 0.0, 0.0, 0.0),
+            y,
+            y_dot,
+        }
+    }
+}
+
+/// Scratch storage for the natural-coordinate terms, sized once for one body
+/// ([`FlexibleBody::natural_workspace`]). Keeping it outside the body lets a
+/// formulation evaluate a shared `&FlexibleBody`.
+#[derive(Clone, Debug)]
+pub struct NaturalWorkspace(pub(crate) Workspace);
+
+/// A material point of a body (methods.md §1.1): undeformed position r̄_u and
+/// translational mode rows X_P (3 × n, row-major), e.g. an FE node used by a joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyPoint {
+    /// Undeformed position r̄_u (body components).
+    pub position: Vector3<f64>,
+    /// Translational mode rows X_P, row-major (3 n).
+    pub rows: Vec<f64>,
+}
+
+impl BodyPoint {
+    /// A point that does not deform (n zero columns).
+    pub fn rigid(position: Vector3<f64>, n_modes: usize) -> Self {
+        Self {
+            position,
+            rows: vec![0.0; 3 * n_modes],
+        }
+    }
+    /// The translational rows of an FE node.
+    pub fn from_node(node: &NodeModes) -> Self {
+        let (r, n) = (&node.translation, node.translation.ncols());
+        let mut rows = Vec::with_capacity(3 * n);
+        for a in 0..3 {
+            for j in 0..n {
+                rows.push(r[(a, j)]);
+            }
+        }
+        Self {
+            position: node.position,
+            rows,
+        }
+    }
+    /// Number of modal columns n.
+    pub fn n_modes(&self) -> usize {
+        self.rows.len() / 3
+    }
+    /// Deformed position in body components, r̄_P = r̄_u + X_P y.
+    pub fn local_position(&self, y: &[f64]) -> Vector3<f64> {
+        let n = self.n_modes();
+        Vector3::new(
+            self.position.x + dot(&self.rows[..n], y),
+            self.position.y + dot(&self.rows[n..2 * n], y),
+            self.position.z + dot(&self.rows[2 * n..], y),
+        )
+    }
+    /// Global position r_P = r0 + A r̄_P.
+    pub fn global_position(&self, r0: &Vector3<f64>, a: &Matrix3<f64>, y: &[f64]) -> Vector3<f64> {
+        r0 + a * self.local_position(y)
+    }
+    /// X_P ẏ (body components).
+    pub fn modal_velocity(&self, y_dot: &[f64]) -> Vector3<f64> {
+        self.local_position(y_dot) - self.position
+    }
+}
+
+#[inline(always)]
+fn e2(v: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-v.y, v.x)
+}
+
+impl FlexibleBody {
+    pub(crate) fn natural_shape_3d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let (a, ad) = (&st.a, &st.a_dot);
+        let ws = &mut nws.0;
+        let mut mb = self.m_u;
+        let mut s_yd = Vector3::zeros();
+        for c in 0..3 {
+            let sr = &self.s[c * n..(c + 1) * n];
+            mb[c] += dot(sr, y);
+            s_yd[c] = dot(sr, yd);
+        }
+        let mut p = self.p_u;
+        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
+        if n > 0 {
+            for (row, u) in self.sab.chunks_exact(n).zip(ws.u.iter_mut()) {
+                *u = dot(row, y);
+            }
+            for b in 0..3 {
+                for c in 0..3 {
+                    let dst = (3 * b + c) * n;
+                    let src = (3 * c + b) * n;
+                    let (l, sa, u) = (
+                        &mut ws.l[dst..dst + n],
+                        &self.sa[dst..dst + n],
+                        &ws.u[src..src + n],
+                    );
+                    for j in 0..n {
+                        l[j] = sa[j] + u[j];
+                    }
+                    lam[(b, c)] = dot(l, yd);
+                }
+            }
+            for c in 0..3 {
+                for b in c..3 {
+                    let v = self.p_u[(c, b)]
+                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
+                        + dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
+                    p[(c, b)] = v;
+                    p[(b, c)] = v;
+                }
+            }
+        }
+        let m = self.mass;
+        // Rigid 12 × 12 part: every block a scalar times I₃.
+        let scal = |i: usize, j: usize| -> f64 {
+            match (i, j) {
+                (0, 0) => m,
+                (0, b) => mb[b - 1],
+                (a, 0) => mb[a - 1],
+                (a, b) => p[(a - 1, b - 1)],
+            }
+        };
+        for bi in 0..4 {
+            for bj in 0..4 {
+                let v = scal(bi, bj);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
+                    }
+                }
+            }
+        }
+        let q0 = -2.0 * (ad * s_yd);
+        for i in 0..3 {
+            q_out[i] = q0[i];
+        }
+        for b in 0..3 {
+            // L_b ẏ = (lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]).
+            let lby = Vector3::new(lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]);
+            let qb = -2.0 * (ad * lby);
+            for i in 0..3 {
+                q_out[3 + 3 * b + i] = qb[i];
+            }
+        }
+        if n == 0 {
+            return;
+        }
+        let o = 12;
+        let gram = a.tr_mul(a); // e_a · e_b
+        let cdot = a.tr_mul(ad); // e_a · ė_b
+        // A S and A L_b columns.
+        for j in 0..n {
+            let sj = Vector3::new(self.s[j], self.s[n + j], self.s[2 * n + j]);
+            let asj = a * sj;
+            for i in 0..3 {
+                m_out[(i, o + j)] = asj[i];
+                m_out[(o + j, i)] = asj[i];
+            }
+            for b in 0..3 {
+                let l = &ws.l;
+                let lbj = Vector3::new(
+                    l[(3 * b) * n + j],
+                    l[(3 * b + 1) * n + j],
+                    l[(3 * b + 2) * n + j],
+                );
+                let alj = a * lbj;
+                for i in 0..3 {
+                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
+                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
+                }
+            }
+        }
+        // M_yy = Σ_ab (e_a·e_b) Sᵃᵇ (upper triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ);
+        // Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ.
+        let qy = &mut ws.qy;
+        qy.fill(0.0);
+        for aa in 0..3 {
+            for bb in 0..3 {
+                let blk = &self.sab[(3 * aa + bb) * n * n..(3 * aa + bb + 1) * n * n];
+                let c = cdot[(aa, bb)];
+                for (i, row) in blk.chunks_exact(n).enumerate() {
+                    qy[i] += c * dot(row, yd);
+                }
+            }
+        }
+        for i in 0..n {
+            for j in i..n {
+                let mut v = 0.0;
+                for aa in 0..3 {
+                    for bb in 0..3 {
+                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
+                    }
+                }
+                m_out[(o + i, o + j)] = v;
+                m_out[(o + j, o + i)] = v;
+            }
+            q_out[o + i] = -2.0 * qy[i];
+        }
+    }
+
+    pub(crate) fn natural_shape_2d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let u = st.a.column(0).xy();
+        let ud = st.a_dot.column(0).xy();
+        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+        let m = self.mass;
+        let mut mb = self.m_u.xy();
+        let mut s_yd = Vector2::zeros();
+        for c in 0..2 {
+            let sr = &self.s[c * n..(c + 1) * n];
+            mb[c] += dot(sr, y);
+            s_yd[c] = dot(sr, yd);
+        }
+        let mut ptr = self.p_u[(0, 0)] + self.p_u[(1, 1)];
+        // l rows: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n (ws.l).
+        let ws = &mut nws.0;
+        let mut lam = Matrix2::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
+        if n > 0 {
+            for b in 0..2 {
+                for c in 0..2 {
+                    let dst = (2 * b + c) * n;
+                    let sa = &self.sa[(3 * b + c) * n..(3 * b + c + 1) * n];
+                    let blk = &self.sab[(3 * c + b) * n * n..(3 * c + b + 1) * n * n];
+                    for (j, row) in blk.chunks_exact(n).enumerate() {
+                        ws.l[dst + j] = sa[j] + dot(row, y);
+                    }
+                    lam[(b, c)] = dot(&ws.l[dst..dst + n], yd);
+                }
+            }
+            for c in 0..2 {
+                ptr += dot(&self.sa[(3 * c + c) * n..(3 * c + c + 1) * n], y)
+                    + dot(&ws.l[(2 * c + c) * n..(2 * c + c + 1) * n], y);
+            }
+        }
+        // Rigid 4 × 4 part.
+        m_out[(0, 0)] = m;
+        m_out[(1, 1)] = m;
+        m_out[(0, 1)] = 0.0;
+        m_out[(1, 0)] = 0.0;
+        // m̄_1 I + m̄_2 E = [[m̄1, −m̄2], [m̄2, m̄1]].
+        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
+        for i in 0..2 {
+            for j in 0..2 {
+                m_out[(i, 2 + j)] = r0u[(i, j)];
+                m_out[(2 + j, i)] = r0u[(i, j)];
+                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
+            }
+        }
+        let q0 = -2.0 * (ad * s_yd);
+        let l1y = Vector2::new(lam[(0, 0)], lam[(0, 1)]);
+        let l2y = Vector2::new(lam[(1, 0)], lam[(1, 1)]);
+        let qu = -2.0 * (ad * l1y - e2(ad * l2y));
+        q_out[0] = q0.x;
+        q_out[1] = q0.y;
+        q_out[2] = qu.x;
+        q_out[3] = qu.y;
+        if n == 0 {
+            return;
+        }
+        let o = 4;
+        let uu = u.norm_squared();
+        let u_ud = u.dot(&ud);
+        let u_eud = u.dot(&e2(ud));
+        let g3 = &self.g[2 * n * n..3 * n * n];
+        for j in 0..n {
+            let asj = a * Vector2::new(self.s[j], self.s[n + j]);
+            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
+            let l2 = Vector2::new(ws.l[2 * n + j], ws.l[3 * n + j]);
+            let uy = a * l1 - e2(a * l2);
+            for i in 0..2 {
+                m_out[(i, o + j)] = asj[i];
+                m_out[(o + j, i)] = asj[i];
+                m_out[(2 + i, o + j)] = uy[i];
+                m_out[(o + j, 2 + i)] = uy[i];
+            }
+            let row_m = &self.m_yy[j * n..(j + 1) * n];
+            let row_g = &g3[j * n..(j + 1) * n];
+            q_out[o + j] = -2.0 * (u_ud * dot(row_m, yd) - u_eud * dot(row_g, yd));
+            for i in j..n {
+                let v = uu * self.m_yy[j * n + i];
+                m_out[(o + j, o + i)] = v;
+                m_out[(o + i, o + j)] = v;
+            }
+        }
+    }
+
+    pub(crate) fn natural_bmatrix_3d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let (a, ad) = (&st.a, &st.a_dot);
+        let ws = &mut nws.0;
+        // Accumulators: sy (A X), l (r̄_b A X for b = 0..3, at 3 n b), yy, qy.
+        ws.sy.fill(0.0);
+        ws.l.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
+        let mut msum = 0.0;
+        let mut rsum = Vector3::zeros();
+        let mut psum = Matrix3::zeros();
+        let mut asum = Vector3::zeros();
+        let mut arsum = Matrix3::zeros(); // column b: Σ w r̄_b a_k
+        let w3 = 3 * n;
+        for k in 0..self.w.len() {
+            let wk = self.w[k];
+            let x = &self.rows[k * w3..(k + 1) * w3];
+            let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
+            let rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
+            let acc = 2.0 * (ad * Vector3::new(dot(x0, yd), dot(x1, yd), dot(x2, yd)));
+            msum += wk;
+            rsum += wk * rb;
+            psum += (wk * rb) * rb.transpose();
+            asum += wk * acc;
+            arsum += (wk * acc) * rb.transpose();
+            if n == 0 {
+                continue;
+            }
+            let (ax0, rest) = ws.ax.split_at_mut(n);
+            let (ax1, ax2) = rest.split_at_mut(n);
+            for j in 0..n {
+                let v = a * Vector3::new(x0[j], x1[j], x2[j]);
+                ax0[j] = v.x;
+                ax1[j] = v.y;
+                ax2[j] = v.z;
+                for c in 0..3 {
+                    ws.sy[c * n + j] += wk * v[c];
+                    for b in 0..3 {
+                        ws.l[3 * n * b + c * n + j] += wk * rb[b] * v[c];
+                    }
+                }
+                ws.qy[j] += wk * (acc.x * v.x + acc.y * v.y + acc.z * v.z);
+            }
+            for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
+                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
+                for (((o, b0), b1), b2) in row.iter_mut().zip(&*ax0).zip(&*ax1).zip(&*ax2) {
+                    *o += p0 * b0 + p1 * b1 + p2 * b2;
+                }
+            }
+        }
+        let scal = |i: usize, j: usize| -> f64 {
+            match (i, j) {
+                (0, 0) => msum,
+                (0, b) => rsum[b - 1],
+                (a, 0) => rsum[a - 1],
+                (a, b) => psum[(a - 1, b - 1)],
+            }
+        };
+        for bi in 0..4 {
+            for bj in 0..4 {
+                let v = scal(bi, bj);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
+                    }
+                }
+            }
+        }
+        for i in 0..3 {
+            q_out[i] = -asum[i];
+            for b in 0..3 {
+                q_out[3 + 3 * b + i] = -arsum[(i, b)];
+            }
+        }
+        let o = 12;
+        for j in 0..n {
+            for c in 0..3 {
+                let v = ws.sy[c * n + j];
+                m_out[(c, o + j)] = v;
+                m_out[(o + j, c)] = v;
+                for b in 0..3 {
+                    let v = ws.l[3 * n * b + c * n + j];
+                    m_out[(3 + 3 * b + c, o + j)] = v;
+                    m_out[(o + j, 3 + 3 * b + c)] = v;
+                }
+            }
+            q_out[o + j] = -ws.qy[j];
+            for i in j..n {
+                let v = ws.yy[j * n + i];
+                m_out[(o + j, o + i)] = v;
+                m_out[(o + i, o + j)] = v;
+            }
+        }
+    }
+
+    pub(crate) fn natural_bmatrix_2d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let u = st.a.column(0).xy();
+        let ud = st.a_dot.column(0).xy();
+        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+        let ws = &mut nws.0;
+        ws.sy.fill(0.0);
+        ws.wy.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
+        let mut msum = 0.0;
+        let mut rsum = Vector2::zeros();
+        let mut psum = 0.0;
+        let mut asum = Vector2::zeros();
+        let mut qu = Vector2::zeros();
+        let w3 = 3 * n;
+        for k in 0..self.w.len() {
+            let wk = self.w[k];
+            let x = &self.rows[k * w3..(k + 1) * w3];
+            let (x0, x1) = (&x[..n], &x[n..2 * n]);
+            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
+            let acc = 2.0 * (ad * Vector2::new(dot(x0, yd), dot(x1, yd)));
+            msum += wk;
+            rsum += wk * rb;
+            psum += wk * rb.norm_squared();
+            asum += wk * acc;
+            // (r̄1 I + r̄2 E)ᵀ a = r̄1 a − r̄2 E a.
+            qu += wk * (rb.x * acc - rb.y * e2(acc));
+            let (ax0, ax1) = ws.ax.split_at_mut(n);
+            for j in 0..n {
+                let v = a * Vector2::new(x0[j], x1[j]);
+                ax0[j] = v.x;
+                ax1[j] = v.y;
+                ws.sy[j] += wk * v.x;
+                ws.sy[n + j] += wk * v.y;
+                let uy = rb.x * v - rb.y * e2(v);
+                ws.wy[j] += wk * uy.x;
+                ws.wy[n + j] += wk * uy.y;
+                ws.qy[j] += wk * acc.dot(&v);
+            }
+            for i in 0..n {
+                let (p0, p1) = (wk * ax0[i], wk * ax1[i]);
+                let row = &mut ws.yy[i * n + i..(i + 1) * n];
+                let (b0, b1) = (&ax0[i..], &ax1[i..]);
+                for j in 0..row.len() {
+                    row[j] += p0 * b0[j] + p1 * b1[j];
+                }
+            }
+        }
+        m_out[(0, 0)] = msum;
+        m_out[(1, 1)] = msum;
+        m_out[(0, 1)] = 0.0;
+        m_out[(1, 0)] = 0.0;
+        let r0u = Matrix2::new(rsum.x, -rsum.y, rsum.y, rsum.x);
+        for i in 0..2 {
+            for j in 0..2 {
+                m_out[(i, 2 + j)] = r0u[(i, j)];
+                m_out[(2 + j, i)] = r0u[(i, j)];
+                m_out[(2 + i, 2 + j)] = if i == j { psum } else { 0.0 };
+            }
+        }
+        q_out[0] = -asum.x;
+        q_out[1] = -asum.y;
+        q_out[2] = -qu.x;
+        q_out[3] = -qu.y;
+        let o = 4;
+        for j in 0..n {
+            for c in 0..2 {
+                m_out[(c, o + j)] = ws.sy[c * n + j];
+                m_out[(o + j, c)] = ws.sy[c * n + j];
+                m_out[(2 + c, o + j)] = ws.wy[c * n + j];
+                m_out[(o + j, 2 + c)] = ws.wy[c * n + j];
+            }
+            q_out[o + j] = -ws.qy[j];
+            for i in j..n {
+                let v = ws.yy[j * n + i];
+                m_out[(o + j, o + i)] = v;
+                m_out[(o + i, o + j)] = v;
+            }
+        }
+    }
+}
