@@ -8,7 +8,11 @@
 //! - [`fe`]: finite-element preprocessing — beams, modal analysis, Craig–Bampton,
 //!   the mass cloud and the 13 inertia shape integrals;
 //! - [`body`]: the reduced flexible body at run time, its inertia terms by
-//!   B-matrix projection or by shape integrals, and its elastic forces.
+//!   B-matrix projection or by shape integrals, and its elastic forces;
+//! - [`model`]: the scene format (RON) with its validation;
+//! - [`absolute`]: the natural-coordinate formulation;
+//! - [`integrators`]: ALI3-P on the trapezoidal rule;
+//! - [`simulation`]: a scene run end to end, with its summary and history.
 
 pub use flexmbd_body as body;
 pub use flexmbd_core as core;
@@ -16,3 +20,8 @@ pub use flexmbd_fe as fe;
 
 pub mod fixtures;
 pub mod inventory;
+pub mod simulation;
+
+pub use flexmbd_absolute as absolute;
+pub use flexmbd_integrators as integrators;
+pub use flexmbd_model as model;

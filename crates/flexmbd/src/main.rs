@@ -1,15 +1,21 @@
 //! The `flexmbd` command-line program.
 //!
-//! `flexmbd modes MODEL.ron [--json]` prints the mode inventory of a flexible body:
-//! each static mode with the boundary DOF it belongs to, each normal mode with its
-//! frequency, and the DOFs the floating frame takes.
+//! - `flexmbd modes MODEL.ron [--json]` prints the mode inventory of a flexible body:
+//!   each static mode with the boundary DOF it belongs to, each normal mode with its
+//!   frequency, and the DOFs the floating frame takes.
+//! - `flexmbd simulate SCENE.ron [options]` runs a scene and writes the sensor
+//!   histories as CSV and a run summary.
 
-use std::path::PathBuf;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
+use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
+use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
+use flexmbd::simulation;
 
 #[derive(Parser)]
 #[command(
@@ -22,6 +28,18 @@ struct Cli {
     command: Command,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum FormulationArg {
+    Absolute,
+    Relative,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum InertiaArg {
+    BMatrix,
+    ShapeIntegrals,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Reduce a flexible body model and print its mode inventory.
@@ -32,22 +50,75 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run a scene and write its sensor histories.
+    Simulate {
+        /// A scene file (RON), e.g. models/double_four_bar.ron.
+        scene: PathBuf,
+        /// Formulation (default: the scene's).
+        #[arg(long, value_enum)]
+        formulation: Option<FormulationArg>,
+        /// Inertia route of the flexible bodies (default: the scene's).
+        #[arg(long, value_enum)]
+        inertia: Option<InertiaArg>,
+        /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
+        #[arg(long)]
+        stiffening: Option<String>,
+        /// Time step (s).
+        #[arg(long, allow_negative_numbers = true)]
+        step: Option<f64>,
+        /// Simulated time (s).
+        #[arg(long, allow_negative_numbers = true)]
+        duration: Option<f64>,
+        /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
+        #[arg(long = "set", value_name = "PATH=VALUE")]
+        sets: Vec<String>,
+        /// CSV output (default: no CSV).
+        #[arg(long)]
+        output: Option<PathBuf>,
+        /// Print the run summary as one JSON object on stdout.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
-        Command::Modes { model, json } => match modes(&model, json) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
+    let result = match cli.command {
+        Command::Modes { model, json } => modes(&model, json),
+        Command::Simulate {
+            scene,
+            formulation,
+            inertia,
+            stiffening,
+            step,
+            duration,
+            sets,
+            output,
+            json,
+        } => simulate(
+            &scene,
+            formulation,
+            inertia,
+            stiffening,
+            step,
+            duration,
+            &sets,
+            output.as_deref(),
+            json,
+        ),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
     }
 }
 
-fn modes(model: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::Error>> {
+type CliResult = Result<ExitCode, Box<dyn std::error::Error>>;
+
+fn modes(model: &Path, json: bool) -> CliResult {
     let spec = BeamBodySpec::from_file(model)?;
     let body = reduce(&spec).map_err(|e| format!("{}: {e}", model.display()))?;
     let inv = Inventory::of(&model.display().to_string(), &body);
@@ -56,5 +127,133 @@ fn modes(model: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::
     } else {
         print!("{}", inv.to_text());
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
+}
+
+fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
+    Ok(match s {
+        "linear" => Stiffening::Linear,
+        "fnl1" => Stiffening::Fnl1,
+        "fnl2" => Stiffening::Fnl2,
+        "foreshortening" | "fs0" => Stiffening::Foreshortening,
+        _ => match s.strip_prefix("substructuring:") {
+            Some(n) => Stiffening::Substructuring(
+                n.parse()
+                    .map_err(|_| format!("--stiffening {s}: N must be a positive integer"))?,
+            ),
+            None => {
+                return Err(format!(
+                    "--stiffening {s}: expected linear, fnl1, fnl2, foreshortening or substructuring:N"
+                ));
+            }
+        },
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn simulate(
+    path: &Path,
+    formulation: Option<FormulationArg>,
+    inertia: Option<InertiaArg>,
+    stiffening: Option<String>,
+    step: Option<f64>,
+    duration: Option<f64>,
+    sets: &[String],
+    output: Option<&Path>,
+    json: bool,
+) -> CliResult {
+    let mut scene = Scene::load(path)?;
+    let sets = sets
+        .iter()
+        .map(|s| parse_set(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    scene.apply_sets(&sets)?;
+    if let Some(f) = formulation {
+        scene.solver.formulation = match f {
+            FormulationArg::Absolute => FormulationKind::Absolute,
+            FormulationArg::Relative => FormulationKind::Relative,
+        };
+    }
+    if let Some(i) = inertia {
+        scene.solver.inertia = match i {
+            InertiaArg::BMatrix => InertiaMethod::BMatrix,
+            InertiaArg::ShapeIntegrals => InertiaMethod::ShapeIntegrals,
+        };
+    }
+    if let Some(s) = stiffening {
+        scene.solver.stiffening = parse_stiffening(&s)?;
+    }
+    if let Some(h) = step {
+        scene.solver.step = h;
+    }
+    if let Some(d) = duration {
+        scene.solver.duration = d;
+    }
+    scene.validate()?;
+    let bar = (!json
+        && std::io::stderr().is_terminal()
+        && scene.solver.duration / scene.solver.step > 2e4)
+        .then(|| {
+            let pb = indicatif::ProgressBar::new(1000);
+            pb.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:40} {percent:>3}% simulated, {elapsed} elapsed, eta {eta}",
+                )
+                .expect("valid template"),
+            );
+            pb
+        });
+    let (summary, history) = simulation::run(&scene, |frac| {
+        if let Some(pb) = &bar {
+            pb.set_position((frac * 1000.0) as u64);
+        }
+    })?;
+    if let Some(pb) = bar {
+        pb.finish_and_clear();
+    }
+    if let Some(out) = output {
+        let file = std::fs::File::create(out)
+            .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+        history.write_csv(std::io::BufWriter::new(file))?;
+    }
+    if json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        eprintln!(
+            "{}: {} — {} coordinates, {} constraints, {} {} {}",
+            summary.scene,
+            summary.status,
+            summary.n_coordinates,
+            summary.n_constraints,
+            summary.formulation,
+            summary.inertia,
+            summary.stiffening
+        );
+        eprintln!(
+            "  {:.3} s simulated in {:.4} s CPU (real-time factor {:.1}), {} steps, {:.2} Newton iterations per step",
+            summary.simulated_seconds,
+            summary.cpu_seconds,
+            summary.realtime_factor,
+            summary.steps,
+            summary.newton_iterations as f64 / summary.steps.max(1) as f64
+        );
+        eprintln!(
+            "  time split: evaluation {:.4} s, factorisation {:.4} s, projections {:.4} s; preprocessing {:.4} s",
+            summary.time_evaluation,
+            summary.time_factorization,
+            summary.time_projection,
+            summary.preprocessing_seconds
+        );
+        if let (Some(t), Some(m)) = (summary.failed_at, &summary.message) {
+            eprintln!("  failed at t = {t:.6} s: {m}");
+        }
+        if let Some(out) = output {
+            eprintln!("  {} rows written to {}", summary.rows, out.display());
+        }
+    }
+    Ok(if summary.status == "ok" {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
 }

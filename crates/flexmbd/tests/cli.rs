@@ -70,3 +70,160 @@ fn a_bad_model_is_refused_with_file_and_field() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("flexmbd-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn simulate_writes_csv_and_json_summary() {
+    let dir = temp_dir("sim");
+    let csv = dir.join("out.csv");
+    let out = flexmbd()
+        .args([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--duration",
+            "1",
+            "--json",
+            "--output",
+            csv.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "steps",
+        "newton_iterations",
+        "cpu_seconds",
+        "simulated_seconds",
+        "realtime_factor",
+        "n_coordinates",
+        "n_constraints",
+        "formulation",
+        "inertia",
+        "stiffening",
+        "status",
+    ] {
+        assert!(v.get(key).is_some(), "summary lacks {key}: {v}");
+    }
+    assert_eq!(v["status"], "ok");
+    assert_eq!(v["steps"], 1000);
+    assert_eq!(v["n_coordinates"], 6);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "t,B0_x,B0_y,energy");
+    assert_eq!(
+        text.lines().count(),
+        1 + 101,
+        "one row per 10 ms output interval, t = 0 included"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn simulate_is_deterministic_bit_for_bit() {
+    let dir = temp_dir("det");
+    let run = |name: &str| {
+        let p = dir.join(name);
+        let st = flexmbd()
+            .args([
+                "simulate",
+                &model("double_four_bar.ron"),
+                "--duration",
+                "2",
+                "--output",
+                p.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap()
+            .status;
+        assert!(st.success());
+        std::fs::read(p).unwrap()
+    };
+    assert_eq!(run("a.csv"), run("b.csv"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn simulate_failure_keeps_rows_and_reports_time_and_residual() {
+    let dir = temp_dir("fail");
+    let csv = dir.join("fail.csv");
+    // A 0.3 s step cannot follow the mechanism through its first singular passage.
+    let out = flexmbd()
+        .args([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--step",
+            "0.3",
+            "--set",
+            "solver.output_interval=0.3",
+            "--json",
+            "--output",
+            csv.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "failed");
+    let t = v["failed_at"].as_f64().unwrap();
+    assert!(t > 0.3, "failed at {t}");
+    let msg = v["message"].as_str().unwrap();
+    assert!(
+        msg.contains("‖Φ‖∞") && msg.contains("smaller step"),
+        "{msg}"
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count() - 1;
+    assert_eq!(rows as u64, v["rows"].as_u64().unwrap());
+    assert!(rows >= 2, "the rows before the failure are kept");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
+    let out = flexmbd()
+        .args([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--set",
+            "bodies.crank9.flexible=true",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("crank9"), "{err}");
+    let out = flexmbd()
+        .args([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--stiffening",
+            "fnl1",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("not available yet")
+    );
+    let out = flexmbd()
+        .args(["simulate", &model("double_four_bar.ron"), "--step", "-1"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("solver.step")
+    );
+}

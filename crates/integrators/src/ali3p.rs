@@ -132,6 +132,7 @@ pub struct Ali3p {
     alpha: f64,
     /// Current time.
     pub t: f64,
+    t0: f64,
     /// Positions q.
     pub q: DVector<f64>,
     /// Velocities q̇.
@@ -155,7 +156,7 @@ pub struct Ali3p {
 
 impl Ali3p {
     /// Build the integrator for `f` and make its initial conditions consistent (methods.md §5.4).
-    pub fn new<F: Formulation>(
+    pub fn new<F: Formulation + ?Sized>(
         f: &mut F,
         t0: f64,
         settings: Ali3pSettings,
@@ -164,6 +165,7 @@ impl Ali3p {
         let mut s = Ali3p {
             alpha: 0.0,
             t: t0,
+            t0,
             q: DVector::zeros(n),
             qd: DVector::zeros(n),
             qdd: DVector::zeros(n),
@@ -205,7 +207,7 @@ impl Ali3p {
         &self.terms
     }
 
-    pub(crate) fn eval<F: Formulation>(&mut self, f: &mut F, req: Request) {
+    pub(crate) fn eval<F: Formulation + ?Sized>(&mut self, f: &mut F, req: Request) {
         let t0 = Instant::now();
         self.terms.clear(req);
         f.evaluate(self.t, &self.q, &self.qd, req, &mut self.terms);
@@ -237,7 +239,7 @@ impl Ali3p {
     }
 
     /// Advance one step of size h.
-    pub fn step<F: Formulation>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
+    pub fn step<F: Formulation + ?Sized>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
         let h = self.settings.step;
         let (a1, a2) = (2.0 / h, 4.0 / (h * h));
         // Predictor and the Newmark constants of the step.
@@ -249,7 +251,8 @@ impl Ali3p {
         self.q_prev.copy_from(&self.q);
         self.q.axpy(h, &self.qd, 1.0);
         self.q.axpy(0.5 * h * h, &self.qdd, 1.0);
-        self.t += h;
+        // t = t₀ + k h, not an accumulated sum, so output times are exact multiples.
+        self.t = self.t0 + (self.stats.steps + 1) as f64 * h;
         let (mut dq_norm, mut phi_norm) = (f64::INFINITY, f64::INFINITY);
         let mut converged = false;
         let mut iterations = 0;
@@ -327,7 +330,7 @@ impl Ali3p {
     }
 
     /// Velocity and acceleration projections at the converged positions (methods.md §5.2, steps 3–4).
-    fn project<F: Formulation>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
+    fn project<F: Formulation + ?Sized>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
         let t0 = Instant::now();
         let h = self.settings.step;
         let c = 0.25 * h * h * self.alpha;

@@ -19,7 +19,7 @@ use crate::lu::DenseLu;
 
 const MAX_ITER: usize = 200;
 
-pub(crate) fn make_consistent<F: Formulation>(
+pub(crate) fn make_consistent<F: Formulation + ?Sized>(
     s: &mut Ali3p,
     f: &mut F,
 ) -> Result<(), IntegratorError> {

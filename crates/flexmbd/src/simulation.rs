@@ -1,0 +1,240 @@
+//! Running a scene: compile it with the chosen formulation, integrate it with
+//! ALI3-P, record the sensors at the output interval, and summarise the run.
+//!
+//! A failed step (Newton does not converge, the solution diverges) ends the run
+//! with `status = "failed"`, the time and the reason; the rows computed so far
+//! are kept.
+
+use std::io::Write;
+use std::time::Instant;
+
+use flexmbd_core::Formulation;
+use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError};
+use flexmbd_model::{FormulationKind, ModelError, Scene, Stiffening};
+use serde::Serialize;
+
+/// Everything a run reports (the `--json` summary of `flexmbd simulate`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// The scene's name.
+    pub scene: String,
+    /// `"ok"` or `"failed"`.
+    pub status: String,
+    /// Time of the failed step (s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed_at: Option<f64>,
+    /// Why it failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+    /// `absolute` or `relative`.
+    pub formulation: String,
+    /// `b-matrix` or `shape-integrals`.
+    pub inertia: String,
+    /// Stiffening method.
+    pub stiffening: String,
+    /// Coordinates n.
+    pub n_coordinates: usize,
+    /// Constraint equations m.
+    pub n_constraints: usize,
+    /// Time step h (s).
+    pub step: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations.
+    pub newton_iterations: usize,
+    /// Factorisations of the leading matrix.
+    pub factorizations: usize,
+    /// Steps accepted at the iteration limit with small ‖Φ‖ (singular configurations).
+    pub accepted_unconverged: usize,
+    /// Failed steps (0 or 1).
+    pub failed_steps: usize,
+    /// Simulated time reached (s).
+    pub simulated_seconds: f64,
+    /// CPU (wall-clock, one thread) time of the integration, preprocessing excluded (s).
+    pub cpu_seconds: f64,
+    /// CPU time of compiling the scene (FE reduction included) (s).
+    pub preprocessing_seconds: f64,
+    /// Simulated seconds per CPU second.
+    pub realtime_factor: f64,
+    /// Time in formulation evaluations (s).
+    pub time_evaluation: f64,
+    /// Time forming and factorising the leading matrix (s).
+    pub time_factorization: f64,
+    /// Time in the velocity and acceleration projections (s).
+    pub time_projection: f64,
+    /// Rows recorded.
+    pub rows: usize,
+}
+
+/// A recorded history: times and sensor values.
+#[derive(Clone, Debug, Default)]
+pub struct History {
+    /// `t` followed by the sensor names.
+    pub header: Vec<String>,
+    /// One row per output instant: t, then the sensors.
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl History {
+    /// Write as CSV.
+    pub fn write_csv(&self, w: impl Write) -> csv::Result<()> {
+        let mut out = csv::Writer::from_writer(w);
+        out.write_record(&self.header)?;
+        for r in &self.rows {
+            // `{:?}` prints the shortest representation that reads back bit for bit.
+            out.write_record(r.iter().map(|v| format!("{v:?}")))?;
+        }
+        out.flush()?;
+        Ok(())
+    }
+    /// The column of a sensor.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let k = self.header.iter().position(|h| h == name)?;
+        Some(self.rows.iter().map(|r| r[k]).collect())
+    }
+}
+
+/// Compile a scene with the formulation its solver settings name.
+pub fn compile(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
+    if scene.solver.stiffening != Stiffening::Linear {
+        return Err(ModelError::Unsupported(format!(
+            "stiffening {:?} is not available yet; only `linear` runs",
+            scene.solver.stiffening
+        )));
+    }
+    match scene.solver.formulation {
+        FormulationKind::Absolute => Ok(Box::new(flexmbd_absolute::compile(scene)?)),
+        FormulationKind::Relative => Err(ModelError::Unsupported(
+            "the relative (semi-recursive) formulation is not available yet; use --formulation absolute".into(),
+        )),
+    }
+}
+
+fn names(scene: &Scene) -> (String, String, String) {
+    let formulation = match scene.solver.formulation {
+        FormulationKind::Absolute => "absolute",
+        FormulationKind::Relative => "relative",
+    };
+    let inertia = match scene.solver.inertia {
+        flexmbd_body::InertiaMethod::BMatrix => "b-matrix",
+        flexmbd_body::InertiaMethod::ShapeIntegrals => "shape-integrals",
+    };
+    let stiffening = match scene.solver.stiffening {
+        Stiffening::Linear => "linear".to_string(),
+        Stiffening::Fnl1 => "fnl1".into(),
+        Stiffening::Fnl2 => "fnl2".into(),
+        Stiffening::Foreshortening => "foreshortening".into(),
+        Stiffening::Substructuring(n) => format!("substructuring:{n}"),
+    };
+    (formulation.into(), inertia.into(), stiffening)
+}
+
+/// Run a scene to its duration (or to the first failure). `progress` is called with the
+/// fraction done now and then.
+pub fn run(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<(Summary, History), ModelError> {
+    let t0 = Instant::now();
+    let mut f = compile(scene)?;
+    let preprocessing_seconds = t0.elapsed().as_secs_f64();
+    let s = &scene.solver;
+    let settings = Ali3pSettings {
+        step: s.step,
+        penalty: s.penalty,
+        tol_q: s.newton_tolerance,
+        tol_phi: s.newton_tolerance,
+        max_iterations: s.max_iterations,
+        ..Default::default()
+    };
+    let steps = (s.duration / s.step).round().max(1.0) as usize;
+    let every = s
+        .output_interval
+        .map_or(1, |o| ((o / s.step).round() as usize).max(1));
+    let (formulation, inertia, stiffening) = names(scene);
+    let mut history = History {
+        header: std::iter::once("t".to_string())
+            .chain(f.sensor_names().iter().cloned())
+            .collect(),
+        rows: Vec::with_capacity(steps / every + 2),
+    };
+    let ns = f.sensor_names().len();
+    let mut summary = Summary {
+        scene: scene.name.clone(),
+        status: "ok".into(),
+        failed_at: None,
+        message: None,
+        formulation,
+        inertia,
+        stiffening,
+        n_coordinates: f.n_coordinates(),
+        n_constraints: f.n_constraints(),
+        step: s.step,
+        steps: 0,
+        newton_iterations: 0,
+        factorizations: 0,
+        accepted_unconverged: 0,
+        failed_steps: 0,
+        simulated_seconds: 0.0,
+        cpu_seconds: 0.0,
+        preprocessing_seconds,
+        realtime_factor: 0.0,
+        time_evaluation: 0.0,
+        time_factorization: 0.0,
+        time_projection: 0.0,
+        rows: 0,
+    };
+    let fail = |summary: &mut Summary, t: f64, e: &IntegratorError| {
+        summary.status = "failed".into();
+        summary.failed_at = Some(t);
+        summary.message = Some(e.to_string());
+    };
+    let start = Instant::now();
+    let mut integ = match Ali3p::new(f.as_mut(), 0.0, settings) {
+        Ok(i) => i,
+        Err(e) => {
+            fail(&mut summary, 0.0, &e);
+            summary.cpu_seconds = start.elapsed().as_secs_f64();
+            return Ok((summary, history));
+        }
+    };
+    let record = |integ: &Ali3p, f: &mut dyn Formulation, history: &mut History| {
+        let mut row = vec![0.0; ns + 1];
+        row[0] = integ.t;
+        f.sensors(integ.t, &integ.q, &integ.qd, &mut row[1..]);
+        history.rows.push(row);
+    };
+    record(&integ, f.as_mut(), &mut history);
+    let mut cpu = start.elapsed().as_secs_f64();
+    let report_every = (steps / 200).max(1);
+    for k in 1..=steps {
+        let t_step = Instant::now();
+        let r = integ.step(f.as_mut());
+        cpu += t_step.elapsed().as_secs_f64();
+        if let Err(e) = r {
+            fail(&mut summary, integ.t, &e);
+            break;
+        }
+        if k % every == 0 || k == steps {
+            record(&integ, f.as_mut(), &mut history);
+        }
+        if k % report_every == 0 {
+            progress(k as f64 / steps as f64);
+        }
+    }
+    let st = &integ.stats;
+    summary.steps = st.steps;
+    summary.newton_iterations = st.newton_iterations;
+    summary.factorizations = st.factorizations;
+    summary.accepted_unconverged = st.accepted_unconverged;
+    summary.failed_steps = st.failed_steps;
+    summary.simulated_seconds = st.steps as f64 * s.step;
+    summary.cpu_seconds = cpu;
+    summary.realtime_factor = if cpu > 0.0 {
+        summary.simulated_seconds / cpu
+    } else {
+        0.0
+    };
+    summary.time_evaluation = st.time_evaluation;
+    summary.time_factorization = st.time_factorization;
+    summary.time_projection = st.time_projection;
+    summary.rows = history.rows.len();
+    Ok((summary, history))
+}
