@@ -86,6 +86,26 @@ fn time(b: &mut FlexibleBody, st: &BodyState<'_>, method: InertiaMethod) -> f64 
     }
 }
 
+fn time_nat(b: &FlexibleBody, st: &flexmbd_body::NaturalState<'_>, method: InertiaMethod) -> f64 {
+    let nc = b.n_natural_coords();
+    let mut ws = b.natural_workspace();
+    let mut m = DMatrix::zeros(nc, nc);
+    let mut q = DVector::zeros(nc);
+    let mut reps = 1000usize;
+    loop {
+        let t = Instant::now();
+        for _ in 0..reps {
+            b.inertia_natural(black_box(st), method, &mut ws, &mut m, &mut q);
+            black_box(&m);
+        }
+        let dt = t.elapsed().as_secs_f64();
+        if dt > 0.2 {
+            return dt / reps as f64 * 1e9;
+        }
+        reps *= 4;
+    }
+}
+
 fn main() {
     for (dim, n, np) in [
         (Dim::Spatial, 8, 160),
@@ -133,7 +153,32 @@ fn main() {
             let tb3 = time(&mut b3, &st, InertiaMethod::BMatrix);
             print!("; via 3D path: {ts3:.0} ns / {tb3:.0} ns (before extraction)");
         }
+        // Natural coordinates (methods §2.5), a non-orthonormal A.
+        let nat = flexmbd_body::NaturalState {
+            r0: st.r0,
+            a: st.a * 1.01,
+            r0_dot: st.s_dot,
+            a_dot: st.a * Matrix3::new(0.0, -0.3, 0.2, 0.3, 0.0, -0.1, -0.2, 0.1, 0.0),
+            y: &y,
+            y_dot: &yd,
+        };
+        let nat = if dim == Dim::Planar {
+            flexmbd_body::NaturalState::planar(
+                nalgebra::Vector2::new(0.1, 0.2),
+                nalgebra::Vector2::new(0.9, 0.2),
+                nalgebra::Vector2::new(1.0, -1.0),
+                nalgebra::Vector2::new(-0.1, 0.4),
+                &y,
+                &yd,
+            )
+        } else {
+            nat
+        };
+        let tn_s = time_nat(&b, &nat, InertiaMethod::ShapeIntegrals);
+        let tn_b = time_nat(&b, &nat, InertiaMethod::BMatrix);
         println!();
-        let _ = Matrix3::<f64>::identity();
+        println!(
+            "      natural coordinates: shape integrals {tn_s:8.0} ns, B-matrix {tn_b:10.0} ns"
+        );
     }
 }
