@@ -5,9 +5,9 @@
 //! added here, and the constant basis map T (see `planar`) gives
 //! M_b = T_extᵀ M_f T_ext, Q_b = T_extᵀ Q_f with T_ext = blockdiag(T, I_n).
 
-use flexmbd_body::{FlexibleBody, InertiaMethod};
+use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
 use flexmbd_fe::ReducedBody;
-use nalgebra::{DMatrix, DVector, Matrix4, Vector2};
+use nalgebra::{DMatrix, DVector, Matrix4, Vector2, Vector3};
 
 /// Storage of one flexible body, sized once.
 pub(crate) struct Flex2 {
@@ -20,6 +20,8 @@ pub(crate) struct Flex2 {
     m_f: DMatrix<f64>,
     q_f: DVector<f64>,
     elastic: Vec<f64>,
+    gravity: Vec<f64>,
+    ws: NaturalWorkspace,
     /// Basis-coordinate terms (read by `planar`).
     pub(crate) m_b: DMatrix<f64>,
     pub(crate) q_b: DVector<f64>,
@@ -46,6 +48,8 @@ impl Flex2 {
             m_f: DMatrix::zeros(4 + n, 4 + n),
             q_f: DVector::zeros(4 + n),
             elastic: vec![0.0; n],
+            gravity: vec![0.0; 4 + n],
+            ws: body.natural_workspace(),
             m_b: DMatrix::zeros(4 + n, 4 + n),
             q_b: DVector::zeros(4 + n),
         }
@@ -77,21 +81,14 @@ impl Flex2 {
         g: Vector2<f64>,
         t: &Matrix4<f64>,
     ) {
-        crate::natural::planar_terms(
-            body,
-            method,
-            r0,
-            u,
-            r0d,
-            ud,
-            y,
-            yd,
-            &mut self.m_f,
-            &mut self.q_f,
-        );
-        crate::natural::planar_gravity(body, u, y, g, &mut self.q_f);
+        let state = NaturalState::planar(r0, u, r0d, ud, y, yd);
+        body.inertia_natural(&state, method, &mut self.ws, &mut self.m_f, &mut self.q_f);
+        body.gravity_natural(&state, &Vector3::new(g.x, g.y, 0.0), &mut self.gravity);
         body.elastic_forces(y, yd, &mut self.elastic);
         let n = self.n;
+        for (q, g) in self.q_f.iter_mut().zip(&self.gravity) {
+            *q += g;
+        }
         for j in 0..n {
             self.q_f[4 + j] += self.elastic[j];
         }

@@ -5,7 +5,6 @@
 //! [`flexmbd_core::Formulation`].
 
 mod flex;
-mod natural;
 pub mod planar;
 
 use flexmbd_core::Dim;
@@ -21,11 +20,5 @@ pub fn compile(scene: &Scene) -> Result<Planar, ModelError> {
         ));
     }
     let prepared = scene.prepare_bodies()?;
-    if let Some(p) = prepared.iter().find(|p| p.flexible) {
-        return Err(ModelError::Unsupported(format!(
-            "body `{}` is flexible: flexible bodies in the absolute formulation are not available yet",
-            scene.bodies[p.index].name
-        )));
-    }
     Planar::compile(scene, prepared)
 }
