@@ -143,7 +143,11 @@ impl LineChart {
                     .draw_series(DashedLineSeries::new(pts.clone(), 8, 5, style))
                     .map_err(|e| e.to_string())?
                     .label(s.label.as_str())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                    .legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (8, 0)], style)
+                            + PathElement::new(vec![(12, 0), (20, 0)], style)
+                    });
             } else {
                 chart
                     .draw_series(LineSeries::new(pts.clone(), style))
