@@ -42,6 +42,7 @@
 mod bmatrix;
 pub mod elastic;
 mod natural;
+mod natural_points;
 mod shape;
 
 pub use elastic::{ElasticModel, LinearElastic};
