@@ -502,7 +502,7 @@ impl Planar {
                 cons.push(Con::Unit { u: u_slots });
             }
             let y_off = n;
-            q0.extend(std::iter::repeat_n(0.0, nm));
+            q0.extend((0..nm).map(|j| b.initial_modes.get(j).copied().unwrap_or(0.0)));
             n += nm;
             // Other joint points: tied to the body.
             for &k in &joint_markers {

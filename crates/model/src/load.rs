@@ -104,6 +104,24 @@ impl Scene {
                     )));
                 }
             }
+            let n_modes = match &b.model {
+                BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
+                _ => 0,
+            };
+            if b.initial_modes.len() > n_modes {
+                return Err(self.invalid(InvalidValue::new(
+                    f("initial_modes"),
+                    format!("{:?}", b.initial_modes),
+                    format!("the body has {n_modes} modal coordinates"),
+                )));
+            }
+            if let Some(v) = b.initial_modes.iter().find(|v| !v.is_finite()) {
+                return Err(self.invalid(InvalidValue::new(
+                    f("initial_modes"),
+                    v,
+                    "must be finite",
+                )));
+            }
             match &b.model {
                 BodyModel::Rigid { mass, inertia, .. } => {
                     require_positive(&f("model.Rigid.mass"), *mass).map_err(|e| self.invalid(e))?;

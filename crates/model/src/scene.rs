@@ -171,6 +171,9 @@ pub struct Body {
     /// Initial velocity guess (made consistent with the joints before the first step).
     #[serde(default)]
     pub velocity: Velocity,
+    /// Initial modal coordinates y(0) of a flexible body (the rest are zero).
+    #[serde(default)]
+    pub initial_modes: Vec<f64>,
 }
 
 fn yes() -> bool {
