@@ -127,6 +127,12 @@ pub trait Formulation {
         req: Request,
         out: &mut SystemTerms,
     );
+    /// True when M, K and C are symmetric, so that the integrator may factorise its
+    /// leading matrix by Cholesky (a formulation with non-symmetric tangents, e.g. the
+    /// FNL1 stiffening tangent, returns false).
+    fn symmetric_tangent(&self) -> bool {
+        true
+    }
     /// Names of the sensors, in output order.
     fn sensor_names(&self) -> &[String] {
         &[]

@@ -26,7 +26,7 @@ use std::time::Instant;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
-use crate::lu::DenseLu;
+use crate::lu::{DenseLlt, DenseLu};
 
 /// Solver settings (methods.md §5.2–§5.3; defaults there are marked CHOSEN).
 #[derive(Clone, Debug, PartialEq)]
@@ -43,6 +43,11 @@ pub struct Ali3pSettings {
     pub accept_phi: f64,
     /// Newton iteration limit per step.
     pub max_iterations: usize,
+    /// Modified Newton: keep the factorised f_q while ‖Δq_i‖/‖Δq_{i−1}‖ < 0.5 (methods.md §5.2).
+    pub reuse_tangent: bool,
+    /// Time the phases (evaluation, factorisation, projection) on every k-th step only and
+    /// scale, so that reading the clock does not cost more than the step (k = 1: every step).
+    pub profile_every: usize,
 }
 
 impl Default for Ali3pSettings {
@@ -54,6 +59,8 @@ impl Default for Ali3pSettings {
             tol_phi: 1e-9,
             accept_phi: 1e-6,
             max_iterations: 20,
+            reuse_tangent: false,
+            profile_every: 8,
         }
     }
 }
@@ -147,7 +154,16 @@ pub struct Ali3p {
     lead: DMatrix<f64>,
     w: DMatrix<f64>,
     lu: DenseLu,
+    llt: DenseLlt,
+    /// f_q is symmetric (the formulation says so); then Cholesky, with LU as the fallback.
+    symmetric: bool,
+    /// The last factorisation was a Cholesky one.
+    factored_llt: bool,
+    /// Timing weight of the current step: `profile_every` on sampled steps, 0 otherwise.
+    time_weight: f64,
     rhs: DVector<f64>,
+    /// Non-zeros of one Jacobian row (capacity n, reused).
+    nz: Vec<(usize, f64)>,
     qd_hat: DVector<f64>,
     qdd_hat: DVector<f64>,
     tmp_m: DVector<f64>,
@@ -175,7 +191,12 @@ impl Ali3p {
             lead: DMatrix::zeros(n, n),
             w: DMatrix::zeros(n, n),
             lu: DenseLu::new(n),
+            llt: DenseLlt::new(n),
+            symmetric: f.symmetric_tangent(),
+            factored_llt: false,
+            time_weight: 1.0,
             rhs: DVector::zeros(n),
+            nz: Vec::with_capacity(n),
             qd_hat: DVector::zeros(n),
             qdd_hat: DVector::zeros(n),
             tmp_m: DVector::zeros(m),
@@ -208,15 +229,17 @@ impl Ali3p {
     }
 
     pub(crate) fn eval<F: Formulation + ?Sized>(&mut self, f: &mut F, req: Request) {
-        let t0 = Instant::now();
+        let t0 = (self.time_weight > 0.0).then(Instant::now);
         self.terms.clear(req);
         f.evaluate(self.t, &self.q, &self.qd, req, &mut self.terms);
         self.stats.evaluations += 1;
-        self.stats.time_evaluation += t0.elapsed().as_secs_f64();
+        if let Some(t0) = t0 {
+            self.stats.time_evaluation += self.time_weight * t0.elapsed().as_secs_f64();
+        }
     }
 
-    /// Form f_q = M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K) (and W without the penalty) and factorise it.
-    fn factor_leading(&mut self, with_w: bool) -> Result<(), IntegratorError> {
+    /// Form f_q = M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K) (and W = M + h/2 C + h²/4 K).
+    fn form_leading(&mut self, with_w: bool) {
         let h = self.settings.step;
         let tt = &self.terms;
         self.lead.copy_from(&tt.mass);
@@ -226,9 +249,35 @@ impl Ali3p {
         if with_w {
             self.w.copy_from(&self.lead);
         }
-        self.lead
-            .gemm_tr(0.25 * h * h * self.alpha, &tt.phi_q, &tt.phi_q, 1.0);
+        // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
+        // handful per row, where a dense product would cost m n².
+        let c = 0.25 * h * h * self.alpha;
+        let (m, n) = tt.phi_q.shape();
+        for r in 0..m {
+            self.nz.clear();
+            for j in 0..n {
+                let v = tt.phi_q[(r, j)];
+                if v != 0.0 {
+                    self.nz.push((j, v));
+                }
+            }
+            for &(j, vj) in &self.nz {
+                let cj = c * vj;
+                for &(i, vi) in &self.nz {
+                    self.lead[(i, j)] += cj * vi;
+                }
+            }
+        }
+    }
+
+    /// Factorise the leading matrix: Cholesky when symmetric, LU otherwise or as the fallback.
+    fn factor_leading(&mut self) -> Result<(), IntegratorError> {
         self.stats.factorizations += 1;
+        if self.symmetric && self.llt.factor(&self.lead).is_ok() {
+            self.factored_llt = true;
+            return Ok(());
+        }
+        self.factored_llt = false;
         self.lu.factor(&self.lead).map_err(|e| {
             self.stats.failed_steps += 1;
             IntegratorError::Singular {
@@ -236,6 +285,14 @@ impl Ali3p {
                 pivot_ratio: e.pivot_ratio,
             }
         })
+    }
+
+    fn solve_leading(&mut self) {
+        if self.factored_llt {
+            self.llt.solve_in_place(&mut self.rhs);
+        } else {
+            self.lu.solve_in_place(&mut self.rhs);
+        }
     }
 
     /// Advance one step of size h.
@@ -253,23 +310,33 @@ impl Ali3p {
         self.q.axpy(0.5 * h * h, &self.qdd, 1.0);
         // t = t₀ + k h, not an accumulated sum, so output times are exact multiples.
         self.t = self.t0 + (self.stats.steps + 1) as f64 * h;
+        let every = self.settings.profile_every.max(1);
+        self.time_weight = if self.stats.steps.is_multiple_of(every) {
+            every as f64
+        } else {
+            0.0
+        };
         let (mut dq_norm, mut phi_norm) = (f64::INFINITY, f64::INFINITY);
+        let mut prev_dq = f64::INFINITY;
         let mut converged = false;
         let mut iterations = 0;
         while iterations < self.settings.max_iterations {
             iterations += 1;
+            // Modified Newton: refresh the tangent unless the last correction shrank fast.
+            let refresh =
+                iterations == 1 || !self.settings.reuse_tangent || dq_norm >= 0.5 * prev_dq;
             self.set_newmark_rates();
             self.eval(
                 f,
                 Request {
                     dynamics: true,
-                    tangents: true,
+                    tangents: refresh,
                     constraints: true,
                     jacobian: true,
                     accel_term: false,
                 },
             );
-            let t0 = Instant::now();
+            let t0 = (self.time_weight > 0.0).then(Instant::now);
             // rhs = −f = −h²/4 (M q̈ + Φ_qᵀ(αΦ + λ) − Q)
             let tt = &self.terms;
             self.tmp_m.copy_from(&self.lambda);
@@ -278,14 +345,20 @@ impl Ali3p {
             self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0);
             self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
             self.rhs *= 0.25 * h * h;
-            self.factor_leading(false)?;
-            self.lu.solve_in_place(&mut self.rhs);
-            self.stats.time_factorization += t0.elapsed().as_secs_f64();
+            if refresh {
+                self.form_leading(false);
+                self.factor_leading()?;
+            }
+            self.solve_leading();
+            if let Some(t0) = t0 {
+                self.stats.time_factorization += self.time_weight * t0.elapsed().as_secs_f64();
+            }
             if !self.rhs.iter().all(|v| v.is_finite()) {
                 self.stats.failed_steps += 1;
                 return Err(IntegratorError::Diverged { t: self.t });
             }
             self.q += &self.rhs;
+            prev_dq = dq_norm;
             dq_norm = self.rhs.amax();
             self.eval(f, Request::CONSTRAINTS);
             phi_norm = self.terms.phi.amax();
@@ -331,7 +404,7 @@ impl Ali3p {
 
     /// Velocity and acceleration projections at the converged positions (methods.md §5.2, steps 3–4).
     fn project<F: Formulation + ?Sized>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
-        let t0 = Instant::now();
+        let t0 = (self.time_weight > 0.0).then(Instant::now);
         let h = self.settings.step;
         let c = 0.25 * h * h * self.alpha;
         self.eval(
@@ -344,12 +417,13 @@ impl Ali3p {
                 accel_term: false,
             },
         );
-        self.factor_leading(true)?;
+        self.form_leading(true);
+        self.factor_leading()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t
         self.rhs.gemv(1.0, &self.w, &self.qd, 0.0);
         self.rhs
             .gemv_tr(-c, &self.terms.phi_q, &self.terms.phi_t, 1.0);
-        self.lu.solve_in_place(&mut self.rhs);
+        self.solve_leading();
         self.qd.copy_from(&self.rhs);
         self.eval(
             f,
@@ -365,9 +439,11 @@ impl Ali3p {
         self.rhs.gemv(1.0, &self.w, &self.qdd, 0.0);
         self.rhs
             .gemv_tr(-c, &self.terms.phi_q, &self.terms.accel_term, 1.0);
-        self.lu.solve_in_place(&mut self.rhs);
+        self.solve_leading();
         self.qdd.copy_from(&self.rhs);
-        self.stats.time_projection += t0.elapsed().as_secs_f64();
+        if let Some(t0) = t0 {
+            self.stats.time_projection += self.time_weight * t0.elapsed().as_secs_f64();
+        }
         if !(self.qd.iter().all(|v| v.is_finite()) && self.qdd.iter().all(|v| v.is_finite())) {
             self.stats.failed_steps += 1;
             return Err(IntegratorError::Diverged { t: self.t });

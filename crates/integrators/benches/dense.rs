@@ -1,0 +1,94 @@
+//! The dense solve of one Newton iteration: factorise the leading matrix f_q
+//! (symmetric positive definite for linear elasticity) and solve, at the sizes of
+//! the thesis scenes (6 to 60 coordinates). Candidates: faer's in-place partial-pivoting
+//! LU (what `DenseLu` wraps), faer's in-place Cholesky (LLᵀ), nalgebra's Cholesky
+//! (reusing its storage) and nalgebra's LU (allocates its permutation).
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt;
+use faer::{Par, Spec};
+use flexmbd_integrators::lu::DenseLu;
+use nalgebra::{DMatrix, DVector};
+
+/// A symmetric positive definite test matrix like f_q: a mass-like diagonal plus a
+/// penalty-like low-rank term.
+fn spd(n: usize) -> DMatrix<f64> {
+    let b = DMatrix::from_fn(n, n / 2 + 1, |i, j| ((i * 7 + j * 3) as f64 * 0.37).sin());
+    DMatrix::from_diagonal_element(n, n, 1.0) + 1e4 * &b * b.transpose()
+}
+
+fn dense(c: &mut Criterion) {
+    let mut g = c.benchmark_group("factor_solve");
+    for n in [6usize, 12, 24, 36, 60] {
+        let a = spd(n);
+        let rhs = DVector::from_fn(n, |i, _| (i as f64).cos());
+        let mut lu = DenseLu::new(n);
+        let mut x = rhs.clone();
+        g.bench_with_input(BenchmarkId::new("faer_lu_in_place", n), &n, |bch, _| {
+            bch.iter(|| {
+                lu.factor(&a).unwrap();
+                x.copy_from(&rhs);
+                lu.solve_in_place(&mut x);
+            })
+        });
+        let mut l = a.clone();
+        let mut buf = MemBuffer::new(llt::factor::cholesky_in_place_scratch::<f64>(
+            n,
+            Par::Seq,
+            Spec::default(),
+        ));
+        g.bench_with_input(BenchmarkId::new("faer_llt_in_place", n), &n, |bch, _| {
+            bch.iter(|| {
+                l.copy_from(&a);
+                let m = faer::MatMut::from_column_major_slice_mut(l.as_mut_slice(), n, n);
+                llt::factor::cholesky_in_place(
+                    m,
+                    Default::default(),
+                    Par::Seq,
+                    MemStack::new(&mut buf),
+                    Spec::default(),
+                )
+                .unwrap();
+                x.copy_from(&rhs);
+                let lr = faer::MatRef::from_column_major_slice(l.as_slice(), n, n);
+                let xr = faer::MatMut::from_column_major_slice_mut(x.as_mut_slice(), n, 1);
+                llt::solve::solve_in_place(lr, xr, Par::Seq, MemStack::new(&mut buf));
+            })
+        });
+        let mut store = Some(a.clone());
+        g.bench_with_input(
+            BenchmarkId::new("nalgebra_cholesky_reused", n),
+            &n,
+            |bch, _| {
+                bch.iter(|| {
+                    let mut m = store.take().unwrap();
+                    m.copy_from(&a);
+                    let ch = nalgebra::Cholesky::new(m).unwrap();
+                    x.copy_from(&rhs);
+                    ch.solve_mut(&mut x);
+                    store = Some(ch.unpack_dirty());
+                })
+            },
+        );
+        g.bench_with_input(
+            BenchmarkId::new("nalgebra_lu_allocating", n),
+            &n,
+            |bch, _| {
+                bch.iter(|| {
+                    let f = a.clone().lu();
+                    x.copy_from(&rhs);
+                    f.solve_mut(&mut x);
+                })
+            },
+        );
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_millis(400)).warm_up_time(std::time::Duration::from_millis(200));
+    targets = dense
+}
+criterion_main!(benches);
