@@ -279,3 +279,24 @@ fn an_absurd_step_fails_cleanly() {
         other => panic!("expected a convergence failure, got {other:?}"),
     }
 }
+
+#[test]
+fn modified_newton_reuses_the_factorisation_and_reaches_the_same_motion() {
+    let full = run(&mut pendulum(1.0), 1e-3, 1.0);
+    let mut p = pendulum(1.0);
+    let settings = Ali3pSettings {
+        step: 1e-3,
+        reuse_tangent: true,
+        ..Default::default()
+    };
+    let mut s = Ali3p::new(&mut p, 0.0, settings).unwrap();
+    for _ in 0..1000 {
+        s.step(&mut p).unwrap();
+    }
+    assert!(
+        s.stats.factorizations < s.stats.newton_iterations + s.stats.steps,
+        "{:?}",
+        s.stats
+    );
+    assert!((s.q.clone() - full.q.clone()).amax() < 1e-8);
+}
