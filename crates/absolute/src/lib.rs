@@ -2,23 +2,76 @@
 //! basic points and unit vectors shared between bodies (García de Jalón & Bayo
 //! 1994), with floating-frame flexible bodies in natural coordinates (thesis ch. 2,
 //! methods.md §3). It compiles a [`flexmbd_model::Scene`] and implements
-//! [`flexmbd_core::Formulation`].
+//! [`flexmbd_core::Formulation`]: planar scenes by [`Planar`], spatial scenes by
+//! [`Spatial`], both behind the [`Absolute`] enum that [`compile`] returns.
 
 mod flex;
 pub mod planar;
+pub mod spatial;
 
-use flexmbd_core::Dim;
+use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
 use flexmbd_model::{ModelError, Scene};
+use nalgebra::DVector;
 
 pub use planar::Planar;
+pub use spatial::Spatial;
+
+/// A compiled scene: planar or spatial natural coordinates.
+pub enum Absolute {
+    /// A 2D scene.
+    Planar(Planar),
+    /// A 3D scene.
+    Spatial(Spatial),
+}
 
 /// Compile a scene for the absolute formulation.
-pub fn compile(scene: &Scene) -> Result<Planar, ModelError> {
-    if scene.dim != Dim::Planar {
-        return Err(ModelError::Unsupported(
-            "the absolute formulation runs planar scenes only so far; 3D scenes are not supported yet".into(),
-        ));
-    }
+pub fn compile(scene: &Scene) -> Result<Absolute, ModelError> {
     let prepared = scene.prepare_bodies()?;
-    Planar::compile(scene, prepared)
+    match scene.dim {
+        Dim::Planar => Ok(Absolute::Planar(Planar::compile(scene, prepared)?)),
+        Dim::Spatial => Ok(Absolute::Spatial(Spatial::compile(scene, prepared)?)),
+    }
+}
+
+macro_rules! both {
+    ($self:expr, $f:ident => $e:expr) => {
+        match $self {
+            Absolute::Planar($f) => $e,
+            Absolute::Spatial($f) => $e,
+        }
+    };
+}
+
+impl Formulation for Absolute {
+    fn n_coordinates(&self) -> usize {
+        both!(self, f => f.n_coordinates())
+    }
+    fn n_constraints(&self) -> usize {
+        both!(self, f => f.n_constraints())
+    }
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        both!(self, f => f.initial_guess(q, qd))
+    }
+    fn specified_coordinates(&self) -> &[usize] {
+        both!(self, f => f.specified_coordinates())
+    }
+    fn evaluate(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        both!(self, f => f.evaluate(t, q, qd, req, out))
+    }
+    fn symmetric_tangent(&self) -> bool {
+        both!(self, f => f.symmetric_tangent())
+    }
+    fn sensor_names(&self) -> &[String] {
+        both!(self, f => f.sensor_names())
+    }
+    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+        both!(self, f => f.sensors(t, q, qd, out))
+    }
 }

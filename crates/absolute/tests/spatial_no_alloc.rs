@@ -1,0 +1,81 @@
+//! The spatial formulation's per-step path allocates nothing (counting global allocator):
+//! evaluation passes of every kind and whole ALI3-P steps, on the rigid double pendulum
+//! (constant rigid-body terms, spherical and revolute joints) and the flexible pendulum
+//! (natural-set inertia, gravity, elastic forces and tangents).
+
+// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
+#![allow(unsafe_code)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use flexmbd_body::InertiaMethod;
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_integrators::{Ali3p, Ali3pSettings};
+use flexmbd_model::Scene;
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn model(name: &str) -> Scene {
+    Scene::load(format!(
+        "{}/../../models/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
+#[test]
+fn spatial_steps_do_not_allocate() {
+    let mut scenes = vec![
+        model("double_pendulum_3d.ron"),
+        model("flexible_pendulum_3d.ron"),
+    ];
+    let mut bm = model("flexible_pendulum_3d.ron");
+    bm.solver.inertia = InertiaMethod::BMatrix;
+    scenes.push(bm);
+    for scene in &scenes {
+        let mut f = flexmbd_absolute::compile(scene).unwrap();
+        let mut s = Ali3p::new(
+            &mut f,
+            0.0,
+            Ali3pSettings {
+                step: 1e-3,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut out = SystemTerms::new(f.n_coordinates(), f.n_constraints());
+        // Warm up (lazily sized storage, if any).
+        for _ in 0..5 {
+            s.step(&mut f).unwrap();
+        }
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        for _ in 0..100 {
+            s.step(&mut f).unwrap();
+        }
+        for req in [Request::ALL, Request::CONSTRAINTS] {
+            out.clear(req);
+            f.evaluate(s.t, &s.q, &s.qd, req, &mut out);
+        }
+        let n = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        assert_eq!(n, 0, "{}: {n} allocations in 100 steps", scene.name);
+    }
+}
