@@ -104,9 +104,7 @@ pub fn compile(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
     }
     match scene.solver.formulation {
         FormulationKind::Absolute => Ok(Box::new(flexmbd_absolute::compile(scene)?)),
-        FormulationKind::Relative => Err(ModelError::Unsupported(
-            "the relative (semi-recursive) formulation is not available yet; use --formulation absolute".into(),
-        )),
+        FormulationKind::Relative => Ok(Box::new(flexmbd_relative::compile(scene)?)),
     }
 }
 

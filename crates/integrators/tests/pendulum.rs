@@ -246,6 +246,7 @@ fn counters_add_up() {
     assert!(st.newton_iterations >= 100);
     // Per iteration: one full pass + one Φ pass; per step: two projection passes.
     assert_eq!(st.evaluations - e0, 2 * st.newton_iterations + 2 * st.steps);
+    // One factorisation per Newton iteration and one for the projections.
     assert_eq!(st.factorizations, st.newton_iterations + st.steps);
     assert_eq!(st.failed_steps, 0);
 }

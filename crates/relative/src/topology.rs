@@ -1,0 +1,572 @@
+//! The augmented kinematic tree of a scene (methods.md §4.2–§4.4): the spanning tree
+//! of the joints, chosen breadth-first from the ground, and the chain of frames it
+//! implies.
+//!
+//! Every frame of the augmented tree is its parent frame followed by either a
+//! constant transform (`Fixed`: r = r_p + A_p ō, A = A_p C) or one **elementary
+//! joint** (`Elem`): a revolute about, or a prismatic along, an axis ā fixed in the
+//! parent frame. An elementary joint's value is a linear combination of the
+//! coordinates z, e = Σ_c L_ec z_c:
+//!
+//! - a joint coordinate is an elementary joint with one unit coefficient;
+//! - the node frame of a flexible parent at node P (§4.3) is a chain of prismatics
+//!   along the parent's body axes with values X^t_{P,a} y (exact: node translations are
+//!   linear in y), followed, when the joint transmits rotations, by revolutes about the
+//!   successive node axes with values X^r_{P,a} y (Cardan form of §4.3 with Ā_P0 = I;
+//!   in 2D the single rotation about z is exact). With Craig–Bampton modes and a joint
+//!   node in the boundary set, only P's static modes have non-zero rows, and this is
+//!   §4.3 verbatim; any other non-zero row (a child hanging from a node outside the
+//!   boundary set) is carried the same way.
+//!
+//! So the velocity transformation is Z = R_w w with w = L ż, where R_w has one twist
+//! per elementary joint and one owner per modal coordinate (§4.4), and L is constant.
+//!
+//! **Spanning tree.** Bodies are added layer by layer from the ground. A body is
+//! reached through one of the joints to bodies already in the tree, preferring (1)
+//! joints whose child-side marker can carry the child's frame (for a flexible child:
+//! a node where every mode row the joint transmits is zero, i.e. the frame's reference
+//! node), (2) joints with degrees of freedom, (3) scene order. All remaining joints are
+//! cut into constraints (§4.6). A body with no joints at all is a floating base
+//! (2D: x, y, θ; 3D: x, y, z and three Cardan angles about the ground axes); any other
+//! body the tree does not reach is refused.
+
+use flexmbd_core::Dim;
+use flexmbd_model::{GROUND, JointKind, ModelError, Scene};
+use nalgebra::{Matrix3, Vector3};
+
+/// Elementary joint type (methods.md §4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ElemKind {
+    Revolute,
+    Prismatic,
+}
+
+/// A coordinate while the tree is being built (resolved to an index of z later).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CoordRef {
+    /// The k-th joint coordinate.
+    Joint(usize),
+    /// Mode m of body b.
+    Mode(usize, usize),
+}
+
+/// One elementary joint of the augmented tree.
+#[derive(Clone, Debug)]
+pub(crate) struct Elem {
+    pub(crate) kind: ElemKind,
+    /// Unit axis in the parent frame's components.
+    pub(crate) axis: Vector3<f64>,
+    /// The frame it creates.
+    pub(crate) frame: usize,
+    /// Its value as Σ coefficient · coordinate.
+    pub(crate) rate: Vec<(CoordRef, f64)>,
+}
+
+#[derive(Clone, Debug)]
+pub(crate) enum FrameKind {
+    /// r = r_p + A_p offset, A = A_p rot.
+    Fixed {
+        offset: Vector3<f64>,
+        rot: Matrix3<f64>,
+    },
+    /// The parent frame moved by elementary joint k.
+    Elem(usize),
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Frame {
+    /// `None`: the ground.
+    pub(crate) parent: Option<usize>,
+    pub(crate) kind: FrameKind,
+}
+
+/// A marker as the formulation sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Side {
+    /// `None`: the ground (then `rbar` is in ground components).
+    pub(crate) body: Option<usize>,
+    /// Undeformed position, body components.
+    pub(crate) rbar: Vector3<f64>,
+    /// FE node of a flexible body's marker.
+    pub(crate) node: Option<usize>,
+}
+
+/// A joint of the spanning tree.
+#[derive(Clone, Debug)]
+pub(crate) struct TreeJoint {
+    /// Joint coordinates it owns (indices into the joint-coordinate list).
+    pub(crate) coords: Vec<usize>,
+    /// The tree parent is the joint's body2.
+    pub(crate) reversed: bool,
+}
+
+/// Per-body mode rows at its FE nodes (translation, rotation: 3 × n each, row-major).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct NodeRows {
+    pub(crate) n: usize,
+    /// Per node: 3n translation then 3n rotation entries.
+    pub(crate) rows: Vec<Vec<f64>>,
+}
+
+impl NodeRows {
+    pub(crate) fn t(&self, node: usize, a: usize, m: usize) -> f64 {
+        self.rows[node][a * self.n + m]
+    }
+    pub(crate) fn r(&self, node: usize, a: usize, m: usize) -> f64 {
+        self.rows[node][3 * self.n + a * self.n + m]
+    }
+    fn scale(&self) -> f64 {
+        self.rows
+            .iter()
+            .flat_map(|r| r.iter())
+            .fold(0.0f64, |a, v| a.max(v.abs()))
+    }
+    /// Mode coefficients of translation (rot = false) or rotation component a at a node.
+    pub(crate) fn nonzero(&self, node: usize, a: usize, rot: bool) -> Vec<(usize, f64)> {
+        let tiny = 1e-12 * self.scale().max(1e-300);
+        (0..self.n)
+            .filter_map(|m| {
+                let v = if rot {
+                    self.r(node, a, m)
+                } else {
+                    self.t(node, a, m)
+                };
+                (v.abs() > tiny).then_some((m, v))
+            })
+            .collect()
+    }
+}
+
+/// The built tree.
+pub(crate) struct Topology {
+    pub(crate) frames: Vec<Frame>,
+    pub(crate) elems: Vec<Elem>,
+    /// Frame of each body.
+    pub(crate) body_frame: Vec<usize>,
+    /// Number of joint coordinates.
+    pub(crate) n_joint: usize,
+    /// For each scene joint: `Some` if in the tree.
+    pub(crate) tree: Vec<Option<TreeJoint>>,
+    /// Cut joints (scene indices).
+    pub(crate) cuts: Vec<usize>,
+    /// Elementary joint of each joint coordinate.
+    pub(crate) coord_elem: Vec<usize>,
+}
+
+/// Does the joint pass rotations from parent to child (so the node frame must turn)?
+pub(crate) fn transmits_rotation(dim: Dim, kind: &JointKind) -> bool {
+    match dim {
+        Dim::Planar => !matches!(kind, JointKind::Revolute { .. }),
+        Dim::Spatial => !matches!(kind, JointKind::Spherical),
+    }
+}
+
+fn unit(v: Vector3<f64>, what: &str) -> Result<Vector3<f64>, ModelError> {
+    let n = v.norm();
+    if !(n.is_finite() && n > 1e-12) {
+        return Err(ModelError::Unsupported(format!(
+            "{what}: the axis {:?} has no direction",
+            v.as_slice()
+        )));
+    }
+    Ok(v / n)
+}
+
+/// Inputs of the tree builder.
+pub(crate) struct BodyInfo {
+    pub(crate) name: String,
+    pub(crate) flexible: bool,
+    pub(crate) n_modes: usize,
+    pub(crate) r0: Vector3<f64>,
+    pub(crate) a0: Matrix3<f64>,
+    pub(crate) center_of_mass: Vector3<f64>,
+    pub(crate) markers: Vec<Side>,
+    pub(crate) rows: NodeRows,
+}
+
+/// Resolve a (body, marker) name pair.
+pub(crate) fn side_of(scene: &Scene, bodies: &[BodyInfo], body: &str, marker: &str) -> Side {
+    if body == GROUND {
+        let m = scene
+            .ground
+            .iter()
+            .find(|m| m.name == marker)
+            .expect("validated ground marker");
+        Side {
+            body: None,
+            rbar: m.position.vec(),
+            node: None,
+        }
+    } else {
+        let bi = scene
+            .bodies
+            .iter()
+            .position(|b| b.name == body)
+            .expect("validated body");
+        let k = scene.bodies[bi]
+            .markers
+            .iter()
+            .position(|m| m.name == marker)
+            .expect("validated marker");
+        bodies[bi].markers[k]
+    }
+}
+
+impl Topology {
+    /// Choose the spanning tree and build the augmented frames.
+    pub(crate) fn build(scene: &Scene, bodies: &[BodyInfo]) -> Result<Topology, ModelError> {
+        let dim = scene.dim;
+        let nb = bodies.len();
+        let body_of = |name: &str| -> Option<usize> {
+            if name == GROUND {
+                None
+            } else {
+                scene.bodies.iter().position(|b| b.name == name)
+            }
+        };
+        let ends: Vec<(Option<usize>, Option<usize>)> = scene
+            .joints
+            .iter()
+            .map(|j| (body_of(&j.body1), body_of(&j.body2)))
+            .collect();
+        // Can `child`'s frame be carried by joint j at its marker?
+        let valid_child = |ji: usize, child_is_body2: bool| -> bool {
+            let j = &scene.joints[ji];
+            let (cb, cm) = if child_is_body2 {
+                (&j.body2, &j.marker2)
+            } else {
+                (&j.body1, &j.marker1)
+            };
+            let side = side_of(scene, bodies, cb, cm);
+            let Some(b) = side.body else { return false };
+            let info = &bodies[b];
+            if !info.flexible {
+                return true;
+            }
+            let Some(node) = side.node else { return false };
+            let nt = dim.n_trans();
+            let rot = transmits_rotation(dim, &j.kind);
+            (0..nt).all(|a| info.rows.nonzero(node, a, false).is_empty())
+                && (!rot
+                    || match dim {
+                        Dim::Planar => info.rows.nonzero(node, 2, true).is_empty(),
+                        Dim::Spatial => (0..3).all(|a| info.rows.nonzero(node, a, true).is_empty()),
+                    })
+        };
+        let mut in_tree = vec![false; nb];
+        let mut used = vec![false; scene.joints.len()];
+        // (joint, reversed) in the order bodies join the tree.
+        let mut order: Vec<(usize, bool)> = Vec::new();
+        loop {
+            // Candidate joints: one end in the tree (or ground), the other not.
+            let mut best: Vec<Option<(bool, bool, usize, bool)>> = vec![None; nb];
+            for (ji, &(b1, b2)) in ends.iter().enumerate() {
+                if used[ji] {
+                    continue;
+                }
+                let reached = |b: Option<usize>| b.is_none_or(|b| in_tree[b]);
+                let (child, reversed) = match (reached(b1), reached(b2)) {
+                    (true, false) => (b2.expect("not ground"), false),
+                    (false, true) => (b1.expect("not ground"), true),
+                    _ => continue,
+                };
+                let valid = valid_child(ji, !reversed);
+                let has_dof = !matches!(scene.joints[ji].kind, JointKind::Rigid);
+                let key = (valid, has_dof, ji, reversed);
+                let better = match best[child] {
+                    None => true,
+                    Some((v, d, _, _)) => (valid, has_dof) > (v, d),
+                };
+                if better {
+                    best[child] = Some(key);
+                }
+            }
+            let mut added = false;
+            for (child, b) in best.iter().enumerate() {
+                let Some((valid, _, ji, reversed)) = *b else {
+                    continue;
+                };
+                if !valid {
+                    continue;
+                }
+                in_tree[child] = true;
+                used[ji] = true;
+                order.push((ji, reversed));
+                added = true;
+            }
+            if !added {
+                // Flexible bodies reachable only through markers that cannot carry their frame.
+                if let Some((child, Some((_, _, ji, _)))) =
+                    best.iter().enumerate().find(|(_, b)| b.is_some())
+                {
+                    return Err(ModelError::Unsupported(format!(
+                        "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent at the frame's reference node (e.g. `frame: Clamped(node: ..)` at that marker's node)",
+                        scene.origin, bodies[child].name, scene.joints[*ji].name
+                    )));
+                }
+                break;
+            }
+        }
+        let mut floating = Vec::new();
+        for b in 0..nb {
+            if in_tree[b] {
+                continue;
+            }
+            let has_joint = ends.iter().any(|&(b1, b2)| b1 == Some(b) || b2 == Some(b));
+            if has_joint {
+                let lonely: Vec<&str> = (0..nb)
+                    .filter(|&k| !in_tree[k])
+                    .map(|k| bodies[k].name.as_str())
+                    .collect();
+                return Err(ModelError::Unsupported(format!(
+                    "{}: bodies {lonely:?} do not reach the ground through joints; the relative formulation needs every jointed body connected to the ground (a body with no joints at all is run as a floating base)",
+                    scene.origin
+                )));
+            }
+            floating.push(b);
+        }
+
+        let mut t = Topology {
+            frames: Vec::new(),
+            elems: Vec::new(),
+            body_frame: vec![usize::MAX; nb],
+            n_joint: 0,
+            tree: vec![None; scene.joints.len()],
+            cuts: (0..scene.joints.len()).filter(|&j| !used[j]).collect(),
+            coord_elem: Vec::new(),
+        };
+        for &b in &floating {
+            t.add_floating(dim, b, &bodies[b]);
+        }
+        for &(ji, reversed) in &order {
+            t.add_tree_joint(scene, bodies, ji, reversed)?;
+        }
+        Ok(t)
+    }
+
+    fn push_frame(&mut self, parent: Option<usize>, kind: FrameKind) -> usize {
+        self.frames.push(Frame { parent, kind });
+        self.frames.len() - 1
+    }
+
+    fn push_elem(
+        &mut self,
+        parent: Option<usize>,
+        kind: ElemKind,
+        axis: Vector3<f64>,
+        rate: Vec<(CoordRef, f64)>,
+    ) -> usize {
+        let e = self.elems.len();
+        let f = self.push_frame(parent, FrameKind::Elem(e));
+        self.elems.push(Elem {
+            kind,
+            axis,
+            frame: f,
+            rate,
+        });
+        f
+    }
+
+    fn joint_elem(
+        &mut self,
+        parent: Option<usize>,
+        kind: ElemKind,
+        axis: Vector3<f64>,
+        coords: &mut Vec<usize>,
+    ) -> usize {
+        let k = self.n_joint;
+        self.n_joint += 1;
+        coords.push(k);
+        let f = self.push_elem(parent, kind, axis, vec![(CoordRef::Joint(k), 1.0)]);
+        self.coord_elem.push(self.elems.len() - 1);
+        f
+    }
+
+    fn add_floating(&mut self, dim: Dim, b: usize, info: &BodyInfo) {
+        let mut coords = Vec::new();
+        let mut f = self.push_frame(
+            None,
+            FrameKind::Fixed {
+                offset: info.r0,
+                rot: Matrix3::identity(),
+            },
+        );
+        for a in 0..dim.n_trans() {
+            f = self.joint_elem(
+                Some(f),
+                ElemKind::Prismatic,
+                Vector3::ith(a, 1.0),
+                &mut coords,
+            );
+        }
+        let axes: &[usize] = match dim {
+            Dim::Planar => &[2],
+            Dim::Spatial => &[0, 1, 2],
+        };
+        for &a in axes {
+            f = self.joint_elem(
+                Some(f),
+                ElemKind::Revolute,
+                Vector3::ith(a, 1.0),
+                &mut coords,
+            );
+        }
+        let bf = self.push_frame(
+            Some(f),
+            FrameKind::Fixed {
+                offset: Vector3::zeros(),
+                rot: info.a0,
+            },
+        );
+        self.body_frame[b] = bf;
+    }
+
+    fn add_tree_joint(
+        &mut self,
+        scene: &Scene,
+        bodies: &[BodyInfo],
+        ji: usize,
+        reversed: bool,
+    ) -> Result<(), ModelError> {
+        let dim = scene.dim;
+        let j = &scene.joints[ji];
+        let (s1, s2) = (
+            side_of(scene, bodies, &j.body1, &j.marker1),
+            side_of(scene, bodies, &j.body2, &j.marker2),
+        );
+        let (ps, cs) = if reversed { (s2, s1) } else { (s1, s2) };
+        let child = cs.body.expect("a tree child is a body");
+        let parent_frame = ps.body.map(|b| self.body_frame[b]);
+        let a_parent0 = ps.body.map_or(Matrix3::identity(), |b| bodies[b].a0);
+        // Node frame P0 at the parent marker.
+        let mut f = self.push_frame(
+            parent_frame,
+            FrameKind::Fixed {
+                offset: ps.rbar,
+                rot: Matrix3::identity(),
+            },
+        );
+        // Static modes (and any other non-zero node rows) of a flexible parent, §4.3.
+        if let (Some(pb), Some(node)) = (ps.body, ps.node)
+            && bodies[pb].flexible
+        {
+            let rows = &bodies[pb].rows;
+            for a in 0..dim.n_trans() {
+                let nz = rows.nonzero(node, a, false);
+                if !nz.is_empty() {
+                    let rate = nz
+                        .iter()
+                        .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
+                        .collect();
+                    f = self.push_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), rate);
+                }
+            }
+            let driven = scene.drivers.iter().any(|d| d.joint == j.name);
+            if transmits_rotation(dim, &j.kind) || driven {
+                let axes: &[usize] = match dim {
+                    Dim::Planar => &[2],
+                    Dim::Spatial => &[0, 1, 2],
+                };
+                for &a in axes {
+                    let nz = rows.nonzero(node, a, true);
+                    if !nz.is_empty() {
+                        let rate = nz
+                            .iter()
+                            .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
+                            .collect();
+                        f = self.push_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), rate);
+                    }
+                }
+            }
+        }
+        // The joint's elementary joints, axes in P0 components at t = 0.
+        let local = |v: Vector3<f64>| a_parent0.transpose() * v;
+        let what = format!("joint `{}`", j.name);
+        let mut coords = Vec::new();
+        match (&j.kind, dim) {
+            (JointKind::Revolute { .. }, Dim::Planar) => {
+                f = self.joint_elem(Some(f), ElemKind::Revolute, Vector3::z(), &mut coords);
+            }
+            (JointKind::Revolute { axis }, Dim::Spatial) => {
+                let axis = axis.ok_or_else(|| {
+                    ModelError::Unsupported(format!("{what}: a 3D revolute joint needs an axis"))
+                })?;
+                let a = unit(local(axis.vec()), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a, &mut coords);
+            }
+            (JointKind::Prismatic { axis }, _) => {
+                let mut v = axis.vec();
+                if dim == Dim::Planar {
+                    v.z = 0.0;
+                }
+                let a = unit(local(v), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, &mut coords);
+            }
+            (JointKind::Cylindrical { axis }, Dim::Spatial) => {
+                let a = unit(local(axis.vec()), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, &mut coords);
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a, &mut coords);
+            }
+            (JointKind::Universal { axis1, axis2 }, Dim::Spatial) => {
+                // The first rotation is about the arm fixed in the tree parent.
+                let (p_arm, c_arm) = if reversed {
+                    (axis2, axis1)
+                } else {
+                    (axis1, axis2)
+                };
+                let a1 = unit(local(p_arm.vec()), &what)?;
+                let a2 = unit(local(c_arm.vec()), &what)?;
+                if a1.dot(&a2).abs() > 1e-6 {
+                    return Err(ModelError::Unsupported(format!(
+                        "{what}: the universal joint's arms must be perpendicular"
+                    )));
+                }
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a1, &mut coords);
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a2, &mut coords);
+            }
+            (JointKind::Spherical, Dim::Spatial) => {
+                // Three intrinsic rotations; the middle axis (the singular one at ±π/2) is
+                // the P0 axis best aligned with the line from the joint to the child's
+                // centre of mass: rotation about that line is the twist, small in practice.
+                let info = &bodies[child];
+                let joint_point = info.r0 + info.a0 * cs.rbar;
+                let lever = local(info.r0 + info.a0 * info.center_of_mass - joint_point);
+                let mid = if lever.norm() > 1e-9 {
+                    lever.iamax()
+                } else {
+                    1
+                };
+                for a in [(mid + 1) % 3, mid, (mid + 2) % 3] {
+                    f = self.joint_elem(
+                        Some(f),
+                        ElemKind::Revolute,
+                        Vector3::ith(a, 1.0),
+                        &mut coords,
+                    );
+                }
+            }
+            (JointKind::Rigid, _) => {}
+            (k, d) => {
+                return Err(ModelError::Unsupported(format!(
+                    "{what}: {k:?} is not a {d} joint"
+                )));
+            }
+        }
+        // The child's frame: A_j = A_J C, r_j = r_J − A_j r̄_Q.
+        let info = &bodies[child];
+        let c = a_parent0.transpose() * info.a0;
+        let bf = self.push_frame(
+            Some(f),
+            FrameKind::Fixed {
+                offset: -(c * cs.rbar),
+                rot: c,
+            },
+        );
+        self.body_frame[child] = bf;
+        self.tree[ji] = Some(TreeJoint {
+            coords,
+            reversed,
+        });
+        Ok(())
+    }
+}

@@ -1,0 +1,93 @@
+//! Whole runs: energy conservation of the flexible pendulum, the two inertia routes,
+//! determinism, and timing of the 5 s four-bar.
+
+mod common;
+use common::*;
+use flexmbd_body::InertiaMethod;
+use flexmbd_core::Formulation;
+use flexmbd_model::FormulationKind;
+
+#[test]
+fn flexible_pendulum_conserves_energy() {
+    let s = model("flexible_pendulum.ron");
+    let (rows, phi) = run_relative(&s, 1e-3, 10.0, 10);
+    let e0 = rows[0][5];
+    let drift = rows.iter().map(|r| (r[5] - e0).abs()).fold(0.0, f64::max);
+    let scale = 1.0 * 9.81 * 0.5;
+    eprintln!(
+        "pendulum: energy drift {drift:.3e} J over 10 s ({:.2e} relative), ‖Φ‖ {phi:.1e}",
+        drift / scale
+    );
+    assert!(drift / scale < 1e-4);
+}
+
+#[test]
+fn rigid_four_bar_energy_drift_is_second_order() {
+    let s = four_bar(0);
+    let drift = |h: f64| {
+        let (rows, _) = run_relative(&s, h, 5.0, 1);
+        let e0 = rows[0][2];
+        rows.iter().map(|r| (r[2] - e0).abs()).fold(0.0, f64::max)
+    };
+    let (a, b) = (drift(1e-3), drift(5e-4));
+    eprintln!(
+        "four-bar energy drift over 5 s: {a:.2e} J (h = 1e-3), {b:.2e} J (h = 5e-4), ratio {:.2}",
+        a / b
+    );
+    assert!(a / b > 3.0 && a / b < 5.5, "{a:e} {b:e}");
+}
+
+#[test]
+fn inertia_routes_agree() {
+    for scene in [four_bar(5), model("flexible_pendulum.ron")] {
+        let mut sh = scene.clone();
+        sh.solver.inertia = InertiaMethod::ShapeIntegrals;
+        let mut bm = scene.clone();
+        bm.solver.inertia = InertiaMethod::BMatrix;
+        let (a, _) = run_relative(&sh, 1e-3, 1.0, 1);
+        let (b, _) = run_relative(&bm, 1e-3, 1.0, 1);
+        let d = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{}: B-matrix vs shape integrals, max difference over 1 s {d:.2e} m",
+            scene.name
+        );
+        assert!(d < 1e-9, "{d:e}");
+    }
+}
+
+#[test]
+fn reruns_are_bit_identical() {
+    let s = four_bar(2);
+    let (a, _) = run_relative(&s, 1e-3, 1.0, 1);
+    let (b, _) = run_relative(&s, 1e-3, 1.0, 1);
+    assert!(
+        a.iter()
+            .zip(&b)
+            .all(|(x, y)| x.iter().zip(y).all(|(u, v)| u.to_bits() == v.to_bits()))
+    );
+}
+
+#[test]
+fn timing_of_the_five_second_four_bar() {
+    for k in [0, 5] {
+        let mut s = four_bar(k);
+        s.solver.formulation = FormulationKind::Relative;
+        let mut f = flexmbd_relative::compile(&s).unwrap();
+        let mut integ = flexmbd_integrators::Ali3p::new(&mut f, 0.0, settings(&s, 1e-3)).unwrap();
+        let t0 = std::time::Instant::now();
+        for _ in 0..5000 {
+            integ.step(&mut f).unwrap();
+        }
+        let cpu = t0.elapsed().as_secs_f64();
+        eprintln!(
+            "four-bar, {k} flexible bars, {} coordinates: 5 s at h = 1 ms in {cpu:.3} s ({:.2} µs/step, {:.2} Newton iterations/step)",
+            f.n_coordinates(),
+            cpu / 5000.0 * 1e6,
+            integ.stats.newton_iterations as f64 / 5000.0
+        );
+    }
+}
