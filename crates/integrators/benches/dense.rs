@@ -2,7 +2,9 @@
 //! (symmetric positive definite for linear elasticity) and solve, at the sizes of
 //! the thesis scenes (6 to 60 coordinates). Candidates: faer's in-place partial-pivoting
 //! LU (what `DenseLu` wraps), faer's in-place Cholesky (LLᵀ), nalgebra's Cholesky
-//! (reusing its storage) and nalgebra's LU (allocates its permutation).
+//! (reusing its storage) and nalgebra's LU (allocates its permutation). An unblocked
+//! left-looking Cholesky written by hand was measured too and lost to faer's at 12 to 60
+//! coordinates (3.7 against 3.4 µs at 36, 12.0 against 8.1 µs at 60), so `DenseLlt` wraps faer.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::dyn_stack::{MemBuffer, MemStack};

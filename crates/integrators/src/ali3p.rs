@@ -391,7 +391,20 @@ impl Ali3p {
                 self.stats.failed_steps += 1;
                 return Err(IntegratorError::Diverged { t: self.t });
             }
-            if dq_norm <= self.settings.tol_q * self.q.amax().max(1.0)
+            // Error of the iterate: with the observed contraction θ = ‖Δq_i‖/‖Δq_{i−1}‖ < 1 the
+            // distance to the solution is about θ/(1−θ)‖Δq_i‖ (Hairer & Wanner II, §IV.8), so a
+            // linearly converging iteration can stop one correction earlier than ‖Δq_i‖ ≤ ε_q.
+            let theta = if prev_dq.is_finite() {
+                dq_norm / prev_dq
+            } else {
+                1.0
+            };
+            let error = if theta < 0.5 {
+                theta / (1.0 - theta) * dq_norm
+            } else {
+                dq_norm
+            };
+            if error <= self.settings.tol_q * self.q.amax().max(1.0)
                 && phi_norm <= self.settings.tol_phi
             {
                 converged = true;

@@ -133,6 +133,7 @@ impl DenseLlt {
         use faer::linalg::cholesky::llt;
         self.l.copy_from(a);
         let n = self.n;
+
         let mat = faer::MatMut::from_column_major_slice_mut(self.l.as_mut_slice(), n, n);
         let stack = MemStack::new(&mut self.scratch);
         llt::factor::cholesky_in_place(mat, Default::default(), Par::Seq, stack, Spec::default())
@@ -144,6 +145,7 @@ impl DenseLlt {
     pub fn solve_in_place(&mut self, b: &mut DVector<f64>) {
         use faer::linalg::cholesky::llt;
         let n = self.n;
+
         let l = faer::MatRef::from_column_major_slice(self.l.as_slice(), n, n);
         let rhs = faer::MatMut::from_column_major_slice_mut(b.as_mut_slice(), n, 1);
         let stack = MemStack::new(&mut self.scratch);
