@@ -239,6 +239,7 @@ impl Relative {
                 r0,
                 a0,
                 center_of_mass: body.center_of_mass(),
+                omega0: b.velocity.angular.vec(),
                 markers,
                 rows,
             });

@@ -180,6 +180,8 @@ pub(crate) struct BodyInfo {
     pub(crate) r0: Vector3<f64>,
     pub(crate) a0: Matrix3<f64>,
     pub(crate) center_of_mass: Vector3<f64>,
+    /// Initial angular velocity guess (ground components).
+    pub(crate) omega0: Vector3<f64>,
     pub(crate) markers: Vec<Side>,
     pub(crate) rows: NodeRows,
 }
@@ -525,17 +527,22 @@ impl Topology {
                 f = self.joint_elem(Some(f), ElemKind::Revolute, a2, &mut coords);
             }
             (JointKind::Spherical, Dim::Spatial) => {
-                // Three intrinsic rotations; the middle axis (the singular one at ±π/2) is
-                // the P0 axis best aligned with the line from the joint to the child's
-                // centre of mass: rotation about that line is the twist, small in practice.
+                // Three intrinsic rotations (§4.2); the middle angle is singular at ±π/2, so
+                // the middle axis is the P0 axis about which the child turns slowest at
+                // t = 0 (relative angular velocity of the scene's guess), ties going to the
+                // axis best aligned with the line from the joint to the child's centre of
+                // mass (a bar's twist, small in practice; the prototype's y, x′, z″).
                 let info = &bodies[child];
                 let joint_point = info.r0 + info.a0 * cs.rbar;
                 let lever = local(info.r0 + info.a0 * info.center_of_mass - joint_point);
-                let mid = if lever.norm() > 1e-9 {
-                    lever.iamax()
-                } else {
-                    1
-                };
+                let lever = lever / lever.norm().max(1e-300);
+                let w_parent = ps.body.map_or(Vector3::zeros(), |b| bodies[b].omega0);
+                let w_rel = local(info.omega0 - w_parent);
+                let w_scale = w_rel.norm().max(1e-300);
+                let score = |a: usize| w_rel[a].abs() / w_scale + 1e-3 * (1.0 - lever[a].abs());
+                let mid = (0..3)
+                    .min_by(|&a, &b| score(a).total_cmp(&score(b)))
+                    .expect("three axes");
                 for a in [(mid + 1) % 3, mid, (mid + 2) % 3] {
                     f = self.joint_elem(
                         Some(f),
@@ -563,10 +570,7 @@ impl Topology {
             },
         );
         self.body_frame[child] = bf;
-        self.tree[ji] = Some(TreeJoint {
-            coords,
-            reversed,
-        });
+        self.tree[ji] = Some(TreeJoint { coords, reversed });
         Ok(())
     }
 }

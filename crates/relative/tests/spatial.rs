@@ -1,0 +1,255 @@
+//! 3D: the recursive terms against dense products and Lagrange's equations, cut-joint
+//! Jacobians and bias by differences, and whole runs against the spatial natural-coordinate
+//! formulation (methods.md §4 in 3D, §8 items 6–8).
+
+mod common;
+use common::*;
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_model::{BodyModel, Inertia, JointKind, Scene, V3};
+use flexmbd_relative::Relative;
+use nalgebra::{DMatrix, DVector};
+
+/// The double four-bar as a 3D scene (revolute axes along z, rod-like rigid bars).
+fn four_bar_3d(planar: &Scene) -> Scene {
+    let mut s = planar.clone();
+    s.dim = flexmbd_core::Dim::Spatial;
+    let prepared = planar.prepare_bodies().unwrap();
+    for (b, p) in s.bodies.iter_mut().zip(prepared) {
+        let body = flexmbd_body::FlexibleBody::new(&p.reduced).unwrap();
+        let (m, c) = (body.mass(), body.center_of_mass());
+        let pz = body.second_moment();
+        let izz = pz[(0, 0)] + pz[(1, 1)] - m * (c.x * c.x + c.y * c.y);
+        let ixx = 1e-6 * izz;
+        b.model = BodyModel::Rigid {
+            mass: m,
+            center_of_mass: V3([c.x, c.y, 0.0]),
+            inertia: Inertia::Full([[ixx, 0.0, 0.0], [0.0, izz, 0.0], [0.0, 0.0, izz]]),
+        };
+        b.flexible = false;
+    }
+    for j in &mut s.joints {
+        j.kind = JointKind::Revolute {
+            axis: Some(V3([0.0, 0.0, 1.0])),
+        };
+    }
+    s.validate().unwrap();
+    s
+}
+
+/// Two flexible beams in a chain on ball joints: the first carries static modes at its tip
+/// (3 translations, §4.3 node frame), the second hangs there. The stiff axial static mode
+/// (~2.5 kHz, undamped) needs a small step for the energy test (methods.md §4.3 note).
+fn flexible_chain_3d() -> Scene {
+    let mut s = model("flexible_pendulum_3d.ron");
+    let mut b2 = s.bodies[0].clone();
+    b2.name = "beam2".into();
+    b2.origin = V3([1.0, 0.0, 0.0]);
+    // The whole chain spins rigidly about the vertical at t = 0.
+    b2.velocity.angular = V3([0.0, 0.0, 1.5]);
+    b2.velocity.linear = V3([0.0, 1.5, 0.0]);
+    if let BodyModel::Beam(spec) = &mut s.bodies[0].model {
+        spec.boundary = ["Ux", "Uy", "Uz"]
+            .iter()
+            .map(|d| flexmbd_fe::NodeDof {
+                node: 20,
+                dof: match *d {
+                    "Ux" => flexmbd_fe::Dof::Ux,
+                    "Uy" => flexmbd_fe::Dof::Uy,
+                    _ => flexmbd_fe::Dof::Uz,
+                },
+            })
+            .collect();
+        spec.normal_modes = 4;
+    }
+    if let BodyModel::Beam(spec) = &mut b2.model {
+        spec.normal_modes = 4;
+    }
+    s.bodies[0].velocity.angular = V3([0.0, 0.0, 1.5]);
+    s.bodies.push(b2);
+    s.joints.push(flexmbd_model::Joint {
+        name: "ball2".into(),
+        kind: JointKind::Spherical,
+        body1: "beam".into(),
+        marker1: "tip".into(),
+        body2: "beam2".into(),
+        marker2: "root".into(),
+    });
+    s.sensors
+        .retain(|x| x.name == "energy" || x.name.starts_with("tip_"));
+    s.validate().unwrap();
+    s
+}
+
+fn eval(f: &mut Relative, z: &DVector<f64>, zd: &DVector<f64>) -> SystemTerms {
+    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
+    t.clear(Request::ALL);
+    f.evaluate(0.3, z, zd, Request::ALL, &mut t);
+    t
+}
+
+fn state(n: usize, k: usize) -> (DVector<f64>, DVector<f64>) {
+    let z = DVector::from_fn(n, |i, _| 0.2 * ((i * 7 + k * 13) as f64 * 0.37).sin());
+    let zd = DVector::from_fn(n, |i, _| 0.9 * ((i * 3 + k * 5) as f64 * 0.91).cos());
+    (z, zd)
+}
+
+fn check_terms(scene: &Scene) {
+    let mut f = flexmbd_relative::compile(scene).unwrap();
+    let n = f.n_coordinates();
+    let zero = DVector::zeros(n);
+    for k in 0..3 {
+        let (z, zd) = state(n, k);
+        let t = eval(&mut f, &z, &zd);
+        // Dense R, M̄, Q̄.
+        let mut m = DMatrix::zeros(n, n);
+        let mut q = DVector::zeros(n);
+        for b in 0..f.n_bodies() {
+            let nc = f.rigid_size() + f.body_modes(b).1;
+            let mut r = DMatrix::zeros(nc, n);
+            for c in 0..n {
+                let mut e = DVector::zeros(n);
+                e[c] = 1.0;
+                r.column_mut(c).copy_from(&f.body_velocity(&z, &e, b).0);
+            }
+            let (mb, qb) = f.body_terms(&z, &zd, b);
+            let (_, d) = f.body_velocity(&z, &zd, b);
+            m += r.transpose() * &mb * &r;
+            q += r.transpose() * (&qb - &mb * &d);
+        }
+        let dm = (&t.mass - &m).amax() / m.amax();
+        let dq = (&t.forces - &q).amax() / q.amax();
+        // Lagrange: Q = −Ṁ ż + ∂T/∂z − ∂V/∂z.
+        let eps = 1e-6;
+        let mdz = (eval(&mut f, &(&z + eps * &zd), &zd).mass
+            - eval(&mut f, &(&z - eps * &zd), &zd).mass)
+            * &zd
+            / (2.0 * eps);
+        let mut rhs = -mdz;
+        for c in 0..n {
+            let mut e = DVector::zeros(n);
+            e[c] = eps;
+            let tp = 0.5 * zd.dot(&(eval(&mut f, &(&z + &e), &zd).mass * &zd));
+            let tm = 0.5 * zd.dot(&(eval(&mut f, &(&z - &e), &zd).mass * &zd));
+            let vp = f.total_energy(&(&z + &e), &zero);
+            let vm = f.total_energy(&(&z - &e), &zero);
+            rhs[c] += (tp - tm - vp + vm) / (2.0 * eps);
+        }
+        let dl = (&t.forces - &rhs).amax() / t.forces.amax().max(1.0);
+        // Constraints along z + s ż.
+        let (mut ev, mut ea) = (0.0, 0.0);
+        if f.n_constraints() > 0 {
+            let eps = 1e-5;
+            let phi = |f: &mut Relative, s: f64| eval(f, &(&z + s * &zd), &zd).phi;
+            let (pp, p0, pm) = (phi(&mut f, eps), phi(&mut f, 0.0), phi(&mut f, -eps));
+            let vel = (&pp - &pm) / (2.0 * eps);
+            let acc = (&pp - 2.0 * &p0 + &pm) / (eps * eps);
+            ev = (&t.phi_q * &zd + &t.phi_t - &vel).amax() / vel.amax().max(1.0);
+            ea = (&t.accel_term - &acc).amax() / acc.amax().max(1.0);
+        }
+        eprintln!(
+            "{}: |M − RᵀM̄R| {dm:.1e}, |Q − Rᵀ(Q̄ − M̄Ṙż)| {dq:.1e}, Lagrange {dl:.1e}, Φ_z ż {ev:.1e}, c {ea:.1e}",
+            scene.name
+        );
+        assert!(dm < 1e-12 && dq < 1e-12, "dm {dm:e} dq {dq:e}");
+        assert!(dl < 1e-6, "Lagrange {dl:e}");
+        assert!(ev < 1e-7 && ea < 1e-4, "ev {ev:e} ea {ea:e}");
+    }
+}
+
+#[test]
+fn spatial_terms_match_dense_products_lagrange_and_differences() {
+    check_terms(&model("double_pendulum_3d.ron"));
+    check_terms(&model("flexible_pendulum_3d.ron"));
+    check_terms(&flexible_chain_3d());
+    check_terms(&four_bar_3d(&four_bar(0)));
+}
+
+#[test]
+fn double_pendulum_3d_agrees_with_natural_coordinates() {
+    let s = model("double_pendulum_3d.ron");
+    let f = flexmbd_relative::compile(&s).unwrap();
+    assert_eq!((f.n_coordinates(), f.n_constraints()), (4, 0));
+    let d: Vec<f64> = [2e-3f64, 1e-3, 5e-4]
+        .iter()
+        .map(|&h| {
+            let every = (0.01 / h).round() as usize;
+            let (a, _) = run_absolute(&s, h, 2.0, every);
+            let (r, _) = run_relative(&s, h, 2.0, every);
+            a.iter()
+                .zip(&r)
+                .map(|(x, y)| (0..3).map(|c| (x[c] - y[c]).abs()).fold(0.0, f64::max))
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    let drift = |h: f64| {
+        let (r, _) = run_relative(&s, h, 2.0, 1);
+        r.iter().map(|x| (x[4] - r[0][4]).abs()).fold(0.0, f64::max)
+    };
+    let (e1, e2) = (drift(2e-3), drift(1e-3));
+    eprintln!(
+        "3D double pendulum, 2 s: max |tip_rel − tip_abs| at h = 2, 1, 0.5 ms: {:.2e} {:.2e} {:.2e} m (ratios {:.2}, {:.2}); relative energy drift {e1:.2e} / {e2:.2e} J",
+        d[0],
+        d[1],
+        d[2],
+        d[0] / d[1],
+        d[1] / d[2]
+    );
+    assert!(d[0] / d[1] > 3.0 && d[1] / d[2] > 3.0, "{d:?}");
+    assert!(d[2] < 1e-3, "{d:?}");
+    assert!(e1 / e2 > 3.0, "{e1:e} {e2:e}");
+}
+
+#[test]
+fn spatial_four_bar_reproduces_the_planar_run() {
+    let planar = four_bar(0);
+    let spatial = four_bar_3d(&planar);
+    let f = flexmbd_relative::compile(&spatial).unwrap();
+    eprintln!(
+        "four-bar in 3D: {} coordinates, {} constraints",
+        f.n_coordinates(),
+        f.n_constraints()
+    );
+    assert_eq!(f.n_coordinates(), 5);
+    let (p, _) = run_relative(&planar, 1e-3, 2.0, 10);
+    let (r, phi) = run_relative(&spatial, 1e-3, 2.0, 10);
+    let (a, _) = run_absolute(&spatial, 1e-3, 2.0, 10);
+    let d = |u: &[Vec<f64>], v: &[Vec<f64>]| {
+        u.iter()
+            .zip(v)
+            .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
+            .fold(0.0, f64::max)
+    };
+    let (d2, da) = (d(&p, &r), d(&a, &r));
+    eprintln!(
+        "four-bar 3D relative: vs planar relative {d2:.2e} m, vs 3D absolute {da:.2e} m, ‖Φ‖ {phi:.1e}"
+    );
+    assert!(d2 < 1e-6, "{d2:e}");
+    assert!(da < 1e-3, "{da:e}");
+}
+
+#[test]
+fn flexible_pendulum_3d_conserves_energy() {
+    for (scene, h) in [
+        (model("flexible_pendulum_3d.ron"), 5e-4),
+        (flexible_chain_3d(), 1.25e-4),
+    ] {
+        let f = flexmbd_relative::compile(&scene).unwrap();
+        let ie = scene
+            .sensors
+            .iter()
+            .position(|s| s.name == "energy")
+            .unwrap();
+        let (rows, _) = run_relative(&scene, h, 10.0, (0.01 / h).round() as usize);
+        let e0 = rows[0][ie];
+        let drift = rows.iter().map(|r| (r[ie] - e0).abs()).fold(0.0, f64::max);
+        // Scale: m g L per beam (0.785 kg, 1 m), the order of the energy exchanged.
+        let scale = 0.785 * 9.81 * 1.0 * scene.bodies.len() as f64;
+        eprintln!(
+            "{} ({} coordinates), h = {h:e}: energy drift over 10 s {drift:.2e} J ({:.2e} relative)",
+            scene.name,
+            f.n_coordinates(),
+            drift / scale
+        );
+        assert!(drift / scale < 1e-4, "{drift:e}");
+    }
+}
