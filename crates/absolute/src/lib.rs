@@ -68,6 +68,9 @@ impl Formulation for Absolute {
     fn symmetric_tangent(&self) -> bool {
         both!(self, f => f.symmetric_tangent())
     }
+    fn constant_tangents(&self) -> bool {
+        both!(self, f => f.constant_tangents())
+    }
     fn sensor_names(&self) -> &[String] {
         both!(self, f => f.sensor_names())
     }

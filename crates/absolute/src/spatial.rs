@@ -1071,6 +1071,10 @@ impl flexmbd_core::Formulation for Spatial {
             self.constraints(t, q, qd, req, out);
         }
     }
+    fn constant_tangents(&self) -> bool {
+        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only.
+        true
+    }
     fn sensor_names(&self) -> &[String] {
         &self.sensor_names
     }

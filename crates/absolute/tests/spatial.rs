@@ -270,26 +270,95 @@ fn driver_derivatives() {
     }
 }
 
-/// A driven revolute follows its law: the joint sensor reads θ(t).
+/// Driven revolute and prismatic joints follow their laws: the joint sensors read θ(t), s(t).
 #[test]
-fn driven_revolute_follows_its_law() {
+fn driven_joints_follow_their_laws() {
     let law = "Harmonic(amplitude: 0.7, frequency: 1.3, phase: 0.4)";
-    let mut s = pair(JOINTS[1].1, RIGID_A, Some(law));
-    s.sensors.push(flexmbd_model::Sensor {
-        name: "angle".into(),
-        kind: flexmbd_model::SensorKind::JointCoordinate { joint: "j".into() },
-    });
+    for (name, kind) in [("revolute", JOINTS[1].1), ("prismatic", JOINTS[4].1)] {
+        // Rigid bodies only: on FLEX_A the child hangs on the tip static modes (axial 2.4 kHz,
+        // unresolved at h = 1 ms, methods.md §4.3), and the undamped run is not a clean test of
+        // the driver; the driver's derivatives at a flexible node are checked above.
+        let mut s = pair(kind, RIGID_A, Some(law));
+        s.sensors.push(flexmbd_model::Sensor {
+            name: "coordinate".into(),
+            kind: flexmbd_model::SensorKind::JointCoordinate { joint: "j".into() },
+        });
+        let h = 1e-3;
+        let out = run_with(&s, h, 1.0, 1e-10);
+        let law = &s.drivers[0].law;
+        let err = out
+            .rows
+            .iter()
+            .enumerate()
+            .map(|(k, r)| (r[0] - law.eval(k as f64 * h).0).abs())
+            .fold(0.0, f64::max);
+        eprintln!("driven {name}: max |coordinate − law(t)| = {err:.1e}");
+        assert!(err < 1e-8, "{name}: {err:e}");
+    }
+}
+
+/// Velocity sensors are the time derivatives of the position sensors, and a body's own
+/// marker read in its own frame stays at its body position.
+#[test]
+fn sensors_are_consistent() {
+    use flexmbd_model::{Axis, Sensor, SensorKind};
+    let mut scene = model("double_pendulum_3d.ron");
+    scene.sensors.clear();
+    for (k, axis) in [Axis::X, Axis::Y, Axis::Z].into_iter().enumerate() {
+        scene.sensors.push(Sensor {
+            name: format!("p{k}"),
+            kind: SensorKind::Position {
+                body: "link2".into(),
+                marker: "tip".into(),
+                component: axis,
+                frame: Some("link1".into()),
+            },
+        });
+        scene.sensors.push(Sensor {
+            name: format!("v{k}"),
+            kind: SensorKind::Velocity {
+                body: "link2".into(),
+                marker: "tip".into(),
+                component: axis,
+                frame: None,
+            },
+        });
+        scene.sensors.push(Sensor {
+            name: format!("own{k}"),
+            kind: SensorKind::Position {
+                body: "link2".into(),
+                marker: "tip".into(),
+                component: axis,
+                frame: Some("link2".into()),
+            },
+        });
+        scene.sensors.push(Sensor {
+            name: format!("g{k}"),
+            kind: SensorKind::Position {
+                body: "link2".into(),
+                marker: "tip".into(),
+                component: axis,
+                frame: None,
+            },
+        });
+    }
     let h = 1e-3;
-    let out = run_with(&s, h, 1.0, 1e-10);
-    let law = &s.drivers[0].law;
-    let err = out
-        .rows
-        .iter()
-        .enumerate()
-        .map(|(k, r)| (r[0] - law.eval(k as f64 * h).0).abs())
-        .fold(0.0, f64::max);
-    eprintln!("driven revolute: max |angle − θ(t)| = {err:.1e} rad");
-    assert!(err < 1e-8, "{err:e}");
+    let out = run_with(&scene, h, 1.0, 1e-10);
+    let (mut e_v, mut e_own, v_max) = (0.0f64, 0.0f64, 1.0f64);
+    for k in 1..out.rows.len() - 1 {
+        for a in 0..3 {
+            // Central difference of the ground position against the velocity sensor.
+            let fd = (out.rows[k + 1][4 * a + 3] - out.rows[k - 1][4 * a + 3]) / (2.0 * h);
+            e_v = e_v.max((fd - out.rows[k][4 * a + 1]).abs());
+            let own = [0.5, 0.0, 0.0][a];
+            e_own = e_own.max((out.rows[k][4 * a + 2] - own).abs());
+        }
+    }
+    eprintln!(
+        "sensors: |Δv| (central difference, h = 1 ms) {e_v:.1e} m/s, own-frame marker drift {e_own:.1e} m"
+    );
+    assert!(e_v < 1e-3 * v_max, "{e_v:e}");
+    assert!(e_own < 1e-9, "{e_own:e}");
 }
 
 // ---------------------------------------------------------------------------------------
