@@ -22,7 +22,17 @@
 //! r0 + A (r̄_P + X_P y) − r_point = 0 (linear for rigid bodies, bilinear for flexible
 //! ones, methods.md §3.3). Angle drivers and brackets use Φ = σ cos θ − κ sin θ
 //! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ (methods.md §3.2), never singular at
-//! its root.
+//! its root. A body-fixed direction is d = A (I + θ_P E) ā (θ_P the node rotation at a
+//! flexible node, methods.md §3.3).
+//!
+//! **Prismatic joints.** The markers are not shared points: the marker P2 of body 2 slides
+//! along the axis d₁ fixed in body 1 through its marker P1, (r_P2 − r_P1) × d₁ = 0, and the
+//! relative rotation is locked by the angle constraint with θ ≡ 0. A driver adds
+//! (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0; the joint-coordinate sensor reports
+//! (r_P2 − r_P1) · d₁ − s₀.
+//!
+//! **Spring–dampers** between two markers add Q −= Jᵀ f n with J = ∂(r_P2 − r_P1)/∂q and
+//! f = k (l − l₀) + c l̇, and their (state-dependent) tangents to K and C.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod};
 use flexmbd_core::{Request, SystemTerms};
@@ -99,12 +109,36 @@ struct PointRef {
     y: Slot,
 }
 
-/// A body-fixed direction: the frame x axis, turned by the node rotation at a flexible node.
+/// A body-fixed direction d = A (I + θ_node E) ā = C(ā)(I + θ_node E) u: the body-frame
+/// direction ā, turned with the frame and, at a flexible node, by the node rotation.
 #[derive(Clone, Copy, Debug)]
 struct Dir {
-    /// `None`: the ground's x axis.
+    /// `None`: the ground (d = ā, ground components).
     body: Option<usize>,
     node: Option<usize>,
+    /// Body-frame components of the direction (the x axis (1, 0) for angle constraints).
+    abar: Vector2<f64>,
+}
+
+/// A marker: a ground point, or a body point r_P = r0 + A (r̄_P + X_P y) (the node term on
+/// flexible bodies only).
+#[derive(Clone, Copy, Debug)]
+enum Mk {
+    Ground(Vector2<f64>),
+    Body {
+        body: usize,
+        rbar: Vector2<f64>,
+        node: Option<usize>,
+    },
+}
+
+/// A linear spring–damper between two markers.
+struct Spring {
+    m1: Mk,
+    m2: Mk,
+    k: f64,
+    c: f64,
+    l0: f64,
 }
 
 enum Con {
@@ -116,11 +150,18 @@ enum Con {
     Unit {
         u: [Slot; 2],
     },
+    /// r_P(q) − r_point = 0 for a joint point P of a body not in its basis.
     PointOnBody {
-        body: usize,
-        rbar: Vector2<f64>,
-        node: Option<usize>,
+        mk: Mk,
         point: PointRef,
+    },
+    /// Prismatic: (r_P2 − r_P1) × d₁ = 0 (`along` = None), or its driver
+    /// (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0 (`along` = (s₀, s)).
+    Slide {
+        p1: Mk,
+        p2: Mk,
+        d1: Dir,
+        along: Option<(f64, MotionLaw)>,
     },
     Angle {
         d1: Dir,
@@ -159,6 +200,13 @@ enum Sensor2 {
         last: f64,
         turns: f64,
     },
+    /// Prismatic joint coordinate: (r_P2 − r_P1) · d₁ − s₀.
+    Slide {
+        p1: Mk,
+        p2: Mk,
+        d1: Dir,
+        s0: f64,
+    },
     Modal {
         q: Option<usize>,
     },
@@ -172,6 +220,9 @@ pub struct Planar {
     gravity: Vector2<f64>,
     pub(crate) bodies: Vec<Body2>,
     cons: Vec<Con>,
+    springs: Vec<Spring>,
+    /// Scratch: Jacobian columns (coordinate, ∂d/∂q_i) of one spring (capacity set once).
+    cols: Vec<(usize, Vector2<f64>)>,
     ground_markers: Vec<Vector2<f64>>,
     q0: DVector<f64>,
     qd0: DVector<f64>,
@@ -292,9 +343,11 @@ impl Planar {
                         global_index(&j.body2, &j.marker2),
                     );
                 }
+                // Its markers are not shared points: they slide on each other.
+                JointKind::Prismatic { .. } => {}
                 ref k => {
                     return Err(unsupported(format!(
-                        "joint `{}`: {:?} joints are not supported by the planar absolute formulation yet (revolute and rigid are)",
+                        "joint `{}`: {:?} joints are not supported by the planar absolute formulation (revolute, prismatic and rigid are)",
                         j.name, k
                     )));
                 }
@@ -306,8 +359,10 @@ impl Planar {
         // Which marker groups are joint points (appear in a joint).
         let mut in_joint = vec![false; marker_of.len()];
         for j in &scene.joints {
-            in_joint[global_index(&j.body1, &j.marker1)] = true;
-            in_joint[global_index(&j.body2, &j.marker2)] = true;
+            if matches!(j.kind, JointKind::Revolute { .. } | JointKind::Rigid) {
+                in_joint[global_index(&j.body1, &j.marker1)] = true;
+                in_joint[global_index(&j.body2, &j.marker2)] = true;
+            }
         }
         // Ground-touching groups are fixed.
         for gi in 0..marker_of.len() {
@@ -511,9 +566,11 @@ impl Planar {
                 }
                 let point = point_at(first_marker[bi] + k, &mut uf).expect("joint point");
                 cons.push(Con::PointOnBody {
-                    body: bi,
-                    rbar: markers[k].1,
-                    node: markers[k].2,
+                    mk: Mk::Body {
+                        body: bi,
+                        rbar: markers[k].1,
+                        node: if flexible { markers[k].2 } else { None },
+                    },
                     point,
                 });
             }
@@ -571,6 +628,7 @@ impl Planar {
                 None => Dir {
                     body: None,
                     node: None,
+                    abar: Vector2::new(1.0, 0.0),
                 },
                 Some(bi) => {
                     let k = scene.bodies[bi]
@@ -585,6 +643,32 @@ impl Planar {
                         } else {
                             None
                         },
+                        abar: Vector2::new(1.0, 0.0),
+                    }
+                }
+            }
+        };
+        let mk_of = |body: &str, marker: &str, bodies: &[Body2]| -> Mk {
+            match body_index(body) {
+                None => {
+                    let m = scene
+                        .ground
+                        .iter()
+                        .find(|m| m.name == marker)
+                        .expect("validated");
+                    Mk::Ground(Vector2::new(m.position.0[0], m.position.0[1]))
+                }
+                Some(bi) => {
+                    let b = &bodies[bi];
+                    let k = b
+                        .markers
+                        .iter()
+                        .position(|m| m.0 == marker)
+                        .expect("validated");
+                    Mk::Body {
+                        body: bi,
+                        rbar: b.markers[k].1,
+                        node: if b.n > 0 { b.markers[k].2 } else { None },
                     }
                 }
             }
@@ -596,6 +680,8 @@ impl Planar {
             gravity: Vector2::new(scene.gravity.0[0], scene.gravity.0[1]),
             bodies,
             cons: Vec::new(),
+            springs: Vec::new(),
+            cols: Vec::new(),
             ground_markers: scene
                 .ground
                 .iter()
@@ -611,8 +697,39 @@ impl Planar {
             local_q: DVector::zeros(0),
             local_idx: Vec::new(),
         };
+        let zero = DVector::zeros(n);
         for j in &scene.joints {
             let driver = scene.drivers.iter().find(|d| d.joint == j.name);
+            if let JointKind::Prismatic { axis } = &j.kind {
+                let (p1, p2, d1) =
+                    planar.prismatic_parts(j, axis, &mk_of, &dir_of, &q0v, &scene.origin)?;
+                cons.push(Con::Slide {
+                    p1,
+                    p2,
+                    d1,
+                    along: None,
+                });
+                // The relative rotation is locked.
+                let a1 = dir_of(&j.body1, &j.marker1, &planar.bodies);
+                let a2 = dir_of(&j.body2, &j.marker2, &planar.bodies);
+                let phi0 = planar.angle(&a1, &a2, &q0v);
+                cons.push(Con::Angle {
+                    d1: a1,
+                    d2: a2,
+                    phi0,
+                    law: MotionLaw::Locked,
+                });
+                if let Some(d) = driver {
+                    let s0 = planar.slide(&p1, &p2, &d1, &q0v, &zero);
+                    cons.push(Con::Slide {
+                        p1,
+                        p2,
+                        d1,
+                        along: Some((s0, d.law.clone())),
+                    });
+                }
+                continue;
+            }
             let law = match (&j.kind, driver) {
                 (JointKind::Rigid, _) => Some(MotionLaw::Locked),
                 (_, Some(d)) => Some(d.law.clone()),
@@ -627,6 +744,43 @@ impl Planar {
         }
         planar.m = cons.iter().map(Con::rows).sum();
         planar.cons = cons;
+        // Spring–dampers.
+        for force in &scene.forces {
+            let flexmbd_model::Force::SpringDamper {
+                name,
+                body1,
+                marker1,
+                body2,
+                marker2,
+                stiffness,
+                damping,
+                free_length,
+            } = force;
+            let m1 = mk_of(body1, marker1, &planar.bodies);
+            let m2 = mk_of(body2, marker2, &planar.bodies);
+            let (r1, _, _) = planar.mk_state(&m1, &q0v, &zero);
+            let (r2, _, _) = planar.mk_state(&m2, &q0v, &zero);
+            let l = (r2 - r1).norm();
+            if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
+                return Err(ModelError::Invalid {
+                    file: scene.origin.clone(),
+                    error: flexmbd_core::InvalidValue::new(
+                        format!("forces[{name}]"),
+                        format!("{body1}.{marker1} – {body2}.{marker2}"),
+                        format!(
+                            "the two markers coincide at t = 0 (distance {l:.3e} m): a spring of zero length has no direction"
+                        ),
+                    ),
+                });
+            }
+            planar.springs.push(Spring {
+                m1,
+                m2,
+                k: *stiffness,
+                c: *damping,
+                l0: free_length.unwrap_or(l),
+            });
+        }
         // Sensors.
         for s in &scene.sensors {
             let marker_index = |body: &str, marker: &str| -> (Option<usize>, usize) {
@@ -684,6 +838,19 @@ impl Planar {
                         .iter()
                         .find(|j| &j.name == joint)
                         .expect("validated");
+                    if let JointKind::Prismatic { axis } = &j.kind {
+                        let (p1, p2, d1) = planar.prismatic_parts(
+                            j,
+                            axis,
+                            &mk_of,
+                            &dir_of,
+                            &q0v,
+                            &scene.origin,
+                        )?;
+                        let s0 = planar.slide(&p1, &p2, &d1, &q0v, &zero);
+                        planar.sensors.push(Sensor2::Slide { p1, p2, d1, s0 });
+                        continue;
+                    }
                     let d1 = dir_of(&j.body1, &j.marker1, &planar.bodies);
                     let d2 = dir_of(&j.body2, &j.marker2, &planar.bodies);
                     let phi0 = planar.angle(&d1, &d2, &q0v);
@@ -710,6 +877,7 @@ impl Planar {
         planar.local_m = DMatrix::zeros(max_local, max_local);
         planar.local_q = DVector::zeros(max_local);
         planar.local_idx = vec![None; max_local];
+        planar.cols = Vec::with_capacity(2 * max_local);
         Ok(planar)
     }
 
@@ -741,11 +909,12 @@ impl Planar {
         qd: &DVector<f64>,
     ) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
         match d.body {
-            None => (Vector2::new(1.0, 0.0), Vector2::zeros(), Vector2::zeros()),
+            None => (d.abar, Vector2::zeros(), Vector2::zeros()),
             Some(bi) => {
                 let b = &self.bodies[bi];
                 let (_, u, _, ud) = self.frame(b, q, qd);
-                match d.node {
+                // (I + θE) u, then C(ā) (commutes with E).
+                let (x, xd, xb) = match d.node {
                     None => (u, ud, Vector2::zeros()),
                     Some(node) => {
                         let (th, thd) = b.node_rotation(node, q, qd);
@@ -756,7 +925,9 @@ impl Planar {
                             2.0 * thd * (e * ud),
                         )
                     }
-                }
+                };
+                let ca = c_of(&d.abar);
+                (ca * x, ca * xd, ca * xb)
             }
         }
     }
@@ -779,6 +950,8 @@ impl Planar {
     ) {
         let Some(bi) = d.body else { return };
         let b = &self.bodies[bi];
+        // d = C(ā) d_x: wᵀ ∂d/∂q = (C(ā)ᵀ w)ᵀ ∂d_x/∂q.
+        let w = &(c_of(&d.abar).transpose() * w);
         let (th, u) = match d.node {
             Some(node) => {
                 let x = nalgebra::Vector4::from_fn(|i, _| b.slots[i].get(q));
@@ -817,16 +990,121 @@ impl Planar {
         q: &DVector<f64>,
         qd: &DVector<f64>,
     ) -> (Vector2<f64>, Vector2<f64>) {
-        match body {
-            None => (self.ground_markers[k], Vector2::zeros()),
+        let mk = match body {
+            None => Mk::Ground(self.ground_markers[k]),
             Some(bi) => {
                 let b = &self.bodies[bi];
+                Mk::Body {
+                    body: bi,
+                    rbar: b.markers[k].1,
+                    node: b.markers[k].2,
+                }
+            }
+        };
+        let (r, v, _) = self.mk_state(&mk, q, qd);
+        (r, v)
+    }
+
+    /// A marker's position r_P, velocity ṙ_P and bias r̈_P|q̈=0 = 2 C(Ẋ_P ẏ) u̇
+    /// (r_P is bilinear in (u, y)).
+    fn mk_state(
+        &self,
+        mk: &Mk,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+        match *mk {
+            Mk::Ground(p) => (p, Vector2::zeros(), Vector2::zeros()),
+            Mk::Body { body, rbar, node } => {
+                let b = &self.bodies[body];
                 let (r0, u, r0d, ud) = self.frame(b, q, qd);
-                let (rbar, node) = (b.markers[k].1, b.markers[k].2);
                 let (p, pd) = b.local_point(rbar, node, q, qd);
-                (r0 + c_of(&p) * u, r0d + c_of(&p) * ud + c_of(&pd) * u)
+                let (cp, cpd) = (c_of(&p), c_of(&pd));
+                (r0 + cp * u, r0d + cp * ud + cpd * u, 2.0 * (cpd * ud))
             }
         }
+    }
+
+    /// The non-zero columns ∂r_P/∂q_i of a marker, visited as (i, column):
+    /// ∂r_P/∂(r0, u) = [I  C(r̄_P + X_P y)] times T for the basis, A X_P for the modes.
+    fn mk_columns(&self, mk: &Mk, q: &DVector<f64>, mut visit: impl FnMut(usize, Vector2<f64>)) {
+        let Mk::Body { body, rbar, node } = *mk else {
+            return;
+        };
+        let b = &self.bodies[body];
+        let x = nalgebra::Vector4::from_fn(|i, _| b.slots[i].get(q));
+        let f = b.t * x;
+        let u = Vector2::new(f[2], f[3]);
+        let mut p = rbar;
+        let flex = match (node, &b.flex_ws) {
+            (Some(node), Some(fw)) => {
+                let (tx, ty) = fw.trans_rows(node);
+                for j in 0..b.n {
+                    let yj = q[b.y_off + j];
+                    p.x += tx[j] * yj;
+                    p.y += ty[j] * yj;
+                }
+                Some((tx, ty))
+            }
+            _ => None,
+        };
+        let cp = c_of(&p);
+        for k in 0..4 {
+            if let Slot::Q(i) = b.slots[k] {
+                let col = Vector2::new(b.t[(0, k)], b.t[(1, k)])
+                    + cp * Vector2::new(b.t[(2, k)], b.t[(3, k)]);
+                visit(i, col);
+            }
+        }
+        if let Some((tx, ty)) = flex {
+            let eu = e_mat() * u;
+            for j in 0..b.n {
+                visit(b.y_off + j, u * tx[j] + eu * ty[j]);
+            }
+        }
+    }
+
+    /// Slide (r_P2 − r_P1) · d₁ of a prismatic joint.
+    fn slide(&self, p1: &Mk, p2: &Mk, d1: &Dir, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
+        let (r1, _, _) = self.mk_state(p1, q, qd);
+        let (r2, _, _) = self.mk_state(p2, q, qd);
+        let (d, _, _) = self.direction(d1, q, qd);
+        (r2 - r1).dot(&d)
+    }
+
+    /// Markers and sliding direction of a prismatic joint: d₁ is fixed in body 1 (at its
+    /// marker's node on a flexible body) and equals the unit axis at q0.
+    #[allow(clippy::too_many_arguments)]
+    fn prismatic_parts(
+        &self,
+        j: &flexmbd_model::Joint,
+        axis: &flexmbd_model::V3,
+        mk_of: &impl Fn(&str, &str, &[Body2]) -> Mk,
+        dir_of: &impl Fn(&str, &str, &[Body2]) -> Dir,
+        q0: &DVector<f64>,
+        file: &str,
+    ) -> Result<(Mk, Mk, Dir), ModelError> {
+        let a = Vector2::new(axis.0[0], axis.0[1]);
+        let norm = a.norm();
+        if !norm.is_finite() || norm <= 1e-12 || axis.0[2].abs() > 1e-9 * norm {
+            return Err(ModelError::Invalid {
+                file: file.to_string(),
+                error: flexmbd_core::InvalidValue::new(
+                    format!("joints[{}].kind.Prismatic.axis", j.name),
+                    format!("{:?}", axis.0),
+                    "a planar sliding axis must be a non-zero vector in the x–y plane",
+                ),
+            });
+        }
+        let a = a / a.norm();
+        let p1 = mk_of(&j.body1, &j.marker1, &self.bodies);
+        let p2 = mk_of(&j.body2, &j.marker2, &self.bodies);
+        let mut d1 = dir_of(&j.body1, &j.marker1, &self.bodies);
+        // C(ā) d_x(q0) = a  ⇒  ā = (a · d_x, a · E d_x) / |d_x|².
+        let (dx, _, _) = self.direction(&d1, q0, &DVector::zeros(q0.len()));
+        let edx = e_mat() * dx;
+        d1.abar = Vector2::new(a.dot(&dx), a.dot(&edx)) / dx.norm_squared();
+        Ok((p1, p2, d1))
     }
 
     fn frame_rotation(&self, bi: usize, q: &DVector<f64>) -> Matrix2<f64> {
@@ -921,8 +1199,9 @@ impl flexmbd_core::Formulation for Planar {
         }
     }
     fn constant_tangents(&self) -> bool {
-        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only.
-        true
+        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
+        // tangents turn with the spring's direction.
+        self.springs.is_empty()
     }
     fn sensor_names(&self) -> &[String] {
         &self.sensor_names
@@ -976,6 +1255,7 @@ impl flexmbd_core::Formulation for Planar {
                     *last = v;
                     v
                 }
+                Sensor2::Slide { p1, p2, d1, s0 } => self.slide(p1, p2, d1, q, qd) - s0,
                 Sensor2::Modal { q: idx } => idx.map_or(0.0, |i| q[i]),
                 Sensor2::Energy => self.energy(q, qd),
             };
@@ -1064,6 +1344,50 @@ impl Planar {
                 );
             }
         }
+        if !self.springs.is_empty() {
+            self.spring_forces(q, qd, tangents, out);
+        }
+    }
+
+    /// Spring–dampers: with d = r_P2 − r_P1, l = |d|, n = d/l, J = ∂d/∂q and
+    /// f = k (l − l₀) + c l̇, Q −= Jᵀ f n; tangents K += Jᵀ (k n nᵀ + f/l (I − n nᵀ)) J and
+    /// C += c Jᵀ n nᵀ J. Left out of K: the terms from ∂J/∂q on flexible bodies and the
+    /// damper's ∂l̇/∂q (unsymmetric); they only slow Newton's convergence.
+    fn spring_forces(
+        &mut self,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        tangents: bool,
+        out: &mut SystemTerms,
+    ) {
+        let mut cols = std::mem::take(&mut self.cols);
+        for sp in &self.springs {
+            let (r1, v1, _) = self.mk_state(&sp.m1, q, qd);
+            let (r2, v2, _) = self.mk_state(&sp.m2, q, qd);
+            let d = r2 - r1;
+            let l = d.norm();
+            let n = d / l;
+            let f = sp.k * (l - sp.l0) + sp.c * n.dot(&(v2 - v1));
+            cols.clear();
+            self.mk_columns(&sp.m2, q, |i, c| cols.push((i, c)));
+            self.mk_columns(&sp.m1, q, |i, c| cols.push((i, -c)));
+            for &(i, c) in &cols {
+                out.forces[i] -= f * n.dot(&c);
+            }
+            if tangents {
+                let nn = n * n.transpose();
+                let km = nn * sp.k + (Matrix2::identity() - nn) * (f / l);
+                for &(i, ci) in &cols {
+                    let kc = km * ci;
+                    let cc = sp.c * n.dot(&ci);
+                    for &(j, cj) in &cols {
+                        out.stiffness[(j, i)] += cj.dot(&kc);
+                        out.damping[(j, i)] += cc * n.dot(&cj);
+                    }
+                }
+            }
+        }
+        self.cols = cols;
     }
 
     fn constraints(
@@ -1121,44 +1445,19 @@ impl Planar {
                     }
                     row += 1;
                 }
-                Con::PointOnBody {
-                    body,
-                    rbar,
-                    node,
-                    point,
-                } => {
-                    let b = &self.bodies[*body];
-                    let (r0, u, _r0d, ud) = self.frame(b, q, qd);
-                    let (p, pd) = b.local_point(*rbar, *node, q, qd);
-                    let target = Vector2::new(point.x.get(q), point.y.get(q));
+                Con::PointOnBody { mk, point } => {
+                    let (r, _, bias) = self.mk_state(mk, q, qd);
                     if req.constraints {
-                        let r = r0 + c_of(&p) * u - target;
-                        out.phi[row] = r.x;
-                        out.phi[row + 1] = r.y;
+                        let target = Vector2::new(point.x.get(q), point.y.get(q));
+                        out.phi[row] = r.x - target.x;
+                        out.phi[row + 1] = r.y - target.y;
                     }
                     if req.jacobian {
-                        // ∂r_P/∂(r0, u) = [I  C(p)], times T; ∂r_P/∂y = A X_P.
-                        let cp = c_of(&p);
-                        for k in 0..4 {
-                            if let Slot::Q(i) = b.slots[k] {
-                                for a in 0..2 {
-                                    let mut v = b.t[(a, k)];
-                                    for c in 0..2 {
-                                        v += cp[(a, c)] * b.t[(2 + c, k)];
-                                    }
-                                    out.phi_q[(row + a, i)] += v;
-                                }
-                            }
-                        }
-                        if let (Some(node), Some(f)) = (node, &b.flex_ws) {
-                            let (tx, ty) = f.trans_rows(*node);
-                            let eu = e_mat() * u;
-                            for j in 0..b.n {
-                                let col = u * tx[j] + eu * ty[j];
-                                out.phi_q[(row, b.y_off + j)] += col.x;
-                                out.phi_q[(row + 1, b.y_off + j)] += col.y;
-                            }
-                        }
+                        let phi_q = &mut out.phi_q;
+                        self.mk_columns(mk, q, |i, col| {
+                            phi_q[(row, i)] += col.x;
+                            phi_q[(row + 1, i)] += col.y;
+                        });
                         for (a, slot) in [point.x, point.y].into_iter().enumerate() {
                             if let Slot::Q(i) = slot {
                                 out.phi_q[(row + a, i)] -= 1.0;
@@ -1166,12 +1465,52 @@ impl Planar {
                         }
                     }
                     if req.accel_term {
-                        // r_P is bilinear in (u, y): bias 2 C(Ẋ_P ẏ) u̇.
-                        let bias = 2.0 * c_of(&pd) * ud;
                         out.accel_term[row] = bias.x;
                         out.accel_term[row + 1] = bias.y;
                     }
                     row += 2;
+                }
+                Con::Slide { p1, p2, d1, along } => {
+                    let (r1, v1, b1) = self.mk_state(p1, q, qd);
+                    let (r2, v2, b2) = self.mk_state(p2, q, qd);
+                    let (d, dd, db) = self.direction(d1, q, qd);
+                    let (x, xd, xb) = (r2 - r1, v2 - v1, b2 - b1);
+                    let e = e_mat();
+                    // Φ = x × d (∂/∂x = −E d, ∂/∂d = E x), or x · d − s₀ − s(t).
+                    let (phi, w_x, w_d, phi_t, bias) = match along {
+                        None => (
+                            cross(&x, &d),
+                            -(e * d),
+                            e * x,
+                            0.0,
+                            cross(&xb, &d) + 2.0 * cross(&xd, &dd) + cross(&x, &db),
+                        ),
+                        Some((s0, law)) => {
+                            let (sv, svd, svdd) = law.eval(t);
+                            (
+                                x.dot(&d) - s0 - sv,
+                                d,
+                                x,
+                                -svd,
+                                xb.dot(&d) + 2.0 * xd.dot(&dd) + x.dot(&db) - svdd,
+                            )
+                        }
+                    };
+                    if req.constraints {
+                        out.phi[row] = phi;
+                    }
+                    if req.jacobian {
+                        let phi_q = &mut out.phi_q;
+                        self.mk_columns(p2, q, |i, col| phi_q[(row, i)] += w_x.dot(&col));
+                        self.mk_columns(p1, q, |i, col| phi_q[(row, i)] -= w_x.dot(&col));
+                        let d1c = *d1;
+                        self.add_direction_jacobian(&d1c, &w_d, q, &mut out.phi_q, row);
+                        out.phi_t[row] = phi_t;
+                    }
+                    if req.accel_term {
+                        out.accel_term[row] = bias;
+                    }
+                    row += 1;
                 }
                 Con::Angle { d1, d2, phi0, law } => {
                     let (th_l, thd, thdd) = law.eval(t);
@@ -1255,6 +1594,12 @@ impl Planar {
             }
             e += 0.5 * kin;
             e += ws.potential(&b.body, r0, u, y, self.gravity);
+        }
+        for sp in &self.springs {
+            let (r1, _, _) = self.mk_state(&sp.m1, q, qd);
+            let (r2, _, _) = self.mk_state(&sp.m2, q, qd);
+            let dl = (r2 - r1).norm() - sp.l0;
+            e += 0.5 * sp.k * dl * dl;
         }
         e
     }
