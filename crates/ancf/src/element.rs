@@ -68,6 +68,7 @@ fn gauss_rule(points: usize) -> (&'static [f64], &'static [f64]) {
 }
 
 /// S(x) of one element of length `l` (methods.md §7.1).
+#[cfg(test)]
 pub(crate) fn shape(l: f64, x: f64) -> [f64; 4] {
     let xi = x / l;
     [
