@@ -289,7 +289,8 @@ impl Cable {
     /// Static equilibrium at time t (hub angle θ(t) held) under the full gravity load:
     /// Newton on ∂U/∂q − μ Q_g + Φ_qᵀλ = 0, Φ = 0 with the bordered tangent
     /// [K Φ_qᵀ; Φ_q 0], load factor μ raised to 1 in `load_steps` increments, halved on
-    /// failure (methods.md §5.4 item 4). Starts from and updates the initial positions.
+    /// failure and doubled again (up to 1/`load_steps`) after a step that took ≤ 5
+    /// iterations (methods.md §5.4 item 4). Starts from and updates the initial positions.
     pub fn solve_static(&mut self, t: f64, load_steps: usize) -> Result<StaticReport, StaticError> {
         let (n, m) = (self.n, self.m);
         let mut q = self.q0.clone();
@@ -311,7 +312,9 @@ impl Cable {
             let (q_save, l_save) = (q.clone(), lambda.clone());
             let mut converged = false;
             last_res = f64::INFINITY;
+            let mut step_iterations = 0;
             for _ in 0..30 {
+                step_iterations += 1;
                 report.iterations += 1;
                 k.fill(0.0);
                 self.elastic(&q, Some(&mut grad), Some(&mut k));
@@ -345,6 +348,10 @@ impl Cable {
             if converged {
                 mu = target;
                 report.load_steps += 1;
+                // Grow a halved increment again after an easy step.
+                if step_iterations <= 5 {
+                    inc = (2.0 * inc).min(1.0 / load_steps.max(1) as f64);
+                }
                 if mu >= 1.0 {
                     break;
                 }

@@ -186,7 +186,7 @@ fn constraint_rates_match_finite_differences_along_a_motion() {
         let qd_at = |t: f64| om * (om * t).cos() * &v + 2.0 * t * &w;
         let qdd_at = |t: f64| -om * om * (om * t).sin() * &v + 2.0 * &w;
         let mut terms = SystemTerms::new(n, m);
-        let mut phi = |c: &mut Cable, t: f64| {
+        let phi = |c: &mut Cable, t: f64| {
             let mut tt = SystemTerms::new(n, m);
             c.evaluate(t, &q_at(t), &qd_at(t), Request::CONSTRAINTS, &mut tt);
             tt.phi

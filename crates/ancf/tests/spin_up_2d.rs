@@ -5,9 +5,11 @@
 //! The full study (8/16/32/64 elements, 20 s) is the ignored test at the end and the
 //! `convergence` example.
 
-use flexmbd_ancf::{Cable, CableSpec, History, run_spin_up};
-use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
-use flexmbd_integrators::{Ali3p, Ali3pSettings};
+mod common;
+
+use common::balance;
+use flexmbd_ancf::{CableSpec, History, run_spin_up};
+use flexmbd_core::Dim;
 
 /// Min tip u_y of the converged reference (Exudyn ANCFCable2D, n = 64; methods.md §7).
 const REFERENCE_MIN_UY: f64 = -0.5737900;
@@ -101,64 +103,6 @@ fn hub_power_balances_energy_and_jacobi_integral_holds() {
     let r2 = (report.jacobi_drift / half.jacobi_drift).log2();
     eprintln!("observed orders: balance {r1:.2}, Jacobi {r2:.2}");
     assert!(r1 > 1.7 && r2 > 1.7, "orders {r1}, {r2}");
-}
-
-/// Energy bookkeeping of one ALI3-P run (shared with the 3D test through a copy).
-#[derive(Debug)]
-struct Balance {
-    work: f64,
-    max_balance_error: f64,
-    jacobi_drift: f64,
-}
-
-fn balance(spec: &CableSpec, h: f64, duration: f64) -> Balance {
-    let mut cable = Cable::new(spec).unwrap();
-    if spec.gravity.iter().any(|&g| g != 0.0) {
-        cable.solve_static(0.0, 10).unwrap();
-    }
-    let mut s = Ali3p::new(
-        &mut cable,
-        0.0,
-        Ali3pSettings {
-            step: h,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let row = cable.driven_row();
-    let mut terms = SystemTerms::new(cable.n_coordinates(), cable.n_constraints());
-    let req = Request {
-        jacobian: true,
-        ..Request::default()
-    };
-    let mut power = |cable: &mut Cable, s: &Ali3p| {
-        terms.clear(req);
-        cable.evaluate(s.t, &s.q, &s.qd, req, &mut terms);
-        s.lambda[row] * terms.phi_t[row]
-    };
-    let e0 = cable.energy(&s.q, &s.qd);
-    let (mut work, mut p_prev) = (0.0, power(&mut cable, &s));
-    let mut max_err: f64 = 0.0;
-    let (mut jacobi_min, mut jacobi_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    let steps = (duration / h).round() as usize;
-    for _ in 0..steps {
-        s.step(&mut cable).unwrap();
-        let p = power(&mut cable, &s);
-        work += 0.5 * h * (p + p_prev);
-        p_prev = p;
-        let e = cable.energy(&s.q, &s.qd);
-        max_err = max_err.max((e - e0 - work).abs());
-        if s.t > spec.t_s + 1e-9 {
-            let j = e - spec.omega_s * cable.angular_momentum_z(&s.q, &s.qd);
-            jacobi_min = jacobi_min.min(j);
-            jacobi_max = jacobi_max.max(j);
-        }
-    }
-    Balance {
-        work,
-        max_balance_error: max_err,
-        jacobi_drift: jacobi_max - jacobi_min,
-    }
 }
 
 /// The study of methods.md §7.3 over the full 20 s (about 30 s of CPU):
