@@ -1,7 +1,7 @@
 //! ANCF cable elements in 2D and 3D: the large-deformation reference model of the
 //! spin-up beam (thesis ch. 4; methods.md §7; scenes.md §5).
 //!
-//! - [`element`](crate) (private): Hermite interpolation, constant mass, distributed
+//! - `element` (private): Hermite interpolation, constant mass, distributed
 //!   load, elastic line energy with ε = |r′| − 1 and |κ|² = |r′ × r″|²/|r′|⁴, analytic
 //!   force and tangent, 5/3 Gauss points (§7.1–§7.2) [Berzeri & Shabana 2000;
 //!   Gerstmayr & Shabana 2006; Gerstmayr & Irschik 2008].
@@ -11,7 +11,13 @@
 //! - [`run_spin_up`]: the spin-up run with ALI3-P (§5) returning a [`History`].
 //!
 //! Choices recorded: curvature measure with |r′|² (Exudyn-compatible, §7.2 correction);
-//! Gauss orders 9/5 (5 and 3 points); analytic tangent; root at the origin, hub axis z.
+//! Gauss orders 9/5 (5 and 3 points); analytic tangent (checked against finite
+//! differences); root at the origin, hub axis z; 3D cable without torsion and with
+//! isotropic bending (§7.2 "Limits"); dense M and K as the integrators expect.
+//!
+//! Measured (tests and the `convergence` example): the Exudyn static check to 2.4e-13 m;
+//! 2D spin-up min u_y = −0.5737896 m with 16 elements (reference −0.5737900);
+//! tip differences falling with rate 4.4–6.5 between 8, 16, 32 and 64 elements.
 
 mod cable;
 mod element;
