@@ -3,6 +3,7 @@
 use crate::Settings;
 use crate::report::Report;
 
+pub mod four_bar;
 pub mod inertia_cost;
 
 /// What a study returns when it cannot finish.
@@ -20,9 +21,16 @@ pub struct Study {
 
 /// Every study, in report order.
 pub fn all() -> Vec<Study> {
-    vec![Study {
-        name: "inertia-cost",
-        title: "Cost of the inertia terms against mesh size (thesis ch. 3)",
-        run: inertia_cost::run,
-    }]
+    vec![
+        Study {
+            name: "inertia-cost",
+            title: "Cost of the inertia terms against mesh size (thesis ch. 3)",
+            run: inertia_cost::run,
+        },
+        Study {
+            name: "double-four-bar",
+            title: "Double four-bar with 0 to 5 flexible bars (thesis ch. 2, first example)",
+            run: four_bar::run,
+        },
+    ]
 }
