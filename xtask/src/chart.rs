@@ -4,6 +4,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+pub use plotters::prelude::SeriesLabelPosition;
+
 /// One named line of a chart.
 pub struct Series {
     /// Legend label.
@@ -30,6 +32,8 @@ pub struct LineChart {
     pub log_y: bool,
     /// The lines.
     pub series: Vec<Series>,
+    /// Where the legend goes.
+    pub legend: SeriesLabelPosition,
 }
 
 const PALETTE: [RGBColor; 6] = [
@@ -161,7 +165,7 @@ impl LineChart {
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(self.legend.clone())
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
@@ -185,6 +189,7 @@ mod tests {
             y_label: "time per evaluation (µs)".into(),
             log_x: true,
             log_y: true,
+            legend: SeriesLabelPosition::UpperLeft,
             series: vec![
                 Series {
                     label: "B-matrix".into(),

@@ -13,7 +13,7 @@ use flexmbd::simulation::{self, History, Summary};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series};
+use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
 
 /// The bars made flexible, in this order (scenes.md §1 "Outputs": CHOSEN bars 1, 2, …, k).
@@ -529,8 +529,8 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         "Shares of the CPU time of the median run, as the integrator's counters report them (sampled \
          every 8th step and scaled, docs/design.md \"The integrator\"): `evaluation` is every call of the \
          formulation (M, Q, tangents, Φ, Φ_q, …), including the two made by the projections; \
-         `projections` is the whole velocity and acceleration projection (its evaluations, one more \
-         factorisation and two solves), so the two overlap and the shares need not add up to 100 %. \
+         `projections` is the rest of the velocity and acceleration projections (one more \
+         factorisation and two solves); what is left to 100 % is the integrator's own vector work. \
          Every Newton iteration re-evaluates the tangents and refactorises the leading matrix (full \
          Newton), and each step factorises once more for the projections.",
     );
@@ -674,6 +674,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     }
     let chart = LineChart {
         title: "Double four-bar: CPU time of the 5 s run".into(),
+        legend: SeriesLabelPosition::LowerRight,
         x_label: "flexible bars k".into(),
         y_label: "CPU time (s)".into(),
         log_x: false,
@@ -704,6 +705,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     );
     let chart = LineChart {
         title: "Double four-bar: B0_x(t), rigid and five flexible bars".into(),
+        legend: SeriesLabelPosition::UpperLeft,
         x_label: "t (s)".into(),
         y_label: "B0_x (m)".into(),
         log_x: false,
@@ -741,6 +743,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     };
     let chart = LineChart {
         title: "Double four-bar: B0 of five flexible bars minus B0 rigid".into(),
+        legend: SeriesLabelPosition::UpperLeft,
         x_label: "t (s)".into(),
         y_label: "B0(k = 5) − B0(k = 0) (mm)".into(),
         log_x: false,

@@ -5,6 +5,7 @@ use crate::report::Report;
 
 pub mod four_bar;
 pub mod inertia_cost;
+pub mod mesh_size;
 
 /// What a study returns when it cannot finish.
 pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
@@ -31,6 +32,11 @@ pub fn all() -> Vec<Study> {
             name: "double-four-bar",
             title: "Double four-bar with 0 to 5 flexible bars (thesis ch. 2, first example)",
             run: four_bar::run,
+        },
+        Study {
+            name: "mesh-size",
+            title: "CPU time against FE mesh size, both formulations (thesis ch. 3)",
+            run: mesh_size::run,
         },
     ]
 }
