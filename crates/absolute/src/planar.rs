@@ -221,6 +221,9 @@ pub struct Planar {
     pub(crate) bodies: Vec<Body2>,
     cons: Vec<Con>,
     springs: Vec<Spring>,
+    /// Σ over rigid bodies of Tᵀ M_f T and Tᵀ Q_gravity, scattered (constant).
+    rigid_mass: DMatrix<f64>,
+    rigid_forces: DVector<f64>,
     /// Scratch: Jacobian columns (coordinate, ∂d/∂q_i) of one spring (capacity set once).
     cols: Vec<(usize, Vector2<f64>)>,
     ground_markers: Vec<Vector2<f64>>,
@@ -427,10 +430,11 @@ impl Planar {
         let mut cons = Vec::new();
         let mut qd0_pending: Vec<(usize, f64)> = Vec::new();
         for (bi, (b, prep)) in scene.bodies.iter().zip(prepared).enumerate() {
-            let body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
+            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
                 file: scene.origin.clone(),
                 error: e,
             })?;
+            flexmbd_stiffening::install(scene, &prep, &mut body)?;
             let nm = body.n_modes();
             let flexible = prep.flexible;
             let (o, th) = frames[bi];
@@ -681,6 +685,8 @@ impl Planar {
             bodies,
             cons: Vec::new(),
             springs: Vec::new(),
+            rigid_mass: DMatrix::zeros(0, 0),
+            rigid_forces: DVector::zeros(0),
             cols: Vec::new(),
             ground_markers: scene
                 .ground
@@ -878,6 +884,17 @@ impl Planar {
         planar.local_q = DVector::zeros(max_local);
         planar.local_idx = vec![None; max_local];
         planar.cols = Vec::with_capacity(2 * max_local);
+        let mut rigid = SystemTerms::new(planar.n, 0);
+        for bi in 0..planar.bodies.len() {
+            if planar.bodies[bi].n == 0 {
+                let b = &planar.bodies[bi];
+                planar.local_m.view_mut((0, 0), (4, 4)).copy_from(&b.m_const);
+                planar.local_q.rows_mut(0, 4).copy_from(&b.q_const);
+                planar.scatter(bi, 4, &mut rigid);
+            }
+        }
+        planar.rigid_mass = rigid.mass;
+        planar.rigid_forces = rigid.forces;
         Ok(planar)
     }
 
@@ -1198,10 +1215,23 @@ impl flexmbd_core::Formulation for Planar {
             self.constraints(t, q, qd, req, out);
         }
     }
+    fn constant_mass(&self) -> bool {
+        // Natural coordinates: a rigid body's mass matrix is constant.
+        self.bodies.iter().all(|b| b.n == 0)
+    }
     fn constant_tangents(&self) -> bool {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
         self.springs.is_empty()
+            && self
+                .bodies
+                .iter()
+                .all(|b| b.body.elastic_model().is_linear())
+    }
+    fn symmetric_tangent(&self) -> bool {
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_symmetric())
     }
     fn sensor_names(&self) -> &[String] {
         &self.sensor_names
@@ -1296,13 +1326,12 @@ impl Planar {
         tangents: bool,
         out: &mut SystemTerms,
     ) {
+        // Rigid bodies: their constant M and gravity, assembled once at compile time.
+        out.mass.as_mut_slice().copy_from_slice(self.rigid_mass.as_slice());
+        out.forces.as_mut_slice().copy_from_slice(self.rigid_forces.as_slice());
         for bi in 0..self.bodies.len() {
             let nl = 4 + self.bodies[bi].n;
             if self.bodies[bi].n == 0 {
-                let b = &self.bodies[bi];
-                self.local_m.view_mut((0, 0), (4, 4)).copy_from(&b.m_const);
-                self.local_q.rows_mut(0, 4).copy_from(&b.q_const);
-                self.scatter(bi, 4, out);
                 continue;
             }
             let (r0, u, r0d, ud) = self.frame(&self.bodies[bi], q, qd);

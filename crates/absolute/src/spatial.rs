@@ -400,10 +400,11 @@ impl Spatial {
         let mut node_trans = Vec::new();
         let g = scene.gravity.vec();
         for (b, prep) in scene.bodies.iter().zip(prepared) {
-            let body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
+            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
                 file: scene.origin.clone(),
                 error: e,
             })?;
+            flexmbd_stiffening::install(scene, &prep, &mut body)?;
             let nm = if prep.flexible { body.n_modes() } else { 0 };
             debug_assert_eq!(nm, body.n_modes());
             let a0 = b.orientation.matrix();
@@ -1073,7 +1074,14 @@ impl flexmbd_core::Formulation for Spatial {
     }
     fn constant_tangents(&self) -> bool {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only.
-        true
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_linear())
+    }
+    fn symmetric_tangent(&self) -> bool {
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_symmetric())
     }
     fn sensor_names(&self) -> &[String] {
         &self.sensor_names

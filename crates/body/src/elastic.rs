@@ -29,6 +29,15 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
     );
     /// A boxed copy (lets [`FlexibleBody`](crate::FlexibleBody) be `Clone`).
     fn clone_box(&self) -> Box<dyn ElasticModel>;
+    /// True when the tangents do not depend on (y, ẏ) (formulations then report
+    /// `constant_tangents`). Nonlinear stiffening models return false.
+    fn is_linear(&self) -> bool {
+        true
+    }
+    /// True when the stiffness tangent is symmetric (FNL1's is not).
+    fn is_symmetric(&self) -> bool {
+        true
+    }
 }
 
 impl Clone for Box<dyn ElasticModel> {

@@ -69,6 +69,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     let shape_integrals = ShapeIntegrals::from_cloud(&cloud);
     let nodes = node_modes(&mesh, &red.x);
     let k_g = stiffening::geometric_stiffness(&mesh, &red.x);
+    let (g_mean, h_weight) = stiffening::element_mean_g(&mesh, &red.x);
     let inventory = ModeInventory {
         n_fe_dofs: mesh.n_dofs(),
         frame_dofs,
@@ -89,7 +90,11 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         cloud,
         shape_integrals,
         nodes,
-        stiffening: StiffeningIntegrals { k_g },
+        stiffening: StiffeningIntegrals {
+            k_g,
+            g_mean,
+            h_weight,
+        },
     };
     Ok(Preprocessed {
         mesh,

@@ -139,6 +139,13 @@ pub struct NodeModes {
 pub struct StiffeningIntegrals {
     /// K_Gk = ∫ EA g_u,k G dx (n × n each, one per mode k); empty for a rigid body.
     pub k_g: Vec<DMatrix<f64>>,
+    /// Element means Ḡ_e of G = g_v g_vᵀ + g_w g_wᵀ (n × n each, one per element;
+    /// methods.md §6.2 correction); empty for a rigid body.
+    #[serde(default)]
+    pub g_mean: Vec<DMatrix<f64>>,
+    /// EA_e L_e per element: H_ijkl = Σ_e `h_weight[e]` Ḡ_e,ij Ḡ_e,kl (§6.2).
+    #[serde(default)]
+    pub h_weight: Vec<f64>,
 }
 
 /// One reduced body: the output of FE preprocessing and the input of `flexmbd-body`.

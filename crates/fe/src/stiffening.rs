@@ -9,6 +9,13 @@
 //! (w₁, θy₁, w₂, θy₂), in element axes. Then U₁ = ½ Σ_k y_k yᵀ K_Gk y.
 //! On a polyline each element uses its own axial direction (§6 is written for
 //! a straight beam along ē₁).
+//!
+//! [`element_mean_g`] gives the element means Ḡ_e = (X_e^(v)ᵀ K_σ X_e^(v) +
+//! X_e^(w)ᵀ K_σ^(w) X_e^(w)) / L_e and the weights EA_e L_e, from which
+//! H_ijkl = Σ_e EA_e L_e Ḡ_e,ij Ḡ_e,kl (methods.md §6.2 correction: the element
+//! mean of G, not an exact quadrature, matches the constant axial strain of the
+//! linear axial element). H is kept in this factored form (n² per element
+//! instead of n⁴).
 
 use flexmbd_core::Dim;
 use nalgebra::DMatrix;
@@ -46,4 +53,31 @@ pub fn geometric_stiffness(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<DMatrix<f64>> {
         *m = (&*m + m.transpose()) * 0.5;
     }
     kg
+}
+
+/// Element means Ḡ_e (n × n, symmetric, one per element) and weights EA_e L_e
+/// (methods.md §6.2, "H: Correction"): H_ijkl = Σ_e w_e Ḡ_e,ij Ḡ_e,kl.
+pub fn element_mean_g(mesh: &Mesh, x: &DMatrix<f64>) -> (Vec<DMatrix<f64>>, Vec<f64>) {
+    let n = x.ncols();
+    let ea = mesh.props.e * mesh.props.area;
+    let mut gs = Vec::with_capacity(mesh.elements.len());
+    let mut ws = Vec::with_capacity(mesh.elements.len());
+    for (e, el) in mesh.elements.iter().enumerate() {
+        let l = el.length;
+        let xl = element_local_modes(mesh, e, x);
+        let vp = match mesh.dim {
+            Dim::Planar => VPLANE_2D,
+            Dim::Spatial => VPLANE_3D,
+        };
+        let xv = DMatrix::from_fn(4, n, |i, j| xl[(vp[i], j)]);
+        let mut g = xv.transpose() * k_sigma(l) * &xv;
+        if mesh.dim == Dim::Spatial {
+            let xw = DMatrix::from_fn(4, n, |i, j| xl[(WPLANE_3D[i], j)]);
+            g += xw.transpose() * k_sigma_w(l) * &xw;
+        }
+        g = (&g + g.transpose()) * (0.5 / l);
+        gs.push(g);
+        ws.push(ea * l);
+    }
+    (gs, ws)
 }

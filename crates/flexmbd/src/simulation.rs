@@ -96,12 +96,9 @@ impl History {
 
 /// Compile a scene with the formulation its solver settings name.
 pub fn compile(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
-    if scene.solver.stiffening != Stiffening::Linear {
-        return Err(ModelError::Unsupported(format!(
-            "stiffening {:?} is not available yet; only `linear` runs",
-            scene.solver.stiffening
-        )));
-    }
+    // Stiffening (flexmbd-stiffening): FNL1/FNL2 models are installed by the
+    // formulations; the scene transformation (FNL2 axial basis) is done here.
+    let scene = &*flexmbd_stiffening::prepare_scene(scene)?;
     match scene.solver.formulation {
         FormulationKind::Absolute => Ok(Box::new(flexmbd_absolute::compile(scene)?)),
         FormulationKind::Relative => Ok(Box::new(flexmbd_relative::compile(scene)?)),

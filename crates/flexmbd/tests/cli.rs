@@ -206,7 +206,7 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
             "simulate",
             &model("double_four_bar.ron"),
             "--stiffening",
-            "fnl1",
+            "foreshortening",
         ])
         .output()
         .unwrap();

@@ -183,10 +183,11 @@ impl Relative {
         let mut infos = Vec::new();
         let mut flex = Vec::new();
         for (b, prep) in scene.bodies.iter().zip(&prepared) {
-            let body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
+            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
                 file: scene.origin.clone(),
                 error: e,
             })?;
+            flexmbd_stiffening::install(scene, prep, &mut body)?;
             let n = if prep.flexible { body.n_modes() } else { 0 };
             if !prep.flexible && body.n_modes() > 0 {
                 return Err(unsupported(format!(
@@ -1284,6 +1285,11 @@ impl flexmbd_core::Formulation for Relative {
     }
     fn specified_coordinates(&self) -> &[usize] {
         &self.held
+    }
+    fn symmetric_tangent(&self) -> bool {
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_symmetric())
     }
     fn evaluate(
         &mut self,
