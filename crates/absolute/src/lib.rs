@@ -19,17 +19,17 @@ pub use spatial::Spatial;
 /// A compiled scene: planar or spatial natural coordinates.
 pub enum Absolute {
     /// A 2D scene.
-    Planar(Planar),
+    Planar(Box<Planar>),
     /// A 3D scene.
-    Spatial(Spatial),
+    Spatial(Box<Spatial>),
 }
 
 /// Compile a scene for the absolute formulation.
 pub fn compile(scene: &Scene) -> Result<Absolute, ModelError> {
     let prepared = scene.prepare_bodies()?;
     match scene.dim {
-        Dim::Planar => Ok(Absolute::Planar(Planar::compile(scene, prepared)?)),
-        Dim::Spatial => Ok(Absolute::Spatial(Spatial::compile(scene, prepared)?)),
+        Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(scene, prepared)?))),
+        Dim::Spatial => Ok(Absolute::Spatial(Box::new(Spatial::compile(scene, prepared)?))),
     }
 }
 
@@ -70,6 +70,9 @@ impl Formulation for Absolute {
     }
     fn constant_tangents(&self) -> bool {
         both!(self, f => f.constant_tangents())
+    }
+    fn constant_mass(&self) -> bool {
+        both!(self, f => f.constant_mass())
     }
     fn sensor_names(&self) -> &[String] {
         both!(self, f => f.sensor_names())

@@ -888,7 +888,10 @@ impl Planar {
         for bi in 0..planar.bodies.len() {
             if planar.bodies[bi].n == 0 {
                 let b = &planar.bodies[bi];
-                planar.local_m.view_mut((0, 0), (4, 4)).copy_from(&b.m_const);
+                planar
+                    .local_m
+                    .view_mut((0, 0), (4, 4))
+                    .copy_from(&b.m_const);
                 planar.local_q.rows_mut(0, 4).copy_from(&b.q_const);
                 planar.scatter(bi, 4, &mut rigid);
             }
@@ -1327,8 +1330,12 @@ impl Planar {
         out: &mut SystemTerms,
     ) {
         // Rigid bodies: their constant M and gravity, assembled once at compile time.
-        out.mass.as_mut_slice().copy_from_slice(self.rigid_mass.as_slice());
-        out.forces.as_mut_slice().copy_from_slice(self.rigid_forces.as_slice());
+        out.mass
+            .as_mut_slice()
+            .copy_from_slice(self.rigid_mass.as_slice());
+        out.forces
+            .as_mut_slice()
+            .copy_from_slice(self.rigid_forces.as_slice());
         for bi in 0..self.bodies.len() {
             let nl = 4 + self.bodies[bi].n;
             if self.bodies[bi].n == 0 {

@@ -134,6 +134,11 @@ pub trait Formulation {
     fn constant_tangents(&self) -> bool {
         false
     }
+    /// True when the mass matrix does not depend on the state (rigid bodies in natural
+    /// coordinates): with constant tangents the integrator then forms M + h/2 C + h²/4 K once.
+    fn constant_mass(&self) -> bool {
+        false
+    }
     /// True when M, K and C are symmetric, so that the integrator may factorise its
     /// leading matrix by Cholesky (a formulation with non-symmetric tangents, e.g. the
     /// FNL1 stiffening tangent, returns false).

@@ -162,6 +162,9 @@ pub struct Ali3p {
     factored_llt: bool,
     /// K and C are state-independent: evaluated once, kept.
     constant_tangents: bool,
+    /// M, K and C are all constant: W is formed once (`w_ready` after that).
+    constant_w: bool,
+    w_ready: bool,
     /// Timing weight of the current step: `profile_every` on sampled steps, 0 otherwise.
     time_weight: f64,
     rhs: DVector<f64>,
@@ -198,6 +201,8 @@ impl Ali3p {
             symmetric: f.symmetric_tangent(),
             factored_llt: false,
             constant_tangents: f.constant_tangents(),
+            constant_w: f.constant_tangents() && f.constant_mass(),
+            w_ready: false,
             time_weight: 1.0,
             rhs: DVector::zeros(n),
             nz: Vec::with_capacity(n),
@@ -253,6 +258,10 @@ impl Ali3p {
 
     /// Form W = M + h/2 C + h²/4 K (the leading matrix without the penalty).
     fn form_w(&mut self) {
+        if self.constant_w && self.w_ready {
+            return;
+        }
+        self.w_ready = true;
         let h = self.settings.step;
         let tt = &self.terms;
         let (a, b) = (0.5 * h, 0.25 * h * h);
