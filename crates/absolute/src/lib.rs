@@ -28,8 +28,12 @@ pub enum Absolute {
 pub fn compile(scene: &Scene) -> Result<Absolute, ModelError> {
     let prepared = scene.prepare_bodies()?;
     match scene.dim {
-        Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(scene, prepared)?))),
-        Dim::Spatial => Ok(Absolute::Spatial(Box::new(Spatial::compile(scene, prepared)?))),
+        Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(
+            scene, prepared,
+        )?))),
+        Dim::Spatial => Ok(Absolute::Spatial(Box::new(Spatial::compile(
+            scene, prepared,
+        )?))),
     }
 }
 

@@ -1,35 +1,12 @@
 //! The step loop of the flexible slider-crank (prismatic joint, spring–damper, state-dependent
 //! tangents) allocates nothing after set-up, with both inertia routes (counting allocator).
 
-// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
-#![allow(unsafe_code)]
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use flexmbd_body::InertiaMethod;
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::Scene;
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 #[test]
 fn slider_crank_steps_allocate_nothing() {
@@ -44,11 +21,11 @@ fn slider_crank_steps_allocate_nothing() {
         let mut f = flexmbd_absolute::compile(&scene).unwrap();
         let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
         s.step(&mut f).unwrap();
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = flexmbd_test_support::allocations();
         for _ in 0..300 {
             s.step(&mut f).unwrap();
         }
-        let allocated = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        let allocated = flexmbd_test_support::allocations() - before;
         assert_eq!(
             allocated, 0,
             "{method:?}: the step loop allocated {allocated} times"

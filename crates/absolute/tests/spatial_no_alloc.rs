@@ -3,36 +3,13 @@
 //! (constant rigid-body terms, spherical and revolute joints) and the flexible pendulum
 //! (natural-set inertia, gravity, elastic forces and tangents).
 
-// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
-#![allow(unsafe_code)]
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::Scene;
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 fn model(name: &str) -> Scene {
     Scene::load(format!(
@@ -67,7 +44,7 @@ fn spatial_steps_do_not_allocate() {
         for _ in 0..5 {
             s.step(&mut f).unwrap();
         }
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = flexmbd_test_support::allocations();
         for _ in 0..100 {
             s.step(&mut f).unwrap();
         }
@@ -75,7 +52,7 @@ fn spatial_steps_do_not_allocate() {
             out.clear(req);
             f.evaluate(s.t, &s.q, &s.qd, req, &mut out);
         }
-        let n = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        let n = flexmbd_test_support::allocations() - before;
         assert_eq!(n, 0, "{}: {n} allocations in 100 steps", scene.name);
     }
 }

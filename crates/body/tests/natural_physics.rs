@@ -15,7 +15,6 @@
 //! * body points: Jacobian, velocity, bias and point-force rows against differences;
 //! * one evaluation allocates nothing (thread-local counting allocator, so the
 //!   parallel tests of this binary do not interfere).
-#![allow(unsafe_code)]
 
 mod common;
 use common::*;
@@ -24,36 +23,13 @@ use flexmbd_body::{BodyPoint, BodyState, Dim, FlexibleBody, InertiaMethod, Natur
 use flexmbd_fe::{BeamBodySpec, ReducedBody, reduce};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 use rand::Rng;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
 // ---------------------------------------------------------------- allocator
 
-/// Counts the allocations of the current thread only.
-struct Counting;
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-fn bump() {
-    let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-}
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        bump();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, s: usize) -> *mut u8 {
-        bump();
-        unsafe { System.realloc(p, l, s) }
-    }
-}
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 fn allocs() -> usize {
-    ALLOCS.with(|c| c.get())
+    flexmbd_test_support::allocations()
 }
 
 // ---------------------------------------------------------------- helpers

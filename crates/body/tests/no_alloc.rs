@@ -1,35 +1,14 @@
 //! One inertia evaluation (both routes, 2D and 3D), the elastic forces and gravity
 //! allocate nothing after set-up (counting global allocator).
 //!
-//! A global allocator needs `unsafe impl GlobalAlloc`; it only forwards to `System`.
-#![allow(unsafe_code)]
 
 mod common;
 use common::*;
 use flexmbd_body::{Dim, FlexibleBody, InertiaMethod};
 use nalgebra::{DMatrix, DVector, Vector3};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, s: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(p, l, s) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 #[test]
 fn evaluation_allocates_nothing() {
@@ -63,7 +42,7 @@ fn evaluation_allocates_nothing() {
             y: view.y,
             y_dot: view.y_dot,
         };
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = flexmbd_test_support::allocations();
         for _ in 0..3 {
             body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
             body.inertia(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
@@ -80,7 +59,7 @@ fn evaluation_allocates_nothing() {
             );
             body.gravity_natural(&nat, &g, &mut gn);
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = flexmbd_test_support::allocations();
         assert_eq!(
             after - before,
             0,

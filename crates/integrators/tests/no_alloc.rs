@@ -1,34 +1,11 @@
 //! The step loop allocates nothing after set-up (counting global allocator).
 
-// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
-#![allow(unsafe_code)]
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use nalgebra::DVector;
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 /// Two point masses on rods: a double pendulum in natural coordinates (4 coordinates, 2 constraints).
 struct DoublePendulum;
@@ -88,11 +65,11 @@ fn steps_allocate_nothing() {
     let mut f = DoublePendulum;
     let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
     s.step(&mut f).unwrap();
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let before = flexmbd_test_support::allocations();
     for _ in 0..500 {
         s.step(&mut f).unwrap();
     }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let after = flexmbd_test_support::allocations();
     assert_eq!(
         after - before,
         0,

@@ -1,38 +1,15 @@
 //! The per-step path (evaluation passes and the ALI3-P step) allocates nothing
 //! (counting global allocator).
 
-// A counting global allocator is an `unsafe impl GlobalAlloc`; it only forwards to `System`.
-#![allow(unsafe_code)]
-
 mod common;
 use common::*;
-
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::Ali3p;
 use nalgebra::DVector;
 
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 #[test]
 fn steps_and_evaluations_do_not_allocate() {
@@ -57,13 +34,13 @@ fn steps_and_evaluations_do_not_allocate() {
             DVector::from_element(n, 0.01),
             DVector::from_element(n, 0.2),
         );
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = flexmbd_test_support::allocations();
         for _ in 0..50 {
             s.step(&mut f).unwrap();
         }
         terms.clear(Request::ALL);
         f.evaluate(0.1, &q, &qd, Request::ALL, &mut terms);
-        let count = ALLOCATIONS.load(Ordering::SeqCst) - before;
+        let count = flexmbd_test_support::allocations() - before;
         assert_eq!(count, 0, "{}: {count} allocations in 50 steps", scene.name);
     }
 }
