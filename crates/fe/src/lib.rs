@@ -63,7 +63,12 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     } else {
         spec.origin.as_str()
     };
-    let red = craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?;
+    let red = if spec.axial_modes == 0 {
+        craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?
+    } else {
+        let all = craig_bampton::reduce_matrices(&k, &m, &sets, sets.i.len(), name, &frame_txt)?;
+        select_axial(all, &mesh, spec.normal_modes, spec.axial_modes)?
+    };
     let c_ff = craig_bampton::damping_matrix(&spec.damping, &red);
     let cloud = cloud::build_cloud(&mesh, &red.x);
     let shape_integrals = ShapeIntegrals::from_cloud(&cloud);
@@ -138,6 +143,57 @@ pub fn node_modes(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<NodeModes> {
             }
         })
         .collect()
+}
+
+/// Keep the static modes, the `n_other` lowest normal modes that are not purely axial
+/// and the `n_axial` lowest purely axial ones (only Ux rows non-zero) of a reduction
+/// with every normal mode (`BeamBodySpec::axial_modes`).
+fn select_axial(
+    all: Reduction,
+    mesh: &Mesh,
+    n_other: usize,
+    n_axial: usize,
+) -> Result<Reduction, FeError> {
+    let d = mesh.dofs_per_node();
+    let nb = all.n_static();
+    let (mut other, mut axial) = (Vec::new(), Vec::new());
+    for j in 0..all.n_dynamic() {
+        let col = all.x.column(nb + j);
+        let (mut ux, mut rest) = (0.0_f64, 0.0_f64);
+        for (r, v) in col.iter().enumerate() {
+            if r % d == 0 {
+                ux = ux.max(v.abs());
+            } else {
+                rest = rest.max(v.abs());
+            }
+        }
+        if rest <= 1e-8 * ux {
+            if axial.len() < n_axial {
+                axial.push(nb + j);
+            }
+        } else if other.len() < n_other {
+            other.push(nb + j);
+        }
+    }
+    if axial.len() < n_axial || other.len() < n_other {
+        return Err(FeError::TooManyModes {
+            requested: n_other + n_axial,
+            available: other.len() + axial.len(),
+        });
+    }
+    let mut keep: Vec<usize> = (0..nb).collect();
+    let mut dynamic: Vec<usize> = other.into_iter().chain(axial).collect();
+    dynamic.sort_unstable();
+    keep.extend(&dynamic);
+    let pick =
+        |m: &DMatrix<f64>| DMatrix::from_fn(keep.len(), keep.len(), |i, j| m[(keep[i], keep[j])]);
+    Ok(Reduction {
+        x: all.x.select_columns(&keep),
+        m_ff: pick(&all.m_ff),
+        k_ff: pick(&all.k_ff),
+        omega_sq: dynamic.iter().map(|&c| all.omega_sq[c - nb]).collect(),
+        sets: all.sets,
+    })
 }
 
 fn format_dofs(d: &[NodeDof]) -> String {

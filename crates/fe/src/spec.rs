@@ -232,6 +232,13 @@ pub struct BeamBodySpec {
     pub boundary: Vec<NodeDof>,
     /// Number of fixed-interface normal modes n_d.
     pub normal_modes: usize,
+    /// Purely axial normal modes kept in addition (geometric stiffening, methods.md §6;
+    /// scenes.md §5 "4 bending + 2 axial"). When > 0, `normal_modes` counts the lowest
+    /// modes that are not purely axial, and the lowest `axial_modes` purely axial ones
+    /// (only Ux rows, i.e. a beam along body x) are added; normal modes stay in
+    /// ascending frequency. 0 (default): the `normal_modes` lowest modes of any kind.
+    #[serde(default)]
+    pub axial_modes: usize,
     /// Damping (default `None`).
     #[serde(default)]
     pub damping: Damping,

@@ -13,8 +13,8 @@
 //! - [`prepare_scene`]: the scene transformation done before compiling. For FNL2 it
 //!   completes the axial basis of every flexible straight beam along body x: a static
 //!   mode (Craig–Bampton boundary DOF) for the axial DOF `Ux` of every node but the
-//!   frame node, appended to the beam's `boundary` (§6.2 correction: FNL2 locks
-//!   without the complete axial basis). The modal-coordinate count changes, and
+//!   frame node, appended to the beam's `boundary`, and `axial_modes` set to 0 (§6.2
+//!   correction: FNL2 locks without the complete axial basis). The modal-coordinate count changes, and
 //!   `Modal` sensor indices of normal modes shift by the number of added modes.
 //!
 //! Limits: foreshortening (FS0) and substructuring are refused for now. The
@@ -84,7 +84,7 @@ impl Nonlinear {
             .filter(|&i| {
                 st.g_mean
                     .iter()
-                    .any(|g| g.row(i).amax() > 1e-14 * gmax.max(f64::MIN_POSITIVE))
+                    .any(|g| g.row(i).amax() > 1e-10 * gmax.max(f64::MIN_POSITIVE))
             })
             .collect();
         let nb = hidx.len();
@@ -397,6 +397,8 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
                 scene.origin, b.name
             )));
         }
+        // The axial normal modes are replaced by the complete static basis.
+        spec.axial_modes = 0;
         for node in 0..spec.n_nodes() {
             let nd = NodeDof { node, dof: Dof::Ux };
             if node != frame && !spec.boundary.contains(&nd) {

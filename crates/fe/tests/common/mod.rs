@@ -46,6 +46,7 @@ pub fn beam(
         frame,
         boundary,
         normal_modes,
+        axial_modes: 0,
         damping: Damping::None,
         origin: "test spec".to_string(),
     }
