@@ -282,6 +282,7 @@ fn driven_joints_follow_their_laws() {
         s.sensors.push(flexmbd_model::Sensor {
             name: "coordinate".into(),
             kind: flexmbd_model::SensorKind::JointCoordinate { joint: "j".into() },
+            displacement: false,
         });
         let h = 1e-3;
         let out = run_with(&s, h, 1.0, 1e-10);
@@ -313,6 +314,7 @@ fn sensors_are_consistent() {
                 component: axis,
                 frame: Some("link1".into()),
             },
+            displacement: false,
         });
         scene.sensors.push(Sensor {
             name: format!("v{k}"),
@@ -322,6 +324,7 @@ fn sensors_are_consistent() {
                 component: axis,
                 frame: None,
             },
+            displacement: false,
         });
         scene.sensors.push(Sensor {
             name: format!("own{k}"),
@@ -331,6 +334,7 @@ fn sensors_are_consistent() {
                 component: axis,
                 frame: Some("link2".into()),
             },
+            displacement: false,
         });
         scene.sensors.push(Sensor {
             name: format!("g{k}"),
@@ -340,6 +344,7 @@ fn sensors_are_consistent() {
                 component: axis,
                 frame: None,
             },
+            displacement: false,
         });
     }
     let h = 1e-3;
@@ -578,6 +583,7 @@ fn bad_input_gives_clear_errors() {
         kind: flexmbd_model::SensorKind::JointCoordinate {
             joint: "ball".into(),
         },
+        displacement: false,
     });
     let e = compile_err(&s);
     assert!(
@@ -635,6 +641,7 @@ fn bad_input_gives_clear_errors() {
             body: "beam".into(),
             index: 0,
         },
+        displacement: false,
     });
     let e = compile_err(&s);
     assert!(e.contains("y0") && e.contains("0 modal"), "{e}");

@@ -228,6 +228,13 @@ impl Scene {
                 )));
             }
             let item = |f: &str| format!("sensors[{}].{f}", sn.name);
+            if sn.displacement && !matches!(sn.kind, SensorKind::Position { .. }) {
+                return Err(self.invalid(InvalidValue::new(
+                    item("displacement"),
+                    true,
+                    "only a Position sensor can report a displacement",
+                )));
+            }
             match &sn.kind {
                 SensorKind::Position {
                     body,
@@ -362,6 +369,64 @@ impl Scene {
         scene.validate()?;
         *self = scene;
         Ok(())
+    }
+}
+
+impl Scene {
+    /// The undeformed position of `marker` of `body` (or a ground marker) at t = 0, in
+    /// ground components, or in `frame`'s body axes relative to its origin.
+    pub fn undeformed_position(
+        &self,
+        body: &str,
+        marker: &str,
+        frame: Option<&str>,
+    ) -> Option<nalgebra::Vector3<f64>> {
+        let placement = |name: &str| {
+            self.bodies
+                .iter()
+                .find(|b| b.name == name)
+                .map(|b| (b.origin.vec(), b.orientation.matrix()))
+        };
+        let global = if body == GROUND {
+            self.ground
+                .iter()
+                .find(|m| m.name == marker)?
+                .position
+                .vec()
+        } else {
+            let b = self.bodies.iter().find(|b| b.name == body)?;
+            let (o, a) = placement(body)?;
+            o + a * b.markers.iter().find(|m| m.name == marker)?.position.vec()
+        };
+        match frame {
+            None | Some(GROUND) => Some(global),
+            Some(f) => {
+                let (o, a) = placement(f)?;
+                Some(a.transpose() * (global - o))
+            }
+        }
+    }
+
+    /// Per sensor, the value to subtract from what the formulation reports: the undeformed
+    /// position component for `displacement` sensors, 0 otherwise.
+    pub fn sensor_offsets(&self) -> Vec<f64> {
+        self.sensors
+            .iter()
+            .map(|s| match (&s.kind, s.displacement) {
+                (
+                    SensorKind::Position {
+                        body,
+                        marker,
+                        component,
+                        frame,
+                    },
+                    true,
+                ) => self
+                    .undeformed_position(body, marker, frame.as_deref())
+                    .map_or(0.0, |p| p[component.index()]),
+                _ => 0.0,
+            })
+            .collect()
     }
 }
 

@@ -397,6 +397,12 @@ pub struct Sensor {
     pub name: String,
     /// What it measures.
     pub kind: SensorKind,
+    /// For a `Position` sensor: report the displacement, the position minus the marker's
+    /// undeformed position in the same frame (from the bodies' placements at t = 0), e.g.
+    /// the tip displacement of a beam in its own turning frame. Applied by
+    /// `flexmbd::simulation` to every formulation alike.
+    #[serde(default)]
+    pub displacement: bool,
 }
 
 /// What a sensor measures.

@@ -262,6 +262,7 @@ fn rigid_check(form: FormulationKind) -> Result<Rigid, Error> {
                 component,
                 frame: None,
             },
+            displacement: false,
         });
     }
     let (summary, history) = simulation::run(&rigid, |_| {})?;
