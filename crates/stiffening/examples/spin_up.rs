@@ -3,6 +3,7 @@
 //! CPU time and Newton iterations per step.
 //!
 //! `cargo run --release -p flexmbd-stiffening --example spin_up -- [2d|3d] [duration] [absolute|relative]`
+//! with `SPIN_UP_METHODS=linear,fnl1,fnl2,sb5,sb10,sb20` (substructuring runs relative).
 
 use flexmbd::model::{FormulationKind, Scene, Stiffening};
 use flexmbd::simulation::run;
@@ -28,11 +29,19 @@ fn main() {
     };
     // SPIN_UP_SCENE=path runs another scene file (e.g. another axial basis).
     let path = std::env::var("SPIN_UP_SCENE").unwrap_or_else(|_| format!("{root}{file}"));
-    let methods: Vec<Stiffening> = match std::env::var("SPIN_UP_METHODS").as_deref() {
-        Ok("fnl1") => vec![Stiffening::Fnl1],
-        Ok("fnl2") => vec![Stiffening::Fnl2],
-        _ => vec![Stiffening::Linear, Stiffening::Fnl1, Stiffening::Fnl2],
-    };
+    // SPIN_UP_METHODS=linear,fnl1,fnl2,sb5,sb10,sb20 (default linear,fnl1,fnl2).
+    let methods: Vec<Stiffening> = std::env::var("SPIN_UP_METHODS")
+        .unwrap_or_else(|_| "linear,fnl1,fnl2".into())
+        .split(',')
+        .map(|m| match m {
+            "linear" => Stiffening::Linear,
+            "fnl1" => Stiffening::Fnl1,
+            "fnl2" => Stiffening::Fnl2,
+            sb => Stiffening::Substructuring(
+                sb.trim_start_matches("sb").parse().expect("method name"),
+            ),
+        })
+        .collect();
     let t0 = std::time::Instant::now();
     let reference = run_spin_up(&CableSpec::spin_up_beam(dim, 16), 1e-3, duration, 0.01)
         .expect("ANCF reference");
@@ -46,7 +55,10 @@ fn main() {
         let mut scene = Scene::load(&path).expect("scene");
         scene.solver.stiffening = st;
         scene.solver.duration = duration;
-        scene.solver.formulation = formulation;
+        scene.solver.formulation = match st {
+            Stiffening::Substructuring(_) => FormulationKind::Relative,
+            _ => formulation,
+        };
         let (summary, hist) = run(&scene, |_| {}).expect("compile");
         let cols = ["tip_x", "tip_y", "tip_z"];
         let mut err = [0.0_f64; 3];

@@ -17,15 +17,24 @@
 //!   correction: FNL2 locks without the complete axial basis). The modal-coordinate count changes, and
 //!   `Modal` sensor indices of normal modes shift by the number of added modes.
 //!
-//! Limits: foreshortening (FS0) and substructuring are refused for now. The
+//!   For `Substructuring(n)` it splits every flexible straight beam into n equal
+//!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
+//!
+//! Limits: foreshortening (FS0) is refused; substructuring runs in the relative
+//! formulation only. The
 //! formulations' `Energy` sensor still uses ½yᵀK_ff y for the elastic energy.
+
+pub mod foreshortening;
 
 use std::borrow::Cow;
 
 use flexmbd_body::{ElasticModel, FlexibleBody};
 use flexmbd_fe::{Dof, NodeDof, ReducedBody, ReferenceFrame};
-use flexmbd_model::{BodyModel, ModelError, PreparedBody, Scene, Stiffening};
-use nalgebra::{DMatrix, DMatrixViewMut};
+use flexmbd_model::{
+    Body, BodyModel, FormulationKind, Joint, JointKind, Marker, ModelError, PreparedBody, Scene,
+    SensorKind, Stiffening, V3,
+};
+use nalgebra::{DMatrix, DMatrixViewMut, Vector3};
 
 /// Which nonlinear force model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -329,9 +338,8 @@ pub fn elastic_model(
         Stiffening::Linear => Ok(None),
         Stiffening::Fnl1 => Ok(Some(Box::new(Nonlinear::fnl1(body)))),
         Stiffening::Fnl2 => Ok(Some(Box::new(Nonlinear::fnl2(body)))),
-        Stiffening::Foreshortening => Err(ModelError::Unsupported(
-            "stiffening Foreshortening (FS0) is not available yet".into(),
-        )),
+        // FS0: linear elasticity; the stiffening is in the kinematics (`foreshortening`).
+        Stiffening::Foreshortening => Ok(None),
         // The scene was transformed by `prepare_scene`: its bodies are linear.
         Stiffening::Substructuring(_) => Ok(None),
     }
@@ -350,6 +358,9 @@ pub fn install(
     if let Some(m) = elastic_model(scene.solver.stiffening, &prep.reduced)? {
         body.set_elastic_model(m);
     }
+    if scene.solver.stiffening == Stiffening::Foreshortening {
+        foreshortening::install(scene, prep, body)?;
+    }
     Ok(())
 }
 
@@ -359,12 +370,8 @@ pub fn prepare_scene(scene: &Scene) -> Result<Cow<'_, Scene>, ModelError> {
     match scene.solver.stiffening {
         Stiffening::Linear | Stiffening::Fnl1 => Ok(Cow::Borrowed(scene)),
         Stiffening::Fnl2 => complete_axial_basis(scene).map(Cow::Owned),
-        Stiffening::Foreshortening => Err(ModelError::Unsupported(
-            "stiffening Foreshortening (FS0) is not available yet".into(),
-        )),
-        Stiffening::Substructuring(n) => Err(ModelError::Unsupported(format!(
-            "stiffening Substructuring({n}) is not available yet"
-        ))),
+        Stiffening::Foreshortening => foreshortening::prepare(scene).map(Cow::Owned),
+        Stiffening::Substructuring(n) => substructure(scene, n).map(Cow::Owned),
     }
 }
 
@@ -404,6 +411,196 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
             if node != frame && !spec.boundary.contains(&nd) {
                 spec.boundary.push(nd);
             }
+        }
+    }
+    Ok(out)
+}
+
+/// Substructuring SBn (methods.md §6.4, scenes.md §5): every flexible beam (straight along
+/// body x, frame clamped at node 0, one segment) becomes n bodies `{name}_1` …
+/// `{name}_n`, each a 2-element beam (whatever the original mesh; markers must sit on
+/// the new nodes), frame clamped at its inner node, static modes of
+/// every DOF of its outer node (2D: u, v, θ; 3D: 6) and one fixed-interface mode per
+/// bending plane (3D: 2), linear elasticity; consecutive bodies are joined by `Rigid`
+/// joints `{name}_bracket_k` between `outer` and `inner` markers. Markers, joints and
+/// sensors naming the beam move to the substructure that holds the point (the root to
+/// the first, a point on an interface to the inner end of the outer body, the tip to the
+/// last); a sensor frame naming the beam becomes the first substructure's frame, which is
+/// the beam's floating frame. `Modal` sensors and initial modes of a split beam are refused.
+pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
+    let refuse = |what: String| Err(ModelError::Unsupported(format!("{}: {what}", scene.origin)));
+    if n == 0 {
+        return refuse("substructuring needs n ≥ 1 substructures".into());
+    }
+    if scene.solver.formulation != FormulationKind::Relative {
+        return refuse(format!(
+            "substructuring SB{n} runs in the relative formulation only (methods.md §6.4); \
+             use --formulation relative"
+        ));
+    }
+    let mut out = scene.clone();
+    out.solver.stiffening = Stiffening::Linear;
+    out.bodies.clear();
+    out.joints = scene.joints.clone();
+    // (old body, old marker) → (new body, new marker name)
+    let mut moved: Vec<(String, String, String, String)> = Vec::new();
+    let mut first_of: Vec<(String, String)> = Vec::new();
+    for b in &scene.bodies {
+        let BodyModel::Beam(spec) = &b.model else {
+            out.bodies.push(b.clone());
+            continue;
+        };
+        if !b.flexible {
+            out.bodies.push(b.clone());
+            continue;
+        }
+        let pts = &spec.geometry.points;
+        let straight = pts.len() == 2
+            && pts[0].iter().all(|c| *c == 0.0)
+            && pts[1].iter().skip(1).all(|c| *c == 0.0)
+            && pts[1][0] > 0.0;
+        if !straight || spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
+            return refuse(format!(
+                "body `{}`: substructuring needs a straight beam from the origin along body x \
+                 with its frame clamped at node 0",
+                b.name
+            ));
+        }
+        if !b.initial_modes.is_empty() {
+            return refuse(format!(
+                "body `{}`: initial modes of a split beam are not supported",
+                b.name
+            ));
+        }
+        // Each substructure: 2 elements (methods.md §6.4 prototype, scenes.md §5).
+        let (length, per) = (pts[1][0], 2);
+        let ls = length / n as f64;
+        let a0 = b.orientation.matrix();
+        let planar = spec.dim == flexmbd_core::Dim::Planar;
+        let dofs: &[Dof] = if planar {
+            &[Dof::Ux, Dof::Uy, Dof::Rz]
+        } else {
+            &[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]
+        };
+        let v3 = |x: f64| V3([x, 0.0, 0.0]);
+        let point = |x: f64| -> Vec<f64> {
+            if planar {
+                vec![x, 0.0]
+            } else {
+                vec![x, 0.0, 0.0]
+            }
+        };
+        let name = |k: usize| format!("{}_{}", b.name, k + 1);
+        first_of.push((b.name.clone(), name(0)));
+        for k in 0..n {
+            let mut sub = spec.clone();
+            sub.geometry.points = vec![point(0.0), point(ls)];
+            sub.geometry.elements_per_segment = per;
+            sub.boundary = dofs.iter().map(|&dof| NodeDof { node: per, dof }).collect();
+            sub.normal_modes = if planar { 1 } else { 2 };
+            sub.axial_modes = 0;
+            let offset = a0 * Vector3::new(k as f64 * ls, 0.0, 0.0);
+            let w = b.velocity.angular.vec();
+            let mut velocity = b.velocity.clone();
+            velocity.linear = V3((b.velocity.linear.vec() + w.cross(&offset)).into());
+            let mut markers = vec![
+                Marker {
+                    name: "inner".into(),
+                    position: v3(0.0),
+                },
+                Marker {
+                    name: "outer".into(),
+                    position: v3(ls),
+                },
+            ];
+            for m in &b.markers {
+                let x = m.position.0[0];
+                let kk = ((x / ls + 1e-9).floor() as usize).min(n - 1);
+                if kk == k {
+                    markers.push(Marker {
+                        name: m.name.clone(),
+                        position: v3(x - k as f64 * ls),
+                    });
+                    moved.push((b.name.clone(), m.name.clone(), name(k), m.name.clone()));
+                }
+            }
+            out.bodies.push(Body {
+                name: name(k),
+                origin: V3((b.origin.vec() + offset).into()),
+                orientation: b.orientation.clone(),
+                model: BodyModel::Beam(sub),
+                flexible: true,
+                markers,
+                velocity,
+                initial_modes: Vec::new(),
+            });
+            if k > 0 {
+                out.joints.push(Joint {
+                    name: format!("{}_bracket_{k}", b.name),
+                    kind: JointKind::Rigid,
+                    body1: name(k - 1),
+                    marker1: "outer".into(),
+                    body2: name(k),
+                    marker2: "inner".into(),
+                });
+            }
+        }
+    }
+    let remap = |body: &mut String, marker: &mut String| {
+        if let Some((_, _, nb, nm)) = moved
+            .iter()
+            .find(|(ob, om, _, _)| ob == body && om == marker)
+        {
+            *body = nb.clone();
+            *marker = nm.clone();
+        }
+    };
+    for j in out.joints.iter_mut() {
+        remap(&mut j.body1, &mut j.marker1);
+        remap(&mut j.body2, &mut j.marker2);
+    }
+    for f in out.forces.iter_mut() {
+        let flexmbd_model::Force::SpringDamper {
+            body1,
+            marker1,
+            body2,
+            marker2,
+            ..
+        } = f;
+        remap(body1, marker1);
+        remap(body2, marker2);
+    }
+    let frame_of = |f: &mut Option<String>| {
+        if let Some(name) = f
+            && let Some((_, first)) = first_of.iter().find(|(o, _)| o == name)
+        {
+            *name = first.clone();
+        }
+    };
+    for s in out.sensors.iter_mut() {
+        match &mut s.kind {
+            SensorKind::Position {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            } => {
+                remap(body, marker);
+                frame_of(frame);
+            }
+            SensorKind::Modal { body, .. } if first_of.iter().any(|(o, _)| o == body) => {
+                return refuse(format!(
+                    "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
+                    s.name
+                ));
+            }
+            _ => {}
         }
     }
     Ok(out)
