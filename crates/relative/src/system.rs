@@ -147,6 +147,15 @@ pub struct Relative {
     /// z and ż of the last kinematics pass.
     pub(crate) last_z: DVector<f64>,
     pub(crate) last_zd: DVector<f64>,
+    /// The frame positions and twists are those of `last_z`.
+    pos_ok: bool,
+    /// The frame velocities and D are those of `last_z` and `vel_zd`.
+    vel_ok: bool,
+    vel_zd: DVector<f64>,
+    /// Per frame: a `Fixed` frame whose rotation is exactly I.
+    fixed_identity: Vec<bool>,
+    /// The current constraint pass writes Φ_w (a Jacobian was requested).
+    jac: bool,
 }
 
 fn unsupported(s: String) -> ModelError {
@@ -461,6 +470,11 @@ impl Relative {
 
         let nf = topo.frames.len();
         let ne = topo.elems.len();
+        let fixed_identity = topo
+            .frames
+            .iter()
+            .map(|f| matches!(&f.kind, FrameKind::Fixed { rot, .. } if *rot == Matrix3::identity()))
+            .collect();
         let mut rel = Relative {
             dim,
             nr,
@@ -495,6 +509,11 @@ impl Relative {
             z_names,
             last_z: DVector::zeros(n_z),
             last_zd: DVector::zeros(n_z),
+            pos_ok: false,
+            vel_ok: false,
+            vel_zd: DVector::zeros(n_z),
+            fixed_identity,
+            jac: true,
         };
         if dim == Dim::Planar {
             rel.gravity.z = 0.0;
@@ -690,66 +709,133 @@ impl Relative {
     }
 
     /// §4.5 steps 1–3: positions, velocities Z^r and velocity-product accelerations D of
-    /// every frame, root → leaves; twists v_e of the elementary joints.
+    /// every frame, root → leaves; twists v_e of the elementary joints. Sets `last_z`,
+    /// `last_zd` and the caches of [`update_positions`](Self::update_positions) and
+    /// [`update_velocities`](Self::update_velocities).
     pub(crate) fn kinematics(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
+        self.last_z.copy_from(z);
+        self.last_zd.copy_from(zd);
+        self.positions();
+        self.pos_ok = true;
+        self.velocities();
+        self.vel_zd.copy_from(zd);
+        self.vel_ok = true;
+    }
+
+    /// Positions (and twists) at z unless they are already those of `last_z`; invalidates
+    /// the velocities when z changed.
+    fn update_positions(&mut self, z: &DVector<f64>) {
+        if self.pos_ok && self.last_z.as_slice() == z.as_slice() {
+            return;
+        }
+        self.last_z.copy_from(z);
+        self.positions();
+        self.pos_ok = true;
+        self.vel_ok = false;
+    }
+
+    /// Velocities and D at `last_zd` unless already done at these positions and rates.
+    fn update_velocities(&mut self) {
+        if self.vel_ok && self.vel_zd.as_slice() == self.last_zd.as_slice() {
+            return;
+        }
+        self.vel_zd.copy_from(&self.last_zd);
+        self.velocities();
+        self.vel_ok = true;
+    }
+
+    /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
+    /// on positions only), root → leaves.
+    fn positions(&mut self) {
+        let z = self.last_z.as_slice();
         for f in 0..self.topo.frames.len() {
-            let (rp, ap, zp, dp) = match self.topo.frames[f].parent {
-                None => (
-                    Vector3::zeros(),
-                    Matrix3::identity(),
-                    Vector6::zeros(),
-                    Vector6::zeros(),
-                ),
-                Some(p) => (self.fr_r[p], self.fr_a[p], self.fr_z[p], self.fr_d[p]),
+            let (rp, ap) = match self.topo.frames[f].parent {
+                None => (Vector3::zeros(), Matrix3::identity()),
+                Some(p) => (self.fr_r[p], self.fr_a[p]),
             };
             match &self.topo.frames[f].kind {
                 FrameKind::Fixed { offset, rot } => {
                     self.fr_r[f] = rp + ap * offset;
-                    self.fr_a[f] = ap * rot;
-                    self.fr_z[f] = zp;
-                    self.fr_d[f] = dp;
+                    self.fr_a[f] = if self.fixed_identity[f] { ap } else { ap * rot };
                 }
                 FrameKind::Elem(e) => {
                     let e = *e;
                     let el = &self.topo.elems[e];
-                    let (mut val, mut rate) = (0.0, 0.0);
+                    let mut val = 0.0;
                     for &(c, k) in &self.elem_rate[e] {
                         val += k * z[c];
-                        rate += k * zd[c];
                     }
                     let a = ap * el.axis;
-                    let s_f = zp.fixed_rows::<3>(0).into_owned();
-                    let w_f = zp.fixed_rows::<3>(3).into_owned();
-                    let wxa = w_f.cross(&a);
                     let mut v = Vector6::zeros();
-                    let mut d = dp;
                     match el.kind {
                         ElemKind::Revolute => {
-                            // b = {p × a; a}, d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
+                            // b = {p × a; a}.
                             v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
                             v.fixed_rows_mut::<3>(3).copy_from(&a);
-                            let p_dot = s_f + w_f.cross(&rp);
-                            let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
-                            for i in 0..3 {
-                                d[i] += ds[i];
-                                d[3 + i] += wxa[i] * rate;
-                            }
                             self.fr_r[f] = rp;
                             self.fr_a[f] = ap
                                 * Rotation3::from_axis_angle(&Unit::new_unchecked(el.axis), val)
                                     .matrix();
                         }
                         ElemKind::Prismatic => {
-                            // b = {a; 0}, d = {(ω_f × a) ė; 0}.
+                            // b = {a; 0}.
                             v.fixed_rows_mut::<3>(0).copy_from(&a);
-                            for i in 0..3 {
-                                d[i] += wxa[i] * rate;
-                            }
                             self.fr_r[f] = rp + a * val;
                             self.fr_a[f] = ap;
                         }
                     }
                     self.ev[e] = v;
+                }
+            }
+        }
+    }
+
+    /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
+    fn velocities(&mut self) {
+        let zd = self.last_zd.as_slice();
+        for f in 0..self.topo.frames.len() {
+            let (zp, dp) = match self.topo.frames[f].parent {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(p) => (self.fr_z[p], self.fr_d[p]),
+            };
+            match &self.topo.frames[f].kind {
+                FrameKind::Fixed { .. } => {
+                    self.fr_z[f] = zp;
+                    self.fr_d[f] = dp;
+                }
+                FrameKind::Elem(e) => {
+                    let e = *e;
+                    let el = &self.topo.elems[e];
+                    let mut rate = 0.0;
+                    for &(c, k) in &self.elem_rate[e] {
+                        rate += k * zd[c];
+                    }
+                    let v = self.ev[e];
+                    let w_f = zp.fixed_rows::<3>(3).into_owned();
+                    let mut d = dp;
+                    match el.kind {
+                        ElemKind::Revolute => {
+                            // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
+                            let a = v.fixed_rows::<3>(3).into_owned();
+                            let wxa = w_f.cross(&a);
+                            let rp = self.fr_r[f];
+                            let s_f = zp.fixed_rows::<3>(0).into_owned();
+                            let p_dot = s_f + w_f.cross(&rp);
+                            let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
+                            for i in 0..3 {
+                                d[i] += ds[i];
+                                d[3 + i] += wxa[i] * rate;
+                            }
+                        }
+                        ElemKind::Prismatic => {
+                            // d = {(ω_f × a) ė; 0}.
+                            let a = v.fixed_rows::<3>(0).into_owned();
+                            let wxa = w_f.cross(&a);
+                            for i in 0..3 {
+                                d[i] += wxa[i] * rate;
+                            }
+                        }
+                    }
                     self.fr_z[f] = zp + v * rate;
                     self.fr_d[f] = d;
                 }
@@ -810,8 +896,8 @@ impl Relative {
         for p in &mut self.fr_p {
             p.fill(0.0);
         }
-        self.m_w.fill(0.0);
-        self.q_w.fill(0.0);
+        // M_w and Q_w need no clearing: every pass writes the same set of their entries
+        // (the others stay at their compile-time zeros).
         // Step 4: P_k = Q̄_k − M̄_k {D_k; 0}; own rigid blocks; modal rows of M_w, Q_w.
         for k in 0..self.bodies.len() {
             let b = &self.bodies[k];
@@ -872,27 +958,36 @@ impl Relative {
             self.q_w[we] = self.ev[e].dot(&self.fr_p[f]);
         }
         // M = Lᵀ M_w L, Q = Lᵀ Q_w.
-        let nz = self.n_z;
-        if self.n_w == nz {
-            out.mass.copy_from(&self.m_w);
-            out.forces.copy_from(&self.q_w);
-        } else {
-            for j in 0..self.n_w {
-                for i in 0..self.n_w {
-                    let v = self.m_w[(i, j)];
-                    if v == 0.0 {
-                        continue;
-                    }
-                    for &(c, a) in &self.l_rows[i] {
-                        for &(d, b) in &self.l_rows[j] {
-                            out.mass[(c, d)] += a * b * v;
-                        }
+        // L = [I; L_node] (the first n_z entries of w are z itself).
+        let (nz, nw) = (self.n_z, self.n_w);
+        out.mass.copy_from(&self.m_w.view((0, 0), (nz, nz)));
+        out.forces.copy_from(&self.q_w.rows(0, nz));
+        for j in nz..nw {
+            let lj = &self.l_rows[j];
+            for i in 0..nz {
+                let v = self.m_w[(i, j)];
+                if v == 0.0 {
+                    continue;
+                }
+                for &(d, b) in lj {
+                    out.mass[(i, d)] += b * v;
+                    out.mass[(d, i)] += b * v;
+                }
+            }
+            for i in nz..nw {
+                let v = self.m_w[(i, j)];
+                if v == 0.0 {
+                    continue;
+                }
+                for &(c, a) in &self.l_rows[i] {
+                    for &(d, b) in lj {
+                        out.mass[(c, d)] += a * b * v;
                     }
                 }
-                let qv = self.q_w[j];
-                for &(c, a) in &self.l_rows[j] {
-                    out.forces[c] += a * qv;
-                }
+            }
+            let qv = self.q_w[j];
+            for &(c, a) in lj {
+                out.forces[c] += a * qv;
             }
         }
         if tangents {
@@ -920,6 +1015,9 @@ impl Relative {
     fn body_row(&mut self, row: usize, body: Option<usize>, g: &Vector6<f64>) -> f64 {
         let Some(k) = body else { return 0.0 };
         let f = self.bodies[k].frame;
+        if !self.jac {
+            return g.dot(&self.fr_d[f]);
+        }
         for &a in &self.paths[f] {
             self.phi_w[(row, self.elem_w[a])] += g.dot(&self.ev[a]);
         }
@@ -927,7 +1025,8 @@ impl Relative {
     }
 
     fn constraints(&mut self, t: f64, req: Request, out: &mut SystemTerms) {
-        if req.jacobian || req.accel_term {
+        self.jac = req.jacobian;
+        if req.jacobian {
             self.phi_w.fill(0.0);
         }
         let mut row = 0;
@@ -1020,7 +1119,7 @@ impl Relative {
                     if req.constraints {
                         out.phi[row] = self.last_z[zc] - sign * th;
                     }
-                    if req.jacobian || req.accel_term {
+                    if req.jacobian {
                         self.phi_w[(row, zc)] += 1.0;
                     }
                     if req.jacobian {
@@ -1034,15 +1133,12 @@ impl Relative {
             row += self.cons[ci].rows(self.dim);
         }
         if req.jacobian {
-            // Φ_z = Φ_w L.
-            for w in 0..self.n_w {
+            // Φ_z = Φ_w L, L = [I; L_node].
+            let nz = self.n_z;
+            out.phi_q.copy_from(&self.phi_w.columns(0, nz));
+            for w in nz..self.n_w {
                 for &(c, a) in &self.l_rows[w] {
-                    for r in 0..self.n_con {
-                        let v = self.phi_w[(r, w)];
-                        if v != 0.0 {
-                            out.phi_q[(r, c)] += a * v;
-                        }
-                    }
+                    out.phi_q.column_mut(c).axpy(a, &self.phi_w.column(w), 1.0);
                 }
             }
         }
@@ -1078,7 +1174,9 @@ impl Relative {
                     b.rows.t(node, 1, m),
                     b.rows.t(node, 2, m),
                 );
-                self.phi_w[(row, b.y_off + m)] += sg * at_e.dot(&col);
+                if self.jac {
+                    self.phi_w[(row, b.y_off + m)] += sg * at_e.dot(&col);
+                }
                 axy += col * self.last_zd[b.y_off + m];
             }
             bias += e.dot(&w.cross(&(a * axy)));
@@ -1116,7 +1214,9 @@ impl Relative {
                     b.rows.r(node, 1, m),
                     b.rows.r(node, 2, m),
                 );
-                self.phi_w[(row, b.y_off + m)] += at_u.dot(&col.cross(dbar));
+                if self.jac {
+                    self.phi_w[(row, b.y_off + m)] += at_u.dot(&col.cross(dbar));
+                }
                 th_d += col * self.last_zd[b.y_off + m];
             }
             extra = a * th_d.cross(dbar);
@@ -1129,6 +1229,9 @@ impl Relative {
         let (Some(k), Some(node)) = (s.body, s.node) else {
             return;
         };
+        if !self.jac {
+            return;
+        }
         let b = &self.bodies[k];
         for m in 0..b.n {
             self.phi_w[(row, b.y_off + m)] += scale * b.rows.r(node, 2, m);
@@ -1223,6 +1326,13 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
                 vl[i] += b.rows.t(node, i, m) * yd;
             }
         }
+        // FS0 (methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+        let ys = b.y_off..b.y_off + b.n;
+        let (y, yd) = (&rel.last_z.as_slice()[ys.clone()], &rel.last_zd.as_slice()[ys]);
+        if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
+            pl += sh.position;
+            vl += sh.velocity;
+        }
     }
     let p = r0 + a * pl;
     let sd = zr.fixed_rows::<3>(0).into_owned();
@@ -1291,6 +1401,13 @@ impl flexmbd_core::Formulation for Relative {
             .iter()
             .all(|b| b.body.elastic_model().is_symmetric())
     }
+    fn constant_tangents(&self) -> bool {
+        // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
+        // linear elasticity, state-dependent for the stiffening models.
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_linear())
+    }
     fn evaluate(
         &mut self,
         t: f64,
@@ -1299,9 +1416,13 @@ impl flexmbd_core::Formulation for Relative {
         req: Request,
         out: &mut SystemTerms,
     ) {
-        self.last_z.copy_from(q);
+        // Only the work the request needs: positions (and twists) when z changed, velocities
+        // and D only for M, Q or c, and when z or ż changed.
         self.last_zd.copy_from(qd);
-        self.kinematics(q, qd);
+        self.update_positions(q);
+        if req.dynamics || req.accel_term {
+            self.update_velocities();
+        }
         if req.dynamics {
             self.dynamics(q, qd, req.tangents, out);
         }
