@@ -64,6 +64,7 @@ fn body(dim: Dim, n: usize, np: usize) -> ReducedBody {
         shape_integrals: si,
         nodes: vec![],
         stiffening: StiffeningIntegrals::default(),
+        foreshortening: None,
     }
 }
 

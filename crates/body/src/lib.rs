@@ -41,6 +41,7 @@
 
 mod bmatrix;
 pub mod elastic;
+mod foreshortening;
 mod natural;
 mod natural_points;
 mod shape;
@@ -48,6 +49,7 @@ mod shape;
 pub use elastic::{ElasticModel, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
+pub use foreshortening::NodeShift;
 pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
 
 use nalgebra::{
@@ -208,6 +210,8 @@ pub struct FlexibleBody {
     c_ff: DMatrix<f64>,
     elastic: Box<dyn ElasticModel>,
     pub(crate) ws: Workspace,
+    /// FS0 data (methods.md §6.3), when the body is foreshortened.
+    pub(crate) fs: Option<foreshortening::Foreshortening>,
 }
 
 fn check_shape(field: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), InvalidValue> {
@@ -367,7 +371,17 @@ impl FlexibleBody {
             }
         }
 
+        let fs = match &reduced.foreshortening {
+            Some(d) => Some(foreshortening::Foreshortening::new(
+                d,
+                reduced.dim,
+                n,
+                cloud.len(),
+            )?),
+            None => None,
+        };
         Ok(Self {
+            fs,
             dim: reduced.dim,
             n,
             mass: si.mass,
@@ -472,6 +486,14 @@ impl FlexibleBody {
             self.n,
             "inertia: y_dot must have n entries"
         );
+        if self.fs.is_some() {
+            assert!(
+                method == InertiaMethod::BMatrix,
+                "inertia: a foreshortened body (FS0) needs InertiaMethod::BMatrix \
+                 (refuse at set-up with check_inertia_method)"
+            );
+            return self.bmatrix_fs(state, m_out, qv_out);
+        }
         match (self.dim, method) {
             (Dim::Spatial, InertiaMethod::ShapeIntegrals) => self.shape_3d(state, m_out, qv_out),
             (Dim::Planar, InertiaMethod::ShapeIntegrals) => self.shape_2d(state, m_out, qv_out),
@@ -577,6 +599,10 @@ impl FlexibleBody {
             ws.0.qy.len(),
             self.n,
             "inertia_natural: workspace of another body"
+        );
+        assert!(
+            self.fs.is_none(),
+            "inertia_natural: foreshortening (FS0) is not implemented in natural coordinates"
         );
         match (self.dim, method) {
             (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {

@@ -9,6 +9,7 @@ pub mod beam;
 pub mod cloud;
 pub mod craig_bampton;
 pub mod error;
+pub mod foreshortening;
 pub mod modal;
 pub mod reduced;
 pub mod rigid;
@@ -21,6 +22,7 @@ use nalgebra::{DMatrix, Vector3};
 pub use assembly::{DofSets, Mesh};
 pub use craig_bampton::Reduction;
 pub use error::FeError;
+pub use foreshortening::ForeshorteningData;
 pub use reduced::{
     Dof, MassCloud, ModeInventory, NodeDof, NodeModes, ReducedBody, ShapeIntegrals,
     StiffeningIntegrals,
@@ -100,6 +102,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
             g_mean,
             h_weight,
         },
+        foreshortening: None,
     };
     Ok(Preprocessed {
         mesh,

@@ -171,6 +171,10 @@ pub struct ReducedBody {
     pub nodes: Vec<NodeModes>,
     /// Geometric-stiffening integrals.
     pub stiffening: StiffeningIntegrals,
+    /// Foreshortening data (FS0, methods.md §6.3): F at every cloud point and node.
+    /// Computed only when asked ([`crate::foreshortening::foreshortening`]); `None` otherwise.
+    #[serde(default)]
+    pub foreshortening: Option<crate::foreshortening::ForeshorteningData>,
 }
 
 impl ReducedBody {

@@ -166,6 +166,7 @@ impl ReducedBody {
             shape_integrals,
             nodes: Vec::new(),
             stiffening: StiffeningIntegrals::default(),
+            foreshortening: None,
         })
     }
 }

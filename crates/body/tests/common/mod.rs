@@ -62,6 +62,7 @@ pub fn body_from_cloud<R: Rng>(r: &mut R, dim: Dim, cloud: MassCloud) -> Reduced
         shape_integrals: si,
         nodes: vec![],
         stiffening: StiffeningIntegrals::default(),
+        foreshortening: None,
     }
 }
 

@@ -1,0 +1,334 @@
+//! Foreshortening, FS0 (methods.md §6.3): route (a) with the configuration-dependent
+//! mode rows of a straight beam that shortens along its axis ē₁.
+//!
+//! For each cloud point k, with its own `F_k` (n × n, symmetric):
+//!
+//! ```text
+//! r̄_k = r̄_uk + X_k y − ½ ē₁ yᵀF_k y,        X̂_k = X_k − ē₁ (F_k y)ᵀ,
+//! B_k = [I  −r̃_k  A X̂_k],
+//! Ḃ_k Z = ω × ṡ + ω × (ω × r_k) + 2 ω × A X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ),
+//! M̄ = Σ w_k B_kᵀ B_k,   Q̄_v = −Σ w_k B_kᵀ (Ḃ_k Z).
+//! ```
+//!
+//! The 13 shape integrals do not suffice (integrals of F, XᵀF and F ⊗ F would be
+//! needed), so [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod) is refused for
+//! a foreshortened body ([`FlexibleBody::check_inertia_method`]). Natural coordinates
+//! (methods.md §2.5) are not implemented for FS0.
+//!
+//! The same kinematics at an FE node give the marker helper
+//! [`FlexibleBody::node_foreshortening`] (position shift −½ ē₁ yᵀF_node y, its rate
+//! −ē₁ (F_node y)·ẏ, the velocity-product term −ē₁ ẏᵀF_node ẏ and the Jacobian
+//! −ē₁ (F_node y)ᵀ), which formulations add to marker and sensor kinematics.
+
+use flexmbd_core::{Dim, InvalidValue};
+use flexmbd_fe::ForeshorteningData;
+use nalgebra::{DMatrix, Dyn, Matrix, Matrix3, StorageMut, U1, Vector3};
+
+use crate::{BodyState, FlexibleBody, InertiaMethod, dot};
+
+/// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
+#[derive(Clone, Debug)]
+pub(crate) struct Foreshortening {
+    axis: Vector3<f64>,
+    /// F_k row-major, n² per cloud point.
+    cloud: Vec<f64>,
+    /// F at every FE node, n² per node.
+    nodes: Vec<f64>,
+    /// Scratch: X̂_k (3n), F_k y (n).
+    xhat: Vec<f64>,
+    fy: Vec<f64>,
+}
+
+/// The foreshortening of one FE node (body components; methods.md §6.3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeShift {
+    /// Position shift −½ ē₁ yᵀF y, added to r̄_u + X^t y.
+    pub position: Vector3<f64>,
+    /// Its rate −ē₁ (F y)·ẏ, added to X^t ẏ.
+    pub velocity: Vector3<f64>,
+    /// The velocity-product part of its second derivative, −ē₁ ẏᵀF ẏ (the rest is
+    /// the Jacobian times ÿ).
+    pub bias: Vector3<f64>,
+}
+
+fn flatten(field: &str, ms: &[DMatrix<f64>], n: usize) -> Result<Vec<f64>, InvalidValue> {
+    let mut v = Vec::with_capacity(ms.len() * n * n);
+    for (k, m) in ms.iter().enumerate() {
+        if m.shape() != (n, n) {
+            return Err(InvalidValue::new(
+                format!("{field}[{k}]"),
+                format!("{}x{}", m.nrows(), m.ncols()),
+                format!("must be {n}x{n}"),
+            ));
+        }
+        if !m.iter().all(|x| x.is_finite()) {
+            return Err(InvalidValue::new(
+                format!("{field}[{k}]"),
+                "non-finite entry",
+                "must be finite",
+            ));
+        }
+        for i in 0..n {
+            for j in 0..n {
+                v.push(0.5 * (m[(i, j)] + m[(j, i)]));
+            }
+        }
+    }
+    Ok(v)
+}
+
+impl Foreshortening {
+    pub(crate) fn new(
+        data: &ForeshorteningData,
+        dim: Dim,
+        n: usize,
+        n_cloud: usize,
+    ) -> Result<Self, InvalidValue> {
+        let norm = data.axis.norm();
+        if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
+            return Err(InvalidValue::new(
+                "foreshortening.axis",
+                format!("{:?}", data.axis.as_slice()),
+                "must be a unit vector",
+            ));
+        }
+        if dim == Dim::Planar && data.axis.z != 0.0 {
+            return Err(InvalidValue::new(
+                "foreshortening.axis.z",
+                data.axis.z,
+                "a planar body's beam axis lies in z = 0",
+            ));
+        }
+        if data.cloud.len() != n_cloud {
+            return Err(InvalidValue::new(
+                "foreshortening.cloud",
+                data.cloud.len(),
+                format!("must have one F per cloud point ({n_cloud})"),
+            ));
+        }
+        Ok(Self {
+            axis: data.axis,
+            cloud: flatten("foreshortening.cloud", &data.cloud, n)?,
+            nodes: flatten("foreshortening.nodes", &data.nodes, n)?,
+            xhat: vec![0.0; 3 * n],
+            fy: vec![0.0; n],
+        })
+    }
+}
+
+/// u = F v for a row-major n × n F.
+fn mat_vec(f: &[f64], v: &[f64], out: &mut [f64]) {
+    let n = v.len();
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = dot(&f[i * n..(i + 1) * n], v);
+    }
+}
+
+impl FlexibleBody {
+    /// Attach FS0 data (methods.md §6.3) to this body: from then on the B-matrix route
+    /// uses the foreshortened kinematics, and [`node_foreshortening`](Self::node_foreshortening)
+    /// reports node shifts. Refuses data of the wrong sizes.
+    pub fn set_foreshortening(&mut self, data: &ForeshorteningData) -> Result<(), InvalidValue> {
+        self.fs = Some(Foreshortening::new(data, self.dim, self.n, self.w.len())?);
+        Ok(())
+    }
+
+    /// True when the body carries FS0 data.
+    pub fn has_foreshortening(&self) -> bool {
+        self.fs.is_some()
+    }
+
+    /// Whether `method` can evaluate this body's inertia: a foreshortened body needs
+    /// [`InertiaMethod::BMatrix`] (methods.md §6.3, "Why B-projection").
+    pub fn check_inertia_method(&self, method: InertiaMethod) -> Result<(), InvalidValue> {
+        if self.fs.is_some() && method == InertiaMethod::ShapeIntegrals {
+            return Err(InvalidValue::new(
+                "solver.inertia",
+                "ShapeIntegrals",
+                "foreshortening (FS0) needs the B-matrix route (inertia: BMatrix): the 13 shape \
+                 integrals do not suffice (methods.md §6.3)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The foreshortening of FE node `node` at (y, ẏ), in body components, or `None`
+    /// for a body without FS0 data. Add `position` to r̄_u + X^t y, `velocity` to
+    /// X^t ẏ and `bias` to the velocity-product acceleration of the node.
+    ///
+    /// # Panics
+    /// If `node` is out of range or `y`, `y_dot` do not have n entries.
+    pub fn node_foreshortening(&self, node: usize, y: &[f64], y_dot: &[f64]) -> Option<NodeShift> {
+        let fs = self.fs.as_ref()?;
+        let n = self.n;
+        assert!(
+            y.len() == n && y_dot.len() == n,
+            "node_foreshortening: y, ẏ need n entries"
+        );
+        let f = &fs.nodes[node * n * n..(node + 1) * n * n];
+        let (mut yfy, mut yfyd, mut ydfyd) = (0.0, 0.0, 0.0);
+        for i in 0..n {
+            let row = &f[i * n..(i + 1) * n];
+            let (fy, fyd) = (dot(row, y), dot(row, y_dot));
+            yfy += y[i] * fy;
+            yfyd += y_dot[i] * fy;
+            ydfyd += y_dot[i] * fyd;
+        }
+        Some(NodeShift {
+            position: fs.axis * (-0.5 * yfy),
+            velocity: fs.axis * (-yfyd),
+            bias: fs.axis * (-ydfyd),
+        })
+    }
+
+    /// Add the foreshortening Jacobian of FE node `node`, −ē₁ (F y)ᵀ (3 × n, body
+    /// components), to `out` (the node's translation rows X^t). No-op without FS0 data.
+    pub fn add_node_foreshortening_jacobian(&self, node: usize, y: &[f64], out: &mut DMatrix<f64>) {
+        let Some(fs) = self.fs.as_ref() else { return };
+        let n = self.n;
+        assert_eq!(out.shape(), (3, n), "node Jacobian must be 3 x n");
+        let f = &fs.nodes[node * n * n..(node + 1) * n * n];
+        for j in 0..n {
+            let fy = dot(&f[j * n..(j + 1) * n], y);
+            for a in 0..3 {
+                out[(a, j)] -= fs.axis[a] * fy;
+            }
+        }
+    }
+
+    /// Route (a) with FS0 kinematics, both dimensions (3D accumulators; a planar body
+    /// keeps the x, y, θz rows and columns).
+    pub(crate) fn bmatrix_fs<SM, SQ>(
+        &mut self,
+        st: &BodyState<'_>,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let dim = self.dim;
+        let FlexibleBody {
+            pos,
+            w,
+            rows,
+            ws,
+            fs,
+            ..
+        } = self;
+        let fs = fs.as_mut().expect("bmatrix_fs without FS0 data");
+        let (y, yd) = (st.y, st.y_dot);
+        let a = &st.a;
+        let r0 = st.r0;
+        let om = st.omega;
+        let w_sd = om.cross(&st.s_dot);
+        let axis = fs.axis;
+        let a_axis = a * axis;
+        ws.sy.fill(0.0);
+        ws.wy.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
+        let mut msum = 0.0;
+        let mut gsum = Vector3::zeros();
+        let mut psum = Matrix3::zeros();
+        let mut asum = Vector3::zeros();
+        let mut tq = Vector3::zeros();
+        let (n2, w3) = (n * n, 3 * n);
+        for k in 0..w.len() {
+            let wk = w[k];
+            let x = &rows[k * w3..(k + 1) * w3];
+            let f = &fs.cloud[k * n2..(k + 1) * n2];
+            mat_vec(f, y, &mut fs.fy);
+            let yfy = dot(y, &fs.fy);
+            let mut c = 0.0;
+            for i in 0..n {
+                c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+            }
+            for r in 0..3 {
+                for j in 0..n {
+                    fs.xhat[r * n + j] = x[r * n + j] - axis[r] * fs.fy[j];
+                }
+            }
+            let mut xy = Vector3::zeros();
+            let mut xhyd = Vector3::zeros();
+            for r in 0..3 {
+                xy[r] = dot(&x[r * n..(r + 1) * n], y);
+                xhyd[r] = dot(&fs.xhat[r * n..(r + 1) * n], yd);
+            }
+            let rb = pos[k] + xy - axis * (0.5 * yfy);
+            let r = r0 + a * rb;
+            let axyd = a * xhyd;
+            let acc = w_sd + om.cross(&om.cross(&r)) + 2.0 * om.cross(&axyd) - a_axis * c;
+            msum += wk;
+            gsum += wk * r;
+            psum += (wk * r) * r.transpose();
+            asum += wk * acc;
+            tq += wk * r.cross(&acc);
+            let wr = wk * r;
+            let wacc = wk * acc;
+            for j in 0..n {
+                let v = a * Vector3::new(fs.xhat[j], fs.xhat[n + j], fs.xhat[2 * n + j]);
+                for i in 0..3 {
+                    ws.ax[i * n + j] = v[i];
+                    ws.sy[i * n + j] += wk * v[i];
+                }
+                let rv = wr.cross(&v);
+                for i in 0..3 {
+                    ws.wy[i * n + j] += rv[i];
+                }
+                ws.qy[j] += wacc.dot(&v);
+            }
+            for i in 0..n {
+                let p = [wk * ws.ax[i], wk * ws.ax[n + i], wk * ws.ax[2 * n + i]];
+                for j in i..n {
+                    ws.yy[i * n + j] +=
+                        p[0] * ws.ax[j] + p[1] * ws.ax[n + j] + p[2] * ws.ax[2 * n + j];
+                }
+            }
+        }
+        // Full 3D layout {ṡ; ω; ẏ}; a planar body keeps x, y, θz.
+        let (map, nr): ([Option<usize>; 6], usize) = match dim {
+            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
+            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
+        };
+        let jo = Matrix3::identity() * psum.trace() - psum;
+        let gt = flexmbd_core::skew(&gsum);
+        let mut rig = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                rig[i][j] = if i == j { msum } else { 0.0 };
+                rig[i][j + 3] = -gt[(i, j)];
+                rig[i + 3][j] = gt[(i, j)];
+                rig[i + 3][j + 3] = jo[(i, j)];
+            }
+        }
+        let qr = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
+        for (i, mi) in map.iter().enumerate() {
+            let Some(oi) = *mi else { continue };
+            for (j, mj) in map.iter().enumerate() {
+                if let Some(oj) = *mj {
+                    m_out[(oi, oj)] = rig[i][j];
+                }
+            }
+            q_out[oi] = qr[i];
+            for jm in 0..n {
+                let v = if i < 3 {
+                    ws.sy[i * n + jm]
+                } else {
+                    ws.wy[(i - 3) * n + jm]
+                };
+                m_out[(oi, nr + jm)] = v;
+                m_out[(nr + jm, oi)] = v;
+            }
+        }
+        for i in 0..n {
+            q_out[nr + i] = -ws.qy[i];
+            for j in i..n {
+                let v = ws.yy[i * n + j];
+                m_out[(nr + i, nr + j)] = v;
+                m_out[(nr + j, nr + i)] = v;
+            }
+        }
+    }
+}

@@ -1,0 +1,411 @@
+//! FS0 (methods.md §6.3) inertia terms on the spin-up beam (scenes.md §5), 2D and 3D:
+//!
+//! * virtual power / Lagrange: along a smooth prescribed motion, Σ w_k J_kᵀ r̈_k =
+//!   M̄ Ż − Q̄_v, with the point positions r_k = r0 + A (r̄_uk + X_k y − ½ ē₁ yᵀF_k y),
+//!   r̈_k and Ż from differencing, and the velocity Jacobian J_k = ∂ṙ_k/∂Z built from
+//!   finite differences of the positions in y (not from X̂_k); and the kinetic energy
+//!   ½ ZᵀM̄Z = ½ Σ w_k |ṙ_k|²;
+//! * the centrifugal hand check: at steady spin Ω about the root, the Ω² stiffness of
+//!   the modal inertia force on pure bending modes is ∫N_c g_v g_vᵀ dx − Ω² ∫ρA X₂ᵀX₂ dx
+//!   (in plane), N_c(x) = Ω² ρA (L² − x²)/2, and ∫N_c g_w g_wᵀ dx out of plane;
+//! * the node helper against the kinematics, and the shape-integral route refused.
+
+use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_fe::beam::{VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite};
+use flexmbd_fe::cloud::element_local_modes;
+use flexmbd_fe::foreshortening::foreshortening;
+use flexmbd_fe::{BeamBodySpec, ReducedBody, preprocess};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+const L: f64 = 10.0;
+const RHO_A: f64 = 1.2;
+
+fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> (ReducedBody, flexmbd_fe::Mesh) {
+    let (d, pts) = match dim {
+        Dim::Planar => ("Planar", "[[0.0, 0.0], [10.0, 0.0]]"),
+        Dim::Spatial => ("Spatial", "[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]"),
+    };
+    let text = format!(
+        "(dim: {d}, material: (young_modulus: 7e10, density: 3000.0, poisson_ratio: None, shear_modulus: Some(3.5e10)),
+          section: General(area: 4e-4, iy: 2e-7, iz: 2e-7, torsion_j: 4e-7),
+          geometry: (points: {pts}, elements_per_segment: {elements}),
+          frame: Clamped(node: 0), boundary: [], normal_modes: {modes})"
+    );
+    let spec = BeamBodySpec::from_ron_str(&text, "spin-up beam").unwrap();
+    let p = preprocess(&spec).unwrap();
+    let mut rb = p.body;
+    rb.foreshortening = Some(foreshortening(&p.mesh, &rb.modes).unwrap());
+    (rb, p.mesh)
+}
+
+/// Smooth motion: r0(t), A(t) = Rz Ry Rx (Rz only in 2D), y(t).
+struct Motion {
+    dim: Dim,
+    n: usize,
+    ys: Vec<f64>,
+}
+
+fn f(a: f64, b: f64, c: f64, t: f64) -> f64 {
+    a + b * t + c * (1.3 * t + 0.4 * a).sin()
+}
+
+impl Motion {
+    fn r0(&self, t: f64) -> Vector3<f64> {
+        let z = if self.dim == Dim::Planar {
+            0.0
+        } else {
+            f(0.2, -0.3, 0.4, t)
+        };
+        Vector3::new(f(0.3, 0.5, -0.7, t), f(-0.4, 0.2, 0.6, t), z)
+    }
+    fn a(&self, t: f64) -> Matrix3<f64> {
+        let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
+        let rz = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        if self.dim == Dim::Planar {
+            return rz;
+        }
+        let (sb, cb) = f(-0.3, 0.8, 0.5, t).sin_cos();
+        let (sg, cg) = f(0.7, -0.6, 0.4, t).sin_cos();
+        let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
+        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
+        rz * ry * rx
+    }
+    fn y(&self, t: f64) -> Vec<f64> {
+        // Tip deflections of order 1 m on the 10 m beam (mode rows are O(1)).
+        (0..self.n)
+            .map(|j| {
+                let s = self.ys[j];
+                f(0.6 * s, -0.4 * s, 0.5 * s, t + j as f64)
+            })
+            .collect()
+    }
+}
+
+fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
+}
+fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
+        / (12.0 * h * h)
+}
+
+/// FS0 body-frame position of cloud point k.
+fn rbar(rb: &ReducedBody, k: usize, y: &[f64]) -> Vector3<f64> {
+    let n = y.len();
+    let fs = rb.foreshortening.as_ref().unwrap();
+    let x = rb.cloud.rows(k);
+    let mut r = rb.cloud.positions[k];
+    for c in 0..3 {
+        for j in 0..n {
+            r[c] += x[c * n + j] * y[j];
+        }
+    }
+    let yv = DVector::from_column_slice(y);
+    let q = (yv.transpose() * &fs.cloud[k] * &yv)[0];
+    r - fs.axis * (0.5 * q)
+}
+
+fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> DVector<f64> {
+    let np = rb.cloud.len();
+    let mut out = DVector::zeros(3 * np);
+    for k in 0..np {
+        out.fixed_rows_mut::<3>(3 * k)
+            .copy_from(&(r0 + a * rbar(rb, k, y)));
+    }
+    out
+}
+
+fn z_of(m: &Motion, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
+    let ad = d1(|t| DVector::from_column_slice(m.a(t).as_slice()), t, h);
+    let w = Matrix3::from_column_slice(ad.as_slice()) * m.a(t).transpose();
+    let omega = Vector3::new(
+        0.5 * (w[(2, 1)] - w[(1, 2)]),
+        0.5 * (w[(0, 2)] - w[(2, 0)]),
+        0.5 * (w[(1, 0)] - w[(0, 1)]),
+    );
+    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
+    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
+    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
+    (r0d + m.r0(t).cross(&omega), omega, yd.as_slice().to_vec())
+}
+
+fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
+    let mut v = match dim {
+        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
+        Dim::Planar => vec![s.x, s.y, w.z],
+    };
+    v.extend_from_slice(yd);
+    DVector::from_vec(v)
+}
+
+/// Largest relative residual of the virtual-power equations and of the kinetic energy.
+fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
+    let (rb, _) = spin_up_body(dim, 8, modes);
+    let n = rb.n_modes();
+    let mut body = FlexibleBody::new(&rb).unwrap();
+    assert!(body.has_foreshortening());
+    let m = Motion {
+        dim,
+        n,
+        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
+    };
+    let (h, nc, np) = (1e-3, body.n_coords(), rb.cloud.len());
+    let (mut worst, mut worst_t) = (0.0_f64, 0.0_f64);
+    for &t in &[0.0, 0.37, 1.1] {
+        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
+        let (r0, a, y) = (m.r0(t), m.a(t), m.y(t));
+        let st = BodyState {
+            r0,
+            a,
+            omega,
+            s_dot,
+            y: &y,
+            y_dot: &yd,
+        };
+        let z = z_vec(dim, &s_dot, &omega, &yd);
+        let zd = d1(
+            |t| {
+                let (s, w, yd) = z_of(&m, t, 1e-4);
+                z_vec(dim, &s, &w, &yd)
+            },
+            t,
+            h,
+        );
+        let pos_at = |t: f64| positions(&rb, m.r0(t), m.a(t), &m.y(t));
+        let rdot = d1(pos_at, t, h);
+        let rddot = d2(pos_at, t, h);
+        let now = pos_at(t);
+        // J columns: rigid ones from ṙ = ṡ + ω × r; modal ones ∂r/∂y_j by differences.
+        let nr = nc - n;
+        let mut jac = vec![DVector::zeros(3 * np); nc];
+        for (i, col) in jac.iter_mut().enumerate().take(nr) {
+            let (sd, w) = match (dim, i) {
+                (Dim::Spatial, 0..=2) => (Vector3::ith(i, 1.0), Vector3::zeros()),
+                (Dim::Spatial, _) => (Vector3::zeros(), Vector3::ith(i - 3, 1.0)),
+                (Dim::Planar, 0..=1) => (Vector3::ith(i, 1.0), Vector3::zeros()),
+                (Dim::Planar, _) => (Vector3::zeros(), Vector3::z()),
+            };
+            for k in 0..np {
+                let rk = now.fixed_rows::<3>(3 * k).into_owned();
+                col.fixed_rows_mut::<3>(3 * k)
+                    .copy_from(&(sd + w.cross(&rk)));
+            }
+        }
+        for j in 0..n {
+            let dy = 1e-4;
+            let shifted = |s: f64| {
+                let mut yy = y.clone();
+                yy[j] += s;
+                positions(&rb, r0, a, &yy)
+            };
+            jac[nr + j] = (shifted(-2.0 * dy) - shifted(-dy) * 8.0 + shifted(dy) * 8.0
+                - shifted(2.0 * dy))
+                / (12.0 * dy);
+        }
+        let mut lhs = DVector::<f64>::zeros(nc);
+        let mut ke = 0.0;
+        for k in 0..np {
+            let w = rb.cloud.weights[k];
+            for i in 0..nc {
+                lhs[i] += w * jac[i]
+                    .fixed_rows::<3>(3 * k)
+                    .dot(&rddot.fixed_rows::<3>(3 * k));
+            }
+            ke += 0.5 * w * rdot.fixed_rows::<3>(3 * k).norm_squared();
+        }
+        let mut mm = DMatrix::zeros(nc, nc);
+        let mut qv = DVector::zeros(nc);
+        body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut qv);
+        let rhs = &mm * &zd - &qv;
+        let scale = lhs.amax().max((&mm * &zd).amax()).max(qv.amax());
+        worst = worst.max((&lhs - &rhs).amax() / scale);
+        let ke_m = 0.5 * z.dot(&(&mm * &z));
+        worst_t = worst_t.max((ke - ke_m).abs() / ke);
+    }
+    (worst, worst_t)
+}
+
+#[test]
+fn inertia_matches_finite_difference_lagrange_equations() {
+    for (dim, modes) in [(Dim::Planar, 4), (Dim::Spatial, 8)] {
+        let (e, et) = lagrange(dim, modes);
+        eprintln!("FS0 {dim:?}: virtual power residual {e:.2e}, kinetic energy {et:.2e}");
+        assert!(e < 1e-6, "{dim:?}: {e}");
+        assert!(et < 1e-8, "{dim:?}: {et}");
+    }
+}
+
+/// ∫₀ᴸ N_c (g_v g_vᵀ, g_w g_wᵀ) dx by 4-point Gauss per element (degree 6: exact).
+fn centrifugal_geometric(rb: &ReducedBody, mesh: &flexmbd_fe::Mesh, om: f64) -> [DMatrix<f64>; 2] {
+    let n = rb.n_modes();
+    let mut out = [DMatrix::zeros(n, n), DMatrix::zeros(n, n)];
+    let s = [1.0, -1.0, 1.0, -1.0];
+    let mut x0 = 0.0;
+    for (e, el) in mesh.elements.iter().enumerate() {
+        let l = el.length;
+        let xl = element_local_modes(mesh, e, &rb.modes);
+        for &(t, wg) in flexmbd_fe::cloud::GAUSS4.iter() {
+            let xi = 0.5 * (1.0 + t);
+            let x = x0 + xi * l;
+            let nc = om * om * RHO_A * (L * L - x * x) / 2.0;
+            let (_, hd) = hermite(xi, l);
+            let (gv, gw): (Vec<f64>, Vec<f64>) = (0..n)
+                .map(|j| match mesh.dim {
+                    Dim::Planar => (
+                        (0..4).map(|q| hd[q] * xl[(VPLANE_2D[q], j)]).sum::<f64>(),
+                        0.0,
+                    ),
+                    Dim::Spatial => (
+                        (0..4).map(|q| hd[q] * xl[(VPLANE_3D[q], j)]).sum::<f64>(),
+                        (0..4)
+                            .map(|q| s[q] * hd[q] * xl[(WPLANE_3D[q], j)])
+                            .sum::<f64>(),
+                    ),
+                })
+                .unzip();
+            let w = nc * 0.5 * l * wg;
+            for i in 0..n {
+                for j in 0..n {
+                    out[0][(i, j)] += w * gv[i] * gv[j];
+                    out[1][(i, j)] += w * gw[i] * gw[j];
+                }
+            }
+        }
+        x0 += l;
+    }
+    out
+}
+
+/// −∂Q̄_v,y/∂y at y = 0, steady spin Ω about the root (r0 = 0, ṡ = 0, ẏ = 0), by a
+/// Richardson pair of central differences (exact for the cubic Q̄_v,y(y)).
+fn spin_stiffness(body: &mut FlexibleBody, om: f64) -> DMatrix<f64> {
+    let n = body.n_modes();
+    let nc = body.n_coords();
+    let nr = nc - n;
+    let q = |body: &mut FlexibleBody, y: &[f64]| {
+        let yd = vec![0.0; n];
+        let st = BodyState {
+            r0: Vector3::zeros(),
+            a: Matrix3::identity(),
+            omega: Vector3::new(0.0, 0.0, om),
+            s_dot: Vector3::zeros(),
+            y,
+            y_dot: &yd,
+        };
+        let mut mm = DMatrix::zeros(nc, nc);
+        let mut qv = DVector::zeros(nc);
+        body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut qv);
+        qv.rows(nr, n).into_owned()
+    };
+    let d = 1e-3;
+    let mut k = DMatrix::zeros(n, n);
+    for j in 0..n {
+        let at = |body: &mut FlexibleBody, s: f64| {
+            let mut y = vec![0.0; n];
+            y[j] = s;
+            q(body, &y)
+        };
+        let c1 = at(body, d) - at(body, -d);
+        let c2 = at(body, 2.0 * d) - at(body, -2.0 * d);
+        let col = (c1 * 8.0 - c2) / (12.0 * d);
+        k.set_column(j, &(-col));
+    }
+    k
+}
+
+#[test]
+fn centrifugal_stiffness_hand_check() {
+    let om = 6.0;
+    // 2D: ∫N_c g_v g_vᵀ − Ω² ∫ρA X₂ᵀX₂ (= Ω² M_ff for pure bending modes, consistent mass).
+    let (rb, mesh) = spin_up_body(Dim::Planar, 20, 4);
+    let mut body = FlexibleBody::new(&rb).unwrap();
+    let k = spin_stiffness(&mut body, om);
+    let [kv, _] = centrifugal_geometric(&rb, &mesh, om);
+    let expect = &kv - &rb.m_ff * (om * om);
+    let e2 = (&k - &expect).amax() / expect.amax();
+    eprintln!(
+        "hand check 2D: relative error {e2:.2e} (|K_Ω| = {:.4e})",
+        expect.amax()
+    );
+    assert!(e2 < 1e-9, "{e2}");
+    // 3D, spin about z: in-plane (v) as in 2D, out-of-plane (w) only ∫N_c g_w g_wᵀ. The
+    // section-point cloud also carries the section rotations (rotary inertia), so the
+    // softening is Ω² Σ w (X₁ᵀX₁ + X₂ᵀX₂) of the cloud (X₁ = rotary part for bending modes).
+    let (rb, mesh) = spin_up_body(Dim::Spatial, 20, 8);
+    let mut body = FlexibleBody::new(&rb).unwrap();
+    let k = spin_stiffness(&mut body, om);
+    let [kv, kw] = centrifugal_geometric(&rb, &mesh, om);
+    let n = rb.n_modes();
+    let mut s12 = DMatrix::zeros(n, n);
+    for kk in 0..rb.cloud.len() {
+        let x = rb.cloud.rows(kk);
+        for i in 0..n {
+            for j in 0..n {
+                s12[(i, j)] += rb.cloud.weights[kk] * (x[i] * x[j] + x[n + i] * x[n + j]);
+            }
+        }
+    }
+    let expect = &kv + &kw - s12 * (om * om);
+    let e3 = (&k - &expect).amax() / expect.amax();
+    eprintln!("hand check 3D: relative error {e3:.2e}");
+    assert!(e3 < 1e-9, "{e3}");
+}
+
+#[test]
+fn node_helper_matches_kinematics_and_routes() {
+    let (rb, _) = spin_up_body(Dim::Planar, 20, 4);
+    let body = FlexibleBody::new(&rb).unwrap();
+    let fs = rb.foreshortening.as_ref().unwrap();
+    let y = [0.3, -0.1, 0.05, 0.02];
+    let yd = [0.7, 0.2, -0.3, 0.1];
+    let tip = rb.nodes.len() - 1;
+    let sh = body.node_foreshortening(tip, &y, &yd).unwrap();
+    let yv = DVector::from_column_slice(&y);
+    let ydv = DVector::from_column_slice(&yd);
+    let f = &fs.nodes[tip];
+    assert!((sh.position.x + 0.5 * (yv.transpose() * f * &yv)[0]).abs() < 1e-14);
+    assert!((sh.velocity.x + (ydv.transpose() * f * &yv)[0]).abs() < 1e-14);
+    assert!((sh.bias.x + (ydv.transpose() * f * &ydv)[0]).abs() < 1e-14);
+    assert_eq!(sh.position.y, 0.0);
+    // The root does not move; the Jacobian is the rate's coefficient.
+    let root = body.node_foreshortening(0, &y, &yd).unwrap();
+    assert_eq!(root.position, Vector3::zeros());
+    let mut j = DMatrix::zeros(3, 4);
+    body.add_node_foreshortening_jacobian(tip, &y, &mut j);
+    assert!((j.row(0).dot(&ydv.transpose()) - sh.velocity.x).abs() < 1e-13);
+    // A foreshortened body refuses the shape-integral route at set-up.
+    let e = body
+        .check_inertia_method(InertiaMethod::ShapeIntegrals)
+        .unwrap_err();
+    assert!(e.to_string().contains("B-matrix"), "{e}");
+    body.check_inertia_method(InertiaMethod::BMatrix).unwrap();
+    // Without FS0 data nothing changes.
+    let mut plain = rb.clone();
+    plain.foreshortening = None;
+    let p = FlexibleBody::new(&plain).unwrap();
+    assert!(p.node_foreshortening(tip, &y, &yd).is_none());
+    p.check_inertia_method(InertiaMethod::ShapeIntegrals)
+        .unwrap();
+    // At y = 0 FS0 equals the plain B-matrix route.
+    let (mut b1, mut b2) = (body.clone(), p.clone());
+    let z = [0.0; 4];
+    let st = BodyState::planar(
+        nalgebra::Vector2::new(0.3, -0.2),
+        0.4,
+        nalgebra::Vector2::new(0.1, 0.5),
+        1.3,
+        &z,
+        &yd,
+    );
+    let (mut m1, mut q1, mut m2, mut q2) = (
+        DMatrix::zeros(7, 7),
+        DVector::zeros(7),
+        DMatrix::zeros(7, 7),
+        DVector::zeros(7),
+    );
+    b1.inertia(&st, InertiaMethod::BMatrix, &mut m1, &mut q1);
+    b2.inertia(&st, InertiaMethod::BMatrix, &mut m2, &mut q2);
+    assert!((&m1 - &m2).amax() < 1e-12 * m2.amax());
+    // Q differs by the velocity-product term −Σ w B_kᵀ A ē₁ ẏᵀF_k ẏ only.
+    assert!((&q1 - &q2).amax() > 0.0);
+}
