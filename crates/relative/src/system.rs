@@ -130,8 +130,17 @@ pub struct Relative {
     pub(crate) fr_a: Vec<Matrix3<f64>>,
     pub(crate) fr_z: Vec<Vector6<f64>>,
     pub(crate) fr_d: Vec<Vector6<f64>>,
-    fr_m: Vec<Matrix6<f64>>,
-    fr_p: Vec<Vector6<f64>>,
+    /// Per body: its rigid block of M̄_k and its P_k in the 6-layout (step 4).
+    body_m: Vec<Matrix6<f64>>,
+    body_p: Vec<Vector6<f64>>,
+    /// Per elementary joint: 𝕄 and ℙ of the subtree its frame carries (step 5). Fixed
+    /// frames only relabel the same global quantities, so the accumulation runs over the
+    /// tree of elementary joints: an elementary joint's children, and the bodies whose
+    /// nearest elementary joint towards the root it is.
+    el_m: Vec<Matrix6<f64>>,
+    el_p: Vec<Vector6<f64>>,
+    el_children: Vec<Vec<usize>>,
+    el_bodies: Vec<Vec<usize>>,
     pub(crate) ev: Vec<Vector6<f64>>,
     pub(crate) m_w: DMatrix<f64>,
     pub(crate) q_w: DVector<f64>,
@@ -470,6 +479,21 @@ impl Relative {
 
         let nf = topo.frames.len();
         let ne = topo.elems.len();
+        // The tree of elementary joints (step 5).
+        let n_bodies = bodies.len();
+        let mut el_children = vec![Vec::new(); ne];
+        let mut el_bodies = vec![Vec::new(); ne];
+        for (e, el) in topo.elems.iter().enumerate() {
+            if let Some(pe) = topo.frames[el.frame].parent.and_then(|pf| paths[pf].last()) {
+                debug_assert!(*pe < e);
+                el_children[*pe].push(e);
+            }
+        }
+        for (k, b) in bodies.iter().enumerate() {
+            if let Some(&e) = paths[b.frame].last() {
+                el_bodies[e].push(k);
+            }
+        }
         let fixed_identity = topo
             .frames
             .iter()
@@ -495,8 +519,12 @@ impl Relative {
             fr_a: vec![Matrix3::identity(); nf],
             fr_z: vec![Vector6::zeros(); nf],
             fr_d: vec![Vector6::zeros(); nf],
-            fr_m: vec![Matrix6::zeros(); nf],
-            fr_p: vec![Vector6::zeros(); nf],
+            body_m: vec![Matrix6::zeros(); n_bodies],
+            body_p: vec![Vector6::zeros(); n_bodies],
+            el_m: vec![Matrix6::zeros(); ne],
+            el_p: vec![Vector6::zeros(); ne],
+            el_children,
+            el_bodies,
             ev: vec![Vector6::zeros(); ne],
             m_w: DMatrix::zeros(n_w, n_w),
             q_w: DVector::zeros(n_w),
@@ -890,12 +918,6 @@ impl Relative {
         let nr = self.nr;
         let rmap = self.rmap;
         self.evaluate_bodies(z, zd);
-        for m in &mut self.fr_m {
-            m.fill(0.0);
-        }
-        for p in &mut self.fr_p {
-            p.fill(0.0);
-        }
         // M_w and Q_w need no clearing: every pass writes the same set of their entries
         // (the others stay at their compile-time zeros).
         // Step 4: P_k = Q̄_k − M̄_k {D_k; 0}; own rigid blocks; modal rows of M_w, Q_w.
@@ -904,16 +926,16 @@ impl Relative {
             let f = b.frame;
             let d = self.fr_d[f];
             let nc = nr + b.n;
-            let (mm, pp) = (&mut self.fr_m[f], &mut self.fr_p[f]);
+            let (mm, pp) = (&mut self.body_m[k], &mut self.body_p[k]);
             for r in 0..nc {
                 let mut p = b.q_bar[r];
                 for c in 0..nr {
                     p -= b.m_bar[(r, c)] * d[rmap[c]];
                 }
                 if r < nr {
-                    pp[rmap[r]] += p;
+                    pp[rmap[r]] = p;
                     for c in 0..nr {
-                        mm[(rmap[r], rmap[c])] += b.m_bar[(r, c)];
+                        mm[(rmap[r], rmap[c])] = b.m_bar[(r, c)];
                     }
                 } else {
                     self.q_w[b.y_off + r - nr] = p;
@@ -936,18 +958,25 @@ impl Relative {
                 }
             }
         }
-        // Step 5: accumulate leaves → root.
-        for f in (0..self.topo.frames.len()).rev() {
-            if let Some(p) = self.topo.frames[f].parent {
-                let (m, pv) = (self.fr_m[f], self.fr_p[f]);
-                self.fr_m[p] += m;
-                self.fr_p[p] += pv;
+        // Step 5: accumulate leaves → root over the tree of elementary joints (a child's
+        // index is larger than its parent's).
+        for e in (0..self.topo.elems.len()).rev() {
+            let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
+            for &k in &self.el_bodies[e] {
+                m += self.body_m[k];
+                pv += self.body_p[k];
             }
+            for &c in &self.el_children[e] {
+                m += self.el_m[c];
+                pv += self.el_p[c];
+            }
+            self.el_m[e] = m;
+            self.el_p[e] = pv;
         }
         // Steps 6–7 for the elementary joints.
         for e in 0..self.topo.elems.len() {
             let f = self.topo.elems[e].frame;
-            let ke = self.fr_m[f] * self.ev[e];
+            let ke = self.el_m[e] * self.ev[e];
             let we = self.elem_w[e];
             for &a in &self.paths[f] {
                 let val = self.ev[a].dot(&ke);
@@ -955,7 +984,7 @@ impl Relative {
                 self.m_w[(wa, we)] = val;
                 self.m_w[(we, wa)] = val;
             }
-            self.q_w[we] = self.ev[e].dot(&self.fr_p[f]);
+            self.q_w[we] = self.ev[e].dot(&self.el_p[e]);
         }
         // M = Lᵀ M_w L, Q = Lᵀ Q_w.
         // L = [I; L_node] (the first n_z entries of w are z itself).
@@ -1328,7 +1357,10 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
         }
         // FS0 (methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.y_off..b.y_off + b.n;
-        let (y, yd) = (&rel.last_z.as_slice()[ys.clone()], &rel.last_zd.as_slice()[ys]);
+        let (y, yd) = (
+            &rel.last_z.as_slice()[ys.clone()],
+            &rel.last_zd.as_slice()[ys],
+        );
         if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
             pl += sh.position;
             vl += sh.velocity;
