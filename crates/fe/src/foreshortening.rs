@@ -21,9 +21,9 @@ use crate::cloud::{GAUSS4, element_local_modes};
 
 /// 3-point Gauss–Legendre rule on [−1, 1]: (abscissa, weight).
 const GAUSS3: [(f64, f64); 3] = [
-    (-0.774_596_669_241_483_4, 0.555_555_555_555_555_6),
-    (0.0, 0.888_888_888_888_888_9),
-    (0.774_596_669_241_483_4, 0.555_555_555_555_555_6),
+    (-0.774_596_669_241_483_4, 5.0 / 9.0),
+    (0.0, 8.0 / 9.0),
+    (0.774_596_669_241_483_4, 5.0 / 9.0),
 ];
 
 /// The FS0 data of one straight beam body (methods.md §6.3): the beam axis and F at
