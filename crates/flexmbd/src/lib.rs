@@ -23,5 +23,6 @@ pub mod inventory;
 pub mod simulation;
 
 pub use flexmbd_absolute as absolute;
+pub use flexmbd_ancf as ancf;
 pub use flexmbd_integrators as integrators;
 pub use flexmbd_model as model;

@@ -6,6 +6,7 @@ use crate::report::Report;
 pub mod four_bar;
 pub mod inertia_cost;
 pub mod mesh_size;
+pub mod spin_up;
 
 /// What a study returns when it cannot finish.
 pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
@@ -37,6 +38,11 @@ pub fn all() -> Vec<Study> {
             name: "mesh-size",
             title: "CPU time against FE mesh size, both formulations (thesis ch. 3)",
             run: mesh_size::run,
+        },
+        Study {
+            name: "spin-up",
+            title: "Spin-up beam: geometric stiffening against a large-deformation reference (thesis ch. 4)",
+            run: spin_up::run,
         },
     ]
 }
