@@ -122,6 +122,9 @@ pub struct Relative {
     pub(crate) paths: Vec<Vec<usize>>,
     /// w → z: (z index, coefficient).
     pub(crate) l_rows: Vec<Vec<(usize, f64)>>,
+    /// M = Lᵀ M_w L over the structural non-zeros of M_w: (index in M, index in M_w,
+    /// coefficient), column-major indices.
+    mass_map: Vec<(usize, usize, f64)>,
     /// Elementary-joint value coefficients, resolved to z.
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     pub(crate) cons: Vec<Con>,
@@ -140,6 +143,9 @@ pub struct Relative {
     el_m: Vec<Matrix6<f64>>,
     el_p: Vec<Vector6<f64>>,
     el_children: Vec<Vec<usize>>,
+    /// Per elementary joint: its nearest elementary joint towards the root (frames in
+    /// between are fixed: the same Z and D).
+    el_parent: Vec<Option<usize>>,
     el_bodies: Vec<Vec<usize>>,
     pub(crate) ev: Vec<Vector6<f64>>,
     pub(crate) m_w: DMatrix<f64>,
@@ -483,10 +489,12 @@ impl Relative {
         let n_bodies = bodies.len();
         let mut el_children = vec![Vec::new(); ne];
         let mut el_bodies = vec![Vec::new(); ne];
+        let mut el_parent = vec![None; ne];
         for (e, el) in topo.elems.iter().enumerate() {
-            if let Some(pe) = topo.frames[el.frame].parent.and_then(|pf| paths[pf].last()) {
-                debug_assert!(*pe < e);
-                el_children[*pe].push(e);
+            if let Some(&pe) = topo.frames[el.frame].parent.and_then(|pf| paths[pf].last()) {
+                assert!(pe < e, "elementary joints in tree order");
+                el_children[pe].push(e);
+                el_parent[e] = Some(pe);
             }
         }
         for (k, b) in bodies.iter().enumerate() {
@@ -513,6 +521,7 @@ impl Relative {
             elem_w,
             paths,
             l_rows,
+            mass_map: Vec::new(),
             elem_rate,
             cons,
             fr_r: vec![Vector3::zeros(); nf],
@@ -525,6 +534,7 @@ impl Relative {
             el_p: vec![Vector6::zeros(); ne],
             el_children,
             el_bodies,
+            el_parent,
             ev: vec![Vector6::zeros(); ne],
             m_w: DMatrix::zeros(n_w, n_w),
             q_w: DVector::zeros(n_w),
@@ -553,9 +563,50 @@ impl Relative {
                 rel.q0[o + m] = b.initial_modes.get(m).copied().unwrap_or(0.0);
             }
         }
+        rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene);
         rel.build_sensors(scene, &infos)?;
         Ok(rel)
+    }
+
+    /// The entries of M_w that [`dynamics`](Self::dynamics) writes (the others are zero
+    /// for every state), mapped through L into M.
+    fn build_mass_map(&self) -> Vec<(usize, usize, f64)> {
+        let (nz, nw) = (self.n_z, self.n_w);
+        let mut pattern = vec![false; nw * nw];
+        let mut mark = |i: usize, j: usize| {
+            pattern[i + j * nw] = true;
+            pattern[j + i * nw] = true;
+        };
+        for (e, el) in self.topo.elems.iter().enumerate() {
+            for &a in &self.paths[el.frame] {
+                mark(self.elem_w[a], self.elem_w[e]);
+            }
+        }
+        for b in &self.bodies {
+            for m in 0..b.n {
+                for &a in &self.paths[b.frame] {
+                    mark(self.elem_w[a], b.y_off + m);
+                }
+                for m2 in 0..b.n {
+                    mark(b.y_off + m, b.y_off + m2);
+                }
+            }
+        }
+        let mut map = Vec::new();
+        for j in 0..nw {
+            for i in 0..nw {
+                if !pattern[i + j * nw] {
+                    continue;
+                }
+                for &(c, a) in &self.l_rows[i] {
+                    for &(d, b) in &self.l_rows[j] {
+                        map.push((c + d * nz, i + j * nw, a * b));
+                    }
+                }
+            }
+        }
+        map
     }
 
     /// ż(0): the kinetic-energy-weighted least-squares fit of the scene's body velocities,
@@ -801,9 +852,24 @@ impl Relative {
                             v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
                             v.fixed_rows_mut::<3>(3).copy_from(&a);
                             self.fr_r[f] = rp;
-                            self.fr_a[f] = ap
-                                * Rotation3::from_axis_angle(&Unit::new_unchecked(el.axis), val)
+                            if el.axis == Vector3::z() {
+                                // A_p R_z(val), R_z as `from_axis_angle` forms it for ā = z.
+                                let (sn, cs) = val.sin_cos();
+                                let mut a_new = ap;
+                                for i in 0..3 {
+                                    let (c0, c1) = (ap[(i, 0)], ap[(i, 1)]);
+                                    a_new[(i, 0)] = c0 * cs + c1 * sn;
+                                    a_new[(i, 1)] = c1 * cs - c0 * sn;
+                                }
+                                self.fr_a[f] = a_new;
+                            } else {
+                                self.fr_a[f] = ap
+                                    * Rotation3::from_axis_angle(
+                                        &Unit::new_unchecked(el.axis),
+                                        val,
+                                    )
                                     .matrix();
+                            }
                         }
                         ElemKind::Prismatic => {
                             // b = {a; 0}.
@@ -821,53 +887,61 @@ impl Relative {
     /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
     fn velocities(&mut self) {
         let zd = self.last_zd.as_slice();
-        for f in 0..self.topo.frames.len() {
-            let (zp, dp) = match self.topo.frames[f].parent {
+        // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
+        // has its parent's Z and D.
+        for e in 0..self.topo.elems.len() {
+            let el = &self.topo.elems[e];
+            let f = el.frame;
+            let (zp, dp) = match self.el_parent[e] {
                 None => (Vector6::zeros(), Vector6::zeros()),
-                Some(p) => (self.fr_z[p], self.fr_d[p]),
-            };
-            match &self.topo.frames[f].kind {
-                FrameKind::Fixed { .. } => {
-                    self.fr_z[f] = zp;
-                    self.fr_d[f] = dp;
+                Some(pe) => {
+                    let pf = self.topo.elems[pe].frame;
+                    (self.fr_z[pf], self.fr_d[pf])
                 }
-                FrameKind::Elem(e) => {
-                    let e = *e;
-                    let el = &self.topo.elems[e];
-                    let mut rate = 0.0;
-                    for &(c, k) in &self.elem_rate[e] {
-                        rate += k * zd[c];
+            };
+            let mut rate = 0.0;
+            for &(c, k) in &self.elem_rate[e] {
+                rate += k * zd[c];
+            }
+            let v = self.ev[e];
+            let w_f = zp.fixed_rows::<3>(3).into_owned();
+            let mut d = dp;
+            match el.kind {
+                ElemKind::Revolute => {
+                    // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
+                    let a = v.fixed_rows::<3>(3).into_owned();
+                    let wxa = w_f.cross(&a);
+                    let rp = self.fr_r[f];
+                    let s_f = zp.fixed_rows::<3>(0).into_owned();
+                    let p_dot = s_f + w_f.cross(&rp);
+                    let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
+                    for i in 0..3 {
+                        d[i] += ds[i];
+                        d[3 + i] += wxa[i] * rate;
                     }
-                    let v = self.ev[e];
-                    let w_f = zp.fixed_rows::<3>(3).into_owned();
-                    let mut d = dp;
-                    match el.kind {
-                        ElemKind::Revolute => {
-                            // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
-                            let a = v.fixed_rows::<3>(3).into_owned();
-                            let wxa = w_f.cross(&a);
-                            let rp = self.fr_r[f];
-                            let s_f = zp.fixed_rows::<3>(0).into_owned();
-                            let p_dot = s_f + w_f.cross(&rp);
-                            let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
-                            for i in 0..3 {
-                                d[i] += ds[i];
-                                d[3 + i] += wxa[i] * rate;
-                            }
-                        }
-                        ElemKind::Prismatic => {
-                            // d = {(ω_f × a) ė; 0}.
-                            let a = v.fixed_rows::<3>(0).into_owned();
-                            let wxa = w_f.cross(&a);
-                            for i in 0..3 {
-                                d[i] += wxa[i] * rate;
-                            }
-                        }
+                }
+                ElemKind::Prismatic => {
+                    // d = {(ω_f × a) ė; 0}.
+                    let a = v.fixed_rows::<3>(0).into_owned();
+                    let wxa = w_f.cross(&a);
+                    for i in 0..3 {
+                        d[i] += wxa[i] * rate;
                     }
-                    self.fr_z[f] = zp + v * rate;
-                    self.fr_d[f] = d;
                 }
             }
+            self.fr_z[f] = zp + v * rate;
+            self.fr_d[f] = d;
+        }
+        for b in &self.bodies {
+            let (z, d) = match self.paths[b.frame].last() {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(&e) => {
+                    let ef = self.topo.elems[e].frame;
+                    (self.fr_z[ef], self.fr_d[ef])
+                }
+            };
+            self.fr_z[b.frame] = z;
+            self.fr_d[b.frame] = d;
         }
     }
 
@@ -987,35 +1061,15 @@ impl Relative {
             self.q_w[we] = self.ev[e].dot(&self.el_p[e]);
         }
         // M = Lᵀ M_w L, Q = Lᵀ Q_w.
-        // L = [I; L_node] (the first n_z entries of w are z itself).
-        let (nz, nw) = (self.n_z, self.n_w);
-        out.mass.copy_from(&self.m_w.view((0, 0), (nz, nz)));
-        out.forces.copy_from(&self.q_w.rows(0, nz));
-        for j in nz..nw {
-            let lj = &self.l_rows[j];
-            for i in 0..nz {
-                let v = self.m_w[(i, j)];
-                if v == 0.0 {
-                    continue;
-                }
-                for &(d, b) in lj {
-                    out.mass[(i, d)] += b * v;
-                    out.mass[(d, i)] += b * v;
-                }
-            }
-            for i in nz..nw {
-                let v = self.m_w[(i, j)];
-                if v == 0.0 {
-                    continue;
-                }
-                for &(c, a) in &self.l_rows[i] {
-                    for &(d, b) in lj {
-                        out.mass[(c, d)] += a * b * v;
-                    }
-                }
-            }
-            let qv = self.q_w[j];
-            for &(c, a) in lj {
+        // `out` comes cleared; only the structural non-zeros of M_w are visited.
+        let mass = out.mass.as_mut_slice();
+        let mw = self.m_w.as_slice();
+        for &(d, src, k) in &self.mass_map {
+            mass[d] += k * mw[src];
+        }
+        for (w, lw) in self.l_rows.iter().enumerate() {
+            let qv = self.q_w[w];
+            for &(c, a) in lw {
                 out.forces[c] += a * qv;
             }
         }
@@ -1056,7 +1110,7 @@ impl Relative {
     fn constraints(&mut self, t: f64, req: Request, out: &mut SystemTerms) {
         self.jac = req.jacobian;
         if req.jacobian {
-            self.phi_w.fill(0.0);
+            self.phi_w.as_mut_slice().fill(0.0);
         }
         let mut row = 0;
         let nt = self.dim.n_trans();
