@@ -20,7 +20,11 @@
 //!   For `Substructuring(n)` it splits every flexible straight beam into n equal
 //!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
 //!
-//! Limits: foreshortening (FS0) is refused; substructuring runs in the relative
+//! - Foreshortening FS0 ([`foreshortening`], methods.md §6.3): no axial modes, F at the
+//!   cloud points and nodes attached to the body, relative formulation and B-matrix
+//!   route only.
+//!
+//! Limits: FS0 and substructuring run in the relative
 //! formulation only. The
 //! formulations' `Energy` sensor still uses ½yᵀK_ff y for the elastic energy.
 
@@ -329,7 +333,7 @@ impl ElasticModel for Nonlinear {
 }
 
 /// The elastic model that `stiffening` gives a reduced body (`None`: keep the body's
-/// linear model). Errors for methods that are not elastic models (FS0, substructuring).
+/// linear model; FS0 keeps it too, its stiffening is in the kinematics).
 pub fn elastic_model(
     stiffening: Stiffening,
     body: &ReducedBody,
@@ -365,7 +369,7 @@ pub fn install(
 }
 
 /// The scene to compile for its stiffening choice (see the crate doc): FNL2 completes
-/// the axial basis of flexible straight beams; FS0 and substructuring are refused.
+/// the axial basis of flexible straight beams; FS0 drops the axial modes.
 pub fn prepare_scene(scene: &Scene) -> Result<Cow<'_, Scene>, ModelError> {
     match scene.solver.stiffening {
         Stiffening::Linear | Stiffening::Fnl1 => Ok(Cow::Borrowed(scene)),
