@@ -34,6 +34,8 @@ pub(crate) struct Foreshortening {
     cloud: Vec<f64>,
     /// F at every FE node, n² per node.
     nodes: Vec<f64>,
+    /// Σ_k w_k F_k (n², row-major): the first moment's shortening −½ ē₁ yᵀ(Σ w F) y.
+    wf: Vec<f64>,
     /// Scratch: X̂_k (3n), F_k y (n).
     xhat: Vec<f64>,
     fy: Vec<f64>,
@@ -82,8 +84,9 @@ impl Foreshortening {
         data: &ForeshorteningData,
         dim: Dim,
         n: usize,
-        n_cloud: usize,
+        weights: &[f64],
     ) -> Result<Self, InvalidValue> {
+        let n_cloud = weights.len();
         let norm = data.axis.norm();
         if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
             return Err(InvalidValue::new(
@@ -106,9 +109,17 @@ impl Foreshortening {
                 format!("must have one F per cloud point ({n_cloud})"),
             ));
         }
+        let cloud = flatten("foreshortening.cloud", &data.cloud, n)?;
+        let mut wf = vec![0.0; n * n];
+        for (k, w) in weights.iter().enumerate() {
+            for (o, f) in wf.iter_mut().zip(&cloud[k * n * n..(k + 1) * n * n]) {
+                *o += w * f;
+            }
+        }
         Ok(Self {
+            wf,
             axis: data.axis,
-            cloud: flatten("foreshortening.cloud", &data.cloud, n)?,
+            cloud,
             nodes: flatten("foreshortening.nodes", &data.nodes, n)?,
             xhat: vec![0.0; 3 * n],
             fy: vec![0.0; n],
@@ -129,7 +140,7 @@ impl FlexibleBody {
     /// uses the foreshortened kinematics, and [`node_foreshortening`](Self::node_foreshortening)
     /// reports node shifts. Refuses data of the wrong sizes.
     pub fn set_foreshortening(&mut self, data: &ForeshorteningData) -> Result<(), InvalidValue> {
-        self.fs = Some(Foreshortening::new(data, self.dim, self.n, self.w.len())?);
+        self.fs = Some(Foreshortening::new(data, self.dim, self.n, &self.w)?);
         Ok(())
     }
 
@@ -193,6 +204,33 @@ impl FlexibleBody {
             for a in 0..3 {
                 out[(a, j)] -= fs.axis[a] * fy;
             }
+        }
+    }
+
+    /// The first moment's foreshortening −½ ē₁ yᵀ(Σ_k w_k F_k) y (body components), or
+    /// zero without FS0 data.
+    pub(crate) fn fs_first_moment(&self, y: &[f64]) -> Vector3<f64> {
+        let Some(fs) = self.fs.as_ref() else {
+            return Vector3::zeros();
+        };
+        let n = self.n;
+        let mut q = 0.0;
+        for i in 0..n {
+            q += y[i] * dot(&fs.wf[i * n..(i + 1) * n], y);
+        }
+        fs.axis * (-0.5 * q)
+    }
+
+    /// Add the FS0 part of the modal gravity force, −(Σ w F_k) y (ē₁ · Aᵀg), to `out` (n).
+    pub(crate) fn add_fs_gravity(&self, y: &[f64], gb: &Vector3<f64>, out: &mut [f64]) {
+        let Some(fs) = self.fs.as_ref() else { return };
+        let n = self.n;
+        let s = fs.axis.dot(gb);
+        if s == 0.0 {
+            return;
+        }
+        for (j, o) in out.iter_mut().enumerate() {
+            *o -= s * dot(&fs.wf[j * n..(j + 1) * n], y);
         }
     }
 

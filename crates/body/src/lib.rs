@@ -376,7 +376,7 @@ impl FlexibleBody {
                 d,
                 reduced.dim,
                 n,
-                cloud.len(),
+                &cloud.weights,
             )?),
             None => None,
         };
@@ -687,13 +687,17 @@ impl FlexibleBody {
         self.elastic = model;
     }
 
-    /// Current first moment in body components, `m̄(y) = m̄_u + S y`.
+    /// Current first moment in body components, `m̄(y) = m̄_u + S y` (FS0: minus
+    /// `½ ē₁ yᵀ(Σ_k w_k F_k) y`, methods.md §6.3).
     pub fn first_moment_at(&self, y: &[f64]) -> Vector3<f64> {
         let n = self.n;
         assert_eq!(y.len(), n);
         let mut m = self.m_u;
         for a in 0..3 {
             m[a] += dot(&self.s[a * n..(a + 1) * n], y);
+        }
+        if self.fs.is_some() {
+            m += self.fs_first_moment(y);
         }
         m
     }
@@ -733,6 +737,8 @@ impl FlexibleBody {
             }
             out[nr + j] = v;
         }
+        // FS0: Σ w X̂_kᵀ Aᵀ g adds −(Σ w F_k) y (ē₁ · Aᵀ g).
+        self.add_fs_gravity(state.y, &gb, &mut out[nr..]);
     }
 }
 

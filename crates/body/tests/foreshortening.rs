@@ -409,3 +409,62 @@ fn node_helper_matches_kinematics_and_routes() {
     // Q differs by the velocity-product term −Σ w B_kᵀ A ē₁ ẏᵀF_k ẏ only.
     assert!((&q1 - &q2).amax() > 0.0);
 }
+
+#[test]
+fn gravity_and_first_moment_include_the_shortening() {
+    for (dim, modes) in [(Dim::Planar, 4), (Dim::Spatial, 8)] {
+        let (rb, _) = spin_up_body(dim, 8, modes);
+        let n = rb.n_modes();
+        let body = FlexibleBody::new(&rb).unwrap();
+        let m = Motion {
+            dim,
+            n,
+            ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
+        };
+        let (r0, a, y) = (m.r0(0.3), m.a(0.3), m.y(0.3));
+        let g = match dim {
+            Dim::Planar => Vector3::new(3.0, -9.81, 0.0),
+            Dim::Spatial => Vector3::new(2.0, 1.0, -9.81),
+        };
+        // m̄(y) = Σ w r̄_k(y).
+        let mut mb = Vector3::zeros();
+        for k in 0..rb.cloud.len() {
+            mb += rb.cloud.weights[k] * rbar(&rb, k, &y);
+        }
+        let e = (body.first_moment_at(&y) - mb).amax() / mb.amax();
+        assert!(e < 1e-13, "{dim:?}: first moment {e}");
+        // Modal gravity force = ∂/∂y (g · Σ w r_k) by central differences.
+        let yd = vec![0.0; n];
+        let st = BodyState {
+            r0,
+            a,
+            omega: Vector3::zeros(),
+            s_dot: Vector3::zeros(),
+            y: &y,
+            y_dot: &yd,
+        };
+        let nc = body.n_coords();
+        let mut out = vec![0.0; nc];
+        body.gravity_forces(&st, &g, &mut out);
+        let pot = |yy: &[f64]| {
+            let p = positions(&rb, r0, a, yy);
+            (0..rb.cloud.len())
+                .map(|k| rb.cloud.weights[k] * g.dot(&p.fixed_rows::<3>(3 * k)))
+                .sum::<f64>()
+        };
+        let mut worst = 0.0_f64;
+        let scale = out[nc - n..].iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        for j in 0..n {
+            let d = 1e-4;
+            let at = |s: f64| {
+                let mut yy = y.clone();
+                yy[j] += s;
+                pot(&yy)
+            };
+            let fd = (at(-2.0 * d) - 8.0 * at(-d) + 8.0 * at(d) - at(2.0 * d)) / (12.0 * d);
+            worst = worst.max((fd - out[nc - n + j]).abs() / scale);
+        }
+        eprintln!("FS0 {dim:?}: modal gravity vs potential gradient {worst:.2e}");
+        assert!(worst < 1e-8, "{dim:?}: {worst}");
+    }
+}

@@ -23,11 +23,12 @@ use flexmbd_core::Dim;
 const L: f64 = 10.0;
 
 fn scene(duration: f64) -> Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_2d.ron"
-    );
-    let mut scene = Scene::load(path).unwrap();
+    scene_of("spin_up_beam_2d.ron", duration)
+}
+
+fn scene_of(file: &str, duration: f64) -> Scene {
+    let path = format!("{}/../../models/{file}", env!("CARGO_MANIFEST_DIR"));
+    let mut scene = Scene::load(&path).unwrap();
     scene.solver.stiffening = Stiffening::Foreshortening;
     scene.solver.formulation = FormulationKind::Relative;
     scene.solver.inertia = InertiaMethod::BMatrix;
@@ -36,7 +37,7 @@ fn scene(duration: f64) -> Scene {
 }
 
 struct Outcome {
-    err: [f64; 2],
+    err: [f64; 3],
     final_err: [f64; 2],
     min_ux: f64,
     newton_per_step: f64,
@@ -45,6 +46,11 @@ struct Outcome {
 }
 
 fn fs0_against_reference(duration: f64) -> Outcome {
+    fs0_run(scene(duration))
+}
+
+fn fs0_run(scene: Scene) -> Outcome {
+    let duration = scene.solver.duration;
     let r: History = run_spin_up(
         &CableSpec::spin_up_beam(Dim::Planar, 16),
         1e-3,
@@ -52,7 +58,6 @@ fn fs0_against_reference(duration: f64) -> Outcome {
         0.01,
     )
     .unwrap();
-    let scene = scene(duration);
     let disp = |name: &str| {
         scene
             .sensors
@@ -71,8 +76,12 @@ fn fs0_against_reference(duration: f64) -> Outcome {
         h.column("t").unwrap(),
     );
     assert_eq!(x.len(), r.t.len());
-    let mut err = [0.0_f64; 2];
+    let mut err = [0.0_f64; 3];
     let mut min_ux = f64::INFINITY;
+    // 3D: the out-of-plane tip displacement, against the planar reference's 0.
+    if let Some(z) = h.column("tip_z") {
+        err[2] = z.iter().fold(0.0, |m, v| m.max(v.abs()));
+    }
     for k in 0..x.len() {
         assert!((t[k] - r.t[k]).abs() < 1e-9);
         let ux = x[k] - x_off;
@@ -125,6 +134,22 @@ fn full_20_s_fs0_errors_against_reference() {
     assert!((0.45..0.6).contains(&ex), "|Δu_x| = {ex} mm");
     let fx = o.final_err[0] * 1e3;
     assert!((fx - 0.514).abs() < 0.05, "final |Δu_x| = {fx} mm");
+    assert!(ey < 2.13 * 1.1, "|Δu_y| = {ey} mm");
+    assert!(o.newton_per_step < 1.1, "{} Newton/step", o.newton_per_step);
+}
+
+#[test]
+fn spatial_fs0_without_gravity_equals_planar() {
+    // 3D, 4 + 4 bending modes and no axial modes (scenes.md §5), gravity off: the motion
+    // stays in the plane and matches the 2D reference as the 2D model does (the ANCF
+    // 3D cable without gravity equals the 2D one, flexmbd-ancf tests).
+    let mut s = scene_of("spin_up_beam_3d.ron", 20.0);
+    s.gravity = flexmbd::model::V3([0.0; 3]);
+    let o = fs0_run(s);
+    let (ex, ey) = report(&o, 20.0);
+    assert_eq!(o.n_coordinates, 9);
+    assert!(o.err[2] < 1e-9, "out of plane {} m", o.err[2]);
+    assert!((0.45..0.6).contains(&ex), "|Δu_x| = {ex} mm");
     assert!(ey < 2.13 * 1.1, "|Δu_y| = {ey} mm");
     assert!(o.newton_per_step < 1.1, "{} Newton/step", o.newton_per_step);
 }
