@@ -468,3 +468,50 @@ fn gravity_and_first_moment_include_the_shortening() {
         assert!(worst < 1e-8, "{dim:?}: {worst}");
     }
 }
+
+#[global_allocator]
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
+
+#[test]
+fn fs0_evaluation_allocates_nothing() {
+    for (dim, modes) in [(Dim::Planar, 4), (Dim::Spatial, 8)] {
+        let (rb, _) = spin_up_body(dim, 8, modes);
+        let n = rb.n_modes();
+        let mut body = FlexibleBody::new(&rb).unwrap();
+        let m = Motion {
+            dim,
+            n,
+            ys: vec![0.3; n],
+        };
+        let (y, yd) = (m.y(0.2), m.y(0.5));
+        let st = BodyState {
+            r0: m.r0(0.2),
+            a: m.a(0.2),
+            omega: Vector3::new(0.1, -0.2, 1.3),
+            s_dot: Vector3::new(0.4, 0.1, -0.2),
+            y: &y,
+            y_dot: &yd,
+        };
+        let st = if dim == Dim::Planar {
+            BodyState {
+                omega: Vector3::new(0.0, 0.0, 1.3),
+                s_dot: Vector3::new(0.4, 0.1, 0.0),
+                ..st
+            }
+        } else {
+            st
+        };
+        let nc = body.n_coords();
+        let (mut mm, mut q, mut qg) = (DMatrix::zeros(nc, nc), DVector::zeros(nc), vec![0.0; nc]);
+        let g = Vector3::new(0.0, -9.81, 0.0);
+        let before = flexmbd_test_support::allocations();
+        for _ in 0..3 {
+            body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut q);
+            body.inertia_origin(&st, InertiaMethod::BMatrix, &mut mm, &mut q);
+            body.gravity_forces(&st, &g, &mut qg);
+            let sh = body.node_foreshortening(8, &y, &yd).unwrap();
+            assert!(sh.position.x < 0.0);
+        }
+        assert_eq!(flexmbd_test_support::allocations(), before, "{dim:?}");
+    }
+}
