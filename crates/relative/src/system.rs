@@ -122,9 +122,12 @@ pub struct Relative {
     pub(crate) paths: Vec<Vec<usize>>,
     /// w → z: (z index, coefficient).
     pub(crate) l_rows: Vec<Vec<(usize, f64)>>,
-    /// M = Lᵀ M_w L over the structural non-zeros of M_w: (index in M, index in M_w,
-    /// coefficient), column-major indices.
+    /// M = Lᵀ M_w L over the structural non-zeros of M_w outside its z × z block (which
+    /// the pass writes into M directly): (index in M, index in M_w, coefficient),
+    /// column-major indices.
     mass_map: Vec<(usize, usize, f64)>,
+    /// Scratch of the largest body size (P_k).
+    p_buf: Vec<f64>,
     /// Elementary-joint value coefficients, resolved to z.
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     pub(crate) cons: Vec<Con>,
@@ -522,6 +525,7 @@ impl Relative {
             paths,
             l_rows,
             mass_map: Vec::new(),
+            p_buf: vec![0.0; nr + infos.iter().map(|i| i.n_modes).max().unwrap_or(0)],
             elem_rate,
             cons,
             fr_r: vec![Vector3::zeros(); nf],
@@ -569,8 +573,8 @@ impl Relative {
         Ok(rel)
     }
 
-    /// The entries of M_w that [`dynamics`](Self::dynamics) writes (the others are zero
-    /// for every state), mapped through L into M.
+    /// The entries of M_w outside its z × z block that [`dynamics`](Self::dynamics) writes
+    /// (the others are zero for every state), mapped through L into M.
     fn build_mass_map(&self) -> Vec<(usize, usize, f64)> {
         let (nz, nw) = (self.n_z, self.n_w);
         let mut pattern = vec![false; nw * nw];
@@ -596,7 +600,7 @@ impl Relative {
         let mut map = Vec::new();
         for j in 0..nw {
             for i in 0..nw {
-                if !pattern[i + j * nw] {
+                if !pattern[i + j * nw] || (i < nz && j < nz) {
                     continue;
                 }
                 for &(c, a) in &self.l_rows[i] {
@@ -825,6 +829,7 @@ impl Relative {
 
     /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
     /// on positions only), root → leaves.
+    #[inline(never)]
     fn positions(&mut self) {
         let z = self.last_z.as_slice();
         for f in 0..self.topo.frames.len() {
@@ -885,6 +890,7 @@ impl Relative {
     }
 
     /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
+    #[inline(never)]
     fn velocities(&mut self) {
         let zd = self.last_zd.as_slice();
         // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
@@ -982,6 +988,7 @@ impl Relative {
     }
 
     /// §4.5 steps 4–7: M and Q into `out`.
+    #[inline(never)]
     fn dynamics(
         &mut self,
         z: &DVector<f64>,
@@ -994,6 +1001,17 @@ impl Relative {
         self.evaluate_bodies(z, zd);
         // M_w and Q_w need no clearing: every pass writes the same set of their entries
         // (the others stay at their compile-time zeros).
+        // M_w[i, j] goes straight into M when both are z indices (L = [I; L_node]), into
+        // `m_w` otherwise (mapped below). `out` comes cleared.
+        let nz = self.n_z;
+        let mass = out.mass.as_mut_slice();
+        let put = |mass: &mut [f64], mw: &mut DMatrix<f64>, i: usize, j: usize, v: f64| {
+            if i < nz && j < nz {
+                mass[i + j * nz] = v;
+            } else {
+                mw[(i, j)] = v;
+            }
+        };
         // Step 4: P_k = Q̄_k − M̄_k {D_k; 0}; own rigid blocks; modal rows of M_w, Q_w.
         for k in 0..self.bodies.len() {
             let b = &self.bodies[k];
@@ -1001,68 +1019,107 @@ impl Relative {
             let d = self.fr_d[f];
             let nc = nr + b.n;
             let (mm, pp) = (&mut self.body_m[k], &mut self.body_p[k]);
-            for r in 0..nc {
-                let mut p = b.q_bar[r];
-                for c in 0..nr {
-                    p -= b.m_bar[(r, c)] * d[rmap[c]];
+            // P = Q̄ − M̄[:, rigid] D, column by column (the same operation order per row).
+            let mb = b.m_bar.as_slice();
+            let p = &mut self.p_buf[..nc];
+            p.copy_from_slice(b.q_bar.as_slice());
+            for c in 0..nr {
+                let dc = d[rmap[c]];
+                for (pr, m) in p.iter_mut().zip(&mb[c * nc..(c + 1) * nc]) {
+                    *pr -= m * dc;
                 }
-                if r < nr {
-                    pp[rmap[r]] = p;
-                    for c in 0..nr {
-                        mm[(rmap[r], rmap[c])] = b.m_bar[(r, c)];
-                    }
-                } else {
-                    self.q_w[b.y_off + r - nr] = p;
+                for r in 0..nr {
+                    mm[(rmap[r], rmap[c])] = mb[c * nc + r];
                 }
             }
+            for r in 0..nr {
+                pp[rmap[r]] = p[r];
+            }
+            self.q_w.as_mut_slice()[b.y_off..b.y_off + b.n].copy_from_slice(&p[nr..]);
             for m in 0..b.n {
                 let wm = b.y_off + m;
+                let col = &mb[(nr + m) * nc..(nr + m + 1) * nc];
                 let mut u = Vector6::zeros();
                 for r in 0..nr {
-                    u[rmap[r]] = b.m_bar[(r, nr + m)];
+                    u[rmap[r]] = col[r];
                 }
                 for &a in &self.paths[f] {
                     let val = self.ev[a].dot(&u);
                     let wa = self.elem_w[a];
-                    self.m_w[(wa, wm)] = val;
-                    self.m_w[(wm, wa)] = val;
+                    put(mass, &mut self.m_w, wa, wm, val);
+                    put(mass, &mut self.m_w, wm, wa, val);
                 }
+                // M̄_yy (modes are z coordinates): column m of the block, row m2.
                 for m2 in 0..b.n {
-                    self.m_w[(wm, b.y_off + m2)] = b.m_bar[(nr + m, nr + m2)];
+                    mass[b.y_off + m2 + wm * nz] = col[nr + m2];
                 }
             }
         }
         // Step 5: accumulate leaves → root over the tree of elementary joints (a child's
         // index is larger than its parent's).
+        // A planar scene only has the x, y, θz entries (`rmap`) of twists, 𝕄 and ℙ: the
+        // others are exact zeros, so steps 5–7 run on those three.
+        let planar = nr == 3;
         for e in (0..self.topo.elems.len()).rev() {
             let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
-            for &k in &self.el_bodies[e] {
-                m += self.body_m[k];
-                pv += self.body_p[k];
-            }
-            for &c in &self.el_children[e] {
-                m += self.el_m[c];
-                pv += self.el_p[c];
+            let parts = self.el_bodies[e]
+                .iter()
+                .map(|&k| (&self.body_m[k], &self.body_p[k]))
+                .chain(
+                    self.el_children[e]
+                        .iter()
+                        .map(|&c| (&self.el_m[c], &self.el_p[c])),
+                );
+            if planar {
+                for (bm, bp) in parts {
+                    for &c in &rmap[..3] {
+                        pv[c] += bp[c];
+                        for &r in &rmap[..3] {
+                            m[(r, c)] += bm[(r, c)];
+                        }
+                    }
+                }
+            } else {
+                for (bm, bp) in parts {
+                    m += bm;
+                    pv += bp;
+                }
             }
             self.el_m[e] = m;
             self.el_p[e] = pv;
         }
         // Steps 6–7 for the elementary joints.
+        let dot = |a: &Vector6<f64>, b: &Vector6<f64>| {
+            if planar {
+                a[0] * b[0] + a[1] * b[1] + a[5] * b[5]
+            } else {
+                a.dot(b)
+            }
+        };
         for e in 0..self.topo.elems.len() {
             let f = self.topo.elems[e].frame;
-            let ke = self.el_m[e] * self.ev[e];
+            let (me, ve) = (&self.el_m[e], &self.ev[e]);
+            let ke = if planar {
+                let mut ke = Vector6::zeros();
+                for r in [0, 1, 5] {
+                    ke[r] = me[(r, 0)] * ve[0] + me[(r, 1)] * ve[1] + me[(r, 5)] * ve[5];
+                }
+                ke
+            } else {
+                me * ve
+            };
             let we = self.elem_w[e];
             for &a in &self.paths[f] {
-                let val = self.ev[a].dot(&ke);
+                let val = dot(&self.ev[a], &ke);
                 let wa = self.elem_w[a];
-                self.m_w[(wa, we)] = val;
-                self.m_w[(we, wa)] = val;
+                put(mass, &mut self.m_w, wa, we, val);
+                put(mass, &mut self.m_w, we, wa, val);
             }
-            self.q_w[we] = self.ev[e].dot(&self.el_p[e]);
+            self.q_w[we] = dot(&self.ev[e], &self.el_p[e]);
         }
         // M = Lᵀ M_w L, Q = Lᵀ Q_w.
-        // `out` comes cleared; only the structural non-zeros of M_w are visited.
-        let mass = out.mass.as_mut_slice();
+        // The z × z block was written into `out` directly; the node-joint rows and columns
+        // of M_w (only its structural non-zeros) are added through L.
         let mw = self.m_w.as_slice();
         for &(d, src, k) in &self.mass_map {
             mass[d] += k * mw[src];
@@ -1107,6 +1164,7 @@ impl Relative {
         g.dot(&self.fr_d[f])
     }
 
+    #[inline(never)]
     fn constraints(&mut self, t: f64, req: Request, out: &mut SystemTerms) {
         self.jac = req.jacobian;
         if req.jacobian {
