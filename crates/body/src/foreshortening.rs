@@ -12,8 +12,10 @@
 //!
 //! The 13 shape integrals do not suffice (integrals of F, XᵀF and F ⊗ F would be
 //! needed), so [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod) is refused for
-//! a foreshortened body ([`FlexibleBody::check_inertia_method`]). Natural coordinates
-//! (methods.md §2.5) are not implemented for FS0.
+//! a foreshortened body ([`FlexibleBody::check_inertia_method`]). In planar natural
+//! coordinates {r0, u, y} (methods.md §2.5) the same projection uses
+//! `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`;
+//! spatial natural coordinates are not implemented for FS0.
 //!
 //! The same kinematics at an FE node give the marker helper
 //! [`FlexibleBody::node_foreshortening`] (position shift −½ ē₁ yᵀF_node y, its rate
@@ -22,9 +24,9 @@
 
 use flexmbd_core::{Dim, InvalidValue};
 use flexmbd_fe::ForeshorteningData;
-use nalgebra::{DMatrix, Dyn, Matrix, Matrix3, StorageMut, U1, Vector3};
+use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
-use crate::{BodyState, FlexibleBody, InertiaMethod, dot};
+use crate::{BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot};
 
 /// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
 #[derive(Clone, Debug)]
@@ -366,6 +368,127 @@ impl FlexibleBody {
                 let v = ws.yy[i * n + j];
                 m_out[(nr + i, nr + j)] = v;
                 m_out[(nr + j, nr + i)] = v;
+            }
+        }
+    }
+
+    /// Planar natural coordinates {r0, u, y} (methods.md §2.5) with FS0 kinematics, route
+    /// (a): `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`,
+    /// with `A = [u  E u]` (not necessarily orthonormal) and the deformed r̄_k.
+    pub(crate) fn natural_bmatrix_fs_2d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let fs = self
+            .fs
+            .as_ref()
+            .expect("natural_bmatrix_fs_2d without FS0 data");
+        let (y, yd) = (st.y, st.y_dot);
+        let u = st.a.column(0).xy();
+        let ud = st.a_dot.column(0).xy();
+        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+        let e2 = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
+        let axis = fs.axis.xy();
+        let a_axis = a * axis;
+        let crate::Workspace {
+            u: xh,
+            gy: fy,
+            ax,
+            sy,
+            wy,
+            yy,
+            qy,
+            ..
+        } = &mut nws.0;
+        sy.fill(0.0);
+        wy.fill(0.0);
+        yy.fill(0.0);
+        qy.fill(0.0);
+        let mut msum = 0.0;
+        let mut rsum = Vector2::zeros();
+        let mut psum = 0.0;
+        let mut asum = Vector2::zeros();
+        let mut qu = Vector2::zeros();
+        let (n2, w3) = (n * n, 3 * n);
+        for k in 0..self.w.len() {
+            let wk = self.w[k];
+            let x = &self.rows[k * w3..(k + 1) * w3];
+            let f = &fs.cloud[k * n2..(k + 1) * n2];
+            let (x0, x1) = (&x[..n], &x[n..2 * n]);
+            mat_vec(f, y, &mut fy[..n]);
+            let yfy = dot(y, &fy[..n]);
+            let mut c = 0.0;
+            for i in 0..n {
+                c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+            }
+            for j in 0..n {
+                xh[j] = x0[j] - axis.x * fy[j];
+                xh[n + j] = x1[j] - axis.y * fy[j];
+            }
+            let (xh0, xh1) = (&xh[..n], &xh[n..2 * n]);
+            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y)) - axis * (0.5 * yfy);
+            let acc = 2.0 * (ad * Vector2::new(dot(xh0, yd), dot(xh1, yd))) - a_axis * c;
+            msum += wk;
+            rsum += wk * rb;
+            psum += wk * rb.norm_squared();
+            asum += wk * acc;
+            // (r̄1 I + r̄2 E)ᵀ a = r̄1 a − r̄2 E a.
+            qu += wk * (rb.x * acc - rb.y * e2(acc));
+            for j in 0..n {
+                let v = a * Vector2::new(xh0[j], xh1[j]);
+                ax[j] = v.x;
+                ax[n + j] = v.y;
+                sy[j] += wk * v.x;
+                sy[n + j] += wk * v.y;
+                let uy = rb.x * v - rb.y * e2(v);
+                wy[j] += wk * uy.x;
+                wy[n + j] += wk * uy.y;
+                qy[j] += wk * acc.dot(&v);
+            }
+            for i in 0..n {
+                let (p0, p1) = (wk * ax[i], wk * ax[n + i]);
+                for j in i..n {
+                    yy[i * n + j] += p0 * ax[j] + p1 * ax[n + j];
+                }
+            }
+        }
+        m_out[(0, 0)] = msum;
+        m_out[(1, 1)] = msum;
+        m_out[(0, 1)] = 0.0;
+        m_out[(1, 0)] = 0.0;
+        let r0u = Matrix2::new(rsum.x, -rsum.y, rsum.y, rsum.x);
+        for i in 0..2 {
+            for j in 0..2 {
+                m_out[(i, 2 + j)] = r0u[(i, j)];
+                m_out[(2 + j, i)] = r0u[(i, j)];
+                m_out[(2 + i, 2 + j)] = if i == j { psum } else { 0.0 };
+            }
+        }
+        q_out[0] = -asum.x;
+        q_out[1] = -asum.y;
+        q_out[2] = -qu.x;
+        q_out[3] = -qu.y;
+        let o = 4;
+        for j in 0..n {
+            for c in 0..2 {
+                m_out[(c, o + j)] = sy[c * n + j];
+                m_out[(o + j, c)] = sy[c * n + j];
+                m_out[(2 + c, o + j)] = wy[c * n + j];
+                m_out[(o + j, 2 + c)] = wy[c * n + j];
+            }
+            q_out[o + j] = -qy[j];
+            for i in j..n {
+                let v = yy[j * n + i];
+                m_out[(o + j, o + i)] = v;
+                m_out[(o + i, o + j)] = v;
             }
         }
     }

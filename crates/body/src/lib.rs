@@ -600,10 +600,14 @@ impl FlexibleBody {
             self.n,
             "inertia_natural: workspace of another body"
         );
-        assert!(
-            self.fs.is_none(),
-            "inertia_natural: foreshortening (FS0) is not implemented in natural coordinates"
-        );
+        if self.fs.is_some() {
+            assert!(
+                self.dim == Dim::Planar && method == InertiaMethod::BMatrix,
+                "inertia_natural: foreshortening (FS0) is implemented for planar bodies by the \
+                 B-matrix route only"
+            );
+            return self.natural_bmatrix_fs_2d(state, ws, m_out, qv_out);
+        }
         match (self.dim, method) {
             (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
                 self.natural_shape_3d(state, ws, m_out, qv_out)
@@ -657,6 +661,7 @@ impl FlexibleBody {
             }
             out[o + j] = v;
         }
+        self.add_fs_gravity(state.y, &gb, &mut out[o..]);
     }
 
     /// Elastic and damping forces on the modal coordinates, `Q_el(y, ẏ)` (length n),

@@ -465,6 +465,17 @@ fn gravity_and_first_moment_include_the_shortening() {
             worst = worst.max((fd - out[nc - n + j]).abs() / scale);
         }
         eprintln!("FS0 {dim:?}: modal gravity vs potential gradient {worst:.2e}");
+        if dim == Dim::Planar {
+            // Natural coordinates: the same modal gravity force.
+            let u = a.column(0).xy();
+            let z2 = nalgebra::Vector2::zeros();
+            let nat = flexmbd_body::NaturalState::planar(r0.xy(), u, z2, z2, &y, &yd);
+            let mut gn = vec![0.0; 4 + n];
+            body.gravity_natural(&nat, &g, &mut gn);
+            for j in 0..n {
+                assert!((gn[4 + j] - out[nc - n + j]).abs() < 1e-12 * scale);
+            }
+        }
         assert!(worst < 1e-8, "{dim:?}: {worst}");
     }
 }
@@ -514,4 +525,86 @@ fn fs0_evaluation_allocates_nothing() {
         }
         assert_eq!(flexmbd_test_support::allocations(), before, "{dim:?}");
     }
+}
+
+/// Planar natural coordinates q = {r0, u, y} with a non-unit u(t): Σ w J_kᵀ r̈_k =
+/// M q̈ − Q_v, with r_k = r0 + [u  E u] r̄_k(y) and J_k from the position law
+/// (∂r/∂r0 = I, ∂r/∂u = r̄1 I + r̄2 E, ∂r/∂y by differences).
+#[test]
+fn natural_planar_inertia_matches_virtual_power() {
+    let (rb, _) = spin_up_body(Dim::Planar, 8, 4);
+    let n = rb.n_modes();
+    let body = FlexibleBody::new(&rb).unwrap();
+    let mut nws = body.natural_workspace();
+    let m = Motion {
+        dim: Dim::Planar,
+        n,
+        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
+    };
+    let uvec = |t: f64| {
+        let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
+        nalgebra::Vector2::new(c, s) * (1.0 + 0.1 * (2.0 * t).sin())
+    };
+    let amat = |t: f64| {
+        let u = uvec(t);
+        Matrix3::new(u.x, -u.y, 0.0, u.y, u.x, 0.0, 0.0, 0.0, 1.0)
+    };
+    let qvec = |t: f64| {
+        let (r0, u) = (m.r0(t), uvec(t));
+        let mut v = vec![r0.x, r0.y, u.x, u.y];
+        v.extend(m.y(t));
+        DVector::from_vec(v)
+    };
+    let pos_at = |t: f64| positions(&rb, m.r0(t), amat(t), &m.y(t));
+    let (h, np, nc) = (1e-3, rb.cloud.len(), 4 + n);
+    let mut worst = 0.0_f64;
+    for &t in &[0.0, 0.37, 1.1] {
+        let (q, qd, qdd) = (qvec(t), d1(qvec, t, h), d2(qvec, t, h));
+        let y: Vec<f64> = q.rows(4, n).iter().copied().collect();
+        let yd: Vec<f64> = qd.rows(4, n).iter().copied().collect();
+        let st = flexmbd_body::NaturalState::planar(
+            q.fixed_rows::<2>(0).into_owned(),
+            q.fixed_rows::<2>(2).into_owned(),
+            qd.fixed_rows::<2>(0).into_owned(),
+            qd.fixed_rows::<2>(2).into_owned(),
+            &y,
+            &yd,
+        );
+        let mut mm = DMatrix::zeros(nc, nc);
+        let mut qv = DVector::zeros(nc);
+        body.inertia_natural(&st, InertiaMethod::BMatrix, &mut nws, &mut mm, &mut qv);
+        let rddot = d2(pos_at, t, h);
+        let (r0, a) = (m.r0(t), amat(t));
+        let mut lhs = DVector::<f64>::zeros(nc);
+        for k in 0..np {
+            let w = rb.cloud.weights[k];
+            let acc = rddot.fixed_rows::<3>(3 * k).into_owned();
+            let rbk = rbar(&rb, k, &y);
+            lhs[0] += w * acc.x;
+            lhs[1] += w * acc.y;
+            // ∂r/∂u_x = (r̄1, r̄2), ∂r/∂u_y = (−r̄2, r̄1).
+            lhs[2] += w * (rbk.x * acc.x + rbk.y * acc.y);
+            lhs[3] += w * (-rbk.y * acc.x + rbk.x * acc.y);
+        }
+        for j in 0..n {
+            let d = 1e-4;
+            let sh = |s: f64| {
+                let mut yy = y.clone();
+                yy[j] += s;
+                positions(&rb, r0, a, &yy)
+            };
+            let col = (sh(-2.0 * d) - sh(-d) * 8.0 + sh(d) * 8.0 - sh(2.0 * d)) / (12.0 * d);
+            for k in 0..np {
+                lhs[4 + j] += rb.cloud.weights[k]
+                    * col
+                        .fixed_rows::<3>(3 * k)
+                        .dot(&rddot.fixed_rows::<3>(3 * k));
+            }
+        }
+        let rhs = &mm * &qdd - &qv;
+        let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
+        worst = worst.max((&lhs - &rhs).amax() / scale);
+    }
+    eprintln!("FS0 natural planar: virtual power residual {worst:.2e}");
+    assert!(worst < 1e-6, "{worst}");
 }
