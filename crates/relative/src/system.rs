@@ -1178,19 +1178,17 @@ impl Relative {
                 ConRef::Point(i, j) => {
                     let (pi, vi) = point_at(self, &i);
                     let (pj, vj) = point_at(self, &j);
-                    for a in 0..nt {
-                        let r = row + a;
-                        if req.constraints {
-                            out.phi[r] = pi[a] - pj[a];
+                    if req.constraints {
+                        for a in 0..nt {
+                            out.phi[row + a] = pi[a] - pj[a];
                         }
-                        if req.jacobian || req.accel_term {
-                            let e = Vector3::ith(a, 1.0);
-                            let mut bias = 0.0;
-                            for (s, p, v, sg) in [(&i, pi, vi, 1.0), (&j, pj, vj, -1.0)] {
-                                bias += sg * self.point_row(r, s, &p, &v, &e, sg);
-                            }
-                            if req.accel_term {
-                                out.accel_term[r] = bias;
+                    }
+                    if req.jacobian || req.accel_term {
+                        let bias = self.point_rows(row, &i, &pi, &vi, 1.0)
+                            - self.point_rows(row, &j, &pj, &vj, -1.0);
+                        if req.accel_term {
+                            for a in 0..nt {
+                                out.accel_term[row + a] = bias[a];
                             }
                         }
                     }
@@ -1283,6 +1281,59 @@ impl Relative {
                 }
             }
         }
+    }
+
+    /// Jacobian rows `row..row + n_trans` of r_P for a point of side `s` (sign `sg` applied
+    /// to the rows; one walk of the path for all components), and the Cartesian bias
+    /// D_s + D_ω × p + ω × ṙ_P + ω × A X ẏ (returned unsigned).
+    fn point_rows(
+        &mut self,
+        row: usize,
+        s: &Side,
+        p: &Vector3<f64>,
+        v: &Vector3<f64>,
+        sg: f64,
+    ) -> Vector3<f64> {
+        let Some(k) = s.body else {
+            return Vector3::zeros();
+        };
+        let nt = self.dim.n_trans();
+        let f = self.bodies[k].frame;
+        if self.jac {
+            for &a in &self.paths[f] {
+                // Velocity of the point per unit rate of elementary joint a.
+                let ev = &self.ev[a];
+                let u = ev.fixed_rows::<3>(0) + ev.fixed_rows::<3>(3).cross(p);
+                let wa = self.elem_w[a];
+                for c in 0..nt {
+                    self.phi_w[(row + c, wa)] += sg * u[c];
+                }
+            }
+        }
+        let d = &self.fr_d[f];
+        let w = self.fr_z[f].fixed_rows::<3>(3).into_owned();
+        let mut bias = d.fixed_rows::<3>(0) + d.fixed_rows::<3>(3).cross(p) + w.cross(v);
+        if let Some(node) = s.node {
+            let b = &self.bodies[k];
+            let a = self.fr_a[f];
+            let mut xy = Vector3::zeros();
+            for m in 0..b.n {
+                let col = Vector3::new(
+                    b.rows.t(node, 0, m),
+                    b.rows.t(node, 1, m),
+                    b.rows.t(node, 2, m),
+                );
+                if self.jac {
+                    let ac = a * col;
+                    for c in 0..nt {
+                        self.phi_w[(row + c, b.y_off + m)] += sg * ac[c];
+                    }
+                }
+                xy += col * self.last_zd[b.y_off + m];
+            }
+            bias += w.cross(&(a * xy));
+        }
+        bias
     }
 
     /// Jacobian row of e·r_P for a point of side `s` (sign `sg` applied to the row) and the
