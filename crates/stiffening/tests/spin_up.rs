@@ -49,6 +49,13 @@ fn spin_up(st: Stiffening, formulation: FormulationKind, duration: f64, r: &Hist
         h.column("tip_y").unwrap(),
         h.column("t").unwrap(),
     );
+    // The displacement sensors report the same, minus the undeformed tip (L, 0).
+    let (ux, uy) = (h.column("tip_ux").unwrap(), h.column("tip_uy").unwrap());
+    for k in 0..x.len() {
+        if x[k].is_finite() && x[k].abs() < 1e3 {
+            assert!((ux[k] - (x[k] - L)).abs() <= 1e-12 && (uy[k] - y[k]).abs() <= 1e-12);
+        }
+    }
     let mut err = [0.0_f64; 2];
     for k in 0..x.len().min(r.t.len()) {
         assert!((t[k] - r.t[k]).abs() < 1e-9);

@@ -31,6 +31,12 @@ fn errors(n: usize, r: &History) -> [f64; 2] {
     assert_eq!(summary.stiffening, format!("substructuring:{n}"));
     let (x, y) = (h.column("tip_x").unwrap(), h.column("tip_y").unwrap());
     assert_eq!(x.len(), r.t.len());
+    let ux = h.column("tip_ux").unwrap();
+    assert!(
+        x.iter()
+            .zip(&ux)
+            .all(|(a, b)| (a - 10.0 - b).abs() <= 1e-12)
+    );
     let mut e = [0.0_f64; 2];
     for k in 0..x.len() {
         e[0] = e[0].max((x[k] - 10.0 - r.tip[k][0]).abs() * 1e3);
