@@ -1012,6 +1012,16 @@ impl Relative {
                 mw[(i, j)] = v;
             }
         };
+        // A planar scene only has the x, y, θz entries (`rmap`) of twists, 𝕄 and ℙ: the
+        // others are exact zeros, so the products run on those three.
+        let planar = nr == 3;
+        let dot = |a: &Vector6<f64>, b: &Vector6<f64>| {
+            if planar {
+                a[0] * b[0] + a[1] * b[1] + a[5] * b[5]
+            } else {
+                a.dot(b)
+            }
+        };
         // Step 4: P_k = Q̄_k − M̄_k {D_k; 0}; own rigid blocks; modal rows of M_w, Q_w.
         for k in 0..self.bodies.len() {
             let b = &self.bodies[k];
@@ -1044,7 +1054,7 @@ impl Relative {
                     u[rmap[r]] = col[r];
                 }
                 for &a in &self.paths[f] {
-                    let val = self.ev[a].dot(&u);
+                    let val = dot(&self.ev[a], &u);
                     let wa = self.elem_w[a];
                     put(mass, &mut self.m_w, wa, wm, val);
                     put(mass, &mut self.m_w, wm, wa, val);
@@ -1057,9 +1067,6 @@ impl Relative {
         }
         // Step 5: accumulate leaves → root over the tree of elementary joints (a child's
         // index is larger than its parent's).
-        // A planar scene only has the x, y, θz entries (`rmap`) of twists, 𝕄 and ℙ: the
-        // others are exact zeros, so steps 5–7 run on those three.
-        let planar = nr == 3;
         for e in (0..self.topo.elems.len()).rev() {
             let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
             let parts = self.el_bodies[e]
@@ -1089,13 +1096,6 @@ impl Relative {
             self.el_p[e] = pv;
         }
         // Steps 6–7 for the elementary joints.
-        let dot = |a: &Vector6<f64>, b: &Vector6<f64>| {
-            if planar {
-                a[0] * b[0] + a[1] * b[1] + a[5] * b[5]
-            } else {
-                a.dot(b)
-            }
-        };
         for e in 0..self.topo.elems.len() {
             let f = self.topo.elems[e].frame;
             let (me, ve) = (&self.el_m[e], &self.ev[e]);
