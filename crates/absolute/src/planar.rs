@@ -1163,7 +1163,8 @@ impl Body2 {
         (th, thd)
     }
 
-    /// Local (body-frame) position r̄_P + X_P y of a marker, and its rate.
+    /// Local (body-frame) position r̄_P + X_P y of a marker (FS0: plus the node's
+    /// foreshortening), and its rate.
     fn local_point(
         &self,
         rbar: Vector2<f64>,
@@ -1181,6 +1182,13 @@ impl Body2 {
                     p.y += ty[j] * yj;
                     pd.x += tx[j] * ydj;
                     pd.y += ty[j] * ydj;
+                }
+                // FS0 (methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+                let ys = self.y_off..self.y_off + self.n;
+                let (y, yd) = (&q.as_slice()[ys.clone()], &qd.as_slice()[ys]);
+                if let Some(sh) = self.body.node_foreshortening(node, y, yd) {
+                    p += sh.position.xy();
+                    pd += sh.velocity.xy();
                 }
                 (p, pd)
             }

@@ -205,17 +205,19 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
         .args([
             "simulate",
             &model("double_four_bar.ron"),
+            "--set",
+            "bodies.crank1.flexible=true",
             "--stiffening",
             "foreshortening",
         ])
         .output()
         .unwrap();
-    // FS0 runs in the relative formulation only (the four-bar scene is absolute).
+    // FS0 refuses a flexible crank with a joint at its tip (and the shape-integral route).
     assert!(!out.status.success());
     assert!(
         String::from_utf8(out.stderr)
             .unwrap()
-            .contains("relative formulation only")
+            .contains("foreshortening (FS0)")
     );
     let out = flexmbd()
         .args(["simulate", &model("double_four_bar.ron"), "--step", "-1"])

@@ -1,8 +1,8 @@
 //! Foreshortening, FS0 (methods.md §6.3): the scene preparation and the body set-up.
 //!
 //! - [`prepare`]: FS0 keeps **no axial modes** (`axial_modes` set to 0 on every flexible
-//!   beam); it runs in the relative formulation only (the absolute one refuses it, since
-//!   natural-coordinate FS0 inertia is not implemented) and needs each flexible beam's
+//!   beam); it runs in the relative formulation (2D and 3D) and in the absolute one in 2D
+//!   (spatial natural-coordinate FS0 inertia is not implemented) and needs each flexible beam's
 //!   frame clamped at node 0 (the root, x = 0 of F(x)).
 //! - [`install`]: computes F at every cloud point and node (`flexmbd_fe::foreshortening`)
 //!   and attaches it to the run-time body, which then uses the foreshortened kinematics in
@@ -12,6 +12,7 @@
 //!   ignores u_fs at other nodes). Elasticity stays linear, −K_L y.
 
 use flexmbd_body::FlexibleBody;
+use flexmbd_core::Dim;
 use flexmbd_fe::{Mesh, ReferenceFrame};
 use flexmbd_model::{BodyModel, FormulationKind, ModelError, PreparedBody, Scene};
 
@@ -21,11 +22,11 @@ fn refuse(scene: &Scene, what: String) -> ModelError {
 
 /// The scene FS0 compiles: every flexible beam without axial modes.
 pub fn prepare(scene: &Scene) -> Result<Scene, ModelError> {
-    if scene.solver.formulation != FormulationKind::Relative {
+    if scene.solver.formulation == FormulationKind::Absolute && scene.dim == Dim::Spatial {
         return Err(refuse(
             scene,
-            "available in the relative formulation only (natural-coordinate FS0 inertia is \
-             not implemented); use --formulation relative"
+            "spatial scenes run in the relative formulation only (spatial natural-coordinate \
+             FS0 inertia is not implemented); use --formulation relative"
                 .into(),
         ));
     }
@@ -61,10 +62,10 @@ pub fn install(
     let BodyModel::Beam(spec) = &b.model else {
         return Ok(());
     };
-    if scene.solver.formulation != FormulationKind::Relative {
+    if scene.solver.formulation == FormulationKind::Absolute && scene.dim == Dim::Spatial {
         return Err(refuse(
             scene,
-            "available in the relative formulation only".into(),
+            "spatial scenes run in the relative formulation only".into(),
         ));
     }
     let invalid = |error| ModelError::Invalid {
