@@ -212,7 +212,7 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
         ])
         .output()
         .unwrap();
-    // FS0 refuses a flexible crank with a joint at its tip (and the shape-integral route).
+    // FS0 refuses the flexible crank (its tip static modes have axial content).
     assert!(!out.status.success());
     assert!(
         String::from_utf8(out.stderr)
