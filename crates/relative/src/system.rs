@@ -2,9 +2,16 @@
 //!
 //! Storage: for every frame F of the augmented tree its position r_F, rotation A_F,
 //! velocity Z^r_F = {ṡ; ω} and velocity-product acceleration D_F (6-vectors in the 3D
-//! layout; a planar scene uses the x, y, θz entries), and the accumulated 𝕄_F, ℙ_F;
-//! for every elementary joint its twist v_e; the w-space M_w, Q_w, Φ_w. All sized at
-//! compile time: the pass allocates nothing.
+//! layout; a planar scene uses the x, y, θz entries); per body its rigid block of M̄_k
+//! and P_k, per elementary joint its twist v_e and the accumulated 𝕄, ℙ of its subtree;
+//! the w-space M_w, Q_w, Φ_w. All sized at compile time: the pass allocates nothing.
+//!
+//! The pass does only what the [`Request`] needs: positions and twists are recomputed
+//! only when z changed (a Newton iteration's M, Q, Φ_q reuse those of the Φ-only pass
+//! after the update; the projections those of the last one), Z and D only for M, Q or
+//! c and only when z or ż changed, Φ_w only for a Jacobian, the body terms only for M
+//! and Q. M_w is never cleared (its structural non-zeros are rewritten every pass) and
+//! its z × z block is written into M in place.
 
 use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod};
 use flexmbd_core::{Dim, Request, SystemTerms};
