@@ -16,7 +16,7 @@
 //! 2D: `B_k = [I₂  E r_k  A X_k]` (E = 90° rotation, `e_z × r = E r`),
 //! `Ḃ_k Z = ω E ṡ − ω² r_k + 2 ω E A X_k ẏ`.
 
-use crate::{BodyState, FlexibleBody, planar_rotation};
+use crate::{BodyState, FlexibleBody, planar_rotation, write_modal_block};
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 impl FlexibleBody {
@@ -134,15 +134,8 @@ impl FlexibleBody {
                 m_out[(3 + i, 6 + j)] = v;
                 m_out[(6 + j, 3 + i)] = v;
             }
-            q_out[6 + j] = -ws.qy[j];
         }
-        for i in 0..n {
-            for j in i..n {
-                let v = ws.yy[i * n + j];
-                m_out[(6 + i, 6 + j)] = v;
-                m_out[(6 + j, 6 + i)] = v;
-            }
-        }
+        write_modal_block(m_out, q_out, 6, n, &ws.yy, &ws.qy);
     }
 
     pub(crate) fn bmatrix_2d<SM, SQ>(
@@ -236,14 +229,7 @@ impl FlexibleBody {
             m_out[(3 + j, 1)] = ws.sy[n + j];
             m_out[(2, 3 + j)] = ws.wy[j];
             m_out[(3 + j, 2)] = ws.wy[j];
-            q_out[3 + j] = -ws.qy[j];
         }
-        for i in 0..n {
-            for j in i..n {
-                let v = ws.yy[i * n + j];
-                m_out[(3 + i, 3 + j)] = v;
-                m_out[(3 + j, 3 + i)] = v;
-            }
-        }
+        write_modal_block(m_out, q_out, 3, n, &ws.yy, &ws.qy);
     }
 }

@@ -26,7 +26,9 @@ use flexmbd_core::{Dim, InvalidValue};
 use flexmbd_fe::ForeshorteningData;
 use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
-use crate::{BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot};
+use crate::{
+    BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot, write_modal_block,
+};
 
 /// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
 #[derive(Clone, Debug)]
@@ -362,14 +364,7 @@ impl FlexibleBody {
                 m_out[(nr + jm, oi)] = v;
             }
         }
-        for i in 0..n {
-            q_out[nr + i] = -ws.qy[i];
-            for j in i..n {
-                let v = ws.yy[i * n + j];
-                m_out[(nr + i, nr + j)] = v;
-                m_out[(nr + j, nr + i)] = v;
-            }
-        }
+        write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
     }
 
     /// Planar natural coordinates {r0, u, y} (methods.md §2.5) with FS0 kinematics, route

@@ -751,6 +751,31 @@ fn crate_require_positive(field: &str, v: f64) -> Result<f64, InvalidValue> {
     flexmbd_core::require_positive(field, v)
 }
 
+/// The modal part of a route-(a) result: `Q[o + j] = −qy[j]` and the symmetric n × n block
+/// of M at (o, o) from the upper triangle of `yy` (row-major), which the B-matrix loops
+/// accumulate one triangle of.
+#[inline]
+pub(crate) fn write_modal_block<SM, SQ>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    o: usize,
+    n: usize,
+    yy: &[f64],
+    qy: &[f64],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+    SQ: StorageMut<f64, Dyn, U1>,
+{
+    for i in 0..n {
+        q_out[o + i] = -qy[i];
+        for j in i..n {
+            let v = yy[i * n + j];
+            m_out[(o + i, o + j)] = v;
+            m_out[(o + j, o + i)] = v;
+        }
+    }
+}
+
 /// Dot product of two equal-length slices, with four independent accumulators
 /// (a single running sum is latency-bound for the short rows used here).
 #[inline(always)]

@@ -16,7 +16,7 @@
 //!
 //! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block.
 
-use crate::{FlexibleBody, Workspace, dot};
+use crate::{FlexibleBody, Workspace, dot, write_modal_block};
 use flexmbd_fe::NodeModes;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -463,13 +463,8 @@ impl FlexibleBody {
                     m_out[(o + j, 3 + 3 * b + c)] = v;
                 }
             }
-            q_out[o + j] = -ws.qy[j];
-            for i in j..n {
-                let v = ws.yy[j * n + i];
-                m_out[(o + j, o + i)] = v;
-                m_out[(o + i, o + j)] = v;
-            }
         }
+        write_modal_block(m_out, q_out, o, n, &ws.yy, &ws.qy);
     }
 
     pub(crate) fn natural_bmatrix_2d<SM, SQ>(
@@ -556,12 +551,7 @@ impl FlexibleBody {
                 m_out[(2 + c, o + j)] = ws.wy[c * n + j];
                 m_out[(o + j, 2 + c)] = ws.wy[c * n + j];
             }
-            q_out[o + j] = -ws.qy[j];
-            for i in j..n {
-                let v = ws.yy[j * n + i];
-                m_out[(o + j, o + i)] = v;
-                m_out[(o + i, o + j)] = v;
-            }
         }
+        write_modal_block(m_out, q_out, o, n, &ws.yy, &ws.qy);
     }
 }
