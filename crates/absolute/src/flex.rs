@@ -131,7 +131,7 @@ impl Flex2 {
         }
     }
 
-    /// Gravity and elastic potential energy: −gᵀ(m r0 + A m̄(y)) + ½ yᵀ K_ff y.
+    /// Gravity and elastic potential energy: −gᵀ(m r0 + A m̄(y)) + U(y) (the elastic model's).
     pub(crate) fn potential(
         &self,
         body: &FlexibleBody,
@@ -142,13 +142,6 @@ impl Flex2 {
     ) -> f64 {
         let mb = body.first_moment_at(y);
         let am = crate::planar::c_of(&Vector2::new(mb.x, mb.y)) * u;
-        let k = body.k_ff();
-        let mut el = 0.0;
-        for i in 0..self.n {
-            for j in 0..self.n {
-                el += y[i] * k[(i, j)] * y[j];
-            }
-        }
-        -g.dot(&(r0 * body.mass() + am)) + 0.5 * el
+        -g.dot(&(r0 * body.mass() + am)) + body.strain_energy(&y[..self.n])
     }
 }

@@ -1009,13 +1009,7 @@ impl Spatial {
             }
             e += 0.5 * kin + b.body.natural_potential_energy(&st, &g);
             if nb > 0 {
-                let k = b.body.k_ff();
-                let y = st.y;
-                for i in 0..nb {
-                    for j in 0..nb {
-                        e += 0.5 * y[i] * k[(i, j)] * y[j];
-                    }
-                }
+                e += b.body.strain_energy(st.y);
             }
         }
         e

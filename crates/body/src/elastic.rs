@@ -27,6 +27,9 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
         c_scale: f64,
         out: DMatrixViewMut<'_, f64>,
     );
+    /// Strain energy U(y) whose gradient the conservative part of `Q_el` is (½yᵀK_ff y for
+    /// linear elasticity); the `Energy` sensors of the formulations add it.
+    fn strain_energy(&self, y: &[f64]) -> f64;
     /// A boxed copy (lets [`FlexibleBody`](crate::FlexibleBody) be `Clone`).
     fn clone_box(&self) -> Box<dyn ElasticModel>;
     /// True when the tangents do not depend on (y, ẏ) (formulations then report
@@ -118,6 +121,17 @@ impl ElasticModel for LinearElastic {
                 out[(i, j)] += k_scale * self.k[i * n + j] + c_scale * self.c[i * n + j];
             }
         }
+    }
+
+    fn strain_energy(&self, y: &[f64]) -> f64 {
+        let n = self.n;
+        assert_eq!(y.len(), n);
+        let mut u = 0.0;
+        for i in 0..n {
+            let kr = &self.k[i * n..(i + 1) * n];
+            u += y[i] * kr.iter().zip(y).map(|(k, yj)| k * yj).sum::<f64>();
+        }
+        0.5 * u
     }
 
     fn clone_box(&self) -> Box<dyn ElasticModel> {

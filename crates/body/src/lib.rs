@@ -448,6 +448,11 @@ impl FlexibleBody {
     pub fn k_ff(&self) -> &DMatrix<f64> {
         &self.k_ff
     }
+    /// Strain energy U(y) of the installed elastic model (½yᵀK_ff y when linear; the
+    /// stiffening models' U otherwise).
+    pub fn strain_energy(&self, y: &[f64]) -> f64 {
+        self.elastic.strain_energy(y)
+    }
     /// Reduced damping C_ff.
     pub fn c_ff(&self) -> &DMatrix<f64> {
         &self.c_ff

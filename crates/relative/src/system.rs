@@ -1464,12 +1464,7 @@ impl Relative {
             e += 0.5 * kin;
             let mb = b.body.first_moment_at(state.y);
             e -= g.dot(&(state.r0 * b.body.mass() + state.a * mb));
-            let kff = b.body.k_ff();
-            for i in 0..b.n {
-                for j in 0..b.n {
-                    e += 0.5 * state.y[i] * kff[(i, j)] * state.y[j];
-                }
-            }
+            e += b.body.strain_energy(state.y);
         }
         e
     }

@@ -25,8 +25,8 @@
 //!   route only.
 //!
 //! Limits: FS0 and substructuring run in the relative
-//! formulation only. The
-//! formulations' `Energy` sensor still uses ½yᵀK_ff y for the elastic energy.
+//! formulation only. The formulations' `Energy` sensor adds the model's strain energy U(y)
+//! (for FNL1, which is not conservative, the same U as FNL2's first two terms).
 //!
 //! Measured on the 2D spin-up beam (`models/spin_up_beam_2d.ron`, scenes.md §5, 20 s at
 //! h = 1 ms) against the ANCF cable of `flexmbd-ancf` (16 elements), max |Δu_x| / |Δu_y|:
@@ -223,6 +223,10 @@ impl ElasticModel for Nonlinear {
             Kind::Fnl1 => "FNL1",
             Kind::Fnl2 => "FNL2",
         }
+    }
+
+    fn strain_energy(&self, y: &[f64]) -> f64 {
+        Nonlinear::strain_energy(self, y)
     }
 
     fn forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
