@@ -14,8 +14,9 @@
 //!   completes the axial basis of every flexible straight beam along body x: a static
 //!   mode (Craig–Bampton boundary DOF) for the axial DOF `Ux` of every node but the
 //!   frame node, appended to the beam's `boundary`, and `axial_modes` set to 0 (§6.2
-//!   correction: FNL2 locks without the complete axial basis). The modal-coordinate count changes, and
-//!   `Modal` sensor indices of normal modes shift by the number of added modes.
+//!   correction: FNL2 locks without the complete axial basis). The modal-coordinate count changes;
+//!   `Modal` sensors are re-pointed to the same mode (normal modes move behind the added
+//!   static modes), or refused when the original basis had axial normal modes.
 //!
 //!   For `Substructuring(n)` it splits every flexible straight beam into n equal
 //!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
@@ -421,12 +422,35 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
             )));
         }
         // The axial normal modes are replaced by the complete static basis.
+        let (n_static, had_axial) = (spec.boundary.len(), spec.axial_modes > 0);
         spec.axial_modes = 0;
         for node in 0..spec.n_nodes() {
             let nd = NodeDof { node, dof: Dof::Ux };
             if node != frame && !spec.boundary.contains(&nd) {
                 spec.boundary.push(nd);
             }
+        }
+        let added = spec.boundary.len() - n_static;
+        // Modal sensors keep naming the same mode: static modes keep their index, normal
+        // modes move behind the added static modes. With axial normal modes in the original
+        // basis (interleaved with the bending ones by frequency) the map needs the
+        // eigen-solution, so such sensors are refused rather than silently re-pointed.
+        for sensor in out.sensors.iter_mut() {
+            let SensorKind::Modal { body, index } = &mut sensor.kind else {
+                continue;
+            };
+            if *body != b.name || *index < n_static {
+                continue;
+            }
+            if had_axial {
+                return Err(ModelError::Unsupported(format!(
+                    "{}: sensor `{}`: modal index {} of body `{}` names a normal mode, and FNL2 \
+                     replaces that body's axial modes (axial_modes > 0) by static modes, so the \
+                     normal modes are renumbered; use a Position sensor or run without axial_modes",
+                    scene.origin, sensor.name, index, b.name
+                )));
+            }
+            *index += added;
         }
     }
     Ok(out)
