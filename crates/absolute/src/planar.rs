@@ -348,6 +348,8 @@ impl Planar {
                 }
                 // Its markers are not shared points: they slide on each other.
                 JointKind::Prismatic { .. } => {}
+                // A floating base: no equation.
+                JointKind::Free => {}
                 ref k => {
                     return Err(unsupported(format!(
                         "joint `{}`: {:?} joints are not supported by the planar absolute formulation (revolute, prismatic and rigid are)",

@@ -566,6 +566,8 @@ impl Spatial {
             }
             let driver = driver.first().map(|d| d.law.clone());
             match &j.kind {
+                // A floating base: no equation.
+                JointKind::Free => {}
                 JointKind::Spherical => coincide(&mut cons)?,
                 JointKind::Revolute { axis } => {
                     let Some(axis) = axis else {

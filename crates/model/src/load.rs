@@ -176,6 +176,13 @@ impl Scene {
                     "a joint needs two different bodies",
                 )));
             }
+            if matches!(j.kind, JointKind::Free) && j.body1 != GROUND {
+                return Err(self.invalid(InvalidValue::new(
+                    item("body1"),
+                    &j.body1,
+                    "a Free joint joins a floating base (body2) to the ground: body1 must be `ground`",
+                )));
+            }
             let planar = self.dim == flexmbd_core::Dim::Planar;
             let spatial_only = matches!(
                 j.kind,
@@ -190,8 +197,15 @@ impl Scene {
             }
         }
         for d in &self.drivers {
-            if !self.joints.iter().any(|j| j.name == d.joint) {
+            let Some(j) = self.joints.iter().find(|j| j.name == d.joint) else {
                 return Err(self.missing(format!("drivers[{}].joint", d.name), "joint", &d.joint));
+            };
+            if matches!(j.kind, JointKind::Free) {
+                return Err(self.invalid(InvalidValue::new(
+                    format!("drivers[{}].joint", d.name),
+                    &d.joint,
+                    "a Free joint has no single coordinate to drive",
+                )));
             }
             if let crate::scene::MotionLaw::SpinUp { t_s, .. } = d.law {
                 require_positive(&format!("drivers[{}].law.SpinUp.t_s", d.name), t_s)
@@ -257,8 +271,15 @@ impl Scene {
                     }
                 }
                 SensorKind::JointCoordinate { joint } => {
-                    if !self.joints.iter().any(|j| &j.name == joint) {
+                    let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
                         return Err(self.missing(item("joint"), "joint", joint));
+                    };
+                    if matches!(j.kind, JointKind::Free) {
+                        return Err(self.invalid(InvalidValue::new(
+                            item("joint"),
+                            joint,
+                            "a Free joint has no single coordinate; use Position/Velocity sensors on its body",
+                        )));
                     }
                 }
                 SensorKind::Modal { body, index } => {
@@ -267,7 +288,7 @@ impl Scene {
                     };
                     let n = match &b.model {
                         BodyModel::Beam(spec) if b.flexible => {
-                            spec.boundary.len() + spec.normal_modes
+                            spec.boundary.len() + spec.normal_modes + spec.axial_modes
                         }
                         _ => 0,
                     };

@@ -270,6 +270,12 @@ pub enum JointKind {
     },
     /// Rigid connection (bracket): no relative motion.
     Rigid,
+    /// No constraint: the six (2D: three) degrees of freedom of a floating base body
+    /// (`body2`) relative to the ground (`body1` must be `ground`). The relative formulation
+    /// gives it its frame translation and three intrinsic Cardan angles x, y′, z″ (2D: one
+    /// angle) as joint coordinates (singular when the middle angle reaches ±90°); the
+    /// absolute one adds no equation.
+    Free,
 }
 
 /// Force elements.

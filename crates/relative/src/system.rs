@@ -375,6 +375,8 @@ impl Relative {
                         });
                     }
                 }
+                // A cut Free joint (its body reached through other joints) adds nothing.
+                (_, JointKind::Free) => {}
                 (Dim::Planar, JointKind::Rigid) => {
                     cons.push(Con::Point { i: si, j: sj });
                     cons.push(Con::Angle2 {
@@ -427,6 +429,7 @@ impl Relative {
                         })
                     };
                     match kind {
+                        JointKind::Free => {}
                         JointKind::Spherical => cons.push(Con::Point { i: si, j: sj }),
                         JointKind::Revolute { axis } => {
                             let a = need_axis(*axis)?;

@@ -321,7 +321,7 @@ impl Topology {
                     .map(|k| bodies[k].name.as_str())
                     .collect();
                 return Err(ModelError::Unsupported(format!(
-                    "{}: bodies {lonely:?} do not reach the ground through joints; the relative formulation needs every jointed body connected to the ground (a body with no joints at all is run as a floating base)",
+                    "{}: bodies {lonely:?} do not reach the ground through joints; the relative formulation needs every jointed body connected to the ground: join the group's base body to the ground with a `Free` joint to make it a floating base (a body with no joints at all is one already)",
                     scene.origin
                 )));
             }
@@ -553,6 +553,30 @@ impl Topology {
                 }
             }
             (JointKind::Rigid, _) => {}
+            (JointKind::Free, _) => {
+                // A floating base: translations along, then intrinsic rotations about, the
+                // axes of the ground marker's frame (as for a body without joints).
+                for a in 0..dim.n_trans() {
+                    f = self.joint_elem(
+                        Some(f),
+                        ElemKind::Prismatic,
+                        Vector3::ith(a, 1.0),
+                        &mut coords,
+                    );
+                }
+                let axes: &[usize] = match dim {
+                    Dim::Planar => &[2],
+                    Dim::Spatial => &[0, 1, 2],
+                };
+                for &a in axes {
+                    f = self.joint_elem(
+                        Some(f),
+                        ElemKind::Revolute,
+                        Vector3::ith(a, 1.0),
+                        &mut coords,
+                    );
+                }
+            }
             (k, d) => {
                 return Err(ModelError::Unsupported(format!(
                     "{what}: {k:?} is not a {d} joint"

@@ -33,6 +33,8 @@ pub fn settings(scene: &Scene, h: f64) -> Ali3pSettings {
         step: h,
         tol_q: scene.solver.newton_tolerance,
         tol_phi: scene.solver.newton_tolerance,
+        max_iterations: scene.solver.max_iterations,
+        penalty: scene.solver.penalty,
         ..Default::default()
     }
 }
