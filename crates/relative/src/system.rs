@@ -18,6 +18,7 @@ use flexmbd_core::{Dim, Request, SystemTerms};
 use flexmbd_model::{JointKind, ModelError, MotionLaw, Scene, SensorKind};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Unit, Vector2, Vector3, Vector6};
 
+use crate::springs::{Spring, Springs};
 use crate::topology::{BodyInfo, CoordRef, ElemKind, FrameKind, NodeRows, Side, Topology, side_of};
 
 /// One body at run time.
@@ -181,6 +182,8 @@ pub struct Relative {
     fixed_identity: Vec<bool>,
     /// The current constraint pass writes Φ_w (a Jacobian was requested).
     jac: bool,
+    /// Spring–dampers and their Jacobian scratch.
+    pub(crate) springs: Springs,
 }
 
 fn unsupported(s: String) -> ModelError {
@@ -206,12 +209,6 @@ fn angle_of(a: &Matrix3<f64>) -> f64 {
 impl Relative {
     /// Compile a scene (planar or spatial) for the relative formulation.
     pub fn compile(scene: &Scene) -> Result<Relative, ModelError> {
-        if !scene.forces.is_empty() {
-            return Err(unsupported(format!(
-                "{}: force elements are not supported by the relative formulation yet",
-                scene.origin
-            )));
-        }
         let dim = scene.dim;
         let prepared = scene.prepare_bodies()?;
         let mut infos = Vec::new();
@@ -566,6 +563,7 @@ impl Relative {
             vel_zd: DVector::zeros(n_z),
             fixed_identity,
             jac: true,
+            springs: Springs::default(),
         };
         if dim == Dim::Planar {
             rel.gravity.z = 0.0;
@@ -580,7 +578,64 @@ impl Relative {
         rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene);
         rel.build_sensors(scene, &infos)?;
+        rel.build_springs(scene, &infos)?;
         Ok(rel)
+    }
+
+    /// Resolve the scene's spring–dampers (free length: the t = 0 distance when omitted).
+    fn build_springs(&mut self, scene: &Scene, infos: &[BodyInfo]) -> Result<(), ModelError> {
+        let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
+        self.kinematics(&q0, &qd0);
+        let mut list = Vec::new();
+        for force in &scene.forces {
+            let flexmbd_model::Force::SpringDamper {
+                name,
+                body1,
+                marker1,
+                body2,
+                marker2,
+                stiffness,
+                damping,
+                free_length,
+            } = force;
+            let m1 = side_of(scene, infos, body1, marker1);
+            let m2 = side_of(scene, infos, body2, marker2);
+            let fs0 = scene.solver.stiffening == flexmbd_model::Stiffening::Foreshortening;
+            if fs0
+                && [m1, m2]
+                    .iter()
+                    .any(|s| s.node.is_some() && s.body.is_some_and(|b| infos[b].flexible))
+            {
+                return Err(unsupported(format!(
+                    "{}: force `{name}`: a spring at a node of a foreshortening (FS0) body is not supported by the relative formulation",
+                    scene.origin
+                )));
+            }
+            let (r1, _) = point_at(self, &m1);
+            let (r2, _) = point_at(self, &m2);
+            let l = (r2 - r1).norm();
+            if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
+                return Err(ModelError::Invalid {
+                    file: scene.origin.clone(),
+                    error: flexmbd_core::InvalidValue::new(
+                        format!("forces[{name}]"),
+                        format!("{body1}.{marker1} – {body2}.{marker2}"),
+                        format!(
+                            "the two markers coincide at t = 0 (distance {l:.3e} m): a spring of zero length has no direction"
+                        ),
+                    ),
+                });
+            }
+            list.push(Spring {
+                m1,
+                m2,
+                k: *stiffness,
+                c: *damping,
+                l0: free_length.unwrap_or(l),
+            });
+        }
+        self.springs = Springs::new(list, self.n_w, self.n_z);
+        Ok(())
     }
 
     /// The entries of M_w outside its z × z block that [`dynamics`](Self::dynamics) writes
@@ -1159,6 +1214,9 @@ impl Relative {
                     .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (n, n)));
             }
         }
+        if !self.springs.list.is_empty() {
+            self.spring_forces(tangents, out);
+        }
     }
 
     /// Add g·Z_k (and the modal coefficients, by the caller) to row `row` of Φ_w; returns g·D_k.
@@ -1469,7 +1527,7 @@ impl Relative {
             e -= g.dot(&(state.r0 * b.body.mass() + state.a * mb));
             e += b.body.strain_energy(state.y);
         }
-        e
+        e + self.spring_energy()
     }
 
     /// Names of the coordinates z (joint coordinates, then `body.y<m>`).
@@ -1607,6 +1665,7 @@ impl flexmbd_core::Formulation for Relative {
         self.bodies
             .iter()
             .all(|b| b.body.elastic_model().is_linear())
+            && self.springs.list.is_empty()
     }
     fn evaluate(
         &mut self,

@@ -38,20 +38,25 @@ fn a_body_without_joints_is_a_floating_base_in_free_fall() {
 }
 
 #[test]
-fn force_elements_are_refused() {
+fn a_spring_of_zero_length_is_refused() {
     let mut s = four_bar(0);
+    // Both markers at the ground pivot A0 at t = 0: no direction for the force.
     s.forces.push(flexmbd_model::Force::SpringDamper {
         name: "k".into(),
         body1: "ground".into(),
         marker1: "A0".into(),
         body2: "crank1".into(),
-        marker2: "B".into(),
+        marker2: "A".into(),
         stiffness: 10.0,
         damping: 0.0,
         free_length: None,
     });
-    assert!(matches!(
-        flexmbd_relative::compile(&s),
-        Err(ModelError::Unsupported(_))
-    ));
+    match flexmbd_relative::compile(&s) {
+        Err(e @ ModelError::Invalid { .. }) => {
+            let m = e.to_string();
+            assert!(m.contains("forces[k]") && m.contains("coincide"), "{m}");
+        }
+        Err(e) => panic!("unexpected error {e}"),
+        Ok(_) => panic!("accepted a zero-length spring"),
+    }
 }

@@ -14,7 +14,12 @@ static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::C
 #[test]
 fn steps_and_evaluations_do_not_allocate() {
     let mut scenes = vec![four_bar(0), four_bar(5), model("flexible_pendulum.ron")];
-    for extra in ["double_pendulum_3d.ron", "flexible_pendulum_3d.ron"] {
+    for extra in [
+        "double_pendulum_3d.ron",
+        "flexible_pendulum_3d.ron",
+        "slider_crank.ron",
+        "floating_platform_3d.ron",
+    ] {
         if std::path::Path::new(&format!(
             "{}/../../models/{extra}",
             env!("CARGO_MANIFEST_DIR")
