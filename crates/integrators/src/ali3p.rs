@@ -124,7 +124,7 @@ pub enum IntegratorError {
     },
     /// Initial conditions could not be made consistent.
     #[error(
-        "initial positions could not be made consistent: ‖Φ‖∞ = {phi:.3e} after {iterations} iterations"
+        "initial positions could not be made consistent: ‖Φ‖∞ = {phi:.3e} after {iterations} iterations (no assembly closes every loop: check the markers of the closing joints and the bodies' lengths)"
     )]
     InconsistentStart {
         /// Remaining violation.

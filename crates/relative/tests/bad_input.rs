@@ -60,3 +60,58 @@ fn a_spring_of_zero_length_is_refused() {
         Ok(_) => panic!("accepted a zero-length spring"),
     }
 }
+
+#[test]
+fn redundant_closures_run_and_inconsistent_ones_are_refused() {
+    // Redundant: the joint at B2 written twice (the second copy is cut into the same two
+    // closure equations). ALI3-P's penalty form tolerates the rank deficiency: same motion.
+    let base = four_bar(0);
+    let mut redundant = base.clone();
+    // Every joint twice: the twins of tree joints give identically zero rows, those of the
+    // two cut joints duplicate their closure equations.
+    for j in base.joints.clone() {
+        let mut twin = j;
+        twin.name = format!("{}_twin", twin.name);
+        redundant.joints.push(twin);
+    }
+    let (fa, fb) = (
+        flexmbd_relative::compile(&base).unwrap(),
+        flexmbd_relative::compile(&redundant).unwrap(),
+    );
+    assert!(fb.n_constraints() > fa.n_constraints());
+    let (a, _) = run_relative(&base, 1e-3, 1.0, 100);
+    let (b, _) = run_relative(&redundant, 1e-3, 1.0, 100);
+    let d = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
+        .fold(0.0, f64::max);
+    eprintln!("redundant closure: max |ΔB0| {d:.1e} m over 1 s");
+    assert!(d < 1e-8, "{d:e}");
+    // Inconsistent: coupler2's far marker at 5 m, so the loop cannot close in any position
+    // (B1 is at most 2 m from A2 and B2 at most 1 m from it); a loop that can be assembled
+    // is moved onto its constraints at t = 0 instead.
+    let mut bad = base;
+    let coupler2 = bad
+        .bodies
+        .iter_mut()
+        .find(|b| b.name == "coupler2")
+        .unwrap();
+    coupler2
+        .markers
+        .iter_mut()
+        .find(|m| m.name == "B")
+        .unwrap()
+        .position
+        .0[0] = 5.0;
+    let mut f = flexmbd_relative::compile(&bad).unwrap();
+    let err = flexmbd_integrators::Ali3p::new(&mut f, 0.0, settings(&bad, 1e-3))
+        .err()
+        .expect("an inconsistent loop must not start")
+        .to_string();
+    eprintln!("{err}");
+    assert!(
+        err.to_lowercase().contains("consistent") || err.contains("Φ"),
+        "{err}"
+    );
+}
