@@ -7,6 +7,7 @@ pub mod four_bar;
 pub mod inertia_cost;
 pub mod mesh_size;
 pub mod spin_up;
+pub mod stability_map;
 
 /// What a study returns when it cannot finish.
 pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
@@ -43,6 +44,11 @@ pub fn all() -> Vec<Study> {
             name: "spin-up",
             title: "Spin-up beam: geometric stiffening against a large-deformation reference (thesis ch. 4)",
             run: spin_up::run,
+        },
+        Study {
+            name: "stability-map",
+            title: "Where the stiffening methods fail: stability map over Ωs and h (thesis ch. 4)",
+            run: stability_map::run,
         },
     ]
 }

@@ -1,8 +1,8 @@
 //! Thesis ch. 4: the spin-up beam (scenes.md §5, methods.md §6). Every stiffening method
 //! in both formulations against the project's own converged large-deformation reference
 //! (ANCF cable elements, `flexmbd-ancf`, methods.md §7), beside the thesis's tables
-//! (scenes.md §7.3–§7.4), and a stability map over the final speed Ωs and the step h
-//! that shows where each method fails.
+//! (scenes.md §7.3–§7.4). Where each method fails over the final speed Ωs and the step h
+//! is the next study (`stability_map`).
 
 use flexmbd::ancf::{CableSpec, run_spin_up};
 use flexmbd::core::Dim;
@@ -14,12 +14,12 @@ use crate::Settings;
 use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
 
-type Error = Box<dyn std::error::Error>;
+pub(super) type Error = Box<dyn std::error::Error>;
 /// A tip history: (t, u_x, u_y) in metres.
 type Tip = Vec<(f64, f64, f64)>;
 
 /// The methods of the thesis's chapter-4 tables.
-const METHODS: [(&str, Stiffening); 6] = [
+pub(super) const METHODS: [(&str, Stiffening); 6] = [
     ("LIN", Stiffening::Linear),
     ("FNL1", Stiffening::Fnl1),
     ("FNL2", Stiffening::Fnl2),
@@ -41,12 +41,12 @@ const THESIS_2D_CPU: [(&str, f64, f64); 3] = [
 ];
 /// An error below this (m) counts as accurate in the stability map: 5 mm, about the
 /// thesis's FS0 / SB20 transverse errors (scenes.md §7.4).
-const ACCURATE: f64 = 5e-3;
+pub(super) const ACCURATE: f64 = 5e-3;
 /// A tip displacement beyond this (m) is a divergence: the beam is 10 m long.
-const DIVERGED: f64 = 10.0;
+pub(super) const DIVERGED: f64 = 10.0;
 
 /// The outcome of one run against the reference.
-enum Outcome {
+pub(super) enum Outcome {
     /// The formulation or method refused the combination.
     Unsupported(String),
     /// The run stopped (Newton failure, divergence).
@@ -80,7 +80,7 @@ fn tip_of(h: &History) -> Option<Tip> {
     )
 }
 
-fn scene_2d(
+pub(super) fn scene_2d(
     stiffening: Stiffening,
     form: FormulationKind,
     omega_s: f64,
@@ -120,7 +120,7 @@ fn errors(tip: &[(f64, f64, f64)], reference: &flexmbd::ancf::History) -> (f64, 
     (dx, dy)
 }
 
-fn run_one(scene: Result<Scene, Error>, reference: &flexmbd::ancf::History) -> Outcome {
+pub(super) fn run_one(scene: Result<Scene, Error>, reference: &flexmbd::ancf::History) -> Outcome {
     let scene = match scene {
         Ok(s) => s,
         Err(e) => return Outcome::Unsupported(e.to_string()),
@@ -157,7 +157,7 @@ fn run_one(scene: Result<Scene, Error>, reference: &flexmbd::ancf::History) -> O
 }
 
 /// Run the study and append its section to the report.
-pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
+pub fn run(_settings: &Settings, report: &mut Report) -> StudyResult {
     let (omega_s, h) = (6.0, 1e-3);
     eprintln!("   reference: ANCF cable, 16 elements, Ωs = 6 rad/s");
     let reference = run_spin_up(&CableSpec::spin_up_beam(Dim::Planar, 16), h, 20.0, 0.01)?;
@@ -323,63 +323,5 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         chart.write_svg(&path)?;
         report.image(file, title);
     }
-    stability_map(settings, report)?;
-    Ok(())
-}
-
-/// Where methods fail: accurate / inaccurate / failed over Ωs × h.
-fn stability_map(settings: &Settings, report: &mut Report) -> StudyResult {
-    let duration = 20.0;
-    let (speeds, steps, methods): (Vec<f64>, Vec<f64>, &[(&str, Stiffening)]) = if settings.quick {
-        (vec![2.0, 6.0, 12.0], vec![1e-3, 1e-2], &METHODS[..3])
-    } else {
-        (
-            vec![1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0],
-            vec![1e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2],
-            &METHODS[..],
-        )
-    };
-    report.text(&format!(
-        "### Stability map\n\nFor each method (relative formulation) over the final speed Ωs and the step h: \
-         **A** accurate (largest tip error below {:.0} mm against the ANCF reference at that Ωs, run at \
-         h = 1 ms), **I** bounded but inaccurate, **F** failed (Newton failure or a tip beyond {DIVERGED} m), \
-         **–** not available. {}",
-        ACCURATE * 1e3,
-        if settings.quick { "`--quick` runs a coarse map; the full map is `cargo xtask reproduce-thesis --only spin-up`." } else { "" }
-    ));
-    let mut header: Vec<String> = vec!["method".into(), "h".into()];
-    header.extend(speeds.iter().map(|w| format!("Ωs = {w}")));
-    let mut rows = Vec::new();
-    let mut references = Vec::new();
-    for &w in &speeds {
-        eprintln!("   reference at Ωs = {w}");
-        let mut spec = CableSpec::spin_up_beam(Dim::Planar, 16);
-        spec.omega_s = w;
-        references.push(run_spin_up(&spec, 1e-3, duration, 0.01)?);
-    }
-    for &(name, stiffening) in methods {
-        for &h in &steps {
-            let mut row = vec![name.to_string(), format!("{} ms", h * 1e3)];
-            for (i, &w) in speeds.iter().enumerate() {
-                eprintln!("   {name} h = {h} Ωs = {w}");
-                let outcome = run_one(
-                    scene_2d(stiffening, FormulationKind::Relative, w, h, duration),
-                    &references[i],
-                );
-                row.push(
-                    match outcome {
-                        Outcome::Unsupported(_) => "–",
-                        Outcome::Failed { .. } => "F",
-                        Outcome::Done { dx, dy, .. } if dx.max(dy) < ACCURATE => "A",
-                        Outcome::Done { .. } => "I",
-                    }
-                    .to_string(),
-                );
-            }
-            rows.push(row);
-        }
-    }
-    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
-    report.table(&header_refs, &rows);
     Ok(())
 }
