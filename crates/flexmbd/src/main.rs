@@ -162,7 +162,22 @@ fn simulate(
     output: Option<&Path>,
     json: bool,
 ) -> CliResult {
-    let mut scene = Scene::load(path)?;
+    let mut scene = Scene::load(path).map_err(|e| -> Box<dyn std::error::Error> {
+        // A body model (the input of `flexmbd modes`) given to `simulate`: say so.
+        let is_body_model = std::fs::read_to_string(path).is_ok_and(|text| {
+            flexmbd_fe::BeamBodySpec::from_ron_str(&text, &path.display().to_string()).is_ok()
+        });
+        if is_body_model {
+            format!(
+                "{}: this is a body model, not a scene (`flexmbd modes {}` reads it; a scene lists bodies, joints and a solver)",
+                path.display(),
+                path.display()
+            )
+            .into()
+        } else {
+            e.into()
+        }
+    })?;
     let sets = sets
         .iter()
         .map(|s| parse_set(s))

@@ -230,3 +230,19 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
             .contains("solver.step")
     );
 }
+
+#[test]
+fn simulate_names_a_body_model_given_as_a_scene() {
+    let out = flexmbd()
+        .args(["simulate", &model("cantilever_2d.ron")])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cantilever_2d.ron")
+            && err.contains("body model")
+            && err.contains("flexmbd modes"),
+        "{err}"
+    );
+}
