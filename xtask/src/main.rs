@@ -107,7 +107,7 @@ fn main() -> ExitCode {
     }
     let header = format!(
         "# flexmbd: the thesis's comparisons, reproduced\n\n\
-         Written by `cargo xtask reproduce-thesis{}`{}. Machine: {}. \
+         Written by `cargo xtask reproduce-thesis{}{}`. Machine: {}. \
          Times are medians of several repetitions on one core.\n",
         if quick { " --quick" } else { "" },
         if only.is_empty() {
