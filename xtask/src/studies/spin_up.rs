@@ -199,7 +199,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
                     "–".into(),
                     thesis,
                     "–".into(),
-                    msg.chars().take(120).collect(),
+                    clean_reason(&msg).chars().take(120).collect(),
                 ]),
                 Outcome::Failed { at, message } => rows.push(vec![
                     name.into(),
@@ -653,6 +653,13 @@ fn spin_up_3d(settings: &Settings, report: &mut Report) -> StudyResult {
     Ok(())
 }
 
+/// A refusal's reason without the path of the scene file (machine-specific) or the
+/// command-line hint.
+fn clean_reason(msg: &str) -> &str {
+    let reason = msg.rsplit(".ron: ").next().unwrap_or(msg);
+    reason.split("; use --").next().unwrap_or(reason)
+}
+
 /// Coordinates of the 3D cable with n elements: 6 per node.
 fn reference_coordinates(n: usize) -> usize {
     6 * (n + 1)
@@ -665,9 +672,7 @@ fn refused_row(
     thesis_errs: &str,
     thesis_cpu: &str,
 ) -> Vec<String> {
-    // Keep the reason, not the path of the scene file nor the command-line hint.
-    let reason = msg.rsplit(".ron: ").next().unwrap_or(msg);
-    let reason = reason.split("; use --").next().unwrap_or(reason);
+    let reason = clean_reason(msg);
     vec![
         name.into(),
         fname.into(),
