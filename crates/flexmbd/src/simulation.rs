@@ -1,5 +1,7 @@
-//! Running a scene: compile it with the chosen formulation, integrate it with
-//! ALI3-P, record the sensors at the output interval, and summarise the run.
+//! Running a scene: compile it with the chosen formulation, find its static equilibrium
+//! when `solver.initial_state` asks for it (methods.md §5.4 item 4,
+//! `flexmbd_integrators::statics`), integrate it with ALI3-P, record the sensors at the
+//! output interval, and summarise the run.
 //!
 //! A failed step (Newton does not converge, the solution diverges) ends the run
 //! with `status = "failed"`, the time and the reason; the rows computed so far
@@ -9,8 +11,11 @@ use std::io::Write;
 use std::time::Instant;
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
-use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError};
-use flexmbd_model::{FormulationKind, ModelError, Scene, Stiffening};
+use flexmbd_integrators::{
+    Ali3p, Ali3pSettings, IntegratorError, StartFrom, StaticError, StaticSettings, StaticSolution,
+    solve_static,
+};
+use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Stiffening};
 use nalgebra::DVector;
 use serde::Serialize;
 
@@ -55,6 +60,10 @@ pub struct Summary {
     pub cpu_seconds: f64,
     /// CPU time of compiling the scene (FE reduction included) (s).
     pub preprocessing_seconds: f64,
+    /// CPU time of the static-equilibrium start, 0 without one (s); not in `cpu_seconds`.
+    pub static_seconds: f64,
+    /// Newton iterations of the static-equilibrium start (0 without one).
+    pub static_iterations: usize,
     /// Simulated seconds per CPU second.
     pub realtime_factor: f64,
     /// Time in formulation evaluations (s).
@@ -180,6 +189,36 @@ fn names(scene: &Scene) -> (String, String, String) {
     (formulation.into(), inertia.into(), stiffening)
 }
 
+/// Why a run could not start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StartError {
+    /// No static equilibrium (`solver.initial_state: StaticEquilibrium`).
+    #[error("static start: {0}")]
+    Static(#[from] StaticError),
+    /// The integrator's consistent initial conditions failed.
+    #[error(transparent)]
+    Integrator(#[from] IntegratorError),
+}
+
+/// Build ALI3-P for a compiled scene at t = 0, starting as `scene.solver.initial_state`
+/// says: as given, or at rest in the static equilibrium found first (returned beside).
+/// Step the returned integrator with the same `f`.
+pub fn start(
+    scene: &Scene,
+    f: &mut dyn Formulation,
+    settings: Ali3pSettings,
+) -> Result<(Ali3p, Option<StaticSolution>), StartError> {
+    match scene.solver.initial_state {
+        InitialState::Given => Ok((Ali3p::new(f, 0.0, settings)?, None)),
+        InitialState::StaticEquilibrium => {
+            let sol = solve_static(f, 0.0, &StaticSettings::default())?;
+            let mut at_rest = StartFrom::at_rest(f, &sol);
+            let integ = Ali3p::new(&mut at_rest, 0.0, settings)?;
+            Ok((integ, Some(sol)))
+        }
+    }
+}
+
 /// Run a scene to its duration (or to the first failure). `progress` is called with the
 /// fraction done now and then.
 pub fn run(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<(Summary, History), ModelError> {
@@ -226,23 +265,46 @@ pub fn run(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<(Summary, His
         simulated_seconds: 0.0,
         cpu_seconds: 0.0,
         preprocessing_seconds,
+        static_seconds: 0.0,
+        static_iterations: 0,
         realtime_factor: 0.0,
         time_evaluation: 0.0,
         time_factorization: 0.0,
         time_projection: 0.0,
         rows: 0,
     };
-    let fail = |summary: &mut Summary, t: f64, e: &IntegratorError| {
+    let fail = |summary: &mut Summary, t: f64, e: &dyn std::error::Error| {
         summary.status = "failed".into();
         summary.failed_at = Some(t);
         summary.message = Some(e.to_string());
     };
-    let start = Instant::now();
-    let mut integ = match Ali3p::new(f.as_mut(), 0.0, settings) {
+    // The static start is timed apart; the consistent initial conditions count in the run.
+    let mut static_q = None;
+    if scene.solver.initial_state == InitialState::StaticEquilibrium {
+        let t_static = Instant::now();
+        let r = solve_static(f.as_mut(), 0.0, &StaticSettings::default());
+        summary.static_seconds = t_static.elapsed().as_secs_f64();
+        match r {
+            Ok(sol) => {
+                summary.static_iterations = sol.iterations;
+                static_q = Some(sol);
+            }
+            Err(e) => {
+                fail(&mut summary, 0.0, &StartError::from(e));
+                return Ok((summary, history));
+            }
+        }
+    }
+    let start_clock = Instant::now();
+    let integ = match &static_q {
+        Some(sol) => Ali3p::new(&mut StartFrom::at_rest(f.as_mut(), sol), 0.0, settings),
+        None => Ali3p::new(f.as_mut(), 0.0, settings),
+    };
+    let mut integ = match integ {
         Ok(i) => i,
         Err(e) => {
             fail(&mut summary, 0.0, &e);
-            summary.cpu_seconds = start.elapsed().as_secs_f64();
+            summary.cpu_seconds = start_clock.elapsed().as_secs_f64();
             return Ok((summary, history));
         }
     };
@@ -253,7 +315,7 @@ pub fn run(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<(Summary, His
         history.rows.push(row);
     };
     record(&integ, f.as_mut(), &mut history);
-    let mut cpu = start.elapsed().as_secs_f64();
+    let mut cpu = start_clock.elapsed().as_secs_f64();
     let report_every = (steps / 200).max(1);
     for k in 1..=steps {
         let t_step = Instant::now();

@@ -1,8 +1,11 @@
 //! Time integrators of flexmbd, generic over [`flexmbd_core::Formulation`]:
-//! ALI3-P on the trapezoidal rule (methods.md §5) and its consistent initial conditions.
+//! ALI3-P on the trapezoidal rule (methods.md §5), its consistent initial conditions, and
+//! the static equilibrium that can start a run (methods.md §5.4 item 4, [`statics`]).
 
 pub mod ali3p;
 mod initial;
 pub mod lu;
+pub mod statics;
 
 pub use ali3p::{Ali3p, Ali3pSettings, IntegratorError, Stats};
+pub use statics::{StartFrom, StaticError, StaticSettings, StaticSolution, solve_static};

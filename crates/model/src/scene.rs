@@ -510,6 +510,23 @@ pub struct Solver {
     /// Penalty α; 4·10⁴ m_ref / h² when omitted (methods.md §5.3).
     #[serde(default)]
     pub penalty: Option<f64>,
+    /// How the run starts (`Given` when omitted).
+    #[serde(default)]
+    pub initial_state: InitialState,
+}
+
+/// The state a run starts from, before ALI3-P makes it consistent (methods.md §5.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum InitialState {
+    /// The positions and velocities the scene gives: the bodies' placements and
+    /// `initial_modes`, the `velocity` guesses (undeformed at rest unless they say otherwise).
+    #[default]
+    Given,
+    /// At rest in static equilibrium under the loads at t = 0 (gravity, springs, elasticity
+    /// with the chosen stiffening), found from the given positions with the drivers and
+    /// joints held (methods.md §5.4 item 4; `flexmbd_integrators::statics`); the velocity
+    /// guesses are replaced by zero. scenes.md §5 asks this of the 3D spin-up beam.
+    StaticEquilibrium,
 }
 
 fn default_inertia() -> InertiaMethod {

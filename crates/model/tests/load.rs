@@ -131,3 +131,19 @@ fn unknown_set_path_is_refused() {
         assert!(e.to_string().contains(expect), "{arg}: {e}");
     }
 }
+
+#[test]
+fn initial_state_defaults_to_given_and_is_settable() {
+    use flexmbd_model::InitialState;
+    let mut s = Scene::load(models_dir().join("double_four_bar.ron")).unwrap();
+    assert_eq!(s.solver.initial_state, InitialState::Given);
+    s.apply_sets(&[parse_set("solver.initial_state=StaticEquilibrium").unwrap()])
+        .unwrap();
+    assert_eq!(s.solver.initial_state, InitialState::StaticEquilibrium);
+    let spin = Scene::load(models_dir().join("spin_up_beam_3d.ron")).unwrap();
+    assert_eq!(spin.solver.initial_state, InitialState::StaticEquilibrium);
+    let e = s
+        .apply_sets(&[parse_set("solver.initial_state=Sideways").unwrap()])
+        .unwrap_err();
+    assert!(e.to_string().contains("Sideways"), "{e}");
+}

@@ -1,42 +1,17 @@
-//! The 3D spin-up scene (scenes.md §5, gravity along −z) started undeformed at rest, as
-//! the scene file does (no static start in this increment), against the ANCF cable
-//! started the same way. Over the first 0.3 s the beam falls ~0.4 m at the tip while the
-//! hub barely turns; the FNL2 tip then matches the cable to 0.023 / 0.000 / 0.135 mm
-//! (axial / horizontal / vertical), FNL1 to 21.7 / 0.001 / 0.66 mm (its axial error is the
-//! shortening of the falling beam, which FNL1 cannot show). Later the 2 m vertical swing of this undamped start is
-//! beyond the moderate-rotation models (FNL2 |Δu_z| 73 mm at 1 s), so the full run needs the
-//! static start of scenes.md §5 before it is compared.
+//! The 3D spin-up scene (scenes.md §5 scene F, gravity along −z) started at rest in static
+//! equilibrium (`solver.initial_state: StaticEquilibrium`, methods.md §5.4 item 4), against
+//! the ANCF cable started from its own static equilibrium (`Cable::solve_static`). The full
+//! 20 s comparison of every method is the report's (`cargo xtask reproduce-thesis --only
+//! spin-up`); these tests take the static droop and the first 8 s.
 
-use flexmbd::integrators::{Ali3p, Ali3pSettings};
-use flexmbd::model::{FormulationKind, Scene, Stiffening};
-use flexmbd::simulation::run;
-use flexmbd_ancf::{Cable, CableSpec};
-use flexmbd_core::{Dim, Formulation};
+use flexmbd::integrators::{StaticSettings, solve_static};
+use flexmbd::model::{FormulationKind, MotionLaw, Scene, Stiffening};
+use flexmbd::simulation::{compile, run};
+use flexmbd_ancf::{Cable, CableSpec, run_spin_up};
+use flexmbd_core::Dim;
+use nalgebra::DVector;
 
-fn ancf_from_rest(duration: f64) -> Vec<[f64; 3]> {
-    let h = 1e-3;
-    let mut cable = Cable::new(&CableSpec::spin_up_beam(Dim::Spatial, 16)).unwrap();
-    let settings = Ali3pSettings {
-        step: h,
-        ..Default::default()
-    };
-    let mut s = Ali3p::new(&mut cable, 0.0, settings).unwrap();
-    let mut sens = vec![0.0; cable.sensor_names().len()];
-    let mut out = Vec::new();
-    let steps = (duration / h).round() as usize;
-    for k in 0..=steps {
-        if k > 0 {
-            s.step(&mut cable).unwrap();
-        }
-        if k % 10 == 0 {
-            cable.sensors(s.t, &s.q, &s.qd, &mut sens);
-            out.push([sens[0], sens[1], sens[2]]);
-        }
-    }
-    out
-}
-
-fn errors(st: Stiffening, f: FormulationKind, r: &[[f64; 3]]) -> [f64; 3] {
+fn scene(st: Stiffening, f: FormulationKind) -> Scene {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../models/spin_up_beam_3d.ron"
@@ -44,41 +19,245 @@ fn errors(st: Stiffening, f: FormulationKind, r: &[[f64; 3]]) -> [f64; 3] {
     let mut scene = Scene::load(path).unwrap();
     scene.solver.stiffening = st;
     scene.solver.formulation = f;
-    scene.solver.duration = 0.3;
-    let (summary, h) = run(&scene, |_| {}).unwrap();
-    assert_eq!(summary.status, "ok");
-    let cols = [
-        h.column("tip_x").unwrap(),
-        h.column("tip_y").unwrap(),
-        h.column("tip_z").unwrap(),
-    ];
-    assert_eq!(cols[0].len(), r.len());
-    let mut e = [0.0_f64; 3];
-    for (k, rk) in r.iter().enumerate() {
-        for c in 0..3 {
-            let u = cols[c][k] - if c == 0 { 10.0 } else { 0.0 };
-            e[c] = e[c].max((u - rk[c]).abs() * 1e3);
+    if st == Stiffening::Foreshortening {
+        scene.solver.inertia = flexmbd::body::InertiaMethod::BMatrix;
+    }
+    scene
+}
+
+/// The static tip displacement (u_x, u_y, u_z) of a method.
+fn static_tip(st: Stiffening, f: FormulationKind) -> [f64; 3] {
+    let scene = scene(st, f);
+    let mut form = compile(&scene).unwrap();
+    let sol = solve_static(form.as_mut(), 0.0, &StaticSettings::default()).unwrap();
+    let names = form.sensor_names().to_vec();
+    let mut out = vec![0.0; names.len()];
+    let qd = DVector::zeros(sol.q.len());
+    form.sensors(0.0, &sol.q, &qd, &mut out);
+    let get = |n: &str| out[names.iter().position(|s| s == n).unwrap()];
+    eprintln!(
+        "{st:?} {f:?}: static tip ({:.3} mm, {:.1e}, {:.6} m), {} iterations, {} load steps, {} evaluations",
+        get("tip_ux") * 1e3,
+        get("tip_uy"),
+        get("tip_uz"),
+        sol.iterations,
+        sol.load_steps,
+        sol.evaluations
+    );
+    [get("tip_ux"), get("tip_uy"), get("tip_uz")]
+}
+
+fn cable_static(elements: usize) -> [f64; 3] {
+    let mut c = Cable::new(&CableSpec::spin_up_beam(Dim::Spatial, elements)).unwrap();
+    c.solve_static(0.0, 10).unwrap();
+    c.tip_displacement(0.0, &c.initial_positions().clone())
+}
+
+/// The static droop under gravity (the start of every 3D run). Measured tip (u_x mm, u_z m):
+/// cable (16 elements) −62.246 / −1.041924; FNL1 0 / −1.051027 (the linear droop, 4 modes per
+/// plane); FNL2 and FS0 −63.125 / −1.051027; SB10 −61.649 / −1.042103; SB20 −62.101 / −1.041973.
+///
+/// - FNL2 (full axial basis) and FS0 shorten the beam by the foreshortening of the bent shape
+///   (0.88 mm off the cable's 62.2 mm) but keep the linear droop: a moderate-rotation model has
+///   no large-rotation correction, so they droop 9.1 mm more than the geometrically exact cable
+///   (δ/L = 0.10). This 9.1 mm is the floor of their vertical error over the whole run.
+/// - FNL1 cannot shorten: its axial error at t = 0 is the whole shortening, ≈ 0.6 δ²/L.
+/// - SBn rotate each substructure's frame, so they approach the cable: 0.60 / 0.18 mm for n = 10,
+///   0.15 / 0.05 mm for n = 20 (a factor ≈ 4 per halving: second order in the body length).
+///
+/// Bounds: measured + 10 %, or the physical statement itself.
+#[test]
+fn static_droop_against_the_cable() {
+    let c = cable_static(16);
+    eprintln!("cable: {:.3} mm, {:.6} m", c[0] * 1e3, c[2]);
+    use FormulationKind::{Absolute, Relative};
+    use Stiffening::*;
+    let linear = static_tip(Linear, Relative)[2];
+    let mut d = Vec::new();
+    for (st, f) in [
+        (Fnl1, Relative),
+        (Fnl1, Absolute),
+        (Fnl2, Relative),
+        (Fnl2, Absolute),
+        (Foreshortening, Relative),
+        (Substructuring(10), Relative),
+        (Substructuring(20), Relative),
+    ] {
+        let u = static_tip(st, f);
+        let e = [(u[0] - c[0]) * 1e3, u[1] * 1e3, (u[2] - c[2]) * 1e3];
+        eprintln!("   Δ against the cable (mm): {e:.3?}");
+        assert!(e[1].abs() < 1e-6, "{st:?} {f:?}: no horizontal droop");
+        d.push((st, u, e));
+    }
+    for (st, u, e) in &d {
+        match st {
+            Fnl1 => {
+                assert!(u[0].abs() < 1e-12);
+                assert!((u[2] - linear).abs() < 1e-9);
+                let shortening = 0.6 * c[2] * c[2] / 10.0 * 1e3;
+                assert!((e[0] / shortening - 1.0).abs() < 0.05, "{e:?}");
+            }
+            Fnl2 | Foreshortening => {
+                assert!((u[2] - linear).abs() < 1e-6, "{st:?}: {u:?}");
+                assert!(
+                    e[0].abs() < 0.97 && (e[2] + 9.10).abs() < 0.1,
+                    "{st:?}: {e:?}"
+                );
+            }
+            Substructuring(10) => assert!(e[0].abs() < 0.66 && e[2].abs() < 0.2, "{e:?}"),
+            Substructuring(20) => assert!(e[0].abs() < 0.16 && e[2].abs() < 0.055, "{e:?}"),
+            _ => unreachable!(),
         }
     }
-    eprintln!("{st:?} {f:?}: {e:?} mm");
+}
+
+/// The cable from its static equilibrium over `duration` (8 elements: over the 20 s its tip
+/// differs from 16 elements by ≤ 0.11 mm, `flexmbd-ancf` convergence example).
+fn cable_run(duration: f64) -> flexmbd_ancf::History {
+    run_spin_up(
+        &CableSpec::spin_up_beam(Dim::Spatial, 8),
+        1e-3,
+        duration,
+        0.01,
+    )
+    .unwrap()
+}
+
+/// Max |Δ| (mm) of the tip components of a method's run against the cable, and the run's
+/// largest axial, horizontal and vertical tip excursions.
+fn run_errors(
+    st: Stiffening,
+    f: FormulationKind,
+    duration: f64,
+    r: &flexmbd_ancf::History,
+) -> [f64; 3] {
+    let mut scene = scene(st, f);
+    scene.solver.duration = duration;
+    let (summary, h) = run(&scene, |_| {}).unwrap();
+    assert_eq!(summary.status, "ok", "{:?}", summary.message);
+    let cols = [
+        h.column("tip_ux").unwrap(),
+        h.column("tip_uy").unwrap(),
+        h.column("tip_uz").unwrap(),
+    ];
+    assert_eq!(cols[0].len(), r.t.len());
+    let mut e = [0.0_f64; 3];
+    for k in 0..r.t.len() {
+        for c in 0..3 {
+            e[c] = e[c].max((cols[c][k] - r.tip[k][c]).abs() * 1e3);
+        }
+    }
+    eprintln!(
+        "{st:?} {f:?}: max |Δ| over {duration} s = {e:.3?} mm ({:.2} it/step, CPU {:.2} s)",
+        summary.newton_iterations as f64 / summary.steps as f64,
+        summary.cpu_seconds
+    );
     e
 }
 
+/// The first 8 s of the spin-up (hub speed 3.4 rad/s at 8 s; the largest errors of the 20 s run
+/// are all reached by then except SB10's horizontal one, `cargo xtask reproduce-thesis --only
+/// spin-up`), relative formulation, against the cable. Measured max |Δx| / |Δy| / |Δz| (mm):
+/// FNL1 65.23 / 6.78 / 9.54, FNL2 1.00 / 5.18 / 9.58, FS0 1.01 / 5.27 / 9.59; FNL1 in the
+/// absolute formulation equals the relative run to 1e-3 mm. The vertical errors are set at
+/// t = 0 by the static droop (see `static_droop_against_the_cable`); FNL1's axial error is the
+/// shortening 0.6 δ²/L = 65 mm of the 1.04 m droop, which it cannot represent (the thesis's
+/// 28 mm, scenes.md §7.4, is the same effect on a stiffer beam). Bounds: measured + 10 %.
 #[test]
-fn first_0_3_s_from_rest_match_the_cable() {
-    let r = ancf_from_rest(0.3);
-    // The tip does fall: the comparison is not trivial.
-    assert!(r.last().unwrap()[2] < -0.3);
-    for f in [FormulationKind::Relative, FormulationKind::Absolute] {
-        let e = errors(Stiffening::Fnl2, f, &r);
-        assert!(
-            e[0] < 0.03 && e[1] < 0.01 && e[2] < 0.15,
-            "FNL2 {f:?}: {e:?}"
+fn first_8_s_against_the_cable() {
+    use FormulationKind::{Absolute, Relative};
+    use Stiffening::*;
+    let r = cable_run(8.0);
+    let fnl1 = run_errors(Fnl1, Relative, 8.0, &r);
+    let fnl2 = run_errors(Fnl2, Relative, 8.0, &r);
+    let fs0 = run_errors(Foreshortening, Relative, 8.0, &r);
+    let fnl1_ac = run_errors(Fnl1, Absolute, 8.0, &r);
+    for (e, m) in [(fnl2, [1.00, 5.18, 9.58]), (fs0, [1.01, 5.27, 9.59])] {
+        for c in 0..3 {
+            assert!(e[c] < 1.1 * m[c], "{e:?} against {m:?}");
+        }
+    }
+    // FNL1: the largest axial error by far, near the shortening of the static droop.
+    let droop = -r.tip[0][2];
+    let shortening = 0.6 * droop * droop / 10.0 * 1e3;
+    assert!(
+        (fnl1[0] / shortening - 1.0).abs() < 0.05,
+        "{fnl1:?} vs {shortening}"
+    );
+    assert!(fnl1[0] > 50.0 * fnl2[0].max(fs0[0]));
+    // Without the axial–bending coupling FNL1 also lags more in the plane (thesis: 10.7 against
+    // 5.8 mm).
+    assert!(fnl1[1] > fnl2[1] && fnl1[1] > fs0[1]);
+    for c in 0..3 {
+        assert!((fnl1_ac[c] - fnl1[c]).abs() < 0.01, "{fnl1_ac:?} {fnl1:?}");
+    }
+}
+
+/// SB10 over the first 8 s (measured 0.60 / 7.73 / 4.56 mm; the thesis: 0.50 / 3.19 / 2.33
+/// over its 20 s). Bounds: measured + 10 %.
+#[test]
+fn sb10_first_8_s_against_the_cable() {
+    let r = cable_run(8.0);
+    let e = run_errors(
+        Stiffening::Substructuring(10),
+        FormulationKind::Relative,
+        8.0,
+        &r,
+    );
+    let m = [0.60, 7.73, 4.56];
+    for c in 0..3 {
+        assert!(e[c] < 1.1 * m[c], "{e:?} against {m:?}");
+    }
+}
+
+/// The static start really is static: with Ωs = 0 the tip stays where the static solver put it
+/// and does not move for a second (FNL2 and FS0, relative; FNL2, absolute).
+#[test]
+fn static_start_without_spin_stays_put() {
+    use FormulationKind::{Absolute, Relative};
+    use Stiffening::*;
+    use flexmbd::model::{Axis, Sensor, SensorKind};
+    for (st, f) in [
+        (Fnl2, Relative),
+        (Foreshortening, Relative),
+        (Fnl2, Absolute),
+    ] {
+        let mut scene = scene(st, f);
+        scene.solver.duration = 1.0;
+        for d in &mut scene.drivers {
+            if let MotionLaw::SpinUp { omega_s, .. } = &mut d.law {
+                *omega_s = 0.0;
+            }
+        }
+        for (name, c) in [
+            ("tip_vx", Axis::X),
+            ("tip_vy", Axis::Y),
+            ("tip_vz", Axis::Z),
+        ] {
+            scene.sensors.push(Sensor {
+                name: name.into(),
+                kind: SensorKind::Velocity {
+                    body: "beam".into(),
+                    marker: "tip".into(),
+                    component: c,
+                    frame: None,
+                },
+                displacement: false,
+            });
+        }
+        let (summary, h) = run(&scene, |_| {}).unwrap();
+        assert_eq!(summary.status, "ok");
+        let uz = h.column("tip_uz").unwrap();
+        let drift = uz.iter().map(|u| (u - uz[0]).abs()).fold(0.0, f64::max);
+        let v = ["tip_vx", "tip_vy", "tip_vz"]
+            .iter()
+            .flat_map(|n| h.column(n).unwrap())
+            .fold(0.0, |a: f64, b| a.max(b.abs()));
+        eprintln!(
+            "{st:?} {f:?}: u_z(0) = {:.6} m, drift {drift:.1e} m, max |v| {v:.1e} m/s",
+            uz[0]
         );
-        let e = errors(Stiffening::Fnl1, f, &r);
-        assert!(
-            e[0] > 20.0 && e[0] < 23.0 && e[1] < 0.01 && e[2] < 0.7,
-            "FNL1 {f:?}: {e:?}"
-        );
+        assert!(uz[0] < -1.0);
+        assert!(drift < 1e-8 && v < 1e-7, "drift {drift:e}, v {v:e}");
     }
 }

@@ -1,0 +1,735 @@
+//! Static equilibrium of a [`Formulation`] at a fixed time (methods.md §5.4 item 4, first
+//! option; scenes.md §5 "start from rest with the beam in static equilibrium"), used to
+//! start a run at rest in equilibrium before ALI3-P's consistent initial conditions.
+//!
+//! At fixed t with q̇ = 0 find q and λ with
+//!
+//! Q(q) − Φ_q(q)ᵀ λ = 0,  Φ(q, t) = 0,
+//!
+//! the specified coordinates (`Formulation::specified_coordinates`) held at their initial
+//! values. Q holds every applied and elastic force (gravity, springs, FNL1/FNL2/FS0
+//! elasticity); velocity-dependent terms vanish at q̇ = 0.
+//!
+//! **Structure: the augmented-Lagrangian Newton step of ALI3-P** (methods.md §5.1–§5.2),
+//! with the static residual in place of the dynamic one and M replaced by nothing:
+//!
+//! g(q; λ) = −Q(q) + Φ_qᵀ(λ + αΦ),  H Δq = −g,
+//!
+//! H = ∂g/∂q = −∂Q/∂q + Σ_i (λ + αΦ)_i ∇²Φ_i + Φ_qᵀ α Φ_q,
+//!
+//! with two changes that statics needs (measured on the pendulum of `tests/statics.rs`):
+//!
+//! - after every correction q is **projected** back onto Φ = 0 by the Gauss–Newton iteration of
+//!   the consistent initial positions (methods.md §5.4 item 1, held coordinates fixed). In a
+//!   time step the correction is O(h²) and the penalty's curvature term is harmless; in statics
+//!   a pendulum 57° off the vertical gets a correction of 2 m along the tangent of its 1.5 m rod,
+//!   and without the projection the penalty term α Φ Φ_q of that trial point raised ‖g‖ by 10⁵,
+//!   so the line search could not accept any step above 1/1000;
+//! - with Φ = 0 the update λ ← λ + αΦ does nothing, so λ is the **least-squares multiplier**
+//!   argmin ‖−Q + Φ_qᵀλ‖ at each projected point (regularised for redundancy). It is exact at the
+//!   solution and first-order accurate near it, so the iteration keeps Newton's quadratic rate;
+//!   it is also what puts the constraint curvature into H (with λ = 0 a pendulum's H is singular).
+//!
+//! Why not a bordered Newton on [H Φ_qᵀ; Φ_q 0]: the scenes have redundant constraints (the
+//! rigid four-bars, methods.md §5.3 "Redundant constraints"), which make the bordered matrix
+//! singular; with the penalty the n × n matrix H stays regular whenever H is positive definite
+//! on the motions the constraints allow, redundancy or not, as ALI3-P's leading matrix does.
+//! The step is then, for large α, the null-space Newton step.
+//!
+//! **Tangent.** The formulations' K is the approximation ALI3-P needs ("f_q ≈", methods.md
+//! §5.1): it omits the constraint curvature Σ(λ + αΦ)∇²Φ (docs/design.md "The integrator")
+//! and some configuration dependence of the forces. In a time step M dominates and that only
+//! costs iterations; in statics K is the whole tangent, and a pendulum has K = 0, so
+//! K + Φ_qᵀαΦ_q is singular there. By default H is therefore formed by forward differences
+//! of −Q(q) + Φ_q(q)ᵀ μ with μ = λ + αΦ held (one evaluation per coordinate, step
+//! 1e-7 max(1, |q_j|)), plus the exact Φ_qᵀαΦ_q; [`StaticSettings::fd_tangent`] = false uses
+//! K + Φ_qᵀαΦ_q instead. H is factorised by LU (the difference tangent is not symmetric).
+//!
+//! **Globalisation.** A full step is taken when it lowers ‖g‖₂ over projected trial points;
+//! if it raises ‖g‖₂, a watchdog (non-monotone acceptance, Chamberlain et al. 1982) takes it
+//! anyway and gives the following full steps 5 iterations to fall below the level it started
+//! from, else returns there; only then does it backtrack, s = ½, ¼, … down to 1/1024, until
+//! ‖g(P(q + sΔq))‖₂ ≤ (1 − 10⁻⁴ s)‖g(q)‖₂. Why the watchdog: in FNL2 (full axial basis) the
+//! stiff axial coordinates act like a penalty on u′ + ½w′² = 0, so the first Newton step from the
+//! straight beam (the linear droop) stretches it and raises ‖g‖ 10⁴-fold, and the second step
+//! lands on the solution. With a monotone line search the accepted steps were ≤ 1/500 of Newton's
+//! and the 3D spin-up beam needed 5380 iterations and 128 load steps; with the watchdog, 4.
+//! If the full problem still does not converge, it is restarted from the initial guess with
+//! load stepping done generically by the Newton homotopy
+//!
+//! g_μ(q; λ) = g(q; λ) + (1 − μ) Q(q₀),
+//!
+//! which q₀ solves at μ = 0; when the elastic forces vanish at the undeformed q₀ this is
+//! exactly scaling the applied loads by μ. μ rises to 1 in increments starting at
+//! 1/`load_steps`, halved after a failed level and doubled again after an easy one.
+//!
+//! **Penalty.** α = 10⁴ k_ref (CHOSEN, as ALI3-P's effective penalty h²α/4 = 10⁴ m_ref of
+//! methods.md §5.3 with the stiffness scale in place of the mass scale), k_ref the largest
+//! diagonal entry of H without the penalty at the first iterate (or of M, per s², when that
+//! is zero). With the projection α only has to make H regular across the constraints.
+//!
+//! **Stop.** ‖g‖∞ ≤ ε_r f_ref on the free coordinates (f_ref the largest |Q_j| met), ‖Φ‖∞ ≤ ε_Φ
+//! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). On failure an error carries the
+//! iteration count, the residual, the constraint error and the load factor reached — never
+//! a panic, never NaN. The solver runs once per scene and allocates its workspace up front.
+
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use nalgebra::{DMatrix, DVector};
+
+use crate::lu::DenseLu;
+
+/// Settings of [`solve_static`] (CHOSEN defaults).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticSettings {
+    /// Penalty α; `None`: 10⁴ k_ref (module documentation).
+    pub penalty: Option<f64>,
+    /// ε_r: ‖g‖∞ ≤ ε_r f_ref.
+    pub tol_residual: f64,
+    /// ε_q: ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞).
+    pub tol_q: f64,
+    /// ε_Φ: ‖Φ‖∞ ≤ ε_Φ.
+    pub tol_phi: f64,
+    /// Newton iterations per load level.
+    pub max_iterations: usize,
+    /// First load increment 1/`load_steps` when the full load fails.
+    pub load_steps: usize,
+    /// Smallest load increment before giving up.
+    pub min_increment: f64,
+    /// Tangent by forward differences of the residual (true) or the formulation's K.
+    pub fd_tangent: bool,
+}
+
+impl Default for StaticSettings {
+    fn default() -> Self {
+        StaticSettings {
+            penalty: None,
+            tol_residual: 1e-10,
+            tol_q: 1e-10,
+            tol_phi: 1e-10,
+            max_iterations: 50,
+            load_steps: 4,
+            min_increment: 1e-3,
+            fd_tangent: true,
+        }
+    }
+}
+
+/// A static equilibrium.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticSolution {
+    /// Positions q.
+    pub q: DVector<f64>,
+    /// Multipliers λ (the constraint reaction on the system is −Φ_qᵀλ).
+    pub lambda: DVector<f64>,
+    /// Newton iterations, all load levels (failed attempts included).
+    pub iterations: usize,
+    /// Load levels solved (1 when the full load converged directly).
+    pub load_steps: usize,
+    /// Formulation evaluations.
+    pub evaluations: usize,
+    /// Final ‖g‖∞ on the free coordinates (force units of the coordinates).
+    pub residual: f64,
+    /// Final ‖Φ‖∞.
+    pub phi: f64,
+    /// The penalty α used.
+    pub penalty: f64,
+}
+
+/// Why no static equilibrium was found.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StaticError {
+    /// Newton (with line search and load stepping) did not converge.
+    #[error(
+        "static equilibrium not found after {iterations} Newton iterations: ‖g‖∞ = {residual:.3e} (scale {force_scale:.3e}), ‖Φ‖∞ = {phi:.3e}, load factor reached {load_factor:.4}; {hint}"
+    )]
+    NoConvergence {
+        /// Newton iterations made, all levels.
+        iterations: usize,
+        /// Last ‖g‖∞.
+        residual: f64,
+        /// Force scale f_ref the residual is judged against.
+        force_scale: f64,
+        /// Last ‖Φ‖∞.
+        phi: f64,
+        /// Largest load factor μ solved (0 when not even the first increment converged).
+        load_factor: f64,
+        /// What to try.
+        hint: &'static str,
+    },
+    /// The tangent at the initial guess could not be factorised.
+    #[error(
+        "the static tangent is singular at the initial guess (pivot ratio {pivot_ratio:.3e}, Newton iteration {iterations}); a coordinate has neither stiffness nor constraint (a free rigid-body motion, or a mechanism with no load-bearing equilibrium)"
+    )]
+    Singular {
+        /// Newton iterations made.
+        iterations: usize,
+        /// Smallest / largest pivot.
+        pivot_ratio: f64,
+    },
+    /// The formulation returned non-finite numbers at the initial guess.
+    #[error(
+        "the forces or constraints are not finite at the initial guess (‖g‖∞ = {residual}); check the scene"
+    )]
+    NonFinite {
+        /// The residual found.
+        residual: f64,
+    },
+}
+
+/// Full Newton steps the watchdog allows before ‖g‖ must fall below its starting level.
+const WATCHDOG: usize = 5;
+
+const HINT: &str = "check that the loads have an equilibrium the constraints and stiffness can carry (a mechanism or a buckled, snapping structure has none nearby); more load steps or a looser tolerance may help";
+
+/// Workspace and state of one solve.
+struct Solver<'s> {
+    s: &'s StaticSettings,
+    t: f64,
+    n: usize,
+    held: Vec<bool>,
+    terms: SystemTerms,
+    zero_qd: DVector<f64>,
+    alpha: f64,
+    /// Q(q₀), for the homotopy.
+    q0_forces: DVector<f64>,
+    f_ref: f64,
+    evaluations: usize,
+    iterations: usize,
+    // Workspace.
+    g: DVector<f64>,
+    g_try: DVector<f64>,
+    base: DVector<f64>,
+    mu: DVector<f64>,
+    phi_q_base: DMatrix<f64>,
+    h: DMatrix<f64>,
+    dq: DVector<f64>,
+    q_try: DVector<f64>,
+    lambda_try: DVector<f64>,
+    q_ref: DVector<f64>,
+    lambda_ref: DVector<f64>,
+    lu: DenseLu,
+    /// Φ_q Φ_qᵀ and its factorisation (multiplier estimate).
+    mm: DMatrix<f64>,
+    lu_m: DenseLu,
+    /// Last ‖g‖∞ and ‖Φ‖∞ (for errors).
+    last_residual: f64,
+    last_phi: f64,
+}
+
+const REQ_FULL: Request = Request {
+    dynamics: true,
+    tangents: false,
+    constraints: true,
+    jacobian: true,
+    accel_term: false,
+};
+
+enum Level {
+    Converged,
+    Failed,
+}
+
+impl Solver<'_> {
+    fn eval<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &DVector<f64>, req: Request) {
+        self.terms.clear(req);
+        f.evaluate(self.t, q, &self.zero_qd, req, &mut self.terms);
+        self.evaluations += 1;
+    }
+
+    /// g = −Q + (1 − load) Q₀ + Φ_qᵀ(λ + αΦ) from the current terms, held entries zeroed,
+    /// into `out`; μ = λ + αΦ into `self.mu`.
+    fn residual(&mut self, lambda: &DVector<f64>, load: f64, into_try: bool) {
+        let tt = &self.terms;
+        self.mu.copy_from(lambda);
+        self.mu.axpy(self.alpha, &tt.phi, 1.0);
+        let out = if into_try {
+            &mut self.g_try
+        } else {
+            &mut self.g
+        };
+        out.copy_from(&tt.forces);
+        out.axpy(1.0 - load, &self.q0_forces, -1.0);
+        out.gemv_tr(1.0, &tt.phi_q, &self.mu, 1.0);
+        for (v, &h) in out.iter_mut().zip(&self.held) {
+            if h {
+                *v = 0.0;
+            }
+        }
+        self.f_ref = self.f_ref.max(tt.forces.amax());
+    }
+
+    /// λ = argmin ‖−Q + (1 − load) Q₀ + Φ_qᵀλ‖ over the free coordinates, regularised for
+    /// redundant constraints: (Φ_q Φ_qᵀ + εI) λ = Φ_q (Q − (1 − load) Q₀).
+    fn estimate_multipliers(&mut self, lambda: &mut DVector<f64>, load: f64) {
+        let m = lambda.len();
+        if m == 0 {
+            return;
+        }
+        let tt = &self.terms;
+        self.phi_q_base.copy_from(&tt.phi_q);
+        for (j, &h) in self.held.iter().enumerate() {
+            if h {
+                self.phi_q_base.column_mut(j).fill(0.0);
+            }
+        }
+        self.g_try.copy_from(&tt.forces);
+        self.g_try.axpy(-(1.0 - load), &self.q0_forces, 1.0);
+        // Φ_q Φ_qᵀ by rows (no temporaries).
+        let a = &self.phi_q_base;
+        for i in 0..m {
+            for j in 0..=i {
+                let v = a.row(i).dot(&a.row(j));
+                self.mm[(i, j)] = v;
+                self.mm[(j, i)] = v;
+            }
+        }
+        let eps = 1e-10
+            * (0..m)
+                .map(|i| self.mm[(i, i)])
+                .fold(0.0, f64::max)
+                .max(1e-300);
+        for i in 0..m {
+            self.mm[(i, i)] += eps;
+        }
+        lambda.gemv(1.0, &self.phi_q_base, &self.g_try, 0.0);
+        if self.lu_m.factor(&self.mm).is_ok() {
+            self.lu_m.solve_in_place(lambda);
+        }
+        if !lambda.iter().all(|v| v.is_finite()) {
+            lambda.fill(0.0);
+        }
+    }
+
+    /// Project q onto Φ(q, t) = 0 with the held coordinates fixed: Gauss–Newton on the
+    /// regularised normal equations (εI + JᵀJ) Δq = −JᵀΦ (tolerates redundancy, as the
+    /// consistent initial positions of methods.md §5.4 item 1). Uses `h`, `lu`, `base` as
+    /// scratch. False when it does not reach ‖Φ‖∞ ≤ ε_Φ.
+    fn project<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &mut DVector<f64>) -> bool {
+        if self.terms.phi.is_empty() {
+            return true;
+        }
+        let tight = 1e-3 * self.s.tol_phi;
+        let req = Request {
+            constraints: true,
+            jacobian: true,
+            ..Request::default()
+        };
+        let mut phi = f64::INFINITY;
+        for _ in 0..50 {
+            self.eval(f, q, req);
+            phi = self.terms.phi.amax();
+            if !phi.is_finite() {
+                return false;
+            }
+            if phi <= tight {
+                return true;
+            }
+            self.phi_q_base.copy_from(&self.terms.phi_q);
+            for (j, &h) in self.held.iter().enumerate() {
+                if h {
+                    self.phi_q_base.column_mut(j).fill(0.0);
+                }
+            }
+            let j = &self.phi_q_base;
+            self.h.gemm_tr(1.0, j, j, 0.0);
+            let eps = 1e-12 * (0..self.n).map(|i| self.h[(i, i)]).fold(0.0, f64::max);
+            for i in 0..self.n {
+                self.h[(i, i)] += eps.max(f64::MIN_POSITIVE);
+            }
+            self.base.gemv_tr(-1.0, j, &self.terms.phi, 0.0);
+            if self.lu.factor(&self.h).is_err() {
+                return false;
+            }
+            self.lu.solve_in_place(&mut self.base);
+            *q += &self.base;
+        }
+        phi <= self.s.tol_phi
+    }
+
+    /// Newton at load factor `load` from q: projected onto Φ = 0 after every correction,
+    /// multipliers by least squares, backtracking on ‖g‖₂ (module documentation).
+    fn level<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &mut DVector<f64>,
+        lambda: &mut DVector<f64>,
+        load: f64,
+    ) -> Result<Level, StaticError> {
+        let n = self.n;
+        if !self.project(f, q) {
+            return Ok(Level::Failed);
+        }
+        let mut last_dq = f64::INFINITY;
+        // (‖g‖ where the watchdog started, full steps left); skip it once after it failed.
+        let mut watchdog: Option<(f64, usize)> = None;
+        let mut watchdog_off = false;
+        let fd = self.s.fd_tangent;
+        let req = Request {
+            tangents: !fd,
+            ..REQ_FULL
+        };
+        self.eval(f, q, req);
+        self.estimate_multipliers(lambda, load);
+        self.residual(lambda, load, false);
+        for _ in 0..self.s.max_iterations {
+            let phi = self.terms.phi.amax();
+            let res = self.g.amax();
+            self.last_residual = res;
+            self.last_phi = phi;
+            if !(res.is_finite() && phi.is_finite()) {
+                return Ok(Level::Failed);
+            }
+            if res <= self.s.tol_residual * self.f_ref
+                && phi <= self.s.tol_phi
+                && last_dq <= self.s.tol_q * q.amax().max(1.0)
+            {
+                return Ok(Level::Converged);
+            }
+            self.iterations += 1;
+            // Tangent H of −Q + Φ_qᵀμ, μ = λ + αΦ held (Φ_qᵀαΦ_q added below, exactly).
+            if fd {
+                self.base.copy_from(&self.g);
+                // Keep Φ_q of the base point for the penalty term: the columns overwrite terms.
+                self.phi_q_base.copy_from(&self.terms.phi_q);
+                for j in 0..n {
+                    if self.held[j] {
+                        continue;
+                    }
+                    let d = 1e-7 * q[j].abs().max(1.0);
+                    let qj = q[j];
+                    q[j] = qj + d;
+                    self.eval(
+                        f,
+                        q,
+                        Request {
+                            constraints: false,
+                            ..REQ_FULL
+                        },
+                    );
+                    q[j] = qj;
+                    let tt = &self.terms;
+                    // Column: (−Q(q + d e_j) + Φ_q(q + d e_j)ᵀ μ − (−Q + Φ_qᵀμ)) / d; the
+                    // homotopy term is constant and cancels.
+                    let mut col = self.h.column_mut(j);
+                    col.copy_from(&tt.forces);
+                    col.gemv_tr(1.0, &tt.phi_q, &self.mu, -1.0);
+                    col.axpy(1.0 - load, &self.q0_forces, 1.0);
+                    for (i, v) in col.iter_mut().enumerate() {
+                        *v = if self.held[i] {
+                            0.0
+                        } else {
+                            (*v - self.base[i]) / d
+                        };
+                    }
+                }
+                self.terms.phi_q.copy_from(&self.phi_q_base);
+            } else {
+                self.h.copy_from(&self.terms.stiffness);
+            }
+            if self.alpha == 0.0 {
+                // First tangent: set the penalty from its scale (module documentation).
+                let k_ref = (0..n)
+                    .filter(|&i| !self.held[i])
+                    .map(|i| self.h[(i, i)].abs())
+                    .fold(0.0, f64::max);
+                let m_ref = (0..n)
+                    .map(|i| self.terms.mass[(i, i)].abs())
+                    .fold(0.0, f64::max);
+                let k_ref = if k_ref > 0.0 { k_ref } else { m_ref.max(1.0) };
+                self.alpha = self.s.penalty.unwrap_or(1e4 * k_ref);
+            }
+            let a = self.alpha;
+            let phi_q = &self.terms.phi_q;
+            self.h.gemm_tr(a, phi_q, phi_q, 1.0);
+            for j in 0..n {
+                if self.held[j] {
+                    self.h.row_mut(j).fill(0.0);
+                    self.h.column_mut(j).fill(0.0);
+                    self.h[(j, j)] = 1.0;
+                }
+            }
+            if let Err(e) = self.lu.factor(&self.h) {
+                // Singular at the initial guess: the scene has a free motion. Later, the
+                // iteration wandered off (past a limit point, say): let load stepping try.
+                if self.iterations == 1 {
+                    return Err(StaticError::Singular {
+                        iterations: self.iterations,
+                        pivot_ratio: e.pivot_ratio,
+                    });
+                }
+                return Ok(Level::Failed);
+            }
+            self.dq.copy_from(&self.g);
+            self.dq.neg_mut();
+            self.lu.solve_in_place(&mut self.dq);
+            if !self.dq.iter().all(|v| v.is_finite()) {
+                return Ok(Level::Failed);
+            }
+            // Full step first; if it raises ‖g‖₂, the watchdog may still take it (below), else
+            // backtracking on ‖g‖₂ over projected trial points.
+            let g0 = self.g.norm();
+            let mut step = 1.0;
+            let mut accepted = false;
+            while step >= 1.0 / 1024.0 {
+                let mut q_try = std::mem::take(&mut self.q_try);
+                q_try.copy_from(q);
+                q_try.axpy(step, &self.dq, 1.0);
+                let projected = self.project(f, &mut q_try);
+                if projected {
+                    self.eval(f, &q_try, req);
+                }
+                self.q_try = q_try;
+                if projected {
+                    let mut l_try = std::mem::take(&mut self.lambda_try);
+                    self.estimate_multipliers(&mut l_try, load);
+                    self.residual(&l_try, load, true);
+                    self.lambda_try = l_try;
+                    let g1 = self.g_try.norm();
+                    if g1.is_finite() && g1 <= (1.0 - 1e-4 * step) * g0 {
+                        accepted = true;
+                        break;
+                    }
+                    // At round-off the residual cannot fall further: accept a full step that
+                    // does not raise it much, so the test on Δq can finish.
+                    if step == 1.0 && g0 <= 1e3 * self.s.tol_residual * self.f_ref && g1 <= 2.0 * g0
+                    {
+                        accepted = true;
+                        break;
+                    }
+                    // Watchdog: take a full step that raises ‖g‖ and give the following full
+                    // steps WATCHDOG iterations to fall below the level it started from.
+                    if step == 1.0 && g1.is_finite() {
+                        if watchdog.is_none() && !watchdog_off {
+                            self.q_ref.copy_from(q);
+                            self.lambda_ref.copy_from(lambda);
+                            watchdog = Some((g0, WATCHDOG));
+                            accepted = true;
+                            break;
+                        }
+                        if let Some((g_ref, left)) = watchdog
+                            && left > 1
+                        {
+                            watchdog = Some((g_ref, left - 1));
+                            accepted = true;
+                            break;
+                        }
+                    }
+                }
+                if let Some((_, 1)) = watchdog {
+                    // The watchdog ran out: back to where it started, with a damped step.
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !accepted {
+                if watchdog.is_some() {
+                    watchdog = None;
+                    watchdog_off = true;
+                    q.copy_from(&self.q_ref);
+                    lambda.copy_from(&self.lambda_ref);
+                    self.eval(f, q, req);
+                    self.estimate_multipliers(lambda, load);
+                    self.residual(lambda, load, false);
+                    last_dq = f64::INFINITY;
+                    continue;
+                }
+                return Ok(Level::Failed);
+            }
+            watchdog_off = false;
+            if let Some((g_ref, _)) = watchdog
+                && self.g_try.norm() <= (1.0 - 1e-4) * g_ref
+            {
+                watchdog = None;
+            }
+            q.copy_from(&self.q_try);
+            lambda.copy_from(&self.lambda_try);
+            std::mem::swap(&mut self.g, &mut self.g_try);
+            last_dq = step * self.dq.amax();
+        }
+        Ok(Level::Failed)
+    }
+}
+
+/// Static equilibrium of `f` at time `t` with q̇ = 0, from `f.initial_guess` (module
+/// documentation). The specified coordinates are held at their initial values.
+pub fn solve_static<F: Formulation + ?Sized>(
+    f: &mut F,
+    t: f64,
+    settings: &StaticSettings,
+) -> Result<StaticSolution, StaticError> {
+    let (n, m) = (f.n_coordinates(), f.n_constraints());
+    let mut q0 = DVector::zeros(n);
+    let mut qd = DVector::zeros(n);
+    f.initial_guess(&mut q0, &mut qd);
+    let mut held = vec![false; n];
+    for &j in f.specified_coordinates() {
+        if j < n {
+            held[j] = true;
+        }
+    }
+    let mut s = Solver {
+        s: settings,
+        t,
+        n,
+        held,
+        terms: SystemTerms::new(n, m),
+        zero_qd: DVector::zeros(n),
+        alpha: 0.0,
+        q0_forces: DVector::zeros(n),
+        f_ref: f64::MIN_POSITIVE,
+        evaluations: 0,
+        iterations: 0,
+        g: DVector::zeros(n),
+        g_try: DVector::zeros(n),
+        base: DVector::zeros(n),
+        mu: DVector::zeros(m),
+        phi_q_base: DMatrix::zeros(m, n),
+        h: DMatrix::zeros(n, n),
+        dq: DVector::zeros(n),
+        q_try: DVector::zeros(n),
+        lambda_try: DVector::zeros(m),
+        q_ref: DVector::zeros(n),
+        lambda_ref: DVector::zeros(m),
+        lu: DenseLu::new(n),
+        mm: DMatrix::zeros(m, m),
+        lu_m: DenseLu::new(m),
+        last_residual: f64::INFINITY,
+        last_phi: f64::INFINITY,
+    };
+    // Q(q₀) for the homotopy, and a finiteness check of the scene at the guess.
+    s.eval(f, &q0, REQ_FULL);
+    s.q0_forces.copy_from(&s.terms.forces);
+    let r0 = s.terms.forces.amax().max(s.terms.phi.amax());
+    if !r0.is_finite() {
+        return Err(StaticError::NonFinite { residual: r0 });
+    }
+    let mut q = q0.clone();
+    let mut lambda = DVector::zeros(m);
+    let mut load_steps = 1;
+    // Full load first.
+    let mut converged = matches!(s.level(f, &mut q, &mut lambda, 1.0)?, Level::Converged);
+    let mut load = 0.0;
+    if !converged {
+        // Load stepping by the Newton homotopy, from the initial guess.
+        q.copy_from(&q0);
+        lambda.fill(0.0);
+        load_steps = 0;
+        let first = 1.0 / settings.load_steps.max(1) as f64;
+        let mut inc = first;
+        let (mut q_save, mut l_save) = (q.clone(), lambda.clone());
+        loop {
+            let target = if load + inc > 1.0 - 1e-12 {
+                1.0
+            } else {
+                load + inc
+            };
+            let before = s.iterations;
+            if matches!(s.level(f, &mut q, &mut lambda, target)?, Level::Converged) {
+                load = target;
+                load_steps += 1;
+                q_save.copy_from(&q);
+                l_save.copy_from(&lambda);
+                if load >= 1.0 {
+                    converged = true;
+                    break;
+                }
+                if s.iterations - before <= 6 {
+                    inc = (2.0 * inc).min(first);
+                }
+            } else {
+                q.copy_from(&q_save);
+                lambda.copy_from(&l_save);
+                inc *= 0.5;
+                if inc < settings.min_increment {
+                    break;
+                }
+            }
+        }
+    }
+    if !converged {
+        return Err(StaticError::NoConvergence {
+            iterations: s.iterations,
+            residual: s.last_residual,
+            force_scale: s.f_ref,
+            phi: s.last_phi,
+            load_factor: load,
+            hint: HINT,
+        });
+    }
+    Ok(StaticSolution {
+        q,
+        lambda,
+        iterations: s.iterations,
+        load_steps,
+        evaluations: s.evaluations,
+        residual: s.last_residual,
+        phi: s.last_phi,
+        penalty: s.alpha,
+    })
+}
+
+/// A formulation that starts from given positions and velocities: `initial_guess` returns
+/// them, everything else is forwarded to the wrapped formulation. Build ALI3-P with it
+/// ([`crate::Ali3p::new`]) and step with the wrapped formulation afterwards.
+pub struct StartFrom<'a, F: Formulation + ?Sized> {
+    inner: &'a mut F,
+    q: DVector<f64>,
+    qd: DVector<f64>,
+}
+
+impl<'a, F: Formulation + ?Sized> StartFrom<'a, F> {
+    /// Start `inner` at (q, q̇).
+    pub fn new(inner: &'a mut F, q: DVector<f64>, qd: DVector<f64>) -> Self {
+        StartFrom { inner, q, qd }
+    }
+    /// Start `inner` at rest at the static equilibrium `sol`.
+    pub fn at_rest(inner: &'a mut F, sol: &StaticSolution) -> Self {
+        let n = sol.q.len();
+        StartFrom {
+            inner,
+            q: sol.q.clone(),
+            qd: DVector::zeros(n),
+        }
+    }
+}
+
+impl<F: Formulation + ?Sized> Formulation for StartFrom<'_, F> {
+    fn n_coordinates(&self) -> usize {
+        self.inner.n_coordinates()
+    }
+    fn n_constraints(&self) -> usize {
+        self.inner.n_constraints()
+    }
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        q.copy_from(&self.q);
+        qd.copy_from(&self.qd);
+    }
+    fn specified_coordinates(&self) -> &[usize] {
+        self.inner.specified_coordinates()
+    }
+    fn evaluate(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        self.inner.evaluate(t, q, qd, req, out)
+    }
+    fn constant_tangents(&self) -> bool {
+        self.inner.constant_tangents()
+    }
+    fn constant_mass(&self) -> bool {
+        self.inner.constant_mass()
+    }
+    fn symmetric_tangent(&self) -> bool {
+        self.inner.symmetric_tangent()
+    }
+    fn sensor_names(&self) -> &[String] {
+        self.inner.sensor_names()
+    }
+    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+        self.inner.sensors(t, q, qd, out)
+    }
+}
