@@ -12,8 +12,7 @@ use std::time::Instant;
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{
-    Ali3p, Ali3pSettings, IntegratorError, StartFrom, StaticError, StaticSettings, StaticSolution,
-    solve_static,
+    Ali3p, Ali3pSettings, IntegratorError, StartFrom, StaticError, StaticSettings, solve_static,
 };
 use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Stiffening};
 use nalgebra::DVector;
@@ -198,25 +197,6 @@ pub enum StartError {
     /// The integrator's consistent initial conditions failed.
     #[error(transparent)]
     Integrator(#[from] IntegratorError),
-}
-
-/// Build ALI3-P for a compiled scene at t = 0, starting as `scene.solver.initial_state`
-/// says: as given, or at rest in the static equilibrium found first (returned beside).
-/// Step the returned integrator with the same `f`.
-pub fn start(
-    scene: &Scene,
-    f: &mut dyn Formulation,
-    settings: Ali3pSettings,
-) -> Result<(Ali3p, Option<StaticSolution>), StartError> {
-    match scene.solver.initial_state {
-        InitialState::Given => Ok((Ali3p::new(f, 0.0, settings)?, None)),
-        InitialState::StaticEquilibrium => {
-            let sol = solve_static(f, 0.0, &StaticSettings::default())?;
-            let mut at_rest = StartFrom::at_rest(f, &sol);
-            let integ = Ali3p::new(&mut at_rest, 0.0, settings)?;
-            Ok((integ, Some(sol)))
-        }
-    }
 }
 
 /// Run a scene to its duration (or to the first failure). `progress` is called with the
