@@ -235,6 +235,17 @@ impl FlexibleBody {
         }
     }
 
+    /// Column j of the foreshortening Jacobian of FE node `node`, −ē₁ (F y)_j (body
+    /// components; zero without FS0 data).
+    pub fn node_foreshortening_column(&self, node: usize, y: &[f64], j: usize) -> Vector3<f64> {
+        let Some(fs) = self.fs.as_ref() else {
+            return Vector3::zeros();
+        };
+        let n = self.n;
+        let f = &fs.nodes[node * n * n..(node + 1) * n * n];
+        fs.axis * (-dot(&f[j * n..(j + 1) * n], y))
+    }
+
     /// The first moment's foreshortening −½ ē₁ yᵀ(Σ_k w_k F_k) y (body components), or
     /// zero without FS0 data.
     pub(crate) fn fs_first_moment(&self, y: &[f64]) -> Vector3<f64> {

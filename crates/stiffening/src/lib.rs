@@ -21,10 +21,10 @@
 //!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
 //!
 //! - Foreshortening FS0 ([`foreshortening`], methods.md §6.3): no axial modes, F at the
-//!   cloud points and nodes attached to the body, relative formulation and B-matrix
-//!   route only.
+//!   cloud points and nodes attached to the body; both formulations (2D and 3D) and both
+//!   inertia routes (the body's FS0 shape integrals or the B-matrix projection).
 //!
-//! Limits: FS0 and substructuring run in the relative
+//! Limits: substructuring runs in the relative
 //! formulation only. The
 //! formulations' `Energy` sensor still uses ½yᵀK_ff y for the elastic energy.
 //!
