@@ -84,6 +84,8 @@ pub(crate) struct FsIntegrals {
     t: Vec<f64>,
     /// Whether Tᵃ has a non-zero entry (a planar centre-line cloud has T¹ = T³ = 0).
     t_live: [bool; 3],
+    /// Whether 𝔽ᵃ has a non-zero entry.
+    fa_live: [bool; 3],
     /// Q_{ijlm} = Σ w F_k,ij F_k,lm, index ((i n + j) n + l) n + m.
     q: Vec<f64>,
 }
@@ -146,7 +148,14 @@ impl FsIntegrals {
             }
         }
         let t_live = [0, 1, 2].map(|a| t[a * n * n2..(a + 1) * n * n2].iter().any(|v| *v != 0.0));
-        Self { fa, t, t_live, q }
+        let fa_live = [0, 1, 2].map(|a| fa[a * n2..(a + 1) * n2].iter().any(|v| *v != 0.0));
+        Self {
+            fa,
+            t,
+            t_live,
+            fa_live,
+            q,
+        }
     }
 }
 
@@ -229,12 +238,24 @@ impl FlexibleBody {
         let Workspace {
             u, l, sy, fs: sc, ..
         } = ws;
-        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P.
-        for (row, uu) in self.sab.chunks_exact(n).zip(u.iter_mut()) {
-            *uu = dot(row, y);
+        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
+        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
+        let na = if self.dim == Dim::Planar { 2 } else { 3 };
+        for c in 0..na {
+            for b in 0..na {
+                let blk = &self.sab[(3 * c + b) * n2..(3 * c + b + 1) * n2];
+                let dst = &mut u[(3 * c + b) * n..(3 * c + b + 1) * n];
+                for (uu, row) in dst.iter_mut().zip(blk.chunks_exact(n)) {
+                    *uu = dot(row, y);
+                }
+            }
         }
-        for b in 0..3 {
-            for c in 0..3 {
+        if na == 2 {
+            l[2 * n..3 * n].fill(0.0);
+            l[5 * n..9 * n].fill(0.0);
+        }
+        for b in 0..na {
+            for c in 0..na {
                 let dst = (3 * b + c) * n;
                 let src = (3 * c + b) * n;
                 for j in 0..n {
@@ -243,12 +264,12 @@ impl FlexibleBody {
             }
         }
         let mut mb = self.m_u;
-        for c in 0..3 {
+        for c in 0..na {
             mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
         }
         let mut p = self.p_u;
-        for c in 0..3 {
-            for b in c..3 {
+        for c in 0..na {
+            for b in c..na {
                 let v = self.p_u[(c, b)]
                     + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
                     + dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
@@ -256,7 +277,7 @@ impl FlexibleBody {
                 p[(b, c)] = v;
             }
         }
-        // 𝔽 and 𝔽ᵃ.
+        // 𝔽 and 𝔽ᵃ (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0).
         mat_vec(&fs.wf, y, &mut sc.fy);
         mat_vec(&fs.wf, yd, &mut sc.fyd);
         let phibar = dot(y, &sc.fy);
@@ -264,9 +285,14 @@ impl FlexibleBody {
         let mut q = Vector3::zeros();
         let mut c1 = Vector3::zeros();
         for a in 0..3 {
+            let fay = &mut sc.fay[a * n..(a + 1) * n];
+            if !ints.fa_live[a] {
+                fay.fill(0.0);
+                continue;
+            }
             let fa = &ints.fa[a * n2..(a + 1) * n2];
-            mat_vec(fa, y, &mut sc.fay[a * n..(a + 1) * n]);
-            q[a] = dot(y, &sc.fay[a * n..(a + 1) * n]);
+            mat_vec(fa, y, fay);
+            q[a] = dot(y, fay);
             mat_vec(fa, yd, &mut sc.tmp);
             c1[a] = dot(yd, &sc.tmp);
         }
@@ -330,11 +356,14 @@ impl FlexibleBody {
                 }
             }
         }
-        for lm in 0..n2 {
-            // Σ w c f: cf_i += V[l][m][i] ẏ_l ẏ_m
-            let c = yd[lm / n] * yd[lm % n];
-            for (o, vv) in sc.cf.iter_mut().zip(&sc.v[lm * n..(lm + 1) * n]) {
-                *o += c * vv;
+        for (lidx, &ydl) in yd.iter().enumerate() {
+            for (m, &ydm) in yd.iter().enumerate() {
+                // Σ w c f: cf_i += V[l][m][i] ẏ_l ẏ_m
+                let c = ydl * ydm;
+                let lm = lidx * n + m;
+                for (o, vv) in sc.cf.iter_mut().zip(&sc.v[lm * n..(lm + 1) * n]) {
+                    *o += c * vv;
+                }
             }
         }
         debug_assert_eq!(sc.v.len(), n3);
@@ -355,8 +384,11 @@ impl FlexibleBody {
         }
         for b in 0..3 {
             for a in 0..3 {
-                let dst = &mut l[(3 * b + a) * n..(3 * b + a + 1) * n];
                 let (ea, eb) = (e[a], e[b]);
+                if ea == 0.0 && eb == 0.0 {
+                    continue;
+                }
+                let dst = &mut l[(3 * b + a) * n..(3 * b + a + 1) * n];
                 for j in 0..n {
                     dst[j] += -ea * (sc.fay[b * n + j] + sc.kty[b * n + j])
                         - 0.5 * eb * sc.ky[a * n + j]
@@ -378,10 +410,14 @@ impl FlexibleBody {
         let n = self.n;
         let n2 = n * n;
         let sc = &ws.fs;
+        let live = self.fs.as_ref().map_or([false; 3], |f| f.ints.t_live);
         for i in 0..n {
             for j in i..n {
                 let mut kg = 0.0;
                 for a in 0..3 {
+                    if g[a] == 0.0 || !live[a] {
+                        continue;
+                    }
                     let kt = &sc.kt[a * n2..(a + 1) * n2];
                     kg += g[a] * (kt[j * n + i] + kt[i * n + j]);
                 }
@@ -406,8 +442,9 @@ impl FlexibleBody {
         let n = self.n;
         let n2 = n * n;
         let sc = &ws.fs;
+        let live = self.fs.as_ref().map_or([false; 3], |f| f.ints.t_live);
         for a in 0..3 {
-            if h[a] == 0.0 && k[a] == 0.0 {
+            if h[a] == 0.0 && k[a] == 0.0 || !live[a] {
                 continue;
             }
             let kt = &sc.kt[a * n2..(a + 1) * n2];
@@ -499,11 +536,17 @@ impl FlexibleBody {
         let ww = wb.norm_squared();
         let om = wb * wb.transpose() - Matrix3::identity() * ww;
         {
+            // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ (a planar body: G_3 only).
             let qy = &mut ws.qy;
-            for j in 0..n {
-                qy[j] = wb.x * dot(&self.g[j * n..(j + 1) * n], yd)
-                    + wb.y * dot(&self.g[n * n + j * n..n * n + (j + 1) * n], yd)
-                    + wb.z * dot(&self.g[2 * n * n + j * n..2 * n * n + (j + 1) * n], yd);
+            qy.fill(0.0);
+            for c in 0..3 {
+                if wb[c] == 0.0 {
+                    continue;
+                }
+                let gc = &self.g[c * n * n..(c + 1) * n * n];
+                for (o, row) in qy.iter_mut().zip(gc.chunks_exact(n)) {
+                    *o += wb[c] * dot(row, yd);
+                }
             }
         }
         let h = wb.cross(&e);
