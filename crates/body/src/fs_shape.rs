@@ -318,9 +318,10 @@ impl FlexibleBody {
             let ta = &ints.t[a * n * n2..(a + 1) * n * n2];
             for (lidx, blk) in ta.chunks_exact(n2).enumerate() {
                 let (yl, ydl) = (y[lidx], yd[lidx]);
-                for ((o, od), tv) in kt.iter_mut().zip(kd.iter_mut()).zip(blk) {
-                    *o += yl * tv;
-                    *od += ydl * tv;
+                let (kt, kd, blk) = (&mut kt[..n2], &mut kd[..n2], &blk[..n2]);
+                for q in 0..n2 {
+                    kt[q] += yl * blk[q];
+                    kd[q] += ydl * blk[q];
                 }
             }
             // kt[j][i] = Kᵃ_ij: (Kᵃ y)_i = Σ_j kt[j][i] y_j, (Kᵃᵀ y)_j = kt[j]·y.
@@ -338,8 +339,19 @@ impl FlexibleBody {
         }
         // Q: V, R, N, Σ w c f.
         let n3 = n2 * n;
-        for (vv, row) in sc.v.iter_mut().zip(ints.q.chunks_exact(n)) {
-            *vv = dot(row, y);
+        // V_{ijl} = V_{jil} (F_k symmetric): form i ≤ j, copy the other half.
+        for i in 0..n {
+            for j in i..n {
+                let ij = (i * n + j) * n;
+                for lidx in 0..n {
+                    let o = ij + lidx;
+                    sc.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
+                }
+                if j > i {
+                    let ji = (j * n + i) * n;
+                    sc.v.copy_within(ij..ij + n, ji);
+                }
+            }
         }
         for ij in 0..n2 {
             sc.r[ij] = dot(&sc.v[ij * n..(ij + 1) * n], y);
