@@ -230,7 +230,20 @@ impl FlexibleBody {
     /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
     /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
     fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
-        let n = self.n;
+        // The loops run over rows of n entries; with n a compile-time constant for the common
+        // mode counts the compiler unrolls them and drops the bounds checks.
+        match self.n {
+            4 => self.fs_moments_n::<4>(y, yd, ws),
+            8 => self.fs_moments_n::<8>(y, yd, ws),
+            _ => self.fs_moments_n::<0>(y, yd, ws),
+        }
+    }
+
+    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
+    fn fs_moments_n<const N: usize>(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
+        let n = if N == 0 { self.n } else { N };
+        debug_assert_eq!(n, self.n);
+        let (y, yd) = (&y[..n], &yd[..n]);
         let n2 = n * n;
         let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
         let ints = &fs.ints;
