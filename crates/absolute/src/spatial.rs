@@ -57,6 +57,12 @@
 //! joint (`atan2(σ, κ)`, unwrapped, relative to t = 0) or the slide of a prismatic joint,
 //! a modal coordinate, and the total energy (kinetic `½ q̇ᵀ M q̇`, gravity, elastic).
 //!
+//! **Foreshortening (FS0, methods.md §6.3).** A foreshortened beam's inertia comes from the body
+//! crate like any other (either route); a point term at an FE node of such a body adds the node's
+//! axial shift −½ ē₁ yᵀF y to `x̃`, its rate −ē₁ (F y)·ẏ to the velocity, `A (−ē₁ ẏᵀF ẏ)` to the
+//! bias and −A ē₁ (F y)ᵀ to the y columns of the Jacobian (joints sit at the root, where F = 0;
+//! the tip sensors see the shift).
+//!
 //! **Allocation.** `evaluate` allocates nothing: every workspace is sized at compile time.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};

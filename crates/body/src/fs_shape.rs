@@ -67,8 +67,10 @@
 //! ```
 //!
 //! The two routes sum the same cloud (§2.7), so they agree to round-off
-//! (`tests/fs0_routes.rs`). Cost per evaluation, n modes: ≈ n⁴ + 6n³ + 20n² multiply-adds
-//! for the FS0 contractions, plus the linear §2.3 terms; nothing depends on the cloud size.
+//! (`tests/fs0_routes.rs`). Cost per evaluation, n modes: ≈ n⁴/2 + 6n³ + 20n² multiply-adds
+//! for the FS0 contractions (V = Q·y on i ≤ j only, F being symmetric), plus the linear §2.3
+//! terms; nothing depends on the cloud size. The contractions run with n as a compile-time
+//! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
 use crate::foreshortening::mat_vec;
 use crate::{BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot};
