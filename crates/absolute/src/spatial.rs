@@ -57,6 +57,12 @@
 //! joint (`atan2(σ, κ)`, unwrapped, relative to t = 0) or the slide of a prismatic joint,
 //! a modal coordinate, and the total energy (kinetic `½ q̇ᵀ M q̇`, gravity, elastic).
 //!
+//! **Foreshortening (FS0, methods.md §6.3).** A foreshortened beam's inertia comes from the body
+//! crate like any other (either route); a point term at an FE node of such a body adds the node's
+//! axial shift −½ ē₁ yᵀF y to `x̃`, its rate −ē₁ (F y)·ẏ to the velocity, `A (−ē₁ ẏᵀF ẏ)` to the
+//! bias and −A ē₁ (F y)ᵀ to the y columns of the Jacobian (joints sit at the root, where F = 0;
+//! the tip sensors see the shift).
+//!
 //! **Allocation.** `evaluate` allocates nothing: every workspace is sized at compile time.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
@@ -100,6 +106,9 @@ struct Term {
     xbar: Vector3<f64>,
     /// V, 3 × n row-major (empty for rigid bodies).
     rows: Vec<f64>,
+    /// FS0 (methods.md §6.3): the FE node of a point on a foreshortened body, whose axial
+    /// shift −½ ē₁ yᵀF y joins x̄ + V y.
+    fs_node: Option<usize>,
 }
 
 /// Value, rate and bias of a term, and its local vector x̃ = x̄ + V y (for the Jacobian).
@@ -153,11 +162,24 @@ impl Term {
                 }
             }
         }
+        // FS0: x̃ gains −½ ē₁ yᵀF y, its rate −ē₁ (F y)·ẏ and the bias A (−ē₁ ẏᵀF ẏ).
+        let mut fs_bias = Vector3::zeros();
+        if let Some(node) = self.fs_node {
+            let (y, yd) = (
+                &q[b.off + 12..b.off + 12 + n],
+                &qd[b.off + 12..b.off + 12 + n],
+            );
+            if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
+                local += sh.position;
+                vyd += sh.velocity;
+                fs_bias = sh.bias;
+            }
+        }
         let d = if self.point { 1.0 } else { 0.0 };
         TermEval {
             x: d * r0 + a * local,
             xd: d * r0d + ad * local + a * vyd,
-            bias: 2.0 * (ad * vyd),
+            bias: 2.0 * (ad * vyd) + a * fs_bias,
             local,
         }
     }
@@ -192,6 +214,14 @@ impl Term {
             for j in 0..n {
                 phi_q[(row, o + 12 + j)] +=
                     aw.x * self.rows[j] + aw.y * self.rows[n + j] + aw.z * self.rows[2 * n + j];
+            }
+            // FS0: the shift's Jacobian −ē₁ (F y)ᵀ.
+            if let Some(node) = self.fs_node {
+                let y = &q.as_slice()[o + 12..o + 12 + n];
+                for j in 0..n {
+                    let c = b.body.node_foreshortening_column(node, y, j);
+                    phi_q[(row, o + 12 + j)] += aw.dot(&c);
+                }
             }
         }
     }
@@ -348,6 +378,7 @@ impl Lookup<'_> {
                 point: false,
                 xbar: g,
                 rows: Vec::new(),
+                fs_node: None,
             },
             Some(bi) => {
                 let k = self.marker(Some(bi), marker);
@@ -372,6 +403,7 @@ impl Lookup<'_> {
                     point: false,
                     xbar: abar,
                     rows,
+                    fs_node: None,
                 }
             }
         }
@@ -489,6 +521,7 @@ impl Spatial {
                     point: true,
                     xbar: scene.ground[lk.marker(None, marker)].position.vec(),
                     rows: Vec::new(),
+                    fs_node: None,
                 },
                 Some(bi) => {
                     let k = lk.marker(Some(bi), marker);
@@ -506,11 +539,17 @@ impl Spatial {
                         }
                         None => Vec::new(),
                     };
+                    let fs_node = if b.body.has_foreshortening() && !rows.is_empty() {
+                        b.markers[k].1
+                    } else {
+                        None
+                    };
                     Term {
                         body: Some(bi),
                         point: true,
                         xbar: b.markers[k].0,
                         rows,
+                        fs_node,
                     }
                 }
             }

@@ -1,7 +1,8 @@
 //! The spatial formulation's per-step path allocates nothing (counting global allocator):
 //! evaluation passes of every kind and whole ALI3-P steps, on the rigid double pendulum
 //! (constant rigid-body terms, spherical and revolute joints) and the flexible pendulum
-//! (natural-set inertia, gravity, elastic forces and tangents).
+//! (natural-set inertia, gravity, elastic forces and tangents), and the FS0 spin-up beam
+//! (both inertia routes, tip sensors with the foreshortening shift).
 
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
@@ -28,6 +29,15 @@ fn spatial_steps_do_not_allocate() {
     let mut bm = model("flexible_pendulum_3d.ron");
     bm.solver.inertia = InertiaMethod::BMatrix;
     scenes.push(bm);
+    // FS0 (methods.md §6.3): the 3D spin-up beam, both inertia routes.
+    let mut fs0 = model("spin_up_beam_3d.ron");
+    fs0.solver.stiffening = flexmbd_model::Stiffening::Foreshortening;
+    let mut fs0 = flexmbd_stiffening::prepare_scene(&fs0)
+        .unwrap()
+        .into_owned();
+    scenes.push(fs0.clone());
+    fs0.solver.inertia = InertiaMethod::BMatrix;
+    scenes.push(fs0);
     for scene in &scenes {
         let mut f = flexmbd_absolute::compile(scene).unwrap();
         let mut s = Ali3p::new(
@@ -44,10 +54,12 @@ fn spatial_steps_do_not_allocate() {
         for _ in 0..5 {
             s.step(&mut f).unwrap();
         }
+        let mut sens = vec![0.0; f.sensor_names().len()];
         let before = flexmbd_test_support::allocations();
         for _ in 0..100 {
             s.step(&mut f).unwrap();
         }
+        f.sensors(s.t, &s.q, &s.qd, &mut sens);
         for req in [Request::ALL, Request::CONSTRAINTS] {
             out.clear(req);
             f.evaluate(s.t, &s.q, &s.qd, req, &mut out);

@@ -10,12 +10,15 @@
 //! M̄ = Σ w_k B_kᵀ B_k,   Q̄_v = −Σ w_k B_kᵀ (Ḃ_k Z).
 //! ```
 //!
-//! The 13 shape integrals do not suffice (integrals of F, XᵀF and F ⊗ F would be
-//! needed), so [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod) is refused for
-//! a foreshortened body ([`FlexibleBody::check_inertia_method`]). In planar natural
-//! coordinates {r0, u, y} (methods.md §2.5) the same projection uses
-//! `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`;
-//! spatial natural coordinates are not implemented for FS0.
+//! This is the reference route. The 13 shape integrals alone do not suffice, but the
+//! integrals of F, r̄_u F, F ⊗ X and F ⊗ F do: [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod)
+//! evaluates FS0 from them without a loop over the cloud (`fs_shape.rs`, which states the
+//! algebra), and the two routes agree to round-off (`tests/fs0_routes.rs`). In natural
+//! coordinates (methods.md §2.5) the same projection uses, in 2D {r0, u, y},
+//! `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, in 3D {r0, u, v, w, y}
+//! `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`, and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`.
+//! F_k y, yᵀF_k y and ẏᵀF_k ẏ are formed once per station (the 4 section points of a 3D
+//! Gauss station share F_k).
 //!
 //! The same kinematics at an FE node give the marker helper
 //! [`FlexibleBody::node_foreshortening`] (position shift −½ ē₁ yᵀF_node y, its rate
@@ -26,6 +29,7 @@ use flexmbd_core::{Dim, InvalidValue};
 use flexmbd_fe::ForeshorteningData;
 use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
+use crate::fs_shape::FsIntegrals;
 use crate::{
     BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot, write_modal_block,
 };
@@ -33,13 +37,18 @@ use crate::{
 /// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
 #[derive(Clone, Debug)]
 pub(crate) struct Foreshortening {
-    axis: Vector3<f64>,
-    /// F_k row-major, n² per cloud point.
-    cloud: Vec<f64>,
+    pub(crate) axis: Vector3<f64>,
+    /// F of every distinct station, row-major, n² each (consecutive cloud points with the
+    /// same F, e.g. the 4 section points of a 3D Gauss station, share one).
+    pub(crate) cloud: Vec<f64>,
+    /// Station of every cloud point (index into `cloud` in units of n²).
+    pub(crate) station: Vec<usize>,
     /// F at every FE node, n² per node.
     nodes: Vec<f64>,
     /// Σ_k w_k F_k (n², row-major): the first moment's shortening −½ ē₁ yᵀ(Σ w F) y.
-    wf: Vec<f64>,
+    pub(crate) wf: Vec<f64>,
+    /// The FS0 shape integrals of the shape-integral route (`fs_shape.rs`).
+    pub(crate) ints: FsIntegrals,
     /// Scratch: X̂_k (3n), F_k y (n).
     xhat: Vec<f64>,
     fy: Vec<f64>,
@@ -89,6 +98,8 @@ impl Foreshortening {
         dim: Dim,
         n: usize,
         weights: &[f64],
+        positions: &[Vector3<f64>],
+        rows: &[f64],
     ) -> Result<Self, InvalidValue> {
         let n_cloud = weights.len();
         let norm = data.axis.norm();
@@ -113,17 +124,32 @@ impl Foreshortening {
                 format!("must have one F per cloud point ({n_cloud})"),
             ));
         }
-        let cloud = flatten("foreshortening.cloud", &data.cloud, n)?;
-        let mut wf = vec![0.0; n * n];
+        let all = flatten("foreshortening.cloud", &data.cloud, n)?;
+        let n2 = n * n;
+        // Distinct stations: a cloud point whose F equals its predecessor's shares it.
+        let mut cloud: Vec<f64> = Vec::with_capacity(all.len());
+        let mut station = Vec::with_capacity(n_cloud);
+        for k in 0..n_cloud {
+            let f = &all[k * n2..(k + 1) * n2];
+            let same = k > 0 && cloud.len() >= n2 && cloud[cloud.len() - n2..] == *f;
+            if !same {
+                cloud.extend_from_slice(f);
+            }
+            station.push((cloud.len() / n2.max(1)).saturating_sub(1));
+        }
+        let mut wf = vec![0.0; n2];
         for (k, w) in weights.iter().enumerate() {
-            for (o, f) in wf.iter_mut().zip(&cloud[k * n * n..(k + 1) * n * n]) {
+            for (o, f) in wf.iter_mut().zip(&all[k * n2..(k + 1) * n2]) {
                 *o += w * f;
             }
         }
+        let ints = FsIntegrals::new(n, &cloud, &station, weights, positions, rows);
         Ok(Self {
             wf,
+            ints,
             axis: data.axis,
             cloud,
+            station,
             nodes: flatten("foreshortening.nodes", &data.nodes, n)?,
             xhat: vec![0.0; 3 * n],
             fy: vec![0.0; n],
@@ -132,7 +158,7 @@ impl Foreshortening {
 }
 
 /// u = F v for a row-major n × n F.
-fn mat_vec(f: &[f64], v: &[f64], out: &mut [f64]) {
+pub(crate) fn mat_vec(f: &[f64], v: &[f64], out: &mut [f64]) {
     let n = v.len();
     for (i, o) in out.iter_mut().enumerate() {
         *o = dot(&f[i * n..(i + 1) * n], v);
@@ -140,11 +166,15 @@ fn mat_vec(f: &[f64], v: &[f64], out: &mut [f64]) {
 }
 
 impl FlexibleBody {
-    /// Attach FS0 data (methods.md §6.3) to this body: from then on the B-matrix route
-    /// uses the foreshortened kinematics, and [`node_foreshortening`](Self::node_foreshortening)
-    /// reports node shifts. Refuses data of the wrong sizes.
+    /// Attach FS0 data (methods.md §6.3) to this body: from then on both inertia routes use
+    /// the foreshortened kinematics, and [`node_foreshortening`](Self::node_foreshortening)
+    /// reports node shifts. Refuses data of the wrong sizes. Make natural-coordinate
+    /// workspaces ([`natural_workspace`](Self::natural_workspace)) after this call.
     pub fn set_foreshortening(&mut self, data: &ForeshorteningData) -> Result<(), InvalidValue> {
-        self.fs = Some(Foreshortening::new(data, self.dim, self.n, &self.w)?);
+        self.fs = Some(Foreshortening::new(
+            data, self.dim, self.n, &self.w, &self.pos, &self.rows,
+        )?);
+        self.ws.fs = crate::fs_shape::FsScratch::new(self.n);
         Ok(())
     }
 
@@ -153,17 +183,11 @@ impl FlexibleBody {
         self.fs.is_some()
     }
 
-    /// Whether `method` can evaluate this body's inertia: a foreshortened body needs
-    /// [`InertiaMethod::BMatrix`] (methods.md §6.3, "Why B-projection").
+    /// Whether `method` can evaluate this body's inertia. Both routes evaluate every body,
+    /// a foreshortened one included (FS0 by shape integrals: `fs_shape.rs`), so this is
+    /// always `Ok`; it is kept for formulations that check at set-up.
     pub fn check_inertia_method(&self, method: InertiaMethod) -> Result<(), InvalidValue> {
-        if self.fs.is_some() && method == InertiaMethod::ShapeIntegrals {
-            return Err(InvalidValue::new(
-                "solver.inertia",
-                "ShapeIntegrals",
-                "foreshortening (FS0) needs the B-matrix route (inertia: BMatrix): the 13 shape \
-                 integrals do not suffice (methods.md §6.3)",
-            ));
-        }
+        let _ = method;
         Ok(())
     }
 
@@ -209,6 +233,17 @@ impl FlexibleBody {
                 out[(a, j)] -= fs.axis[a] * fy;
             }
         }
+    }
+
+    /// Column j of the foreshortening Jacobian of FE node `node`, −ē₁ (F y)_j (body
+    /// components; zero without FS0 data).
+    pub fn node_foreshortening_column(&self, node: usize, y: &[f64], j: usize) -> Vector3<f64> {
+        let Some(fs) = self.fs.as_ref() else {
+            return Vector3::zeros();
+        };
+        let n = self.n;
+        let f = &fs.nodes[node * n * n..(node + 1) * n * n];
+        fs.axis * (-dot(&f[j * n..(j + 1) * n], y))
     }
 
     /// The first moment's foreshortening −½ ē₁ yᵀ(Σ_k w_k F_k) y (body components), or
@@ -277,15 +312,21 @@ impl FlexibleBody {
         let mut asum = Vector3::zeros();
         let mut tq = Vector3::zeros();
         let (n2, w3) = (n * n, 3 * n);
+        // F_k y, yᵀF_k y and ẏᵀF_k ẏ once per station (the 3D section points share F).
+        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
         for k in 0..w.len() {
             let wk = w[k];
             let x = &rows[k * w3..(k + 1) * w3];
-            let f = &fs.cloud[k * n2..(k + 1) * n2];
-            mat_vec(f, y, &mut fs.fy);
-            let yfy = dot(y, &fs.fy);
-            let mut c = 0.0;
-            for i in 0..n {
-                c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+            let st_k = fs.station[k];
+            if st_k != last {
+                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
+                mat_vec(f, y, &mut fs.fy);
+                yfy = dot(y, &fs.fy);
+                c = 0.0;
+                for i in 0..n {
+                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+                }
+                last = st_k;
             }
             for r in 0..3 {
                 for j in 0..n {
@@ -413,16 +454,21 @@ impl FlexibleBody {
         let mut asum = Vector2::zeros();
         let mut qu = Vector2::zeros();
         let (n2, w3) = (n * n, 3 * n);
+        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
-            let f = &fs.cloud[k * n2..(k + 1) * n2];
             let (x0, x1) = (&x[..n], &x[n..2 * n]);
-            mat_vec(f, y, &mut fy[..n]);
-            let yfy = dot(y, &fy[..n]);
-            let mut c = 0.0;
-            for i in 0..n {
-                c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+            let st_k = fs.station[k];
+            if st_k != last {
+                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
+                mat_vec(f, y, &mut fy[..n]);
+                yfy = dot(y, &fy[..n]);
+                c = 0.0;
+                for i in 0..n {
+                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+                }
+                last = st_k;
             }
             for j in 0..n {
                 xh[j] = x0[j] - axis.x * fy[j];
@@ -486,5 +532,144 @@ impl FlexibleBody {
                 m_out[(o + i, o + j)] = v;
             }
         }
+    }
+
+    /// Spatial natural coordinates {r0, u, v, w, y} (methods.md §2.5) with FS0 kinematics,
+    /// route (a): `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`,
+    /// `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`, with `A = [u v w]` (not necessarily
+    /// orthonormal) and the deformed r̄_k. The reference for the shape-integral route.
+    pub(crate) fn natural_bmatrix_fs_3d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let fs = self
+            .fs
+            .as_ref()
+            .expect("natural_bmatrix_fs_3d without FS0 data");
+        let (y, yd) = (st.y, st.y_dot);
+        let (a, ad) = (&st.a, &st.a_dot);
+        let axis = fs.axis;
+        let a_axis = a * axis;
+        let crate::Workspace {
+            u: xh,
+            gy: fy,
+            ax,
+            sy,
+            l,
+            yy,
+            qy,
+            ..
+        } = &mut nws.0;
+        sy.fill(0.0);
+        l.fill(0.0);
+        yy.fill(0.0);
+        qy.fill(0.0);
+        let mut msum = 0.0;
+        let mut rsum = Vector3::zeros();
+        let mut psum = Matrix3::zeros();
+        let mut asum = Vector3::zeros();
+        let mut arsum = Matrix3::zeros(); // column b: Σ w r̄_b a_k
+        let (n2, w3) = (n * n, 3 * n);
+        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
+        for k in 0..self.w.len() {
+            let wk = self.w[k];
+            let x = &self.rows[k * w3..(k + 1) * w3];
+            let st_k = fs.station[k];
+            if st_k != last {
+                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
+                mat_vec(f, y, &mut fy[..n]);
+                yfy = dot(y, &fy[..n]);
+                c = 0.0;
+                for i in 0..n {
+                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
+                }
+                last = st_k;
+            }
+            for r in 0..3 {
+                for j in 0..n {
+                    xh[r * n + j] = x[r * n + j] - axis[r] * fy[j];
+                }
+            }
+            let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
+            let rb =
+                self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y)) - axis * (0.5 * yfy);
+            let xhyd = Vector3::new(
+                dot(&xh[..n], yd),
+                dot(&xh[n..2 * n], yd),
+                dot(&xh[2 * n..3 * n], yd),
+            );
+            let acc = 2.0 * (ad * xhyd) - a_axis * c;
+            msum += wk;
+            rsum += wk * rb;
+            psum += (wk * rb) * rb.transpose();
+            asum += wk * acc;
+            arsum += (wk * acc) * rb.transpose();
+            let (ax0, rest) = ax.split_at_mut(n);
+            let (ax1, ax2) = rest.split_at_mut(n);
+            for j in 0..n {
+                let v = a * Vector3::new(xh[j], xh[n + j], xh[2 * n + j]);
+                ax0[j] = v.x;
+                ax1[j] = v.y;
+                ax2[j] = v.z;
+                for cc in 0..3 {
+                    sy[cc * n + j] += wk * v[cc];
+                    for b in 0..3 {
+                        l[3 * n * b + cc * n + j] += wk * rb[b] * v[cc];
+                    }
+                }
+                qy[j] += wk * acc.dot(&v);
+            }
+            for (i, row) in yy.chunks_exact_mut(n).enumerate() {
+                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
+                for (((o, b0), b1), b2) in row.iter_mut().zip(&*ax0).zip(&*ax1).zip(&*ax2) {
+                    *o += p0 * b0 + p1 * b1 + p2 * b2;
+                }
+            }
+        }
+        let scal = |i: usize, j: usize| -> f64 {
+            match (i, j) {
+                (0, 0) => msum,
+                (0, b) => rsum[b - 1],
+                (a, 0) => rsum[a - 1],
+                (a, b) => psum[(a - 1, b - 1)],
+            }
+        };
+        for bi in 0..4 {
+            for bj in 0..4 {
+                let v = scal(bi, bj);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
+                    }
+                }
+            }
+        }
+        for i in 0..3 {
+            q_out[i] = -asum[i];
+            for b in 0..3 {
+                q_out[3 + 3 * b + i] = -arsum[(i, b)];
+            }
+        }
+        let o = 12;
+        for j in 0..n {
+            for cc in 0..3 {
+                let v = sy[cc * n + j];
+                m_out[(cc, o + j)] = v;
+                m_out[(o + j, cc)] = v;
+                for b in 0..3 {
+                    let v = l[3 * n * b + cc * n + j];
+                    m_out[(3 + 3 * b + cc, o + j)] = v;
+                    m_out[(o + j, 3 + 3 * b + cc)] = v;
+                }
+            }
+        }
+        write_modal_block(m_out, q_out, o, n, yy, qy);
     }
 }

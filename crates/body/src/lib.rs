@@ -42,6 +42,7 @@
 mod bmatrix;
 pub mod elastic;
 mod foreshortening;
+mod fs_shape;
 mod natural;
 mod natural_points;
 mod shape;
@@ -140,7 +141,7 @@ impl<'a> BodyState<'a> {
 }
 
 /// Scratch storage sized once at construction (no allocation per evaluation).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub(crate) struct Workspace {
     /// 9n: u^{ab} = S^{ab} y (3D), or [M_yy y; G_3 y; G_3 ẏ] (2D, 3n).
     pub(crate) u: Vec<f64>,
@@ -160,6 +161,8 @@ pub(crate) struct Workspace {
     pub(crate) qy: Vec<f64>,
     /// 3n: shape route C(y) rows.
     pub(crate) c: Vec<f64>,
+    /// FS0 shape-integral scratch (empty without FS0 data).
+    pub(crate) fs: fs_shape::FsScratch,
 }
 
 impl Workspace {
@@ -174,7 +177,17 @@ impl Workspace {
             yy: vec![0.0; n * n],
             qy: vec![0.0; n],
             c: vec![0.0; 3 * n],
+            fs: fs_shape::FsScratch::default(),
         }
+    }
+
+    /// Sized for n modes, with the FS0 scratch when `fs0`.
+    fn for_body(n: usize, fs0: bool) -> Self {
+        let mut w = Self::new(n);
+        if fs0 {
+            w.fs = fs_shape::FsScratch::new(n);
+        }
+        w
     }
 }
 
@@ -377,6 +390,8 @@ impl FlexibleBody {
                 reduced.dim,
                 n,
                 &cloud.weights,
+                &cloud.positions,
+                &cloud.mode_rows,
             )?),
             None => None,
         };
@@ -400,7 +415,7 @@ impl FlexibleBody {
             k_ff: reduced.k_ff.clone(),
             c_ff: reduced.c_ff.clone(),
             elastic: Box::new(LinearElastic::from_reduced(reduced)),
-            ws: Workspace::new(n),
+            ws: Workspace::for_body(n, reduced.foreshortening.is_some()),
         })
     }
 
@@ -492,12 +507,14 @@ impl FlexibleBody {
             "inertia: y_dot must have n entries"
         );
         if self.fs.is_some() {
-            assert!(
-                method == InertiaMethod::BMatrix,
-                "inertia: a foreshortened body (FS0) needs InertiaMethod::BMatrix \
-                 (refuse at set-up with check_inertia_method)"
-            );
-            return self.bmatrix_fs(state, m_out, qv_out);
+            return match method {
+                InertiaMethod::BMatrix => self.bmatrix_fs(state, m_out, qv_out),
+                InertiaMethod::ShapeIntegrals => {
+                    let mut ws = std::mem::take(&mut self.ws);
+                    self.shape_fs(state, &mut ws, m_out, qv_out);
+                    self.ws = ws;
+                }
+            };
         }
         match (self.dim, method) {
             (Dim::Spatial, InertiaMethod::ShapeIntegrals) => self.shape_3d(state, m_out, qv_out),
@@ -549,7 +566,7 @@ impl FlexibleBody {
 
     /// A workspace for [`inertia_natural`](Self::inertia_natural), sized for this body.
     pub fn natural_workspace(&self) -> NaturalWorkspace {
-        NaturalWorkspace(Workspace::new(self.n))
+        NaturalWorkspace(Workspace::for_body(self.n, self.fs.is_some()))
     }
 
     /// Size of the natural-coordinate set: 12 + n (3D: r0, u, v, w, y) or 4 + n (2D: r0, u, y).
@@ -605,13 +622,26 @@ impl FlexibleBody {
             self.n,
             "inertia_natural: workspace of another body"
         );
+        assert_eq!(
+            ws.0.fs.is_empty(),
+            self.fs.is_none(),
+            "inertia_natural: workspace made before set_foreshortening (make it after)"
+        );
         if self.fs.is_some() {
-            assert!(
-                self.dim == Dim::Planar && method == InertiaMethod::BMatrix,
-                "inertia_natural: foreshortening (FS0) is implemented for planar bodies by the \
-                 B-matrix route only"
-            );
-            return self.natural_bmatrix_fs_2d(state, ws, m_out, qv_out);
+            return match (self.dim, method) {
+                (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
+                    self.natural_shape_fs_3d(state, ws, m_out, qv_out)
+                }
+                (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
+                    self.natural_shape_fs_2d(state, ws, m_out, qv_out)
+                }
+                (Dim::Spatial, InertiaMethod::BMatrix) => {
+                    self.natural_bmatrix_fs_3d(state, ws, m_out, qv_out)
+                }
+                (Dim::Planar, InertiaMethod::BMatrix) => {
+                    self.natural_bmatrix_fs_2d(state, ws, m_out, qv_out)
+                }
+            };
         }
         match (self.dim, method) {
             (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {

@@ -1,20 +1,19 @@
 //! Foreshortening, FS0 (methods.md §6.3): the scene preparation and the body set-up.
 //!
 //! - [`prepare`]: FS0 keeps **no axial modes** (`axial_modes` set to 0 on every flexible
-//!   beam); it runs in the relative formulation (2D and 3D) and in the absolute one in 2D
-//!   (spatial natural-coordinate FS0 inertia is not implemented) and needs each flexible beam's
-//!   frame clamped at node 0 (the root, x = 0 of F(x)).
+//!   beam); it runs in both formulations, 2D and 3D, and needs each flexible beam's frame
+//!   clamped at node 0 (the root, x = 0 of F(x)).
 //! - [`install`]: computes F at every cloud point and node (`flexmbd_fe::foreshortening`)
 //!   and attaches it to the run-time body, which then uses the foreshortened kinematics in
-//!   the B-matrix route and in marker/sensor positions. Refuses the shape-integral route,
-//!   bent beams, modes with axial content, and joints or force elements at any marker of
-//!   the body but its root (methods.md §6.3 limits: the static-mode-as-joint recursion
-//!   ignores u_fs at other nodes). Elasticity stays linear, −K_L y.
+//!   both inertia routes (the scene's `solver.inertia`: B-matrix projection or the FS0 shape
+//!   integrals) and in marker/sensor positions. Refuses bent beams, modes with axial content,
+//!   and joints or force elements at any marker of the body but its root (methods.md §6.3
+//!   limits: the static-mode-as-joint recursion ignores u_fs at other nodes). Elasticity
+//!   stays linear, −K_L y.
 
 use flexmbd_body::FlexibleBody;
-use flexmbd_core::Dim;
 use flexmbd_fe::{Mesh, ReferenceFrame};
-use flexmbd_model::{BodyModel, FormulationKind, ModelError, PreparedBody, Scene};
+use flexmbd_model::{BodyModel, ModelError, PreparedBody, Scene};
 
 fn refuse(scene: &Scene, what: String) -> ModelError {
     ModelError::Unsupported(format!("{}: foreshortening (FS0): {what}", scene.origin))
@@ -22,14 +21,6 @@ fn refuse(scene: &Scene, what: String) -> ModelError {
 
 /// The scene FS0 compiles: every flexible beam without axial modes.
 pub fn prepare(scene: &Scene) -> Result<Scene, ModelError> {
-    if scene.solver.formulation == FormulationKind::Absolute && scene.dim == Dim::Spatial {
-        return Err(refuse(
-            scene,
-            "spatial scenes run in the relative formulation only (spatial natural-coordinate \
-             FS0 inertia is not implemented); use --formulation relative"
-                .into(),
-        ));
-    }
     let mut out = scene.clone();
     for b in out.bodies.iter_mut() {
         let BodyModel::Beam(spec) = &mut b.model else {
@@ -62,12 +53,6 @@ pub fn install(
     let BodyModel::Beam(spec) = &b.model else {
         return Ok(());
     };
-    if scene.solver.formulation == FormulationKind::Absolute && scene.dim == Dim::Spatial {
-        return Err(refuse(
-            scene,
-            "spatial scenes run in the relative formulation only".into(),
-        ));
-    }
     let invalid = |error| ModelError::Invalid {
         file: scene.origin.clone(),
         error,

@@ -22,12 +22,12 @@
 //!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
 //!
 //! - Foreshortening FS0 ([`foreshortening`], methods.md §6.3): no axial modes, F at the
-//!   cloud points and nodes attached to the body, relative formulation and B-matrix
-//!   route only.
+//!   cloud points and nodes attached to the body; both formulations (2D and 3D) and both
+//!   inertia routes (the body's FS0 shape integrals or the B-matrix projection).
 //!
-//! Limits: FS0 and substructuring run in the relative
-//! formulation only. The formulations' `Energy` sensor adds the model's strain energy U(y)
-//! (for FNL1, which is not conservative, the same U as FNL2's first two terms).
+//! Limits: substructuring runs in the relative formulation only. The formulations'
+//! `Energy` sensor adds the model's strain energy U(y) (for FNL1, which is not
+//! conservative, the same U as FNL2's first two terms).
 //!
 //! Measured on the 2D spin-up beam (`models/spin_up_beam_2d.ron`, scenes.md §5, 20 s at
 //! h = 1 ms) against the ANCF cable of `flexmbd-ancf` (16 elements), max |Δu_x| / |Δu_y|:

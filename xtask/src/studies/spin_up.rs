@@ -89,11 +89,6 @@ pub(super) fn scene_2d(
 ) -> Result<Scene, Error> {
     let mut scene = Scene::load(crate::workspace_root().join("models/spin_up_beam_2d.ron"))?;
     scene.solver.stiffening = stiffening;
-    if stiffening == Stiffening::Foreshortening {
-        // FS0 makes the mode shapes configuration dependent: the 13 shape integrals no longer
-        // suffice and only the B-matrix projection applies (methods.md §6.3).
-        scene.solver.inertia = flexmbd::body::InertiaMethod::BMatrix;
-    }
     scene.solver.formulation = form;
     scene.solver.step = h;
     scene.solver.duration = duration;
@@ -173,8 +168,8 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          elements; methods.md §7: its convergence study changes the tip by < 1e-6 m from 16 to 32 \
          elements, far below the errors judged here). Reference tip: min u_y = {:.4} m. Errors are the \
          largest |Δu| over the 20 s, in mm. CPU time of the 20 s run, one run (the thesis's 2008 \
-         figures beside, scenes.md §7.3). Inertia by shape integrals, except FS0 (B-matrix projection, \
-         methods.md §6.3). FNL2 carries every axial FE DOF as a mode (methods.md §6.2 correction), hence \
+         figures beside, scenes.md §7.3). Inertia by shape integrals (for FS0 the body's FS0 shape integrals, \
+         methods.md §6.3; they equal the B-matrix projection to round-off). FNL2 carries every axial FE DOF as a mode (methods.md §6.2 correction), hence \
          its coordinate count and cost.",
         ref_min_y
     ));

@@ -1,0 +1,872 @@
+//! Foreshortening, FS0, by shape integrals (methods.md §6.3 kinematics; §2.3–§2.5 assembly):
+//! the FS0 inertia terms without a loop over the mass cloud.
+//!
+//! **Kinematics** (§6.3). Cloud point k: `p_k = r̄_uk + X_k y` (the linear position),
+//! `φ_k = yᵀF_k y`, `f_k = F_k y`, `c_k = ẏᵀF_k ẏ`, and
+//!
+//! ```text
+//! r̄_k = p_k − ½ φ_k e,     X̂_k = X_k − e f_kᵀ,     e = ē₁ (the beam axis, |e| = 1).
+//! ```
+//!
+//! Every sum the B-matrix route forms (`Σ w B_kᵀB_k`, `Σ w B_kᵀḂ_k Z`, relative or natural set)
+//! is a sum of the body-frame moments below, products of `1, r̄_k, X̂_k` and `c_k`. Expanding
+//! `r̄_k` and `X̂_k` gives sums of `F_k`, `F_k ⊗ r̄_uk`, `F_k ⊗ X_k` and `F_k ⊗ F_k`, which are
+//! precomputed once on the cloud (methods.md §6.3 "Why B-projection" names them):
+//!
+//! ```text
+//! 𝔽 = Σ w F_k,   𝔽ᵃ = Σ w r̄_uk,a F_k,   Tᵃ_{lji} = Σ w F_k,lj X_k,ai,   Q_{ijlm} = Σ w F_k,ij F_k,lm
+//! ```
+//!
+//! (n², 3n², 3n³, n⁴ numbers; F_k is shared by the section points of a station). Per evaluation
+//! these are contracted with y and ẏ, in O(n⁴) and independent of the cloud:
+//!
+//! ```text
+//! Kᵃ_ij = Σ_l y_l Tᵃ_{lji} = Σ w X_k,ai f_k,j        Kᵈᵃ_ij = Σ_l ẏ_l Tᵃ_{lji}
+//! Kᵃ y = Σ w φ_k X_k,aᵀ,   Kᵃᵀ y = Σ w (X_k,a y) f_k,   zᵃ = Kᵈᵃ ẏ = Σ w c_k X_k,aᵀ
+//! R = Σ_lm Q_{ijlm} y_l y_m = Σ w φ_k F_k,   N_ij = Σ_lm Q_{iljm} y_l y_m = Σ w f_k f_kᵀ,
+//! R y = Σ w φ_k f_k,   yᵀR y = Σ w φ_k²,   ẏᵀR ẏ = Σ w c_k φ_k,   (Σ_lm Q_{lmij} ẏ_l ẏ_m) y = Σ w c_k f_k.
+//! ```
+//!
+//! **The moments** (body components; the linear ones of §2.3 carry no hat):
+//!
+//! ```text
+//! m̄ = m̄_u + S y − ½ (yᵀ𝔽y) e
+//! P = P_lin(y) − ½ (e qᵀ + q eᵀ) + ¼ (yᵀR y) e eᵀ,   q_a = Σ w φ_k p_k,a = yᵀ𝔽ᵃy + yᵀKᵃy
+//! Ŝ = Σ w X̂_k:          row a  S_a − e_a (𝔽y)ᵀ
+//! L̂_b = Σ w r̄_k,b X̂_k:  row a  (L_b)_a − e_a (𝔽ᵇy + Kᵇᵀy)ᵀ − ½ e_b (Kᵃy)ᵀ + ½ e_a e_b (R y)ᵀ
+//! Ŝᵃᵇ = Σ w X̂_k,aᵀX̂_k,b = Sᵃᵇ − e_b Kᵃ − e_a Kᵇᵀ + e_a e_b N
+//!   so Σ_ab C_ab Ŝᵃᵇ = Σ_ab C_ab Sᵃᵇ − K_{Ce} − K_{Cᵀe}ᵀ + (eᵀCe) N,  K_h = Σ_a h_a Kᵃ
+//! c₀ = Σ w c_k = ẏᵀ𝔽ẏ,   c₁ = Σ w c_k r̄_k:  c₁,a = ẏᵀ𝔽ᵃẏ + zᵃ·y − ½ e_a ẏᵀR ẏ
+//! Σ w c_k X̂_kᵀ g = Σ_a g_a zᵃ − (e·g) Σ w c_k f_k
+//! ```
+//!
+//! **Relative set** (body-frame origin form of §2.4 step 1, with the velocity-product term
+//! `−e c_k` of §6.3 in each point's acceleration; steps 2–3 as in `shape.rs`):
+//!
+//! ```text
+//! M̄_body = [m I, −m̄~, Ŝ; m̄~, Ī_O, Ĉ; Ŝᵀ, Ĉᵀ, M̂_yy],   Ī_O = tr(P) I − P,  Ĉ_a = Σ ε_abc (L̂_b)_c,
+//! M̂_yy = Σ_a Ŝᵃᵃ = M_yy − K_e − K_eᵀ + N,
+//! Q̄_v,body = −{ ω̄~ω̄~m̄ + 2 ω̄~Ŝẏ − e c₀;
+//!               ω̄~Ī_O ω̄ + 2 Ŵẏ − c₁ × e;
+//!               Σ_ab (ω̃ω̃)_ab (L̂_b)_aᵀ + 2 Ĝẏ − Σ_a e_a zᵃ + Σ w c_k f_k },
+//! Ŵẏ = ω̄ (ĥ·ẏ) − Σ_b ω̄_b L̂_b ẏ,   Ĝẏ = Σ_ab ω̃_ab Ŝᵃᵇ ẏ = G(ω̄) ẏ − K_{ω̄×e} ẏ + K_{ω̄×e}ᵀ ẏ.
+//! ```
+//!
+//! A planar body runs the same 3D algebra and keeps the x, y, θz rows and columns.
+//!
+//! **Natural set** (§2.5 with X̂, r̄ and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A e c_k`):
+//!
+//! ```text
+//! 3D: M_r0ea = m̄_a I, M_eaeb = P_ab I, M_r0y = A Ŝ, M_eby = A L̂_b, M_yy = Σ_ab (e_a·e_b) Ŝᵃᵇ,
+//!     Q_v = { −2 Ȧ Ŝ ẏ + A e c₀;  −2 Ȧ L̂_b ẏ + A e c₁,b;
+//!             −2 Σ_ab (e_a·ė_b) Ŝᵃᵇ ẏ + Σ w c_k X̂_kᵀ (AᵀA e) }
+//! 2D: M_r0u = m̄_1 I + m̄_2 E, M_uu = (P_11 + P_22) I, M_uy = A L̂_1 − E A L̂_2,
+//!     M_yy = |u|² Σ_a Ŝᵃᵃ,  Q_v = { −2 Ȧ Ŝ ẏ + A e c₀;
+//!     −2 (Ȧ L̂_1 − E Ȧ L̂_2) ẏ + (c₁,1 I − c₁,2 E) A e;
+//!     −2 Σ_ab (AᵀȦ)_ab Ŝᵃᵇ ẏ + |u|² Σ w c_k X̂_kᵀ e }
+//! ```
+//!
+//! The two routes sum the same cloud (§2.7), so they agree to round-off
+//! (`tests/fs0_routes.rs`). Cost per evaluation, n modes: ≈ n⁴/2 + 6n³ + 20n² multiply-adds
+//! for the FS0 contractions (V = Q·y on i ≤ j only, F being symmetric), plus the linear §2.3
+//! terms; nothing depends on the cloud size. The contractions run with n as a compile-time
+//! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
+
+use crate::foreshortening::mat_vec;
+use crate::{BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot};
+use flexmbd_core::Dim;
+use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+
+/// The precomputed FS0 shape integrals of one body (see the module doc).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FsIntegrals {
+    /// 𝔽ᵃ = Σ w r̄_uk,a F_k, a-major, n² each.
+    fa: Vec<f64>,
+    /// Tᵃ_{lji} = Σ w F_k,lj X_k,ai, index ((a n + l) n + j) n + i.
+    t: Vec<f64>,
+    /// Whether Tᵃ has a non-zero entry (a planar centre-line cloud has T¹ = T³ = 0).
+    t_live: [bool; 3],
+    /// Whether 𝔽ᵃ has a non-zero entry.
+    fa_live: [bool; 3],
+    /// Q_{ijlm} = Σ w F_k,ij F_k,lm, index ((i n + j) n + l) n + m.
+    q: Vec<f64>,
+}
+
+impl FsIntegrals {
+    /// From the distinct station F's (`cloud`, n² each), the station of every cloud point,
+    /// and the cloud's weights, positions and mode rows (3n per point, row-major).
+    pub(crate) fn new(
+        n: usize,
+        cloud: &[f64],
+        station: &[usize],
+        weights: &[f64],
+        positions: &[Vector3<f64>],
+        rows: &[f64],
+    ) -> Self {
+        let n2 = n * n;
+        let n_st = cloud.len() / n2.max(1);
+        // Station sums: W_s = Σ w, Σ w r̄_u, Σ w X_a.
+        let mut ws = vec![0.0; n_st];
+        let mut wp = vec![Vector3::zeros(); n_st];
+        let mut wx = vec![0.0; n_st * 3 * n];
+        for (k, &s) in station.iter().enumerate() {
+            if n2 == 0 {
+                break;
+            }
+            let w = weights[k];
+            ws[s] += w;
+            wp[s] += w * positions[k];
+            for (o, x) in wx[s * 3 * n..(s + 1) * 3 * n]
+                .iter_mut()
+                .zip(&rows[k * 3 * n..(k + 1) * 3 * n])
+            {
+                *o += w * x;
+            }
+        }
+        let mut fa = vec![0.0; 3 * n2];
+        let mut t = vec![0.0; 3 * n * n2];
+        let mut q = vec![0.0; n2 * n2];
+        for s in 0..n_st {
+            let f = &cloud[s * n2..(s + 1) * n2];
+            for a in 0..3 {
+                let p = wp[s][a];
+                for (o, fv) in fa[a * n2..(a + 1) * n2].iter_mut().zip(f) {
+                    *o += p * fv;
+                }
+                let xa = &wx[(s * 3 + a) * n..(s * 3 + a + 1) * n];
+                for (lj, fv) in f.iter().enumerate() {
+                    let dst = &mut t[(a * n2 + lj) * n..(a * n2 + lj + 1) * n];
+                    for (o, x) in dst.iter_mut().zip(xa) {
+                        *o += fv * x;
+                    }
+                }
+            }
+            let w = ws[s];
+            for (ij, fij) in f.iter().enumerate() {
+                let c = w * fij;
+                for (o, flm) in q[ij * n2..(ij + 1) * n2].iter_mut().zip(f) {
+                    *o += c * flm;
+                }
+            }
+        }
+        let t_live = [0, 1, 2].map(|a| t[a * n * n2..(a + 1) * n * n2].iter().any(|v| *v != 0.0));
+        let fa_live = [0, 1, 2].map(|a| fa[a * n2..(a + 1) * n2].iter().any(|v| *v != 0.0));
+        Self {
+            fa,
+            t,
+            t_live,
+            fa_live,
+            q,
+        }
+    }
+}
+
+/// Scratch of the FS0 shape-integral route (in [`Workspace`]), sized for n modes.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FsScratch {
+    /// 𝔽 y (n), 𝔽 ẏ (n).
+    fy: Vec<f64>,
+    fyd: Vec<f64>,
+    /// 𝔽ᵃ y (3n).
+    fay: Vec<f64>,
+    /// Kᵃ as Kt[a][j][i] = Kᵃ_ij (3n²), and Kᵈᵃ likewise.
+    kt: Vec<f64>,
+    kd: Vec<f64>,
+    /// V_{ijl} = Σ_m Q_{ijlm} y_m (n³).
+    v: Vec<f64>,
+    /// R, N (n² each).
+    r: Vec<f64>,
+    nm: Vec<f64>,
+    /// Kᵃ y, Kᵃᵀ y, zᵃ (3n each).
+    ky: Vec<f64>,
+    kty: Vec<f64>,
+    z: Vec<f64>,
+    /// R y, Σ w c_k f_k, and an n-vector scratch.
+    ry: Vec<f64>,
+    cf: Vec<f64>,
+    tmp: Vec<f64>,
+    /// n² scratch (natural-set M_yy).
+    tmp_nn: Vec<f64>,
+    /// Sized for a foreshortened body.
+    live: bool,
+}
+
+impl FsScratch {
+    /// True for the placeholder of a body without FS0 data.
+    pub(crate) fn is_empty(&self) -> bool {
+        !self.live
+    }
+
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            fy: vec![0.0; n],
+            fyd: vec![0.0; n],
+            fay: vec![0.0; 3 * n],
+            kt: vec![0.0; 3 * n * n],
+            kd: vec![0.0; 3 * n * n],
+            v: vec![0.0; n * n * n],
+            r: vec![0.0; n * n],
+            nm: vec![0.0; n * n],
+            ky: vec![0.0; 3 * n],
+            kty: vec![0.0; 3 * n],
+            z: vec![0.0; 3 * n],
+            ry: vec![0.0; n],
+            cf: vec![0.0; n],
+            tmp: vec![0.0; n],
+            tmp_nn: vec![0.0; n * n],
+            live: true,
+        }
+    }
+}
+
+/// The fixed-size FS0 moments at (y, ẏ) (body components); Ŝ, L̂ and the contractions are
+/// left in the workspace.
+struct Moments {
+    mb: Vector3<f64>,
+    p: Matrix3<f64>,
+    c0: f64,
+    c1: Vector3<f64>,
+}
+
+impl FlexibleBody {
+    /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
+    /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
+    fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
+        // The loops run over rows of n entries; with n a compile-time constant for the common
+        // mode counts the compiler unrolls them and drops the bounds checks.
+        match self.n {
+            4 => self.fs_moments_n::<4>(y, yd, ws),
+            8 => self.fs_moments_n::<8>(y, yd, ws),
+            _ => self.fs_moments_n::<0>(y, yd, ws),
+        }
+    }
+
+    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
+    fn fs_moments_n<const N: usize>(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
+        let n = if N == 0 { self.n } else { N };
+        debug_assert_eq!(n, self.n);
+        let (y, yd) = (&y[..n], &yd[..n]);
+        let n2 = n * n;
+        let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
+        let ints = &fs.ints;
+        let e = fs.axis;
+        let Workspace {
+            u, l, sy, fs: sc, ..
+        } = ws;
+        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
+        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
+        let na = if self.dim == Dim::Planar { 2 } else { 3 };
+        for c in 0..na {
+            for b in 0..na {
+                let blk = &self.sab[(3 * c + b) * n2..(3 * c + b + 1) * n2];
+                let dst = &mut u[(3 * c + b) * n..(3 * c + b + 1) * n];
+                for (uu, row) in dst.iter_mut().zip(blk.chunks_exact(n)) {
+                    *uu = dot(row, y);
+                }
+            }
+        }
+        if na == 2 {
+            l[2 * n..3 * n].fill(0.0);
+            l[5 * n..9 * n].fill(0.0);
+        }
+        for b in 0..na {
+            for c in 0..na {
+                let dst = (3 * b + c) * n;
+                let src = (3 * c + b) * n;
+                for j in 0..n {
+                    l[dst + j] = self.sa[dst + j] + u[src + j];
+                }
+            }
+        }
+        let mut mb = self.m_u;
+        for c in 0..na {
+            mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
+        }
+        let mut p = self.p_u;
+        for c in 0..na {
+            for b in c..na {
+                let v = self.p_u[(c, b)]
+                    + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
+                    + dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
+                p[(c, b)] = v;
+                p[(b, c)] = v;
+            }
+        }
+        // 𝔽 and 𝔽ᵃ (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0).
+        mat_vec(&fs.wf, y, &mut sc.fy);
+        mat_vec(&fs.wf, yd, &mut sc.fyd);
+        let phibar = dot(y, &sc.fy);
+        let c0 = dot(yd, &sc.fyd);
+        let mut q = Vector3::zeros();
+        let mut c1 = Vector3::zeros();
+        for a in 0..3 {
+            let fay = &mut sc.fay[a * n..(a + 1) * n];
+            if !ints.fa_live[a] {
+                fay.fill(0.0);
+                continue;
+            }
+            let fa = &ints.fa[a * n2..(a + 1) * n2];
+            mat_vec(fa, y, fay);
+            q[a] = dot(y, fay);
+            mat_vec(fa, yd, &mut sc.tmp);
+            c1[a] = dot(yd, &sc.tmp);
+        }
+        // Tᵃ: Kᵃ, Kᵈᵃ, Kᵃ y, Kᵃᵀ y, zᵃ.
+        for a in 0..3 {
+            let (kt, kd) = (
+                &mut sc.kt[a * n2..(a + 1) * n2],
+                &mut sc.kd[a * n2..(a + 1) * n2],
+            );
+            let (ky, kty, z) = (
+                &mut sc.ky[a * n..(a + 1) * n],
+                &mut sc.kty[a * n..(a + 1) * n],
+                &mut sc.z[a * n..(a + 1) * n],
+            );
+            kt.fill(0.0);
+            kd.fill(0.0);
+            ky.fill(0.0);
+            z.fill(0.0);
+            if !ints.t_live[a] {
+                kty.fill(0.0);
+                continue;
+            }
+            let ta = &ints.t[a * n * n2..(a + 1) * n * n2];
+            for (lidx, blk) in ta.chunks_exact(n2).enumerate() {
+                let (yl, ydl) = (y[lidx], yd[lidx]);
+                let (kt, kd, blk) = (&mut kt[..n2], &mut kd[..n2], &blk[..n2]);
+                for q in 0..n2 {
+                    kt[q] += yl * blk[q];
+                    kd[q] += ydl * blk[q];
+                }
+            }
+            // kt[j][i] = Kᵃ_ij: (Kᵃ y)_i = Σ_j kt[j][i] y_j, (Kᵃᵀ y)_j = kt[j]·y.
+            for j in 0..n {
+                let (row, rowd) = (&kt[j * n..(j + 1) * n], &kd[j * n..(j + 1) * n]);
+                kty[j] = dot(row, y);
+                let (yj, ydj) = (y[j], yd[j]);
+                for i in 0..n {
+                    ky[i] += yj * row[i];
+                    z[i] += ydj * rowd[i];
+                }
+            }
+            q[a] += dot(y, ky);
+            c1[a] += dot(y, z);
+        }
+        // Q: V, R, N, Σ w c f.
+        let n3 = n2 * n;
+        // V_{ijl} = V_{jil} (F_k symmetric): form i ≤ j, copy the other half.
+        for i in 0..n {
+            for j in i..n {
+                let ij = (i * n + j) * n;
+                for lidx in 0..n {
+                    let o = ij + lidx;
+                    sc.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
+                }
+                if j > i {
+                    let ji = (j * n + i) * n;
+                    sc.v.copy_within(ij..ij + n, ji);
+                }
+            }
+        }
+        for ij in 0..n2 {
+            sc.r[ij] = dot(&sc.v[ij * n..(ij + 1) * n], y);
+        }
+        sc.nm.fill(0.0);
+        sc.cf.fill(0.0);
+        for i in 0..n {
+            for (lidx, &yl) in y.iter().enumerate() {
+                // N_ij += V[i][l][j] y_l
+                let src = &sc.v[(i * n + lidx) * n..(i * n + lidx + 1) * n];
+                let dst = &mut sc.nm[i * n..(i + 1) * n];
+                for (o, vv) in dst.iter_mut().zip(src) {
+                    *o += yl * vv;
+                }
+            }
+        }
+        for (lidx, &ydl) in yd.iter().enumerate() {
+            for (m, &ydm) in yd.iter().enumerate() {
+                // Σ w c f: cf_i += V[l][m][i] ẏ_l ẏ_m
+                let c = ydl * ydm;
+                let lm = lidx * n + m;
+                for (o, vv) in sc.cf.iter_mut().zip(&sc.v[lm * n..(lm + 1) * n]) {
+                    *o += c * vv;
+                }
+            }
+        }
+        debug_assert_eq!(sc.v.len(), n3);
+        mat_vec(&sc.r, y, &mut sc.ry);
+        let psi = dot(y, &sc.ry);
+        mat_vec(&sc.r, yd, &mut sc.tmp);
+        let cphi = dot(yd, &sc.tmp);
+
+        // Moments.
+        let mbh = mb - e * (0.5 * phibar);
+        let ph =
+            p - 0.5 * (e * q.transpose() + q * e.transpose()) + (0.25 * psi) * (e * e.transpose());
+        let c1 = c1 - e * (0.5 * cphi);
+        for a in 0..3 {
+            for j in 0..n {
+                sy[a * n + j] = self.s[a * n + j] - e[a] * sc.fy[j];
+            }
+        }
+        for b in 0..3 {
+            for a in 0..3 {
+                let (ea, eb) = (e[a], e[b]);
+                if ea == 0.0 && eb == 0.0 {
+                    continue;
+                }
+                let dst = &mut l[(3 * b + a) * n..(3 * b + a + 1) * n];
+                for j in 0..n {
+                    dst[j] += -ea * (sc.fay[b * n + j] + sc.kty[b * n + j])
+                        - 0.5 * eb * sc.ky[a * n + j]
+                        + 0.5 * ea * eb * sc.ry[j];
+                }
+            }
+        }
+        Moments {
+            mb: mbh,
+            p: ph,
+            c0,
+            c1,
+        }
+    }
+
+    /// `out[i][j] = base[i][j] − (K_g + K_gᵀ)_ij + s N_ij` with `K_g = Σ_a g_a Kᵃ`
+    /// (i.e. Σ_ab C_ab Ŝᵃᵇ for a symmetric C, g = C e, s = eᵀC e; upper triangle mirrored).
+    fn fs_yy(&self, ws: &Workspace, g: &Vector3<f64>, s: f64, base: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        let n2 = n * n;
+        let sc = &ws.fs;
+        let live = self.fs.as_ref().map_or([false; 3], |f| f.ints.t_live);
+        for i in 0..n {
+            for j in i..n {
+                let mut kg = 0.0;
+                for a in 0..3 {
+                    if g[a] == 0.0 || !live[a] {
+                        continue;
+                    }
+                    let kt = &sc.kt[a * n2..(a + 1) * n2];
+                    kg += g[a] * (kt[j * n + i] + kt[i * n + j]);
+                }
+                let v = base[i * n + j] - kg + s * sc.nm[i * n + j];
+                out[i * n + j] = v;
+                out[j * n + i] = v;
+            }
+        }
+    }
+
+    /// `out += −K_h x − K_kᵀ x + s N x` (the FS0 part of Σ_ab D_ab Ŝᵃᵇ x with h = D e,
+    /// k = Dᵀe, s = eᵀD e).
+    fn fs_sab_vec(
+        &self,
+        ws: &Workspace,
+        h: &Vector3<f64>,
+        k: &Vector3<f64>,
+        s: f64,
+        x: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.n;
+        let n2 = n * n;
+        let sc = &ws.fs;
+        let live = self.fs.as_ref().map_or([false; 3], |f| f.ints.t_live);
+        for a in 0..3 {
+            if h[a] == 0.0 && k[a] == 0.0 || !live[a] {
+                continue;
+            }
+            let kt = &sc.kt[a * n2..(a + 1) * n2];
+            for j in 0..n {
+                let row = &kt[j * n..(j + 1) * n];
+                // (Kᵃ x)_i = Σ_j kt[j][i] x_j ; (Kᵃᵀ x)_j = kt[j]·x.
+                let xj = h[a] * x[j];
+                for i in 0..n {
+                    out[i] -= xj * row[i];
+                }
+                out[j] -= k[a] * dot(row, x);
+            }
+        }
+        if s != 0.0 {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o += s * dot(&sc.nm[i * n..(i + 1) * n], x);
+            }
+        }
+    }
+
+    /// `Σ w c_k X̂_kᵀ g = Σ_a g_a zᵃ − (e·g) Σ w c_k f_k`, added to `out`.
+    fn fs_add_c_term(&self, ws: &Workspace, g: &Vector3<f64>, out: &mut [f64]) {
+        let n = self.n;
+        let e = self.fs.as_ref().map_or(Vector3::zeros(), |f| f.axis);
+        let sc = &ws.fs;
+        let eg = e.dot(g);
+        for (j, o) in out.iter_mut().enumerate() {
+            *o += g.x * sc.z[j] + g.y * sc.z[n + j] + g.z * sc.z[2 * n + j] - eg * sc.cf[j];
+        }
+    }
+
+    /// Relative set {ṡ, ω, ẏ}, FS0, shape-integral route (both dimensions: the 3D algebra, a
+    /// planar body keeps x, y, θz).
+    pub(crate) fn shape_fs<SM, SQ>(
+        &self,
+        st: &BodyState<'_>,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let a = &st.a;
+        let r0 = st.r0;
+        let e = self.fs.as_ref().expect("shape_fs without FS0 data").axis;
+        let wb = a.tr_mul(&st.omega);
+        let v0b = a.tr_mul(&st.r0_dot());
+        let ab = wb.cross(&v0b);
+        let mo = self.fs_moments(y, yd, ws);
+        let (mb, p) = (mo.mb, mo.p);
+        let mut s_yd = Vector3::zeros();
+        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L̂_b)_c · ẏ
+        for c in 0..3 {
+            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
+            for b in 0..3 {
+                lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+            }
+        }
+        let h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
+        let io = Matrix3::identity() * p.trace() - p;
+        let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd) - e * mo.c0) - self.mass * ab;
+        let w_yd = wb * h_yd - lam.tr_mul(&wb);
+        let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd - mo.c1.cross(&e)) - mb.cross(&ab);
+        // Global blocks (§2.4 steps 2–3).
+        let am = a * mb;
+        let lever = self.mass * r0 + am;
+        let pg = a * p * a.transpose()
+            + self.mass * r0 * r0.transpose()
+            + r0 * am.transpose()
+            + am * r0.transpose();
+        let jo = Matrix3::identity() * pg.trace() - pg;
+        let qtg = a * qt;
+        let qrg = r0.cross(&qtg) + a * qr;
+        let lt = flexmbd_core::skew(&lever);
+        let mut rig = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                rig[i][j] = if i == j { self.mass } else { 0.0 };
+                rig[i][j + 3] = -lt[(i, j)];
+                rig[i + 3][j] = lt[(i, j)];
+                rig[i + 3][j + 3] = jo[(i, j)];
+            }
+        }
+        let qrig = [qtg.x, qtg.y, qtg.z, qrg.x, qrg.y, qrg.z];
+        // Modal rows: q_y = −(Σ (ω̃ω̃)_ab (L̂_b)_a + 2 Ĝẏ) + Σ w c X̂ᵀe − Ŝᵀā.
+        let ww = wb.norm_squared();
+        let om = wb * wb.transpose() - Matrix3::identity() * ww;
+        {
+            // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ (a planar body: G_3 only).
+            let qy = &mut ws.qy;
+            qy.fill(0.0);
+            for c in 0..3 {
+                if wb[c] == 0.0 {
+                    continue;
+                }
+                let gc = &self.g[c * n * n..(c + 1) * n * n];
+                for (o, row) in qy.iter_mut().zip(gc.chunks_exact(n)) {
+                    *o += wb[c] * dot(row, yd);
+                }
+            }
+        }
+        let h = wb.cross(&e);
+        let mut qy = std::mem::take(&mut ws.qy);
+        self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, &mut qy);
+        for j in 0..n {
+            let mut t = 0.0;
+            for c in 0..3 {
+                for b in 0..3 {
+                    t += om[(c, b)] * ws.l[(3 * b + c) * n + j];
+                }
+            }
+            let sta = ws.sy[j] * ab.x + ws.sy[n + j] * ab.y + ws.sy[2 * n + j] * ab.z;
+            qy[j] = -(t + 2.0 * qy[j]) - sta;
+        }
+        self.fs_add_c_term(ws, &e, &mut qy);
+        let mut yy = std::mem::take(&mut ws.yy);
+        self.fs_yy(ws, &e, 1.0, &self.m_yy, &mut yy);
+        // Ŝ and Ĉ columns in global components.
+        let (map, nr): ([Option<usize>; 6], usize) = match self.dim {
+            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
+            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
+        };
+        let lrow = |b: usize, c: usize, j: usize| ws.l[(3 * b + c) * n + j];
+        for j in 0..n {
+            let sj = Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
+            let cj = Vector3::new(
+                lrow(1, 2, j) - lrow(2, 1, j),
+                lrow(2, 0, j) - lrow(0, 2, j),
+                lrow(0, 1, j) - lrow(1, 0, j),
+            );
+            let asj = a * sj;
+            let wyj = r0.cross(&asj) + a * cj;
+            for (i, mi) in map.iter().enumerate() {
+                let Some(oi) = *mi else { continue };
+                let v = if i < 3 { asj[i] } else { wyj[i - 3] };
+                m_out[(oi, nr + j)] = v;
+                m_out[(nr + j, oi)] = v;
+            }
+        }
+        for (i, mi) in map.iter().enumerate() {
+            let Some(oi) = *mi else { continue };
+            for (j, mj) in map.iter().enumerate() {
+                if let Some(oj) = *mj {
+                    m_out[(oi, oj)] = rig[i][j];
+                }
+            }
+            q_out[oi] = qrig[i];
+        }
+        for i in 0..n {
+            q_out[nr + i] = qy[i];
+            for j in 0..n {
+                m_out[(nr + i, nr + j)] = yy[i * n + j];
+            }
+        }
+        ws.qy = qy;
+        ws.yy = yy;
+    }
+
+    /// Σ_ab D_ab Sᵃᵇ x (the linear part), skipping zero D entries, into `out`.
+    fn sab_vec(&self, d: &Matrix3<f64>, x: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        out.fill(0.0);
+        for a in 0..3 {
+            for b in 0..3 {
+                let c = d[(a, b)];
+                if c == 0.0 {
+                    continue;
+                }
+                let blk = &self.sab[(3 * a + b) * n * n..(3 * a + b + 1) * n * n];
+                for (o, row) in out.iter_mut().zip(blk.chunks_exact(n)) {
+                    *o += c * dot(row, x);
+                }
+            }
+        }
+    }
+
+    /// Spatial natural coordinates {r0, u, v, w, y}, FS0, shape-integral route.
+    pub(crate) fn natural_shape_fs_3d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let (a, ad) = (&st.a, &st.a_dot);
+        let e = self
+            .fs
+            .as_ref()
+            .expect("natural_shape_fs_3d without FS0")
+            .axis;
+        let ws = &mut nws.0;
+        let mo = self.fs_moments(y, yd, ws);
+        let (mb, p) = (mo.mb, mo.p);
+        let m = self.mass;
+        let scal = |i: usize, j: usize| -> f64 {
+            match (i, j) {
+                (0, 0) => m,
+                (0, b) => mb[b - 1],
+                (a, 0) => mb[a - 1],
+                (a, b) => p[(a - 1, b - 1)],
+            }
+        };
+        for bi in 0..4 {
+            for bj in 0..4 {
+                let v = scal(bi, bj);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
+                    }
+                }
+            }
+        }
+        let ae = a * e;
+        let mut s_yd = Vector3::zeros();
+        for c in 0..3 {
+            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
+        }
+        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
+        for i in 0..3 {
+            q_out[i] = q0[i];
+        }
+        for b in 0..3 {
+            let lby = Vector3::new(
+                dot(&ws.l[(3 * b) * n..(3 * b + 1) * n], yd),
+                dot(&ws.l[(3 * b + 1) * n..(3 * b + 2) * n], yd),
+                dot(&ws.l[(3 * b + 2) * n..(3 * b + 3) * n], yd),
+            );
+            let qb = -2.0 * (ad * lby) + ae * mo.c1[b];
+            for i in 0..3 {
+                q_out[3 + 3 * b + i] = qb[i];
+            }
+        }
+        if n == 0 {
+            return;
+        }
+        let o = 12;
+        for j in 0..n {
+            let asj = a * Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
+            for i in 0..3 {
+                m_out[(i, o + j)] = asj[i];
+                m_out[(o + j, i)] = asj[i];
+            }
+            for b in 0..3 {
+                let lbj = Vector3::new(
+                    ws.l[(3 * b) * n + j],
+                    ws.l[(3 * b + 1) * n + j],
+                    ws.l[(3 * b + 2) * n + j],
+                );
+                let alj = a * lbj;
+                for i in 0..3 {
+                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
+                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
+                }
+            }
+        }
+        let gram = a.tr_mul(a);
+        let cdot = a.tr_mul(ad);
+        // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.ax-free scratch (ws.yy), then FS0 terms.
+        let mut base = std::mem::take(&mut ws.yy);
+        for i in 0..n {
+            for j in i..n {
+                let mut v = 0.0;
+                for aa in 0..3 {
+                    for bb in 0..3 {
+                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
+                    }
+                }
+                base[i * n + j] = v;
+                base[j * n + i] = v;
+            }
+        }
+        let g = gram * e;
+        let mut yy = std::mem::take(&mut ws.fs.tmp_nn);
+        self.fs_yy(ws, &g, e.dot(&g), &base, &mut yy);
+        for i in 0..n {
+            for j in 0..n {
+                m_out[(o + i, o + j)] = yy[i * n + j];
+            }
+        }
+        ws.fs.tmp_nn = yy;
+        ws.yy = base;
+        // Q_y = −2 Σ cdot_ab Ŝᵃᵇ ẏ + Σ w c X̂ᵀ (gram e).
+        let mut qy = std::mem::take(&mut ws.qy);
+        self.sab_vec(&cdot, yd, &mut qy);
+        let (h, k) = (cdot * e, cdot.transpose() * e);
+        self.fs_sab_vec(ws, &h, &k, e.dot(&h), yd, &mut qy);
+        for v in qy.iter_mut() {
+            *v *= -2.0;
+        }
+        self.fs_add_c_term(ws, &g, &mut qy);
+        for i in 0..n {
+            q_out[o + i] = qy[i];
+        }
+        ws.qy = qy;
+    }
+
+    /// Planar natural coordinates {r0, u, y}, FS0, shape-integral route.
+    pub(crate) fn natural_shape_fs_2d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let e3 = self
+            .fs
+            .as_ref()
+            .expect("natural_shape_fs_2d without FS0")
+            .axis;
+        let e = e3.xy();
+        let u = st.a.column(0).xy();
+        let ud = st.a_dot.column(0).xy();
+        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+        let rot = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
+        let ws = &mut nws.0;
+        let mo = self.fs_moments(y, yd, ws);
+        let (mb, p) = (mo.mb, mo.p);
+        let m = self.mass;
+        m_out[(0, 0)] = m;
+        m_out[(1, 1)] = m;
+        m_out[(0, 1)] = 0.0;
+        m_out[(1, 0)] = 0.0;
+        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
+        let ptr = p[(0, 0)] + p[(1, 1)];
+        for i in 0..2 {
+            for j in 0..2 {
+                m_out[(i, 2 + j)] = r0u[(i, j)];
+                m_out[(2 + j, i)] = r0u[(i, j)];
+                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
+            }
+        }
+        let s_yd = Vector2::new(dot(&ws.sy[..n], yd), dot(&ws.sy[n..2 * n], yd));
+        let lb = |b: usize, c: usize| &ws.l[(3 * b + c) * n..(3 * b + c + 1) * n];
+        let l1y = Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd));
+        let l2y = Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd));
+        let ae = a * e;
+        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
+        let qu = -2.0 * (ad * l1y - rot(ad * l2y)) + ae * mo.c1.x - rot(ae) * mo.c1.y;
+        q_out[0] = q0.x;
+        q_out[1] = q0.y;
+        q_out[2] = qu.x;
+        q_out[3] = qu.y;
+        if n == 0 {
+            return;
+        }
+        let o = 4;
+        for j in 0..n {
+            let asj = a * Vector2::new(ws.sy[j], ws.sy[n + j]);
+            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
+            let l2 = Vector2::new(ws.l[3 * n + j], ws.l[4 * n + j]);
+            let uy = a * l1 - rot(a * l2);
+            for i in 0..2 {
+                m_out[(i, o + j)] = asj[i];
+                m_out[(o + j, i)] = asj[i];
+                m_out[(2 + i, o + j)] = uy[i];
+                m_out[(o + j, 2 + i)] = uy[i];
+            }
+        }
+        let uu = u.norm_squared();
+        let mut yy = std::mem::take(&mut ws.yy);
+        self.fs_yy(ws, &e3, 1.0, &self.m_yy, &mut yy);
+        for i in 0..n {
+            for j in 0..n {
+                m_out[(o + i, o + j)] = uu * yy[i * n + j];
+            }
+        }
+        ws.yy = yy;
+        // (AᵀȦ) in 3D indices: [[u·u̇, u·E u̇, 0], [−u·E u̇, u·u̇, 0], [0, 0, 0]].
+        let (c11, c12) = (u.dot(&ud), u.dot(&rot(ud)));
+        let d = Matrix3::new(c11, c12, 0.0, -c12, c11, 0.0, 0.0, 0.0, 0.0);
+        let mut qy = std::mem::take(&mut ws.qy);
+        self.sab_vec(&d, yd, &mut qy);
+        let (h, k) = (d * e3, d.transpose() * e3);
+        self.fs_sab_vec(ws, &h, &k, e3.dot(&h), yd, &mut qy);
+        for v in qy.iter_mut() {
+            *v *= -2.0;
+        }
+        self.fs_add_c_term(ws, &(e3 * uu), &mut qy);
+        for i in 0..n {
+            q_out[o + i] = qy[i];
+        }
+        ws.qy = qy;
+    }
+}
