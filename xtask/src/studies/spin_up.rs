@@ -344,9 +344,6 @@ const THESIS_3D: [(&str, Option<f64>, f64, [f64; 3]); 5] = [
 fn scene_3d(stiffening: Stiffening, form: FormulationKind) -> Result<Scene, Error> {
     let mut scene = Scene::load(crate::workspace_root().join("models/spin_up_beam_3d.ron"))?;
     scene.solver.stiffening = stiffening;
-    if stiffening == Stiffening::Foreshortening {
-        scene.solver.inertia = flexmbd::body::InertiaMethod::BMatrix;
-    }
     scene.solver.formulation = form;
     scene.validate()?;
     Ok(scene)
