@@ -281,24 +281,27 @@ impl Ali3p {
     fn form_leading(&mut self) {
         self.form_w();
         let h = self.settings.step;
-        self.lead.copy_from(&self.w);
+        let lead = self.lead.as_mut_slice();
+        lead.copy_from_slice(self.w.as_slice());
         let tt = &self.terms;
         // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
-        // handful per row, where a dense product would cost m n².
+        // handful per row, where a dense product would cost m n². Column-major slices.
         let c = 0.25 * h * h * self.alpha;
         let (m, n) = tt.phi_q.shape();
+        let pq = tt.phi_q.as_slice();
         for r in 0..m {
             self.nz.clear();
             for j in 0..n {
-                let v = tt.phi_q[(r, j)];
+                let v = pq[r + j * m];
                 if v != 0.0 {
                     self.nz.push((j, v));
                 }
             }
             for &(j, vj) in &self.nz {
                 let cj = c * vj;
+                let col = &mut lead[j * n..(j + 1) * n];
                 for &(i, vi) in &self.nz {
-                    self.lead[(i, j)] += cj * vi;
+                    col[i] += cj * vi;
                 }
             }
         }
