@@ -363,13 +363,15 @@ impl Ali3p {
             let refresh =
                 iterations == 1 || !self.settings.reuse_tangent || dq_norm >= 0.5 * prev_dq;
             self.set_newmark_rates();
+            // Φ and Φ_q at this q come from the pass after the last update (first
+            // iteration: from this pass).
             self.eval(
                 f,
                 Request {
                     dynamics: true,
                     tangents: refresh,
-                    constraints: true,
-                    jacobian: true,
+                    constraints: iterations == 1,
+                    jacobian: iterations == 1,
                     accel_term: false,
                 },
             );
@@ -397,7 +399,16 @@ impl Ali3p {
             self.q += &self.rhs;
             prev_dq = dq_norm;
             dq_norm = self.rhs.amax();
-            self.eval(f, Request::CONSTRAINTS);
+            // Φ for the multiplier update and the test, Φ_q for the next iteration or the
+            // projections (they depend on q and t only).
+            self.eval(
+                f,
+                Request {
+                    constraints: true,
+                    jacobian: true,
+                    ..Request::default()
+                },
+            );
             phi_norm = self.terms.phi.amax();
             self.lambda.axpy(self.alpha, &self.terms.phi, 1.0);
             if !(dq_norm.is_finite() && phi_norm.is_finite()) {
@@ -465,7 +476,7 @@ impl Ali3p {
                 dynamics: true,
                 tangents: true,
                 constraints: false,
-                jacobian: true,
+                jacobian: false,
                 accel_term: false,
             },
         );
