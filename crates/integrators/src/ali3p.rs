@@ -470,19 +470,12 @@ impl Ali3p {
         let eval_before = self.stats.time_evaluation;
         let h = self.settings.step;
         let c = 0.25 * h * h * self.alpha;
-        self.eval(
-            f,
-            Request {
-                dynamics: true,
-                tangents: true,
-                constraints: false,
-                jacobian: false,
-                accel_term: false,
-            },
-        );
-        // Refactorise at the converged q: reusing the last Newton iteration's f_q (Δq ≤ ε_q
-        // away) was measured to cost 4e-2 m in B0(10 s) of the four-bar, because the penalty
-        // h²α/4 ≈ 10⁴ m amplifies the O(ε_q) change of Φ_q.
+        // Refactorise with Φ_q at the converged q: reusing the last Newton iteration's f_q
+        // (Δq ≤ ε_q away) was measured to cost 4e-2 m in B0(10 s) of the four-bar, because
+        // the penalty h²α/4 ≈ 10⁴ m amplifies the O(ε_q) change of Φ_q. W = M + h/2 C +
+        // h²/4 K is the last Newton iteration's: W only weights the (small) correction
+        // q̇ − q̇*, so its O(ε_q) change moves q̇ by O(ε_q ‖q̇ − q̇*‖), and the formulation
+        // pass it would take (M, Q, K, C at the converged state) is saved.
         self.form_leading();
         self.factor_leading()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t
