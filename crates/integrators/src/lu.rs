@@ -322,16 +322,13 @@ fn llt_unblocked_n(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefinite> {
         let l = d.sqrt();
         a[k + k * n] = l;
         let r = 1.0 / l;
-        for v in &mut a[k * n + k + 1..(k + 1) * n] {
-            *v *= r;
+        for i in k + 1..n {
+            a[k * n + i] *= r;
         }
-        let (left, right) = a.split_at_mut((k + 1) * n);
-        let lk = &left[k * n..(k + 1) * n];
-        for (j, colj) in right.chunks_exact_mut(n).enumerate() {
-            let j = k + 1 + j;
-            let ljk = lk[j];
-            for (x, l) in colj[j..].iter_mut().zip(&lk[j..]) {
-                *x -= l * ljk;
+        for j in k + 1..n {
+            let ljk = a[k * n + j];
+            for i in j..n {
+                a[j * n + i] -= a[k * n + i] * ljk;
             }
         }
     }
