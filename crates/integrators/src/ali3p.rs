@@ -12,9 +12,16 @@
 //! f = h²/4 (M q̈ + Φ_qᵀ(αΦ + λ*) − Q),  f_q ≈ M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K).
 //!
 //! After Newton converges, velocities and accelerations are projected onto the
-//! constraint manifold with the same f_q (W = M + h/2 C + h²/4 K):
+//! constraint manifold with f_q = W + h²/4 Φ_qᵀ α Φ_q (W = M + h/2 C + h²/4 K):
 //!
 //! f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t,  f_q q̈ = W q̈* − h²/4 Φ_qᵀ α c.
+//!
+//! Φ_q is that of the converged q (written by the Φ pass after the last update), W that of
+//! the last Newton iteration (see `project`). Per step: one formulation pass for M, Q (K,
+//! C) and Φ_q at the predictor, one Φ, Φ_q pass after each update (each further iteration
+//! adds an M, Q pass), one pass for c; one factorisation per iteration and one for the
+//! projections. The predictor is per coordinate the trapezoidal rule with q̈_{n+1} = q̈_n
+//! or with q̈_{n+1} = 2q̈_n − q̈_{n−1}, whichever has recently been nearer the solution.
 //!
 //! Deviations from the literal text, both from methods.md's checked corrections:
 //! the penalty scales with h² (α = 4·10⁴ m_ref / h², §5.3), and a step that reaches the
