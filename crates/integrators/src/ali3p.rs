@@ -357,11 +357,21 @@ impl Ali3p {
         let h = self.settings.step;
         let (a1, a2) = (2.0 / h, 4.0 / (h * h));
         // Predictor and the Newmark constants of the step.
-        self.qd_hat.copy_from(&self.qd);
-        self.qd_hat.axpy(-a1, &self.q, -1.0);
-        self.qdd_hat.copy_from(&self.qdd);
-        self.qdd_hat.axpy(-4.0 / h, &self.qd, -1.0);
-        self.qdd_hat.axpy(-a2, &self.q, 1.0);
+        // q̂̇ = −(2/h) q − q̇, q̂̈ = −(4/h²) q − (4/h) q̇ − q̈ (the expressions of nalgebra's
+        // axpy sequence, a x + b y, on slices).
+        let a3 = -4.0 / h;
+        for ((((dh, ddh), q), qd), qdd) in self
+            .qd_hat
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.qdd_hat.as_mut_slice())
+            .zip(self.q.as_slice())
+            .zip(self.qd.as_slice())
+            .zip(self.qdd.as_slice())
+        {
+            *dh = -a1 * q + -1.0 * qd;
+            *ddh = -a2 * q + (a3 * qd + -1.0 * qdd);
+        }
         // Predictor: the trapezoidal rule with q̈_{n+1} ≈ q̈_n, q + h q̇ + h²/2 q̈_n, or with
         // the linear extrapolation q̈_{n+1} ≈ 2 q̈_n − q̈_{n−1}, which adds
         // d = h²/4 (q̈_n − q̈_{n−1}); per coordinate, whichever of the two was nearer the
@@ -517,10 +527,27 @@ impl Ali3p {
 
     fn set_newmark_rates(&mut self) {
         let h = self.settings.step;
-        self.qd.copy_from(&self.qd_hat);
-        self.qd.axpy(2.0 / h, &self.q, 1.0);
-        self.qdd.copy_from(&self.qdd_hat);
-        self.qdd.axpy(4.0 / (h * h), &self.q, 1.0);
+        let (a1, a2) = (2.0 / h, 4.0 / (h * h));
+        // The expressions of nalgebra's copy + axpy (a x + 1·y), on slices.
+        let q = self.q.as_slice();
+        for ((v, q), hat) in self
+            .qd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(q)
+            .zip(self.qd_hat.as_slice())
+        {
+            *v = a1 * q + hat;
+        }
+        for ((v, q), hat) in self
+            .qdd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(q)
+            .zip(self.qdd_hat.as_slice())
+        {
+            *v = a2 * q + hat;
+        }
     }
 
     /// Velocity and acceleration projections at the converged positions (methods.md §5.2, steps 3–4).
