@@ -12,9 +12,16 @@
 //! f = h²/4 (M q̈ + Φ_qᵀ(αΦ + λ*) − Q),  f_q ≈ M + h/2 C + h²/4 (Φ_qᵀ α Φ_q + K).
 //!
 //! After Newton converges, velocities and accelerations are projected onto the
-//! constraint manifold with the same f_q (W = M + h/2 C + h²/4 K):
+//! constraint manifold with f_q = W + h²/4 Φ_qᵀ α Φ_q (W = M + h/2 C + h²/4 K):
 //!
 //! f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t,  f_q q̈ = W q̈* − h²/4 Φ_qᵀ α c.
+//!
+//! Φ_q is that of the converged q (written by the Φ pass after the last update), W that of
+//! the last Newton iteration (see `project`). Per step: one formulation pass for M, Q (K,
+//! C) and Φ_q at the predictor, one Φ, Φ_q pass after each update (each further iteration
+//! adds an M, Q pass), one pass for c; one factorisation per iteration and one for the
+//! projections. The predictor is per coordinate the trapezoidal rule with q̈_{n+1} = q̈_n
+//! or with q̈_{n+1} = 2q̈_n − q̈_{n−1}, whichever has recently been nearer the solution.
 //!
 //! Deviations from the literal text, both from methods.md's checked corrections:
 //! the penalty scales with h² (α = 4·10⁴ m_ref / h², §5.3), and a step that reaches the
@@ -173,7 +180,15 @@ pub struct Ali3p {
     qd_hat: DVector<f64>,
     qdd_hat: DVector<f64>,
     tmp_m: DVector<f64>,
-    q_prev: DVector<f64>,
+    /// q̈ of the previous step (predictor), once a step was taken.
+    qdd_prev: DVector<f64>,
+    have_qdd_prev: bool,
+    /// The predictor without extrapolation, the extrapolation's increment, and per
+    /// coordinate whether to add it.
+    pred: DVector<f64>,
+    pred_d: DVector<f64>,
+    extrapolate: Vec<bool>,
+    pred_err: Vec<(f64, f64)>,
 }
 
 impl Ali3p {
@@ -209,7 +224,12 @@ impl Ali3p {
             qd_hat: DVector::zeros(n),
             qdd_hat: DVector::zeros(n),
             tmp_m: DVector::zeros(m),
-            q_prev: DVector::zeros(n),
+            qdd_prev: DVector::zeros(n),
+            have_qdd_prev: false,
+            pred: DVector::zeros(n),
+            pred_d: DVector::zeros(n),
+            extrapolate: vec![false; n],
+            pred_err: vec![(0.0, 0.0); n],
             settings,
         };
         f.initial_guess(&mut s.q, &mut s.qd);
@@ -281,24 +301,27 @@ impl Ali3p {
     fn form_leading(&mut self) {
         self.form_w();
         let h = self.settings.step;
-        self.lead.copy_from(&self.w);
+        let lead = self.lead.as_mut_slice();
+        lead.copy_from_slice(self.w.as_slice());
         let tt = &self.terms;
         // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
-        // handful per row, where a dense product would cost m n².
+        // handful per row, where a dense product would cost m n². Column-major slices.
         let c = 0.25 * h * h * self.alpha;
         let (m, n) = tt.phi_q.shape();
+        let pq = tt.phi_q.as_slice();
         for r in 0..m {
             self.nz.clear();
             for j in 0..n {
-                let v = tt.phi_q[(r, j)];
+                let v = pq[r + j * m];
                 if v != 0.0 {
                     self.nz.push((j, v));
                 }
             }
             for &(j, vj) in &self.nz {
                 let cj = c * vj;
+                let col = &mut lead[j * n..(j + 1) * n];
                 for &(i, vi) in &self.nz {
-                    self.lead[(i, j)] += cj * vi;
+                    col[i] += cj * vi;
                 }
             }
         }
@@ -334,14 +357,51 @@ impl Ali3p {
         let h = self.settings.step;
         let (a1, a2) = (2.0 / h, 4.0 / (h * h));
         // Predictor and the Newmark constants of the step.
-        self.qd_hat.copy_from(&self.qd);
-        self.qd_hat.axpy(-a1, &self.q, -1.0);
-        self.qdd_hat.copy_from(&self.qdd);
-        self.qdd_hat.axpy(-4.0 / h, &self.qd, -1.0);
-        self.qdd_hat.axpy(-a2, &self.q, 1.0);
-        self.q_prev.copy_from(&self.q);
-        self.q.axpy(h, &self.qd, 1.0);
-        self.q.axpy(0.5 * h * h, &self.qdd, 1.0);
+        // q̂̇ = −(2/h) q − q̇, q̂̈ = −(4/h²) q − (4/h) q̇ − q̈ (the expressions of nalgebra's
+        // axpy sequence, a x + b y, on slices).
+        let a3 = -4.0 / h;
+        for ((((dh, ddh), q), qd), qdd) in self
+            .qd_hat
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.qdd_hat.as_mut_slice())
+            .zip(self.q.as_slice())
+            .zip(self.qd.as_slice())
+            .zip(self.qdd.as_slice())
+        {
+            *dh = -a1 * q + -1.0 * qd;
+            *ddh = -a2 * q + (a3 * qd + -1.0 * qdd);
+        }
+        // Predictor: the trapezoidal rule with q̈_{n+1} ≈ q̈_n, q + h q̇ + h²/2 q̈_n, or with
+        // the linear extrapolation q̈_{n+1} ≈ 2 q̈_n − q̈_{n−1}, which adds
+        // d = h²/4 (q̈_n − q̈_{n−1}); per coordinate, whichever of the two was nearer the
+        // solution in the last step (smooth rigid-body coordinates gain from the
+        // extrapolation, stiff modal ones lose).
+        if !self.have_qdd_prev {
+            self.qdd_prev.copy_from(&self.qdd);
+        }
+        let (c2, c4) = (0.5 * h * h, 0.25 * h * h);
+        let n = self.q.len();
+        let (q, qd, qdd) = (
+            &mut self.q.as_mut_slice()[..n],
+            &self.qd.as_slice()[..n],
+            &self.qdd.as_slice()[..n],
+        );
+        let (qdd_prev, pred, pred_d) = (
+            &mut self.qdd_prev.as_mut_slice()[..n],
+            &mut self.pred.as_mut_slice()[..n],
+            &mut self.pred_d.as_mut_slice()[..n],
+        );
+        let extrapolate = &self.extrapolate[..n];
+        for i in 0..n {
+            let p = q[i] + h * qd[i] + c2 * qdd[i];
+            let d = c4 * qdd[i] - c4 * qdd_prev[i];
+            pred[i] = p;
+            pred_d[i] = d;
+            q[i] = if extrapolate[i] { p + d } else { p };
+            qdd_prev[i] = qdd[i];
+        }
+        self.have_qdd_prev = true;
         // t = t₀ + k h, not an accumulated sum, so output times are exact multiples.
         self.t = self.t0 + (self.stats.steps + 1) as f64 * h;
         let every = self.settings.profile_every.max(1);
@@ -360,13 +420,15 @@ impl Ali3p {
             let refresh =
                 iterations == 1 || !self.settings.reuse_tangent || dq_norm >= 0.5 * prev_dq;
             self.set_newmark_rates();
+            // Φ and Φ_q at this q come from the pass after the last update (first
+            // iteration: from this pass).
             self.eval(
                 f,
                 Request {
                     dynamics: true,
                     tangents: refresh,
-                    constraints: true,
-                    jacobian: true,
+                    constraints: iterations == 1,
+                    jacobian: iterations == 1,
                     accel_term: false,
                 },
             );
@@ -394,7 +456,16 @@ impl Ali3p {
             self.q += &self.rhs;
             prev_dq = dq_norm;
             dq_norm = self.rhs.amax();
-            self.eval(f, Request::CONSTRAINTS);
+            // Φ for the multiplier update and the test, Φ_q for the next iteration or the
+            // projections (they depend on q and t only).
+            self.eval(
+                f,
+                Request {
+                    constraints: true,
+                    jacobian: true,
+                    ..Request::default()
+                },
+            );
             phi_norm = self.terms.phi.amax();
             self.lambda.axpy(self.alpha, &self.terms.phi, 1.0);
             if !(dq_norm.is_finite() && phi_norm.is_finite()) {
@@ -435,6 +506,19 @@ impl Ali3p {
                 });
             }
         }
+        // Which predictor was nearer, per coordinate, for the next step.
+        let (q, pred, pred_d) = (
+            &self.q.as_slice()[..n],
+            &self.pred.as_slice()[..n],
+            &self.pred_d.as_slice()[..n],
+        );
+        let (err, extrapolate) = (&mut self.pred_err[..n], &mut self.extrapolate[..n]);
+        for i in 0..n {
+            let e = &mut err[i];
+            e.0 = 0.5 * e.0 + (q[i] - pred[i]).abs();
+            e.1 = 0.5 * e.1 + (q[i] - (pred[i] + pred_d[i])).abs();
+            extrapolate[i] = e.1 < 0.5 * e.0;
+        }
         self.set_newmark_rates();
         self.project(f)?;
         self.stats.steps += 1;
@@ -443,10 +527,27 @@ impl Ali3p {
 
     fn set_newmark_rates(&mut self) {
         let h = self.settings.step;
-        self.qd.copy_from(&self.qd_hat);
-        self.qd.axpy(2.0 / h, &self.q, 1.0);
-        self.qdd.copy_from(&self.qdd_hat);
-        self.qdd.axpy(4.0 / (h * h), &self.q, 1.0);
+        let (a1, a2) = (2.0 / h, 4.0 / (h * h));
+        // The expressions of nalgebra's copy + axpy (a x + 1·y), on slices.
+        let q = self.q.as_slice();
+        for ((v, q), hat) in self
+            .qd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(q)
+            .zip(self.qd_hat.as_slice())
+        {
+            *v = a1 * q + hat;
+        }
+        for ((v, q), hat) in self
+            .qdd
+            .as_mut_slice()
+            .iter_mut()
+            .zip(q)
+            .zip(self.qdd_hat.as_slice())
+        {
+            *v = a2 * q + hat;
+        }
     }
 
     /// Velocity and acceleration projections at the converged positions (methods.md §5.2, steps 3–4).
@@ -456,19 +557,12 @@ impl Ali3p {
         let eval_before = self.stats.time_evaluation;
         let h = self.settings.step;
         let c = 0.25 * h * h * self.alpha;
-        self.eval(
-            f,
-            Request {
-                dynamics: true,
-                tangents: true,
-                constraints: false,
-                jacobian: true,
-                accel_term: false,
-            },
-        );
-        // Refactorise at the converged q: reusing the last Newton iteration's f_q (Δq ≤ ε_q
-        // away) was measured to cost 4e-2 m in B0(10 s) of the four-bar, because the penalty
-        // h²α/4 ≈ 10⁴ m amplifies the O(ε_q) change of Φ_q.
+        // Refactorise with Φ_q at the converged q: reusing the last Newton iteration's f_q
+        // (Δq ≤ ε_q away) was measured to cost 4e-2 m in B0(10 s) of the four-bar, because
+        // the penalty h²α/4 ≈ 10⁴ m amplifies the O(ε_q) change of Φ_q. W = M + h/2 C +
+        // h²/4 K is the last Newton iteration's: W only weights the (small) correction
+        // q̇ − q̇*, so its O(ε_q) change moves q̇ by O(ε_q ‖q̇ − q̇*‖), and the formulation
+        // pass it would take (M, Q, K, C at the converged state) is saved.
         self.form_leading();
         self.factor_leading()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t

@@ -180,6 +180,10 @@ pub struct Relative {
     vel_zd: DVector<f64>,
     /// Per frame: a `Fixed` frame whose rotation is exactly I.
     fixed_identity: Vec<bool>,
+    /// Planar scene whose every rotation is about z (fixed rotations and revolute axes):
+    /// frame rotations then have the form [R 0; 0 1] and the fixed-frame products run
+    /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
+    planar_frames: bool,
     /// The current constraint pass writes Φ_w (a Jacobian was requested).
     jac: bool,
     /// Spring–dampers and their Jacobian scratch.
@@ -517,6 +521,22 @@ impl Relative {
             .iter()
             .map(|f| matches!(&f.kind, FrameKind::Fixed { rot, .. } if *rot == Matrix3::identity()))
             .collect();
+        let z_rotation = |r: &Matrix3<f64>| {
+            r[(0, 2)] == 0.0
+                && r[(1, 2)] == 0.0
+                && r[(2, 0)] == 0.0
+                && r[(2, 1)] == 0.0
+                && r[(2, 2)] == 1.0
+        };
+        let planar_frames = dim == Dim::Planar
+            && topo.frames.iter().all(|f| match &f.kind {
+                FrameKind::Fixed { rot, .. } => z_rotation(rot),
+                FrameKind::Elem(_) => true,
+            })
+            && topo
+                .elems
+                .iter()
+                .all(|e| e.kind == ElemKind::Prismatic || e.axis == Vector3::z());
         let mut rel = Relative {
             dim,
             nr,
@@ -562,6 +582,7 @@ impl Relative {
             vel_ok: false,
             vel_zd: DVector::zeros(n_z),
             fixed_identity,
+            planar_frames,
             jac: true,
             springs: Springs::default(),
         };
@@ -904,8 +925,29 @@ impl Relative {
             };
             match &self.topo.frames[f].kind {
                 FrameKind::Fixed { offset, rot } => {
-                    self.fr_r[f] = rp + ap * offset;
-                    self.fr_a[f] = if self.fixed_identity[f] { ap } else { ap * rot };
+                    if self.planar_frames {
+                        // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
+                        // are exact zeros.
+                        let mut r = rp;
+                        r.x += ap[(0, 0)] * offset.x + ap[(0, 1)] * offset.y;
+                        r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
+                        r.z += offset.z;
+                        self.fr_r[f] = r;
+                        if !self.fixed_identity[f] {
+                            let mut a = ap;
+                            for i in 0..2 {
+                                let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
+                                a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
+                                a[(i, 1)] = p0 * rot[(0, 1)] + p1 * rot[(1, 1)];
+                            }
+                            self.fr_a[f] = a;
+                        } else {
+                            self.fr_a[f] = ap;
+                        }
+                    } else {
+                        self.fr_r[f] = rp + ap * offset;
+                        self.fr_a[f] = if self.fixed_identity[f] { ap } else { ap * rot };
+                    }
                 }
                 FrameKind::Elem(e) => {
                     let e = *e;
