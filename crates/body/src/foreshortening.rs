@@ -32,6 +32,7 @@ use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, 
 use crate::fs_shape::FsIntegrals;
 use crate::{
     BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot, write_modal_block,
+    write_natural_rigid_block_3d,
 };
 
 /// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
@@ -633,24 +634,7 @@ impl FlexibleBody {
                 }
             }
         }
-        let scal = |i: usize, j: usize| -> f64 {
-            match (i, j) {
-                (0, 0) => msum,
-                (0, b) => rsum[b - 1],
-                (a, 0) => rsum[a - 1],
-                (a, b) => psum[(a - 1, b - 1)],
-            }
-        };
-        for bi in 0..4 {
-            for bj in 0..4 {
-                let v = scal(bi, bj);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                    }
-                }
-            }
-        }
+        write_natural_rigid_block_3d(m_out, msum, &rsum, &psum);
         for i in 0..3 {
             q_out[i] = -asum[i];
             for b in 0..3 {

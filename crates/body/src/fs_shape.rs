@@ -73,7 +73,10 @@
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
 use crate::foreshortening::mat_vec;
-use crate::{BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot};
+use crate::{
+    BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot,
+    write_natural_rigid_block_3d,
+};
 use flexmbd_core::Dim;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -674,24 +677,7 @@ impl FlexibleBody {
         let mo = self.fs_moments(y, yd, ws);
         let (mb, p) = (mo.mb, mo.p);
         let m = self.mass;
-        let scal = |i: usize, j: usize| -> f64 {
-            match (i, j) {
-                (0, 0) => m,
-                (0, b) => mb[b - 1],
-                (a, 0) => mb[a - 1],
-                (a, b) => p[(a - 1, b - 1)],
-            }
-        };
-        for bi in 0..4 {
-            for bj in 0..4 {
-                let v = scal(bi, bj);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                    }
-                }
-            }
-        }
+        write_natural_rigid_block_3d(m_out, m, &mb, &p);
         let ae = a * e;
         let mut s_yd = Vector3::zeros();
         for c in 0..3 {

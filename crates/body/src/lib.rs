@@ -811,6 +811,35 @@ pub(crate) fn write_modal_block<SM, SQ>(
     }
 }
 
+/// The rigid 12 × 12 block of a spatial natural-coordinate mass matrix over (r0, u, v, w)
+/// (methods.md §3.2): every 3 × 3 block is a scalar times I₃, the scalars being
+/// [[m, m̄ᵀ], [m̄, P]] with the first moment m̄ and second moment P of the (deformed) body.
+#[inline]
+pub(crate) fn write_natural_rigid_block_3d<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    m: f64,
+    mb: &Vector3<f64>,
+    p: &Matrix3<f64>,
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    for bi in 0..4 {
+        for bj in 0..4 {
+            let v = match (bi, bj) {
+                (0, 0) => m,
+                (0, b) => mb[b - 1],
+                (a, 0) => mb[a - 1],
+                (a, b) => p[(a - 1, b - 1)],
+            };
+            for i in 0..3 {
+                for j in 0..3 {
+                    m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
+                }
+            }
+        }
+    }
+}
+
 /// Dot product of two equal-length slices, with four independent accumulators
 /// (a single running sum is latency-bound for the short rows used here).
 #[inline(always)]

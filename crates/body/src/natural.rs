@@ -16,7 +16,7 @@
 //!
 //! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block.
 
-use crate::{FlexibleBody, Workspace, dot, write_modal_block};
+use crate::{FlexibleBody, Workspace, dot, write_modal_block, write_natural_rigid_block_3d};
 use flexmbd_fe::NodeModes;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -182,25 +182,7 @@ impl FlexibleBody {
             }
         }
         let m = self.mass;
-        // Rigid 12 × 12 part: every block a scalar times I₃.
-        let scal = |i: usize, j: usize| -> f64 {
-            match (i, j) {
-                (0, 0) => m,
-                (0, b) => mb[b - 1],
-                (a, 0) => mb[a - 1],
-                (a, b) => p[(a - 1, b - 1)],
-            }
-        };
-        for bi in 0..4 {
-            for bj in 0..4 {
-                let v = scal(bi, bj);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                    }
-                }
-            }
-        }
+        write_natural_rigid_block_3d(m_out, m, &mb, &p);
         let q0 = -2.0 * (ad * s_yd);
         for i in 0..3 {
             q_out[i] = q0[i];
@@ -427,24 +409,7 @@ impl FlexibleBody {
                 }
             }
         }
-        let scal = |i: usize, j: usize| -> f64 {
-            match (i, j) {
-                (0, 0) => msum,
-                (0, b) => rsum[b - 1],
-                (a, 0) => rsum[a - 1],
-                (a, b) => psum[(a - 1, b - 1)],
-            }
-        };
-        for bi in 0..4 {
-            for bj in 0..4 {
-                let v = scal(bi, bj);
-                for i in 0..3 {
-                    for j in 0..3 {
-                        m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                    }
-                }
-            }
-        }
+        write_natural_rigid_block_3d(m_out, msum, &rsum, &psum);
         for i in 0..3 {
             q_out[i] = -asum[i];
             for b in 0..3 {
