@@ -755,38 +755,28 @@ impl Planar {
         // Spring–dampers.
         for force in &scene.forces {
             let flexmbd_model::Force::SpringDamper {
-                name,
                 body1,
                 marker1,
                 body2,
                 marker2,
                 stiffness,
                 damping,
-                free_length,
+                ..
             } = force;
             let m1 = mk_of(body1, marker1, &planar.bodies);
             let m2 = mk_of(body2, marker2, &planar.bodies);
             let (r1, _, _) = planar.mk_state(&m1, &q0v, &zero);
             let (r2, _, _) = planar.mk_state(&m2, &q0v, &zero);
-            let l = (r2 - r1).norm();
-            if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
-                return Err(ModelError::Invalid {
-                    file: scene.origin.clone(),
-                    error: flexmbd_core::InvalidValue::new(
-                        format!("forces[{name}]"),
-                        format!("{body1}.{marker1} – {body2}.{marker2}"),
-                        format!(
-                            "the two markers coincide at t = 0 (distance {l:.3e} m): a spring of zero length has no direction"
-                        ),
-                    ),
-                });
-            }
+            let (r1, r2) = (
+                nalgebra::Vector3::new(r1.x, r1.y, 0.0),
+                nalgebra::Vector3::new(r2.x, r2.y, 0.0),
+            );
             planar.springs.push(Spring {
                 m1,
                 m2,
                 k: *stiffness,
                 c: *damping,
-                l0: free_length.unwrap_or(l),
+                l0: force.spring_free_length(&scene.origin, &r1, &r2)?,
             });
         }
         // Sensors.

@@ -303,6 +303,42 @@ pub enum Force {
     },
 }
 
+impl Force {
+    /// The free length of a spring–damper whose markers sit at `r1`, `r2` at t = 0: its
+    /// `free_length`, or their distance. Markers that coincide are refused (a spring of zero
+    /// length has no direction), naming the force.
+    pub fn spring_free_length(
+        &self,
+        origin: &str,
+        r1: &Vector3<f64>,
+        r2: &Vector3<f64>,
+    ) -> Result<f64, crate::ModelError> {
+        let Force::SpringDamper {
+            name,
+            body1,
+            marker1,
+            body2,
+            marker2,
+            free_length,
+            ..
+        } = self;
+        let l = (r2 - r1).norm();
+        if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
+            return Err(crate::ModelError::Invalid {
+                file: origin.to_string(),
+                error: flexmbd_core::InvalidValue::new(
+                    format!("forces[{name}]"),
+                    format!("{body1}.{marker1} – {body2}.{marker2}"),
+                    format!(
+                        "the two markers coincide at t = 0 (distance {l:.3e} m): a spring of zero length has no direction"
+                    ),
+                ),
+            });
+        }
+        Ok(free_length.unwrap_or(l))
+    }
+}
+
 /// A prescribed motion of a joint coordinate, relative to its value at t = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -617,7 +617,7 @@ impl Relative {
                 marker2,
                 stiffness,
                 damping,
-                free_length,
+                ..
             } = force;
             let m1 = side_of(scene, infos, body1, marker1);
             let m2 = side_of(scene, infos, body2, marker2);
@@ -634,25 +634,12 @@ impl Relative {
             }
             let (r1, _) = point_at(self, &m1);
             let (r2, _) = point_at(self, &m2);
-            let l = (r2 - r1).norm();
-            if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
-                return Err(ModelError::Invalid {
-                    file: scene.origin.clone(),
-                    error: flexmbd_core::InvalidValue::new(
-                        format!("forces[{name}]"),
-                        format!("{body1}.{marker1} – {body2}.{marker2}"),
-                        format!(
-                            "the two markers coincide at t = 0 (distance {l:.3e} m): a spring of zero length has no direction"
-                        ),
-                    ),
-                });
-            }
             list.push(Spring {
                 m1,
                 m2,
                 k: *stiffness,
                 c: *damping,
-                l0: free_length.unwrap_or(l),
+                l0: force.spring_free_length(&scene.origin, &r1, &r2)?,
             });
         }
         self.springs = Springs::new(list, self.n_w, self.n_z);

@@ -384,6 +384,22 @@ impl Topology {
         f
     }
 
+    /// The elementary joints of a floating base after frame `f`: translations along, then
+    /// intrinsic rotations about (x, y′, z″; 2D: z), the axes of `f`. Returns the last frame.
+    fn free_elems(&mut self, dim: Dim, mut f: usize, coords: &mut Vec<usize>) -> usize {
+        for a in 0..dim.n_trans() {
+            f = self.joint_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), coords);
+        }
+        let axes: &[usize] = match dim {
+            Dim::Planar => &[2],
+            Dim::Spatial => &[0, 1, 2],
+        };
+        for &a in axes {
+            f = self.joint_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), coords);
+        }
+        f
+    }
+
     fn add_floating(&mut self, dim: Dim, b: usize, info: &BodyInfo) {
         let mut coords = Vec::new();
         let mut f = self.push_frame(
@@ -393,26 +409,7 @@ impl Topology {
                 rot: Matrix3::identity(),
             },
         );
-        for a in 0..dim.n_trans() {
-            f = self.joint_elem(
-                Some(f),
-                ElemKind::Prismatic,
-                Vector3::ith(a, 1.0),
-                &mut coords,
-            );
-        }
-        let axes: &[usize] = match dim {
-            Dim::Planar => &[2],
-            Dim::Spatial => &[0, 1, 2],
-        };
-        for &a in axes {
-            f = self.joint_elem(
-                Some(f),
-                ElemKind::Revolute,
-                Vector3::ith(a, 1.0),
-                &mut coords,
-            );
-        }
+        f = self.free_elems(dim, f, &mut coords);
         let bf = self.push_frame(
             Some(f),
             FrameKind::Fixed {
@@ -553,30 +550,8 @@ impl Topology {
                 }
             }
             (JointKind::Rigid, _) => {}
-            (JointKind::Free, _) => {
-                // A floating base: translations along, then intrinsic rotations about, the
-                // axes of the ground marker's frame (as for a body without joints).
-                for a in 0..dim.n_trans() {
-                    f = self.joint_elem(
-                        Some(f),
-                        ElemKind::Prismatic,
-                        Vector3::ith(a, 1.0),
-                        &mut coords,
-                    );
-                }
-                let axes: &[usize] = match dim {
-                    Dim::Planar => &[2],
-                    Dim::Spatial => &[0, 1, 2],
-                };
-                for &a in axes {
-                    f = self.joint_elem(
-                        Some(f),
-                        ElemKind::Revolute,
-                        Vector3::ith(a, 1.0),
-                        &mut coords,
-                    );
-                }
-            }
+            // A floating base, in the ground marker's axes (as a body without joints).
+            (JointKind::Free, _) => f = self.free_elems(dim, f, &mut coords),
             (k, d) => {
                 return Err(ModelError::Unsupported(format!(
                     "{what}: {k:?} is not a {d} joint"
