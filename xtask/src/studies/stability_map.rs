@@ -263,3 +263,60 @@ fn category(v: f64, values: &[f64], scale: f64) -> String {
         .get(r as usize)
         .map_or(String::new(), |x| format!("{}", x * scale))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_chart_has_a_panel_per_method_and_formulation_and_a_cell_per_run() {
+        let dir = std::env::temp_dir().join(format!("flexmbd-map-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("map.svg");
+        let (speeds, steps) = ([2.0, 6.0, 12.0], [1e-3, 1e-2]);
+        let at = |m: usize, f: usize, k: usize, i: usize| match (m + f + k + i) % 4 {
+            0 => Cell::Accurate,
+            1 => Cell::Inaccurate,
+            2 => Cell::Failed,
+            _ => Cell::Unavailable,
+        };
+        draw(
+            &path,
+            vec!["LIN", "FNL1"],
+            &["RC", "AC"],
+            &speeds,
+            &steps,
+            &at,
+        )
+        .unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        for caption in [
+            "LIN RC",
+            "LIN AC",
+            "FNL1 RC",
+            "FNL1 AC",
+            "Ωs (rad/s)",
+            "h (ms)",
+        ] {
+            assert!(svg.contains(caption), "missing {caption}");
+        }
+        // 2 methods × 2 formulations × 2 steps × 3 speeds cells, in all four colours.
+        let cells: usize = [
+            Cell::Accurate,
+            Cell::Inaccurate,
+            Cell::Failed,
+            Cell::Unavailable,
+        ]
+        .iter()
+        .map(|c| {
+            let RGBColor(r, g, b) = c.colour();
+            svg.matches(&format!("fill=\"#{r:02X}{g:02X}{b:02X}\""))
+                .count()
+        })
+        .sum();
+        assert_eq!(cells, 24, "{svg}");
+        assert_eq!(category(1.0, &speeds, 1.0), "6");
+        assert_eq!(category(0.5, &speeds, 1.0), "");
+        assert_eq!(category(1.0, &steps, 1e3), "10");
+    }
+}
