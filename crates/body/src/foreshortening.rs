@@ -30,9 +30,11 @@ use flexmbd_fe::ForeshorteningData;
 use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 use crate::fs_shape::FsIntegrals;
+use crate::natural::{
+    BMatrixSums2, BMatrixSums3, write_bmatrix_natural_2d, write_bmatrix_natural_3d,
+};
 use crate::{
     BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot, write_modal_block,
-    write_natural_rigid_block_3d,
 };
 
 /// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
@@ -502,37 +504,14 @@ impl FlexibleBody {
                 }
             }
         }
-        m_out[(0, 0)] = msum;
-        m_out[(1, 1)] = msum;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        let r0u = Matrix2::new(rsum.x, -rsum.y, rsum.y, rsum.x);
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { psum } else { 0.0 };
-            }
-        }
-        q_out[0] = -asum.x;
-        q_out[1] = -asum.y;
-        q_out[2] = -qu.x;
-        q_out[3] = -qu.y;
-        let o = 4;
-        for j in 0..n {
-            for c in 0..2 {
-                m_out[(c, o + j)] = sy[c * n + j];
-                m_out[(o + j, c)] = sy[c * n + j];
-                m_out[(2 + c, o + j)] = wy[c * n + j];
-                m_out[(o + j, 2 + c)] = wy[c * n + j];
-            }
-            q_out[o + j] = -qy[j];
-            for i in j..n {
-                let v = yy[j * n + i];
-                m_out[(o + j, o + i)] = v;
-                m_out[(o + i, o + j)] = v;
-            }
-        }
+        let sums = BMatrixSums2 {
+            m: msum,
+            mr: rsum,
+            p: psum,
+            a: asum,
+            qu,
+        };
+        write_bmatrix_natural_2d(m_out, q_out, n, &sums, sy, wy, yy, qy);
     }
 
     /// Spatial natural coordinates {r0, u, v, w, y} (methods.md §2.5) with FS0 kinematics,
@@ -634,26 +613,13 @@ impl FlexibleBody {
                 }
             }
         }
-        write_natural_rigid_block_3d(m_out, msum, &rsum, &psum);
-        for i in 0..3 {
-            q_out[i] = -asum[i];
-            for b in 0..3 {
-                q_out[3 + 3 * b + i] = -arsum[(i, b)];
-            }
-        }
-        let o = 12;
-        for j in 0..n {
-            for cc in 0..3 {
-                let v = sy[cc * n + j];
-                m_out[(cc, o + j)] = v;
-                m_out[(o + j, cc)] = v;
-                for b in 0..3 {
-                    let v = l[3 * n * b + cc * n + j];
-                    m_out[(3 + 3 * b + cc, o + j)] = v;
-                    m_out[(o + j, 3 + 3 * b + cc)] = v;
-                }
-            }
-        }
-        write_modal_block(m_out, q_out, o, n, yy, qy);
+        let sums = BMatrixSums3 {
+            m: msum,
+            mr: rsum,
+            p: psum,
+            a: asum,
+            ar: arsum,
+        };
+        write_bmatrix_natural_3d(m_out, q_out, n, &sums, sy, l, yy, qy);
     }
 }

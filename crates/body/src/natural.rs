@@ -409,27 +409,14 @@ impl FlexibleBody {
                 }
             }
         }
-        write_natural_rigid_block_3d(m_out, msum, &rsum, &psum);
-        for i in 0..3 {
-            q_out[i] = -asum[i];
-            for b in 0..3 {
-                q_out[3 + 3 * b + i] = -arsum[(i, b)];
-            }
-        }
-        let o = 12;
-        for j in 0..n {
-            for c in 0..3 {
-                let v = ws.sy[c * n + j];
-                m_out[(c, o + j)] = v;
-                m_out[(o + j, c)] = v;
-                for b in 0..3 {
-                    let v = ws.l[3 * n * b + c * n + j];
-                    m_out[(3 + 3 * b + c, o + j)] = v;
-                    m_out[(o + j, 3 + 3 * b + c)] = v;
-                }
-            }
-        }
-        write_modal_block(m_out, q_out, o, n, &ws.yy, &ws.qy);
+        let sums = BMatrixSums3 {
+            m: msum,
+            mr: rsum,
+            p: psum,
+            a: asum,
+            ar: arsum,
+        };
+        write_bmatrix_natural_3d(m_out, q_out, n, &sums, &ws.sy, &ws.l, &ws.yy, &ws.qy);
     }
 
     pub(crate) fn natural_bmatrix_2d<SM, SQ>(
@@ -492,31 +479,117 @@ impl FlexibleBody {
                 }
             }
         }
-        m_out[(0, 0)] = msum;
-        m_out[(1, 1)] = msum;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        let r0u = Matrix2::new(rsum.x, -rsum.y, rsum.y, rsum.x);
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { psum } else { 0.0 };
-            }
-        }
-        q_out[0] = -asum.x;
-        q_out[1] = -asum.y;
-        q_out[2] = -qu.x;
-        q_out[3] = -qu.y;
-        let o = 4;
-        for j in 0..n {
-            for c in 0..2 {
-                m_out[(c, o + j)] = ws.sy[c * n + j];
-                m_out[(o + j, c)] = ws.sy[c * n + j];
-                m_out[(2 + c, o + j)] = ws.wy[c * n + j];
-                m_out[(o + j, 2 + c)] = ws.wy[c * n + j];
-            }
-        }
-        write_modal_block(m_out, q_out, o, n, &ws.yy, &ws.qy);
+        let sums = BMatrixSums2 {
+            m: msum,
+            mr: rsum,
+            p: psum,
+            a: asum,
+            qu,
+        };
+        write_bmatrix_natural_2d(m_out, q_out, n, &sums, &ws.sy, &ws.wy, &ws.yy, &ws.qy);
     }
+}
+
+/// The mass-weighted sums a route-(a) kernel in planar natural coordinates {r0, u, y}
+/// accumulates over the cloud: Σw, Σw r̄, Σw|r̄|², Σw Ḃ-acceleration and its u-moment.
+pub(crate) struct BMatrixSums2 {
+    pub(crate) m: f64,
+    pub(crate) mr: Vector2<f64>,
+    pub(crate) p: f64,
+    pub(crate) a: Vector2<f64>,
+    pub(crate) qu: Vector2<f64>,
+}
+
+/// The same sums in spatial natural coordinates {r0, u, v, w, y}: Σw, Σw r̄, Σw r̄ r̄ᵀ,
+/// Σw Ḃ-acceleration and its moments with r̄.
+pub(crate) struct BMatrixSums3 {
+    pub(crate) m: f64,
+    pub(crate) mr: Vector3<f64>,
+    pub(crate) p: Matrix3<f64>,
+    pub(crate) a: Vector3<f64>,
+    pub(crate) ar: Matrix3<f64>,
+}
+
+/// Write a planar route-(a) result: the rigid 4 × 4 block [[m I, R(m̄)], [R(m̄)ᵀ, P I]] with
+/// R(m̄) = [m̄  e₂(m̄)], Q = −(Σa, q_u, q_y), the couplings `sy` (r0–y) and `wy` (u–y, both
+/// 2 × n row-major) and the modal block from the upper triangle of `yy`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn write_bmatrix_natural_2d<SM, SQ>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    n: usize,
+    s: &BMatrixSums2,
+    sy: &[f64],
+    wy: &[f64],
+    yy: &[f64],
+    qy: &[f64],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+    SQ: StorageMut<f64, Dyn, U1>,
+{
+    m_out[(0, 0)] = s.m;
+    m_out[(1, 1)] = s.m;
+    m_out[(0, 1)] = 0.0;
+    m_out[(1, 0)] = 0.0;
+    let r0u = Matrix2::new(s.mr.x, -s.mr.y, s.mr.y, s.mr.x);
+    for i in 0..2 {
+        for j in 0..2 {
+            m_out[(i, 2 + j)] = r0u[(i, j)];
+            m_out[(2 + j, i)] = r0u[(i, j)];
+            m_out[(2 + i, 2 + j)] = if i == j { s.p } else { 0.0 };
+        }
+    }
+    q_out[0] = -s.a.x;
+    q_out[1] = -s.a.y;
+    q_out[2] = -s.qu.x;
+    q_out[3] = -s.qu.y;
+    let o = 4;
+    for j in 0..n {
+        for c in 0..2 {
+            m_out[(c, o + j)] = sy[c * n + j];
+            m_out[(o + j, c)] = sy[c * n + j];
+            m_out[(2 + c, o + j)] = wy[c * n + j];
+            m_out[(o + j, 2 + c)] = wy[c * n + j];
+        }
+    }
+    write_modal_block(m_out, q_out, o, n, yy, qy);
+}
+
+/// Write a spatial route-(a) result: the rigid 12 × 12 block, Q = −(Σa, Σa r̄ᵀ, q_y), the
+/// couplings `sy` (r0–y, 3 × n) and `l` (u, v, w–y, 3 × 3 × n) and the modal block.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn write_bmatrix_natural_3d<SM, SQ>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    n: usize,
+    s: &BMatrixSums3,
+    sy: &[f64],
+    l: &[f64],
+    yy: &[f64],
+    qy: &[f64],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+    SQ: StorageMut<f64, Dyn, U1>,
+{
+    write_natural_rigid_block_3d(m_out, s.m, &s.mr, &s.p);
+    for i in 0..3 {
+        q_out[i] = -s.a[i];
+        for b in 0..3 {
+            q_out[3 + 3 * b + i] = -s.ar[(i, b)];
+        }
+    }
+    let o = 12;
+    for j in 0..n {
+        for c in 0..3 {
+            let v = sy[c * n + j];
+            m_out[(c, o + j)] = v;
+            m_out[(o + j, c)] = v;
+            for b in 0..3 {
+                let v = l[3 * n * b + c * n + j];
+                m_out[(3 + 3 * b + c, o + j)] = v;
+                m_out[(o + j, 3 + 3 * b + c)] = v;
+            }
+        }
+    }
+    write_modal_block(m_out, q_out, o, n, yy, qy);
 }
