@@ -111,8 +111,10 @@ fn inertia_routes_agree_on_the_flexible_four_bar() {
     eprintln!("B-matrix vs shape integrals, max |ΔB0|: first 1 s {before:.2e} m, 5 s {all:.2e} m");
     // Identical in exact arithmetic: the difference is round-off, grown by the Newton tolerance
     // (1e-9) and by the sensitivity of the mechanism at its singular passages (all bars aligned).
-    assert!(before < 1e-9, "first second: {before:e}");
-    assert!(all < 1e-7, "5 s: {all:e}");
+    // Measured 7.3e-13 m (1 s) and 6.8e-11 m (5 s); before the ALI3-P projections were solved in
+    // increment form their solve round-off made it ~1e-8 m over 5 s.
+    assert!(before < 1e-11, "first second: {before:e}");
+    assert!(all < 1e-9, "5 s: {all:e}");
 }
 
 /// The system terms (M, Q with inertia, gravity, elastic forces; Φ_q) of the two routes
