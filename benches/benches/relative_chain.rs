@@ -63,13 +63,7 @@ fn chains(c: &mut Criterion) {
             for _ in 0..50 {
                 integ.step(f.as_mut()).expect("lead-in step");
             }
-            let (q, qd, qdd, lambda, stats) = (
-                integ.q.clone(),
-                integ.qd.clone(),
-                integ.qdd.clone(),
-                integ.lambda.clone(),
-                integ.stats.clone(),
-            );
+            let start = integ.checkpoint();
             eprintln!(
                 "chain_step/{name}/{n}: {} coordinates, {} constraints",
                 f.n_coordinates(),
@@ -79,11 +73,7 @@ fn chains(c: &mut Criterion) {
                 b.iter_custom(|iters| {
                     let mut total = Duration::ZERO;
                     for _ in 0..iters {
-                        integ.q.copy_from(&q);
-                        integ.qd.copy_from(&qd);
-                        integ.qdd.copy_from(&qdd);
-                        integ.lambda.copy_from(&lambda);
-                        integ.stats.clone_from(&stats);
+                        integ.restore(&start);
                         let t = Instant::now();
                         integ.step(f.as_mut()).expect("step");
                         total += t.elapsed();

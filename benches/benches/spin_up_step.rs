@@ -87,13 +87,7 @@ fn spin_up(c: &mut Criterion) {
             for _ in 0..8000 {
                 integ.step(f.as_mut()).expect("lead-in step");
             }
-            let (q, qd, qdd, lambda, stats) = (
-                integ.q.clone(),
-                integ.qd.clone(),
-                integ.qdd.clone(),
-                integ.lambda.clone(),
-                integ.stats.clone(),
-            );
+            let start = integ.checkpoint();
             eprintln!(
                 "spin_up_step/{fname}/{name}: {} coordinates",
                 f.n_coordinates()
@@ -102,11 +96,7 @@ fn spin_up(c: &mut Criterion) {
                 b.iter_custom(|iters| {
                     let mut total = Duration::ZERO;
                     for _ in 0..iters {
-                        integ.q.copy_from(&q);
-                        integ.qd.copy_from(&qd);
-                        integ.qdd.copy_from(&qdd);
-                        integ.lambda.copy_from(&lambda);
-                        integ.stats.clone_from(&stats);
+                        integ.restore(&start);
                         let t = Instant::now();
                         integ.step(f.as_mut()).expect("step");
                         total += t.elapsed();

@@ -59,30 +59,21 @@ fn step(c: &mut Criterion) {
             for _ in 0..LEAD_IN {
                 integ.step(f.as_mut()).expect("lead-in step");
             }
-            let (q, qd, qdd, lambda, stats) = (
-                integ.q.clone(),
-                integ.qd.clone(),
-                integ.qdd.clone(),
-                integ.lambda.clone(),
-                integ.stats.clone(),
-            );
+            let start = integ.checkpoint();
+            let start_iterations = integ.stats.newton_iterations;
             // The step measured: how many Newton iterations it takes.
             integ.step(f.as_mut()).expect("measured step");
             eprintln!(
                 "four_bar_step/{name}/{k}: n = {}, m = {}, {} Newton iterations in the measured step",
                 f.n_coordinates(),
                 f.n_constraints(),
-                integ.stats.newton_iterations - stats.newton_iterations
+                integ.stats.newton_iterations - start_iterations
             );
             group.bench_with_input(BenchmarkId::new(name, k), &k, |b, _| {
                 b.iter_custom(|iters| {
                     let mut total = Duration::ZERO;
                     for _ in 0..iters {
-                        integ.q.copy_from(&q);
-                        integ.qd.copy_from(&qd);
-                        integ.qdd.copy_from(&qdd);
-                        integ.lambda.copy_from(&lambda);
-                        integ.stats.clone_from(&stats);
+                        integ.restore(&start);
                         let t = Instant::now();
                         integ.step(f.as_mut()).expect("step");
                         total += t.elapsed();

@@ -150,6 +150,21 @@ pub enum IntegratorError {
     },
 }
 
+/// The state of an [`Ali3p`] integrator between steps (see [`Ali3p::checkpoint`]).
+#[derive(Clone, Debug)]
+pub struct Checkpoint {
+    t: f64,
+    q: DVector<f64>,
+    qd: DVector<f64>,
+    qdd: DVector<f64>,
+    lambda: DVector<f64>,
+    stats: Stats,
+    qdd_prev: DVector<f64>,
+    have_qdd_prev: bool,
+    extrapolate: Vec<bool>,
+    pred_err: Vec<(f64, f64)>,
+}
+
 /// The ALI3-P integrator with its state and workspace, sized once for one formulation.
 pub struct Ali3p {
     settings: Ali3pSettings,
@@ -251,6 +266,50 @@ impl Ali3p {
         s.alpha = s.settings.penalty.unwrap_or(4e4 * m_ref / (h * h));
         crate::initial::make_consistent(&mut s, f)?;
         Ok(s)
+    }
+
+    /// A copy of the state a step starts from: time, q, q̇, q̈, λ*, the counters and the
+    /// predictor's history (allocates; `restore` does not).
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            t: self.t,
+            q: self.q.clone(),
+            qd: self.qd.clone(),
+            qdd: self.qdd.clone(),
+            lambda: self.lambda.clone(),
+            stats: self.stats.clone(),
+            qdd_prev: self.qdd_prev.clone(),
+            have_qdd_prev: self.have_qdd_prev,
+            extrapolate: self.extrapolate.clone(),
+            pred_err: self.pred_err.clone(),
+        }
+    }
+
+    /// Return to a checkpoint of this integrator, so that the next step is the same step
+    /// again (benchmarks time one step many times this way). Copies into the existing
+    /// storage: no allocation.
+    ///
+    /// # Panics
+    /// If the checkpoint was taken from an integrator of another size.
+    pub fn restore(&mut self, c: &Checkpoint) {
+        assert!(
+            c.q.len() == self.q.len() && c.lambda.len() == self.lambda.len(),
+            "checkpoint of {} coordinates and {} constraints restored into an integrator of {} and {}",
+            c.q.len(),
+            c.lambda.len(),
+            self.q.len(),
+            self.lambda.len()
+        );
+        self.t = c.t;
+        self.q.copy_from(&c.q);
+        self.qd.copy_from(&c.qd);
+        self.qdd.copy_from(&c.qdd);
+        self.lambda.copy_from(&c.lambda);
+        self.stats.clone_from(&c.stats);
+        self.qdd_prev.copy_from(&c.qdd_prev);
+        self.have_qdd_prev = c.have_qdd_prev;
+        self.extrapolate.copy_from_slice(&c.extrapolate);
+        self.pred_err.copy_from_slice(&c.pred_err);
     }
 
     /// The penalty α in use.

@@ -7,5 +7,5 @@ mod initial;
 pub mod lu;
 pub mod statics;
 
-pub use ali3p::{Ali3p, Ali3pSettings, IntegratorError, Stats};
+pub use ali3p::{Ali3p, Ali3pSettings, Checkpoint, IntegratorError, Stats};
 pub use statics::{StartFrom, StaticError, StaticSettings, StaticSolution, solve_static};

@@ -78,3 +78,38 @@ fn steps_allocate_nothing() {
     );
     assert!(s.stats.newton_iterations >= 500);
 }
+
+#[test]
+fn restoring_a_checkpoint_repeats_the_step_bit_for_bit_without_allocating() {
+    let mut f = DoublePendulum;
+    let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
+    // Past the first steps, so the predictor has a history to restore.
+    for _ in 0..50 {
+        s.step(&mut f).unwrap();
+    }
+    let c = s.checkpoint();
+    let bits = |s: &Ali3p| -> Vec<u64> {
+        s.q.iter()
+            .chain(s.qd.iter())
+            .chain(s.qdd.iter())
+            .chain(s.lambda.iter())
+            .chain([s.t].iter())
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let run = |s: &mut Ali3p, f: &mut DoublePendulum| {
+        for _ in 0..20 {
+            s.step(f).unwrap();
+        }
+    };
+    run(&mut s, &mut f);
+    let (first, stats) = (bits(&s), s.stats.clone());
+    let before = flexmbd_test_support::allocations();
+    s.restore(&c);
+    let after = flexmbd_test_support::allocations();
+    assert_eq!(after - before, 0, "restore allocated");
+    run(&mut s, &mut f);
+    assert_eq!(bits(&s), first);
+    assert_eq!(s.stats.steps, stats.steps);
+    assert_eq!(s.stats.newton_iterations, stats.newton_iterations);
+}
