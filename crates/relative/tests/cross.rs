@@ -11,11 +11,12 @@
 //! - 1 flexible bar, h = 1.25e-4 / 6.25e-5 / 3.125e-5: 2.53e-6 / 7.34e-7 / 4.79e-7;
 //! - 5 flexible bars, h = 1e-4 / 5e-5 / 2.5e-5: 1.33e-6 / 6.80e-7 / 6.44e-8 (at h = 6.25e-5,
 //!   where ωh ≈ 1 for the undamped ~2.5 kHz axial modes, 1.33e-6 between 8.1e-7 at 1.25e-4
-//!   and 4.3e-8 at 3.125e-5);
+//!   and 4.3e-8 at 3.125e-5). Below h = 2.5e-5 the Newton tolerance takes over (2ε/h in the velocities): 1.02e-6 at
+//!   1.25e-5 with ε = 1e-12, 1.9e-7 with ε = 1e-13;
 //! - 3 flexible bars (two rigid bars in the right loop, so its passages are nearly rigid and
-//!   stiff), ε = 1e-13: 2.2e-4 / 9.3e-5 / 6.3e-6 at 1e-4 / 5e-5 / 2.5e-5, shrinking but not to 1e-6 at
-//!   these steps; each run is itself far from converged there (abs(h) − abs(h/2) = 1.6e-3 of
-//!   the range at h = 3.125e-5) and the two formulations share most of that error.
+//!   stiff): 2.1e-4 / 9.3e-5 / 6.3e-6 / 1.2e-5 at h = 1e-4 … 1.25e-5, while each formulation's
+//!   own run(h) − run(h/2) is 0.5–2e-3 of the range there: neither has converged, and they
+//!   agree 20–200 times better than that (docs/design.md).
 //!
 //! Until the projections were solved in increment form (ali3p.rs, `project_increment`),
 //! solve round-off of ~1e-8 per step in the velocities made the 5 s differences of the flexible
