@@ -110,17 +110,8 @@ pub(crate) fn make_consistent<F: Formulation + ?Sized>(
     }
     let lead = &mass + alpha0 * j.transpose() * &j;
     lu.factor(&lead).map_err(singular(s.t))?;
-    // From q̇ = q̇*: q̇ ← q̇ − (M + α₀Φ_qᵀΦ_q)⁻¹ α₀ Φ_qᵀ (Φ_q q̇ + Φ_t).
-    for _ in 0..MAX_ITER {
-        let viol = &j * &s.qd + &jt;
-        let mut dqd = -(alpha0 * (j.transpose() * &viol));
-        lu.solve_in_place(&mut dqd);
-        s.qd += &dqd;
-        let scale = s.qd.amax().max(1.0);
-        if viol.amax() <= 1e-12 * scale && dqd.amax() <= 1e-15 * scale {
-            break;
-        }
-    }
+    // From q̇ = q̇*.
+    augmented_lagrangian(&mut lu, &j, &jt, alpha0, 1e-12, &mut s.qd);
 
     // 3. Accelerations and multipliers.
     s.eval(f, Request::ALL);
@@ -130,23 +121,37 @@ pub(crate) fn make_consistent<F: Formulation + ?Sized>(
     let forces = tt.forces.clone();
     let lead = &tt.mass + alpha0 * phi_q.transpose() * &phi_q;
     lu.factor(&lead).map_err(singular(s.t))?;
-    // The first iterate by a whole solve, the rest in increment form as for the velocities:
-    // q̈ ← q̈ − (M + α₀Φ_qᵀΦ_q)⁻¹ α₀ Φ_qᵀ (Φ_q q̈ + c).
-    let mut rhs = &forces - alpha0 * (phi_q.transpose() * &c);
-    lu.solve_in_place(&mut rhs);
-    s.qdd.copy_from(&rhs);
-    let mut lambda = DVector::zeros(m);
+    // The first iterate by a whole solve (with no multipliers), the rest in increment form.
+    s.qdd = &forces - alpha0 * (phi_q.transpose() * &c);
+    lu.solve_in_place(&mut s.qdd);
+    let lambda = augmented_lagrangian(&mut lu, &phi_q, &c, alpha0, 1e-10, &mut s.qdd);
+    s.lambda.copy_from(&lambda);
+    Ok(())
+}
+
+/// The augmented-Lagrangian iterations of steps 2 and 3 in increment form, from x:
+/// r = J x + b, σ ← σ + α₀ r, x ← x − (M + α₀JᵀJ)⁻¹ α₀ Jᵀ r with the factorisation in `lu`,
+/// until ‖r‖∞ ≤ `tol_r` and the increment is at round-off (both relative to max(1, ‖x‖∞)).
+/// Returns the multipliers σ.
+fn augmented_lagrangian(
+    lu: &mut DenseLu,
+    j: &DMatrix<f64>,
+    b: &DVector<f64>,
+    alpha0: f64,
+    tol_r: f64,
+    x: &mut DVector<f64>,
+) -> DVector<f64> {
+    let mut sigma = DVector::zeros(j.nrows());
     for _ in 0..MAX_ITER {
-        let viol = &phi_q * &s.qdd + &c;
-        lambda += alpha0 * &viol;
-        let mut dqdd = -(alpha0 * (phi_q.transpose() * &viol));
-        lu.solve_in_place(&mut dqdd);
-        s.qdd += &dqdd;
-        let scale = s.qdd.amax().max(1.0);
-        if viol.amax() <= 1e-10 * scale && dqdd.amax() <= 1e-15 * scale {
+        let r = j * &*x + b;
+        sigma += alpha0 * &r;
+        let mut dx = -(alpha0 * (j.transpose() * &r));
+        lu.solve_in_place(&mut dx);
+        *x += &dx;
+        let scale = x.amax().max(1.0);
+        if r.amax() <= tol_r * scale && dx.amax() <= 1e-15 * scale {
             break;
         }
     }
-    s.lambda.copy_from(&lambda);
-    Ok(())
+    sigma
 }
