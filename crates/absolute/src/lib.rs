@@ -1,7 +1,7 @@
 //! The absolute formulation of flexmbd: natural (fully Cartesian) coordinates,
 //! basic points and unit vectors shared between bodies (García de Jalón & Bayo
 //! 1994), with floating-frame flexible bodies in natural coordinates (thesis ch. 2,
-//! methods.md §3). It compiles a [`flexmbd_model::Scene`] and implements
+//! methods.md §3). It compiles a [`flexmbd_model::PreparedScene`] and implements
 //! [`flexmbd_core::Formulation`]: planar scenes by [`Planar`], spatial scenes by
 //! [`Spatial`], both behind the [`Absolute`] enum that [`compile`] returns.
 
@@ -10,7 +10,7 @@ pub mod planar;
 pub mod spatial;
 
 use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
-use flexmbd_model::{ModelError, Scene};
+use flexmbd_model::{ModelError, PreparedScene};
 use nalgebra::DVector;
 
 pub use planar::Planar;
@@ -24,16 +24,11 @@ pub enum Absolute {
     Spatial(Box<Spatial>),
 }
 
-/// Compile a scene for the absolute formulation.
-pub fn compile(scene: &Scene) -> Result<Absolute, ModelError> {
-    let prepared = scene.prepare_bodies()?;
-    match scene.dim {
-        Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(
-            scene, prepared,
-        )?))),
-        Dim::Spatial => Ok(Absolute::Spatial(Box::new(Spatial::compile(
-            scene, prepared,
-        )?))),
+/// Compile a prepared scene for the absolute formulation.
+pub fn compile(prepared: &PreparedScene) -> Result<Absolute, ModelError> {
+    match prepared.scene().dim {
+        Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(prepared)?))),
+        Dim::Spatial => Ok(Absolute::Spatial(Box::new(Spatial::compile(prepared)?))),
     }
 }
 

@@ -35,12 +35,13 @@
 //! f = k (l − l₀) + c l̇, and their (state-dependent) tangents to K and C.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod};
-use flexmbd_core::{Request, SystemTerms};
+use flexmbd_core::{MarkerKinematics, Request, SystemTerms};
+use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{
-    Axis, BodyModel, FormulationKind, GROUND, JointKind, ModelError, MotionLaw, PreparedBody,
-    Scene, SensorKind,
+    Axis, BodyId, FormulationKind, GROUND, JointKind, MarkerId, ModelError, MotionLaw,
+    PreparedScene, SensorKind,
 };
-use nalgebra::{DMatrix, DVector, Matrix2, Matrix4, Vector2};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix4, Vector2, Vector3};
 
 use crate::flex;
 
@@ -123,22 +124,18 @@ struct Dir {
 /// A marker: a ground point, or a body point r_P = r0 + A (r̄_P + X_P y) (the node term on
 /// flexible bodies only).
 #[derive(Clone, Copy, Debug)]
-enum Mk {
+pub enum PlanarMarker {
+    /// A ground point (m, ground components).
     Ground(Vector2<f64>),
+    /// A point of a body.
     Body {
+        /// Index of the body.
         body: usize,
+        /// Position r̄_P in the body frame, undeformed (m).
         rbar: Vector2<f64>,
+        /// The FE node it sits on (flexible bodies only).
         node: Option<usize>,
     },
-}
-
-/// A linear spring–damper between two markers.
-struct Spring {
-    m1: Mk,
-    m2: Mk,
-    k: f64,
-    c: f64,
-    l0: f64,
 }
 
 enum Con {
@@ -152,14 +149,14 @@ enum Con {
     },
     /// r_P(q) − r_point = 0 for a joint point P of a body not in its basis.
     PointOnBody {
-        mk: Mk,
+        mk: PlanarMarker,
         point: PointRef,
     },
     /// Prismatic: (r_P2 − r_P1) × d₁ = 0 (`along` = None), or its driver
     /// (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0 (`along` = (s₀, s)).
     Slide {
-        p1: Mk,
-        p2: Mk,
+        p1: PlanarMarker,
+        p2: PlanarMarker,
         d1: Dir,
         along: Option<(f64, MotionLaw)>,
     },
@@ -202,8 +199,8 @@ enum Sensor2 {
     },
     /// Prismatic joint coordinate: (r_P2 − r_P1) · d₁ − s₀.
     Slide {
-        p1: Mk,
-        p2: Mk,
+        p1: PlanarMarker,
+        p2: PlanarMarker,
         d1: Dir,
         s0: f64,
     },
@@ -220,12 +217,10 @@ pub struct Planar {
     gravity: Vector2<f64>,
     pub(crate) bodies: Vec<Body2>,
     cons: Vec<Con>,
-    springs: Vec<Spring>,
+    force_elements: ForceElements<PlanarMarker>,
     /// Σ over rigid bodies of Tᵀ M_f T and Tᵀ Q_gravity, scattered (constant).
     rigid_mass: DMatrix<f64>,
     rigid_forces: DVector<f64>,
-    /// Scratch: Jacobian columns (coordinate, ∂d/∂q_i) of one spring (capacity set once).
-    cols: Vec<(usize, Vector2<f64>)>,
     ground_markers: Vec<Vector2<f64>>,
     q0: DVector<f64>,
     qd0: DVector<f64>,
@@ -268,7 +263,8 @@ fn unsupported(what: String) -> ModelError {
 
 impl Planar {
     /// Compile a planar scene.
-    pub fn compile(scene: &Scene, prepared: Vec<PreparedBody>) -> Result<Planar, ModelError> {
+    pub fn compile(prepared: &PreparedScene) -> Result<Planar, ModelError> {
+        let scene = prepared.scene();
         debug_assert_eq!(scene.solver.formulation, FormulationKind::Absolute);
         // Marker table: ground markers first, then every body's.
         let mut marker_of: Vec<(Option<usize>, usize)> = Vec::new();
@@ -431,12 +427,8 @@ impl Planar {
         let mut bodies = Vec::new();
         let mut cons = Vec::new();
         let mut qd0_pending: Vec<(usize, f64)> = Vec::new();
-        for (bi, (b, prep)) in scene.bodies.iter().zip(prepared).enumerate() {
-            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
-                file: scene.origin.clone(),
-                error: e,
-            })?;
-            flexmbd_stiffening::install(scene, &prep, &mut body)?;
+        for (bi, (b, prep)) in scene.bodies.iter().zip(prepared.bodies()).enumerate() {
+            let body = prep.body.clone();
             let nm = body.n_modes();
             let flexible = prep.flexible;
             let (o, th) = frames[bi];
@@ -457,16 +449,7 @@ impl Planar {
             let joint_markers: Vec<usize> = (0..b.markers.len())
                 .filter(|&k| in_joint[first_marker[bi] + k])
                 .collect();
-            let reference_node = match &b.model {
-                BodyModel::Beam(spec) if flexible => Some(match spec.frame {
-                    flexmbd_fe::spec::ReferenceFrame::Clamped { node } => node,
-                    flexmbd_fe::spec::ReferenceFrame::Chord { a, .. } => a,
-                    flexmbd_fe::spec::ReferenceFrame::Dofs(ref d) => {
-                        d.first().map_or(0, |d| d.node)
-                    }
-                }),
-                _ => None,
-            };
+            let reference_node = prep.reference_node;
             let mut basis_markers: Vec<usize> = Vec::new();
             let v = &b.velocity;
             let (v0, w) = (Vector2::new(v.linear.0[0], v.linear.0[1]), v.angular.0[2]);
@@ -572,7 +555,7 @@ impl Planar {
                 }
                 let point = point_at(first_marker[bi] + k, &mut uf).expect("joint point");
                 cons.push(Con::PointOnBody {
-                    mk: Mk::Body {
+                    mk: PlanarMarker::Body {
                         body: bi,
                         rbar: markers[k].1,
                         node: if flexible { markers[k].2 } else { None },
@@ -654,7 +637,7 @@ impl Planar {
                 }
             }
         };
-        let mk_of = |body: &str, marker: &str, bodies: &[Body2]| -> Mk {
+        let mk_of = |body: &str, marker: &str, bodies: &[Body2]| -> PlanarMarker {
             match body_index(body) {
                 None => {
                     let m = scene
@@ -662,7 +645,7 @@ impl Planar {
                         .iter()
                         .find(|m| m.name == marker)
                         .expect("validated");
-                    Mk::Ground(Vector2::new(m.position.0[0], m.position.0[1]))
+                    PlanarMarker::Ground(Vector2::new(m.position.0[0], m.position.0[1]))
                 }
                 Some(bi) => {
                     let b = &bodies[bi];
@@ -671,7 +654,7 @@ impl Planar {
                         .iter()
                         .position(|m| m.0 == marker)
                         .expect("validated");
-                    Mk::Body {
+                    PlanarMarker::Body {
                         body: bi,
                         rbar: b.markers[k].1,
                         node: if b.n > 0 { b.markers[k].2 } else { None },
@@ -686,10 +669,9 @@ impl Planar {
             gravity: Vector2::new(scene.gravity.0[0], scene.gravity.0[1]),
             bodies,
             cons: Vec::new(),
-            springs: Vec::new(),
+            force_elements: ForceElements::default(),
             rigid_mass: DMatrix::zeros(0, 0),
             rigid_forces: DVector::zeros(0),
-            cols: Vec::new(),
             ground_markers: scene
                 .ground
                 .iter()
@@ -752,33 +734,25 @@ impl Planar {
         }
         planar.m = cons.iter().map(Con::rows).sum();
         planar.cons = cons;
-        // Spring–dampers.
-        for force in &scene.forces {
-            let flexmbd_model::Force::SpringDamper {
-                body1,
-                marker1,
-                body2,
-                marker2,
-                stiffness,
-                damping,
-                ..
-            } = force;
-            let m1 = mk_of(body1, marker1, &planar.bodies);
-            let m2 = mk_of(body2, marker2, &planar.bodies);
-            let (r1, _, _) = planar.mk_state(&m1, &q0v, &zero);
-            let (r2, _, _) = planar.mk_state(&m2, &q0v, &zero);
-            let (r1, r2) = (
-                nalgebra::Vector3::new(r1.x, r1.y, 0.0),
-                nalgebra::Vector3::new(r2.x, r2.y, 0.0),
-            );
-            planar.springs.push(Spring {
-                m1,
-                m2,
-                k: *stiffness,
-                c: *damping,
-                l0: force.spring_free_length(&scene.origin, &r1, &r2)?,
-            });
-        }
+        // Force elements.
+        let marker_of_id = |id: MarkerId| -> PlanarMarker {
+            match id.body {
+                None => {
+                    let p = prepared.marker_position(id);
+                    PlanarMarker::Ground(Vector2::new(p.x, p.y))
+                }
+                Some(BodyId(bi)) => {
+                    let b = &planar.bodies[bi];
+                    PlanarMarker::Body {
+                        body: bi,
+                        rbar: b.markers[id.index].1,
+                        node: if b.n > 0 { b.markers[id.index].2 } else { None },
+                    }
+                }
+            }
+        };
+        planar.force_elements =
+            ForceElements::new(prepared, marker_of_id, &planar, &q0v, &zero, planar.n)?;
         // Sensors.
         for s in &scene.sensors {
             let marker_index = |body: &str, marker: &str| -> (Option<usize>, usize) {
@@ -875,7 +849,6 @@ impl Planar {
         planar.local_m = DMatrix::zeros(max_local, max_local);
         planar.local_q = DVector::zeros(max_local);
         planar.local_idx = vec![None; max_local];
-        planar.cols = Vec::with_capacity(2 * max_local);
         let mut rigid = SystemTerms::new(planar.n, 0);
         for bi in 0..planar.bodies.len() {
             if planar.bodies[bi].n == 0 {
@@ -1003,10 +976,10 @@ impl Planar {
         qd: &DVector<f64>,
     ) -> (Vector2<f64>, Vector2<f64>) {
         let mk = match body {
-            None => Mk::Ground(self.ground_markers[k]),
+            None => PlanarMarker::Ground(self.ground_markers[k]),
             Some(bi) => {
                 let b = &self.bodies[bi];
-                Mk::Body {
+                PlanarMarker::Body {
                     body: bi,
                     rbar: b.markers[k].1,
                     node: b.markers[k].2,
@@ -1021,13 +994,13 @@ impl Planar {
     /// (r_P is bilinear in (u, y)).
     fn mk_state(
         &self,
-        mk: &Mk,
+        mk: &PlanarMarker,
         q: &DVector<f64>,
         qd: &DVector<f64>,
     ) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
         match *mk {
-            Mk::Ground(p) => (p, Vector2::zeros(), Vector2::zeros()),
-            Mk::Body { body, rbar, node } => {
+            PlanarMarker::Ground(p) => (p, Vector2::zeros(), Vector2::zeros()),
+            PlanarMarker::Body { body, rbar, node } => {
                 let b = &self.bodies[body];
                 let (r0, u, r0d, ud) = self.frame(b, q, qd);
                 let (p, pd) = b.local_point(rbar, node, q, qd);
@@ -1039,8 +1012,13 @@ impl Planar {
 
     /// The non-zero columns ∂r_P/∂q_i of a marker, visited as (i, column):
     /// ∂r_P/∂(r0, u) = [I  C(r̄_P + X_P y)] times T for the basis, A X_P for the modes.
-    fn mk_columns(&self, mk: &Mk, q: &DVector<f64>, mut visit: impl FnMut(usize, Vector2<f64>)) {
-        let Mk::Body { body, rbar, node } = *mk else {
+    fn mk_columns(
+        &self,
+        mk: &PlanarMarker,
+        q: &DVector<f64>,
+        mut visit: impl FnMut(usize, Vector2<f64>),
+    ) {
+        let PlanarMarker::Body { body, rbar, node } = *mk else {
             return;
         };
         let b = &self.bodies[body];
@@ -1077,7 +1055,14 @@ impl Planar {
     }
 
     /// Slide (r_P2 − r_P1) · d₁ of a prismatic joint.
-    fn slide(&self, p1: &Mk, p2: &Mk, d1: &Dir, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
+    fn slide(
+        &self,
+        p1: &PlanarMarker,
+        p2: &PlanarMarker,
+        d1: &Dir,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> f64 {
         let (r1, _, _) = self.mk_state(p1, q, qd);
         let (r2, _, _) = self.mk_state(p2, q, qd);
         let (d, _, _) = self.direction(d1, q, qd);
@@ -1091,11 +1076,11 @@ impl Planar {
         &self,
         j: &flexmbd_model::Joint,
         axis: &flexmbd_model::V3,
-        mk_of: &impl Fn(&str, &str, &[Body2]) -> Mk,
+        mk_of: &impl Fn(&str, &str, &[Body2]) -> PlanarMarker,
         dir_of: &impl Fn(&str, &str, &[Body2]) -> Dir,
         q0: &DVector<f64>,
         file: &str,
-    ) -> Result<(Mk, Mk, Dir), ModelError> {
+    ) -> Result<(PlanarMarker, PlanarMarker, Dir), ModelError> {
         let a = Vector2::new(axis.0[0], axis.0[1]);
         let norm = a.norm();
         if !norm.is_finite() || norm <= 1e-12 || axis.0[2].abs() > 1e-9 * norm {
@@ -1225,7 +1210,7 @@ impl flexmbd_core::Formulation for Planar {
     fn constant_tangents(&self) -> bool {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
-        self.springs.is_empty()
+        self.force_elements.is_empty()
             && self
                 .bodies
                 .iter()
@@ -1380,50 +1365,11 @@ impl Planar {
                 );
             }
         }
-        if !self.springs.is_empty() {
-            self.spring_forces(q, qd, tangents, out);
+        if !self.force_elements.is_empty() {
+            let mut force_elements = std::mem::take(&mut self.force_elements);
+            force_elements.add_forces(self, q, qd, tangents, out);
+            self.force_elements = force_elements;
         }
-    }
-
-    /// Spring–dampers: with d = r_P2 − r_P1, l = |d|, n = d/l, J = ∂d/∂q and
-    /// f = k (l − l₀) + c l̇, Q −= Jᵀ f n; tangents K += Jᵀ (k n nᵀ + f/l (I − n nᵀ)) J and
-    /// C += c Jᵀ n nᵀ J. Left out of K: the terms from ∂J/∂q on flexible bodies and the
-    /// damper's ∂l̇/∂q (unsymmetric); they only slow Newton's convergence.
-    fn spring_forces(
-        &mut self,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        tangents: bool,
-        out: &mut SystemTerms,
-    ) {
-        let mut cols = std::mem::take(&mut self.cols);
-        for sp in &self.springs {
-            let (r1, v1, _) = self.mk_state(&sp.m1, q, qd);
-            let (r2, v2, _) = self.mk_state(&sp.m2, q, qd);
-            let d = r2 - r1;
-            let l = d.norm();
-            let n = d / l;
-            let f = sp.k * (l - sp.l0) + sp.c * n.dot(&(v2 - v1));
-            cols.clear();
-            self.mk_columns(&sp.m2, q, |i, c| cols.push((i, c)));
-            self.mk_columns(&sp.m1, q, |i, c| cols.push((i, -c)));
-            for &(i, c) in &cols {
-                out.forces[i] -= f * n.dot(&c);
-            }
-            if tangents {
-                let nn = n * n.transpose();
-                let km = nn * sp.k + (Matrix2::identity() - nn) * (f / l);
-                for &(i, ci) in &cols {
-                    let kc = km * ci;
-                    let cc = sp.c * n.dot(&ci);
-                    for &(j, cj) in &cols {
-                        out.stiffness[(j, i)] += cj.dot(&kc);
-                        out.damping[(j, i)] += cc * n.dot(&cj);
-                    }
-                }
-            }
-        }
-        self.cols = cols;
     }
 
     fn constraints(
@@ -1631,12 +1577,29 @@ impl Planar {
             e += 0.5 * kin;
             e += ws.potential(&b.body, r0, u, y, self.gravity);
         }
-        for sp in &self.springs {
-            let (r1, _, _) = self.mk_state(&sp.m1, q, qd);
-            let (r2, _, _) = self.mk_state(&sp.m2, q, qd);
-            let dl = (r2 - r1).norm() - sp.l0;
-            e += 0.5 * sp.k * dl * dl;
-        }
-        e
+        e + self.force_elements.potential_energy(self, q, qd)
+    }
+}
+
+impl MarkerKinematics for Planar {
+    type Marker = PlanarMarker;
+
+    fn marker_state(
+        &self,
+        marker: &PlanarMarker,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (r, v, _) = self.mk_state(marker, q, qd);
+        (Vector3::new(r.x, r.y, 0.0), Vector3::new(v.x, v.y, 0.0))
+    }
+
+    fn marker_jacobian(
+        &mut self,
+        marker: &PlanarMarker,
+        q: &DVector<f64>,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    ) {
+        self.mk_columns(marker, q, |i, c| visit(i, Vector3::new(c.x, c.y, 0.0)));
     }
 }

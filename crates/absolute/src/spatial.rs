@@ -68,7 +68,7 @@
 use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
 use flexmbd_core::{Dim, Request, SystemTerms};
 use flexmbd_model::{
-    Axis, FormulationKind, GROUND, JointKind, ModelError, MotionLaw, PreparedBody, Scene,
+    Axis, FormulationKind, GROUND, JointKind, ModelError, MotionLaw, PreparedScene, Scene,
     SensorKind,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -412,7 +412,8 @@ impl Lookup<'_> {
 
 impl Spatial {
     /// Compile a spatial scene.
-    pub fn compile(scene: &Scene, prepared: Vec<PreparedBody>) -> Result<Spatial, ModelError> {
+    pub fn compile(prepared: &PreparedScene) -> Result<Spatial, ModelError> {
+        let scene = prepared.scene();
         debug_assert_eq!(scene.solver.formulation, FormulationKind::Absolute);
         debug_assert_eq!(scene.dim, Dim::Spatial);
         if let Some(f) = scene.forces.first() {
@@ -431,12 +432,8 @@ impl Spatial {
         let mut node_rot = Vec::new();
         let mut node_trans = Vec::new();
         let g = scene.gravity.vec();
-        for (b, prep) in scene.bodies.iter().zip(prepared) {
-            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
-                file: scene.origin.clone(),
-                error: e,
-            })?;
-            flexmbd_stiffening::install(scene, &prep, &mut body)?;
+        for (b, prep) in scene.bodies.iter().zip(prepared.bodies()) {
+            let body = prep.body.clone();
             let nm = if prep.flexible { body.n_modes() } else { 0 };
             debug_assert_eq!(nm, body.n_modes());
             let a0 = b.orientation.matrix();

@@ -32,7 +32,9 @@ fn four_bar(flexible: usize) -> Scene {
 
 /// Run a scene; return the sensor rows at every step.
 fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let settings = Ali3pSettings {
         step: h,
         tol_q: scene.solver.newton_tolerance,
@@ -57,7 +59,9 @@ fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
 fn coordinate_counts_of_the_flexible_four_bar() {
     // Each flexible bar: its own unit vector (2) + 2 static + 2 normal modes; its first pin is shared.
     for k in 0..=5 {
-        let f = flexmbd_absolute::compile(&four_bar(k)).unwrap();
+        let f = flexmbd_model::PreparedScene::new(&four_bar(k))
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         assert_eq!(f.n_coordinates(), 6 + 6 * k, "{k} flexible bars");
     }
 }
@@ -123,9 +127,13 @@ fn inertia_routes_agree_on_the_flexible_four_bar() {
 fn inertia_routes_give_the_same_system_terms() {
     for mut scene in [model("flexible_pendulum.ron"), four_bar(5)] {
         scene.solver.inertia = InertiaMethod::ShapeIntegrals;
-        let mut a = flexmbd_absolute::compile(&scene).unwrap();
+        let mut a = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         scene.solver.inertia = InertiaMethod::BMatrix;
-        let mut b = flexmbd_absolute::compile(&scene).unwrap();
+        let mut b = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let (n, m) = (a.n_coordinates(), a.n_constraints());
         let (mut ta, mut tb) = (SystemTerms::new(n, m), SystemTerms::new(n, m));
         for k in 0..10 {
@@ -183,7 +191,9 @@ fn undamped_flexible_pendulum_conserves_energy() {
 /// coordinates p = (θ, y), q(p) = (cos θ, sin θ, y); K = Hessian of the potential (energy at
 /// q̇ = 0) by central differences, M = Jᵀ M(q) J.
 fn linearised_modes(scene: &Scene) -> Vec<(f64, DVector<f64>)> {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     assert_eq!(n, 6, "q = (u, y) with the pin fixed");
     let np = n - 1;

@@ -27,7 +27,9 @@ struct Run {
 
 fn run(h: f64, duration: f64) -> Run {
     let scene = scene();
-    let mut f = flexmbd_absolute::compile(&scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(&scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let mut s = Ali3p::new(
         &mut f,
         0.0,
@@ -59,7 +61,9 @@ fn run(h: f64, duration: f64) -> Run {
 
 #[test]
 fn rigid_four_bar_has_six_coordinates() {
-    let f = flexmbd_absolute::compile(&scene()).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&scene())
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     assert_eq!(f.n_coordinates(), 6);
     assert_eq!(f.n_constraints(), 5);
 }

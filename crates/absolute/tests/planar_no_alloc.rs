@@ -20,7 +20,9 @@ fn flexible_four_bar_steps_allocate_nothing() {
             b.flexible = true;
         }
         scene.solver.inertia = method;
-        let mut f = flexmbd_absolute::compile(&scene).unwrap();
+        let mut f = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
         s.step(&mut f).unwrap();
         let before = flexmbd_test_support::allocations();

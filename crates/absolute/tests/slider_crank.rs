@@ -7,7 +7,7 @@
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::{BodyModel, Driver, Force, MotionLaw, Scene};
+use flexmbd_model::{BodyModel, Driver, Force, MotionLaw, Scene, SensorKind};
 use nalgebra::DVector;
 
 use std::f64::consts::TAU;
@@ -78,7 +78,9 @@ fn sensor(scene: &Scene, name: &str) -> usize {
 
 /// Run a scene; the sensor rows at t = 0 and after every step.
 fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let settings = Ali3pSettings {
         step: h,
         ..Default::default()
@@ -122,7 +124,9 @@ fn eval(f: &mut impl Formulation, t: f64, q: &DVector<f64>, qd: &DVector<f64>) -
 /// Φ_q against central differences of Φ, Φ_t against a time difference, and the bias
 /// c = Φ̈|q̈=0 against the second difference of Φ along (q̇, 1). Returns the largest errors.
 fn derivative_errors(scene: &Scene) -> (f64, f64, f64) {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let (q0, _) = initial(&f);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let phi = |f: &mut flexmbd_absolute::Absolute, t: f64, q: &DVector<f64>| {
@@ -184,18 +188,25 @@ fn prismatic_jacobians_and_biases_match_finite_differences() {
 fn coordinate_counts() {
     let mut rigid = slider_crank();
     rigid.bodies[1].flexible = false;
+    drop_modal_sensors(&mut rigid);
     // Rigid: crank pin B, rod end C (2 + 2), slider u (2); distance ×2, unit, slide, angle.
-    let f = flexmbd_absolute::compile(&rigid).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&rigid)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     assert_eq!((f.n_coordinates(), f.n_constraints()), (6, 5));
     // Flexible rod: + its own u (2) and 4 modes, C tied by 2 equations instead of a distance.
-    let f = flexmbd_absolute::compile(&slider_crank()).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&slider_crank())
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     assert_eq!((f.n_coordinates(), f.n_constraints()), (12, 7));
     assert!(
         !f.constant_tangents(),
         "springs make K and C state-dependent"
     );
     rigid.forces.clear();
-    let f = flexmbd_absolute::compile(&rigid).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&rigid)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     assert!(f.constant_tangents());
 }
 
@@ -211,8 +222,12 @@ fn without_springs(scene: &Scene) -> Scene {
 #[test]
 fn spring_forces_are_the_gradient_of_the_spring_energy() {
     for scene in [slider_crank(), flexible_rail()] {
-        let mut a = flexmbd_absolute::compile(&scene).unwrap();
-        let mut b = flexmbd_absolute::compile(&without_springs(&scene)).unwrap();
+        let mut a = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
+        let mut b = flexmbd_model::PreparedScene::new(&without_springs(&scene))
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let (q0, _) = initial(&a);
         let n = q0.len();
         let ie = sensor(&scene, scene.sensors.last().unwrap().name.as_str());
@@ -252,6 +267,7 @@ fn spring_forces_are_the_gradient_of_the_spring_energy() {
 fn spring_tangents_match_finite_differences() {
     let mut rigid = slider_crank();
     rigid.bodies[1].flexible = false;
+    drop_modal_sensors(&mut rigid);
     let Force::SpringDamper { damping, .. } = &mut rigid.forces[0];
     *damping = 0.0;
     // A second spring, off the rail: crank pin to the wall, pre-stressed.
@@ -272,8 +288,12 @@ fn spring_tangents_match_finite_differences() {
     }
     damped.bodies[1].flexible = true;
     for (scene, check_k) in [(rigid, true), (damped, false), (flexible_rail(), false)] {
-        let mut a = flexmbd_absolute::compile(&scene).unwrap();
-        let mut b = flexmbd_absolute::compile(&without_springs(&scene)).unwrap();
+        let mut a = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
+        let mut b = flexmbd_model::PreparedScene::new(&without_springs(&scene))
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let (q0, _) = initial(&a);
         let n = q0.len();
         for k in 0..3 {
@@ -327,7 +347,8 @@ fn zero_length_spring_is_refused() {
         damping: 0.0,
         free_length: None,
     });
-    let Err(e) = flexmbd_absolute::compile(&s) else {
+    let Err(e) = flexmbd_model::PreparedScene::new(&s).and_then(|p| flexmbd_absolute::compile(&p))
+    else {
         panic!("a zero-length spring was accepted")
     };
     let msg = e.to_string();
@@ -344,7 +365,8 @@ fn zero_prismatic_axis_is_refused() {
     s.joints[3].kind = flexmbd_model::JointKind::Prismatic {
         axis: flexmbd_model::V3([0.0, 0.0, 0.0]),
     };
-    let Err(e) = flexmbd_absolute::compile(&s) else {
+    let Err(e) = flexmbd_model::PreparedScene::new(&s).and_then(|p| flexmbd_absolute::compile(&p))
+    else {
         panic!("a zero axis was accepted")
     };
     assert!(
@@ -371,7 +393,21 @@ fn rigid(mut s: Scene) -> Scene {
     for b in &mut s.bodies {
         b.flexible = false;
     }
+    drop_modal_sensors(&mut s);
     s
+}
+
+/// A rigid body has no modal coordinates to sense (a scene that names one is refused).
+fn drop_modal_sensors(s: &mut Scene) {
+    let rigid: Vec<String> = s
+        .bodies
+        .iter()
+        .filter(|b| !b.flexible)
+        .map(|b| b.name.clone())
+        .collect();
+    s.sensors.retain(
+        |sensor| !matches!(&sensor.kind, SensorKind::Modal { body, .. } if rigid.contains(body)),
+    );
 }
 
 /// (a) Rigid bodies, crank driven at constant speed: the slider follows

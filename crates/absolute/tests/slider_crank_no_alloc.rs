@@ -18,7 +18,9 @@ fn slider_crank_steps_allocate_nothing() {
         .unwrap();
         scene.bodies[0].flexible = true;
         scene.solver.inertia = method;
-        let mut f = flexmbd_absolute::compile(&scene).unwrap();
+        let mut f = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
         s.step(&mut f).unwrap();
         let before = flexmbd_test_support::allocations();

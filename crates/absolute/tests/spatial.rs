@@ -35,7 +35,9 @@ struct RunOut {
 }
 
 fn run_with(scene: &Scene, h: f64, duration: f64, tol: f64) -> RunOut {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let settings = Ali3pSettings {
         step: h,
         tol_q: tol,
@@ -164,7 +166,9 @@ fn move_rigidly(scene: &Scene, q: &mut DVector<f64>) {
 /// Φ_q, Φ_t and c of a scene against differences, at perturbed states; returns the
 /// mobility at the (rigidly moved) initial configuration and the largest errors.
 fn check_derivatives(scene: &Scene, name: &str) -> (usize, f64, f64, f64) {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let (mut q0, mut qd0) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q0, &mut qd0);
@@ -372,7 +376,9 @@ fn sensors_are_consistent() {
 #[test]
 fn rigid_double_pendulum_conserves_energy_to_second_order() {
     let scene = model("double_pendulum_3d.ron");
-    let f = flexmbd_absolute::compile(&scene).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     assert_eq!((n, m), (24, 20));
     let mut drifts = Vec::new();
@@ -419,9 +425,9 @@ fn rigid_double_pendulum_conserves_energy_to_second_order() {
 fn four_bar_3d(planar: &Scene) -> Scene {
     let mut s = planar.clone();
     s.dim = flexmbd_core::Dim::Spatial;
-    let prepared = planar.prepare_bodies().unwrap();
-    for (b, p) in s.bodies.iter_mut().zip(prepared) {
-        let body = flexmbd_body::FlexibleBody::new(&p.reduced).unwrap();
+    let prepared = flexmbd_model::PreparedScene::new(planar).unwrap();
+    for (b, p) in s.bodies.iter_mut().zip(prepared.bodies()) {
+        let body = &p.body;
         let (m, c) = (body.mass(), body.center_of_mass());
         let pz = body.second_moment();
         // About the centre of mass: I_zz = P_xx + P_yy − m (c_x² + c_y²).
@@ -447,7 +453,9 @@ fn four_bar_3d(planar: &Scene) -> Scene {
 fn four_bar_in_3d_reproduces_the_planar_run() {
     let planar = model("double_four_bar.ron");
     let spatial = four_bar_3d(&planar);
-    let f = flexmbd_absolute::compile(&spatial).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&spatial)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     eprintln!(
         "four-bar in 3D: {} coordinates, {} constraints",
         f.n_coordinates(),
@@ -499,7 +507,9 @@ fn four_bar_in_3d_reproduces_the_planar_run() {
 #[test]
 fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
     let mut scene = model("flexible_pendulum_3d.ron");
-    let f = flexmbd_absolute::compile(&scene).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     assert_eq!((f.n_coordinates(), f.n_constraints()), (18, 9));
     let (h, t) = (1e-3, 3.0);
     let mut runs = Vec::new();
@@ -552,13 +562,15 @@ fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
 #[test]
 fn flexible_tangents_are_the_modal_blocks() {
     let scene = model("flexible_pendulum_3d.ron");
-    let mut f = flexmbd_absolute::compile(&scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(&scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q, &mut qd);
     let out = eval(&mut f, 0.0, &q, &qd);
-    let prepared = scene.prepare_bodies().unwrap();
-    let k = &prepared[0].reduced.k_ff;
+    let prepared = flexmbd_model::PreparedScene::new(&scene).unwrap();
+    let k = &prepared.bodies()[0].reduced.k_ff;
     assert!((out.stiffness.view((12, 12), (6, 6)) - k).amax() < 1e-9 * k.amax());
     assert!(out.stiffness.view((0, 0), (12, 18)).amax() == 0.0);
     assert!(out.damping.amax() == 0.0);
@@ -568,7 +580,7 @@ fn flexible_tangents_are_the_modal_blocks() {
 // Bad input.
 
 fn compile_err(s: &Scene) -> String {
-    match flexmbd_absolute::compile(s) {
+    match flexmbd_model::PreparedScene::new(s).and_then(|p| flexmbd_absolute::compile(&p)) {
         Ok(_) => panic!("scene `{}` compiled", s.name),
         Err(e) => e.to_string(),
     }

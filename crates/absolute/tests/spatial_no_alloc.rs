@@ -32,14 +32,13 @@ fn spatial_steps_do_not_allocate() {
     // FS0 (methods.md §6.3): the 3D spin-up beam, both inertia routes.
     let mut fs0 = model("spin_up_beam_3d.ron");
     fs0.solver.stiffening = flexmbd_model::Stiffening::Foreshortening;
-    let mut fs0 = flexmbd_stiffening::prepare_scene(&fs0)
-        .unwrap()
-        .into_owned();
     scenes.push(fs0.clone());
     fs0.solver.inertia = InertiaMethod::BMatrix;
     scenes.push(fs0);
     for scene in &scenes {
-        let mut f = flexmbd_absolute::compile(scene).unwrap();
+        let mut f = flexmbd_model::PreparedScene::new(scene)
+            .and_then(|p| flexmbd_absolute::compile(&p))
+            .unwrap();
         let mut s = Ali3p::new(
             &mut f,
             0.0,

@@ -5,8 +5,10 @@
 //! (`fe` → `body` → formulations → integrators), so every crate can use it.
 
 pub mod formulation;
+pub mod kinematics;
 
 pub use formulation::{Formulation, Request, SystemTerms};
+pub use kinematics::MarkerKinematics;
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};

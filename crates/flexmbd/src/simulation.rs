@@ -14,7 +14,7 @@ use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, IntegratorError, StartFrom, StaticError, StaticSettings, solve_static,
 };
-use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Stiffening};
+use flexmbd_model::{FormulationKind, InitialState, ModelError, PreparedScene, Scene, Stiffening};
 use nalgebra::DVector;
 use serde::Serialize;
 
@@ -103,16 +103,15 @@ impl History {
     }
 }
 
-/// Compile a scene with the formulation its solver settings name.
+/// Compile a scene with the formulation its solver settings name: prepare it (validation,
+/// stiffening rewrite, reduced bodies, resolved names), then build the formulation.
 pub fn compile(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
-    // Stiffening (flexmbd-stiffening): FNL1/FNL2 models are installed by the
-    // formulations; the scene transformation (FNL2 axial basis) is done here.
-    let scene = &*flexmbd_stiffening::prepare_scene(scene)?;
+    let prepared = PreparedScene::new(scene)?;
     let inner: Box<dyn Formulation> = match scene.solver.formulation {
-        FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(scene)?),
-        FormulationKind::Relative => Box::new(flexmbd_relative::compile(scene)?),
+        FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
+        FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
     };
-    let offsets = scene.sensor_offsets();
+    let offsets = prepared.sensor_offsets().to_vec();
     if offsets.iter().all(|&o| o == 0.0) {
         return Ok(inner);
     }

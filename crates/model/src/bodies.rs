@@ -1,33 +1,48 @@
-//! From a scene body to the plain data of FE preprocessing: a [`ReducedBody`] for
-//! every body (rigid bodies and beams run rigid have zero modes), and the FE node
-//! each marker of a flexible body sits on.
+//! From a scene body to a body ready to run: the plain data of FE preprocessing (a
+//! [`ReducedBody`] for every body; rigid bodies and beams run rigid have zero modes), the
+//! FE node each marker of a flexible body sits on, and the run-time [`FlexibleBody`] with
+//! the elastic model of the scene's stiffening method installed (FNL1, FNL2 from
+//! `flexmbd-stiffening`; FS0's shortening data attached, methods.md §6.2–§6.3).
 
+use flexmbd_body::{ElasticModel, FlexibleBody};
 use flexmbd_core::InvalidValue;
-use flexmbd_fe::{ReducedBody, reduce};
+use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
+use flexmbd_stiffening::Nonlinear;
 
 use crate::error::ModelError;
-use crate::scene::{Body, BodyModel, Scene};
+use crate::scene::{Body, BodyModel, Scene, Stiffening};
 
 /// The preprocessed form of one scene body.
 #[derive(Clone, Debug)]
 pub struct PreparedBody {
-    /// Index in `Scene::bodies`.
+    /// Index in `Scene::bodies` of the prepared (rewritten) scene.
     pub index: usize,
-    /// Reduced data (zero modes when rigid).
+    /// Reduced data (zero modes when rigid), with the FS0 data when foreshortened.
     pub reduced: ReducedBody,
+    /// The run-time body, its elastic model installed.
+    pub body: FlexibleBody,
     /// True when the body has modal coordinates.
     pub flexible: bool,
     /// For each marker of the body, the FE node it sits on (flexible bodies only).
     pub marker_nodes: Vec<Option<usize>>,
+    /// The FE node the floating frame is attached to (flexible beams only): the clamped
+    /// node, the chord frame's pinned node, or the first node of an explicit DOF set.
+    pub reference_node: Option<usize>,
 }
 
 impl Scene {
-    /// Preprocess every body (FE reduction, rigid mass models).
-    pub fn prepare_bodies(&self) -> Result<Vec<PreparedBody>, ModelError> {
+    /// Preprocess every body (FE reduction, rigid mass models, elastic models). The scene
+    /// must already be rewritten for its stiffening method: use
+    /// [`PreparedScene::new`](crate::PreparedScene::new), which does both.
+    pub(crate) fn prepare_bodies(&self) -> Result<Vec<PreparedBody>, ModelError> {
         self.bodies
             .iter()
             .enumerate()
-            .map(|(i, b)| self.prepare_body(i, b))
+            .map(|(i, b)| {
+                let mut prepared = self.prepare_body(i, b)?;
+                self.install_stiffening(&mut prepared)?;
+                Ok(prepared)
+            })
             .collect()
     }
 
@@ -54,9 +69,11 @@ impl Scene {
                         })?;
                 Ok(PreparedBody {
                     index,
+                    body: self.run_time_body(&reduced)?,
                     reduced,
                     flexible: false,
                     marker_nodes: vec![None; b.markers.len()],
+                    reference_node: None,
                 })
             }
             BodyModel::Beam(spec) => {
@@ -95,13 +112,54 @@ impl Scene {
                     }
                     marker_nodes.push(node);
                 }
+                let flexible = b.flexible && reduced.n_modes() > 0;
+                let reference_node = flexible.then(|| match &spec.frame {
+                    ReferenceFrame::Clamped { node } => *node,
+                    ReferenceFrame::Chord { a, .. } => *a,
+                    ReferenceFrame::Dofs(dofs) => dofs.first().map_or(0, |d| d.node),
+                });
                 Ok(PreparedBody {
                     index,
-                    flexible: b.flexible && reduced.n_modes() > 0,
+                    body: self.run_time_body(&reduced)?,
+                    flexible,
                     reduced,
                     marker_nodes,
+                    reference_node,
                 })
             }
         }
+    }
+
+    fn run_time_body(&self, reduced: &ReducedBody) -> Result<FlexibleBody, ModelError> {
+        FlexibleBody::new(reduced).map_err(|error| ModelError::Invalid {
+            file: self.origin.clone(),
+            error,
+        })
+    }
+
+    /// Install the elastic model of `solver.stiffening` on a flexible body (a no-op for rigid
+    /// bodies and for `Linear`), and FS0's shortening data.
+    fn install_stiffening(&self, prepared: &mut PreparedBody) -> Result<(), ModelError> {
+        if !prepared.flexible || prepared.body.n_modes() == 0 {
+            return Ok(());
+        }
+        if let Some(model) = elastic_model(self.solver.stiffening, &prepared.reduced) {
+            prepared.body.set_elastic_model(model);
+        }
+        if self.solver.stiffening == Stiffening::Foreshortening {
+            self.install_foreshortening(prepared)?;
+        }
+        Ok(())
+    }
+}
+
+/// The elastic model that `stiffening` gives a reduced body (`None`: keep the body's
+/// linear model; FS0 keeps it too, its stiffening is in the kinematics; a substructured
+/// scene's bodies are linear).
+fn elastic_model(stiffening: Stiffening, body: &ReducedBody) -> Option<Box<dyn ElasticModel>> {
+    match stiffening {
+        Stiffening::Fnl1 => Some(Box::new(Nonlinear::fnl1(body))),
+        Stiffening::Fnl2 => Some(Box::new(Nonlinear::fnl2(body))),
+        Stiffening::Linear | Stiffening::Foreshortening | Stiffening::Substructuring(_) => None,
     }
 }

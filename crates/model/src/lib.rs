@@ -1,14 +1,21 @@
 //! The flexmbd scene (`models/*.ron`): bodies (rigid, or flexible beams), joints,
 //! force elements, drivers, sensors and solver settings, described once and
 //! compiled by either formulation. Loading validates everything and reports
-//! errors with the file, the line and the field; units are SI.
+//! errors with the file, the line and the field; units are SI. [`PreparedScene`] is the
+//! stage every formulation starts from: the scene validated, rewritten for its stiffening
+//! method, its bodies reduced and built, its names resolved into typed ids.
 
 pub mod bodies;
 pub mod error;
+pub mod force_elements;
+mod foreshortening;
 pub mod load;
+pub mod prepared;
+pub mod rewrite;
 pub mod scene;
 
 pub use bodies::PreparedBody;
 pub use error::ModelError;
 pub use load::parse_set;
+pub use prepared::{BodyId, JointId, MarkerId, MarkerPair, PreparedScene, SensorTarget};
 pub use scene::*;

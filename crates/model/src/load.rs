@@ -306,7 +306,7 @@ impl Scene {
         Ok(())
     }
 
-    fn missing(&self, item: String, kind: &'static str, name: &str) -> ModelError {
+    pub(crate) fn missing(&self, item: String, kind: &'static str, name: &str) -> ModelError {
         let known: Vec<&str> = match kind {
             "body" => std::iter::once(GROUND)
                 .chain(self.bodies.iter().map(|b| b.name.as_str()))

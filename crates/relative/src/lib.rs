@@ -53,9 +53,9 @@ pub mod topology;
 
 pub use system::Relative;
 
-use flexmbd_model::{ModelError, Scene};
+use flexmbd_model::{ModelError, PreparedScene};
 
-/// Compile a scene (planar or spatial) for the relative formulation.
-pub fn compile(scene: &Scene) -> Result<Relative, ModelError> {
-    Relative::compile(scene)
+/// Compile a prepared scene (planar or spatial) for the relative formulation.
+pub fn compile(prepared: &PreparedScene) -> Result<Relative, ModelError> {
+    Relative::compile(prepared)
 }

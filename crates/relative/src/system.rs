@@ -15,7 +15,7 @@
 
 use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod};
 use flexmbd_core::{Dim, Request, SystemTerms};
-use flexmbd_model::{JointKind, ModelError, MotionLaw, Scene, SensorKind};
+use flexmbd_model::{JointKind, ModelError, MotionLaw, PreparedScene, Scene, SensorKind};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Unit, Vector2, Vector3, Vector6};
 
 use crate::springs::{Spring, Springs};
@@ -212,17 +212,13 @@ fn angle_of(a: &Matrix3<f64>) -> f64 {
 
 impl Relative {
     /// Compile a scene (planar or spatial) for the relative formulation.
-    pub fn compile(scene: &Scene) -> Result<Relative, ModelError> {
+    pub fn compile(prepared: &PreparedScene) -> Result<Relative, ModelError> {
+        let scene = prepared.scene();
         let dim = scene.dim;
-        let prepared = scene.prepare_bodies()?;
         let mut infos = Vec::new();
         let mut flex = Vec::new();
-        for (b, prep) in scene.bodies.iter().zip(&prepared) {
-            let mut body = FlexibleBody::new(&prep.reduced).map_err(|e| ModelError::Invalid {
-                file: scene.origin.clone(),
-                error: e,
-            })?;
-            flexmbd_stiffening::install(scene, prep, &mut body)?;
+        for (b, prep) in scene.bodies.iter().zip(prepared.bodies()) {
+            let body = prep.body.clone();
             let n = if prep.flexible { body.n_modes() } else { 0 };
             if !prep.flexible && body.n_modes() > 0 {
                 return Err(unsupported(format!(

@@ -41,7 +41,9 @@ fn dense_r(f: &mut Relative, z: &DVector<f64>) -> Vec<DMatrix<f64>> {
 }
 
 fn check_assembly(scene: &Scene) {
-    let mut f = flexmbd_relative::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     for k in 0..4 {
         let (z, zd) = state(n, k);
@@ -76,7 +78,9 @@ fn check_assembly(scene: &Scene) {
 
 /// Q = −Ṁ ż + ∂T/∂z − ∂V/∂z with T = ½ żᵀ M(z) ż and V the gravity and elastic potential.
 fn check_lagrange(scene: &Scene) {
-    let mut f = flexmbd_relative::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     let zero = DVector::zeros(n);
     for k in 0..3 {
@@ -104,7 +108,9 @@ fn check_lagrange(scene: &Scene) {
 
 /// Φ_z and c against differences of Φ along z(t) = z + t ż.
 fn check_constraints(scene: &Scene) {
-    let mut f = flexmbd_relative::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     for k in 0..3 {
         let (z, zd) = state(n, k + 3);
@@ -154,7 +160,9 @@ fn constraint_jacobian_and_bias_match_differences() {
 #[test]
 fn coordinate_counts_of_the_flexible_four_bar() {
     for k in 0..=5 {
-        let f = flexmbd_relative::compile(&four_bar(k)).unwrap();
+        let f = flexmbd_model::PreparedScene::new(&four_bar(k))
+            .and_then(|p| flexmbd_relative::compile(&p))
+            .unwrap();
         eprintln!(
             "{k} flexible bars: {} coordinates, {} constraints",
             f.n_coordinates(),

@@ -12,7 +12,7 @@ fn bodies_not_reaching_the_ground_are_refused() {
     // removing every ground joint leaves the mechanism floating.
     s.joints.retain(|j| j.body1 != "ground");
     s.drivers.clear();
-    match flexmbd_relative::compile(&s) {
+    match flexmbd_model::PreparedScene::new(&s).and_then(|p| flexmbd_relative::compile(&p)) {
         Err(ModelError::Unsupported(m)) => {
             eprintln!("{m}");
             assert!(m.contains("do not reach the ground"), "{m}");
@@ -29,7 +29,9 @@ fn a_body_without_joints_is_a_floating_base_in_free_fall() {
     s.sensors
         .retain(|x| x.name == "tip_y" || x.name == "energy");
     s.bodies[0].flexible = false;
-    let f = flexmbd_relative::compile(&s).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&s)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     assert_eq!((f.n_coordinates(), f.n_constraints()), (3, 0));
     let (rows, _) = run_relative(&s, 1e-3, 1.0, 1000);
     let fall = rows[1][0] - rows[0][0];
@@ -51,7 +53,7 @@ fn a_spring_of_zero_length_is_refused() {
         damping: 0.0,
         free_length: None,
     });
-    match flexmbd_relative::compile(&s) {
+    match flexmbd_model::PreparedScene::new(&s).and_then(|p| flexmbd_relative::compile(&p)) {
         Err(e @ ModelError::Invalid { .. }) => {
             let m = e.to_string();
             assert!(m.contains("forces[k]") && m.contains("coincide"), "{m}");
@@ -75,8 +77,12 @@ fn redundant_closures_run_and_inconsistent_ones_are_refused() {
         redundant.joints.push(twin);
     }
     let (fa, fb) = (
-        flexmbd_relative::compile(&base).unwrap(),
-        flexmbd_relative::compile(&redundant).unwrap(),
+        flexmbd_model::PreparedScene::new(&base)
+            .and_then(|p| flexmbd_relative::compile(&p))
+            .unwrap(),
+        flexmbd_model::PreparedScene::new(&redundant)
+            .and_then(|p| flexmbd_relative::compile(&p))
+            .unwrap(),
     );
     assert!(fb.n_constraints() > fa.n_constraints());
     let (a, _) = run_relative(&base, 1e-3, 1.0, 100);
@@ -104,7 +110,9 @@ fn redundant_closures_run_and_inconsistent_ones_are_refused() {
         .unwrap()
         .position
         .0[0] = 5.0;
-    let mut f = flexmbd_relative::compile(&bad).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(&bad)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     let err = flexmbd_integrators::Ali3p::new(&mut f, 0.0, settings(&bad, 1e-3))
         .err()
         .expect("an inconsistent loop must not start")

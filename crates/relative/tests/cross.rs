@@ -139,9 +139,17 @@ fn projections_do_not_amplify_round_off() {
         }
         let compile = |s: &Scene| -> Box<dyn flexmbd_core::Formulation> {
             if relative {
-                Box::new(flexmbd_relative::compile(s).unwrap())
+                Box::new(
+                    flexmbd_model::PreparedScene::new(s)
+                        .and_then(|p| flexmbd_relative::compile(&p))
+                        .unwrap(),
+                )
             } else {
-                Box::new(flexmbd_absolute::compile(s).unwrap())
+                Box::new(
+                    flexmbd_model::PreparedScene::new(s)
+                        .and_then(|p| flexmbd_absolute::compile(&p))
+                        .unwrap(),
+                )
             }
         };
         let (mut f1, mut f2) = (compile(&s), compile(&s));

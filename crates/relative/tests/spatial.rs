@@ -13,9 +13,9 @@ use nalgebra::{DMatrix, DVector};
 fn four_bar_3d(planar: &Scene) -> Scene {
     let mut s = planar.clone();
     s.dim = flexmbd_core::Dim::Spatial;
-    let prepared = planar.prepare_bodies().unwrap();
-    for (b, p) in s.bodies.iter_mut().zip(prepared) {
-        let body = flexmbd_body::FlexibleBody::new(&p.reduced).unwrap();
+    let prepared = flexmbd_model::PreparedScene::new(planar).unwrap();
+    for (b, p) in s.bodies.iter_mut().zip(prepared.bodies()) {
+        let body = &p.body;
         let (m, c) = (body.mass(), body.center_of_mass());
         let pz = body.second_moment();
         let izz = pz[(0, 0)] + pz[(1, 1)] - m * (c.x * c.x + c.y * c.y);
@@ -94,7 +94,9 @@ fn state(n: usize, k: usize) -> (DVector<f64>, DVector<f64>) {
 }
 
 fn check_terms(scene: &Scene) {
-    let mut f = flexmbd_relative::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     let n = f.n_coordinates();
     let zero = DVector::zeros(n);
     for k in 0..3 {
@@ -167,7 +169,9 @@ fn spatial_terms_match_dense_products_lagrange_and_differences() {
 #[test]
 fn double_pendulum_3d_agrees_with_natural_coordinates() {
     let s = model("double_pendulum_3d.ron");
-    let f = flexmbd_relative::compile(&s).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&s)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     assert_eq!((f.n_coordinates(), f.n_constraints()), (4, 0));
     let d: Vec<f64> = [2e-3f64, 1e-3, 5e-4]
         .iter()
@@ -203,7 +207,9 @@ fn double_pendulum_3d_agrees_with_natural_coordinates() {
 fn spatial_four_bar_reproduces_the_planar_run() {
     let planar = four_bar(0);
     let spatial = four_bar_3d(&planar);
-    let f = flexmbd_relative::compile(&spatial).unwrap();
+    let f = flexmbd_model::PreparedScene::new(&spatial)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     eprintln!(
         "four-bar in 3D: {} coordinates, {} constraints",
         f.n_coordinates(),
@@ -233,7 +239,9 @@ fn flexible_pendulum_3d_conserves_energy() {
         (model("flexible_pendulum_3d.ron"), 5e-4),
         (flexible_chain_3d(), 1.25e-4),
     ] {
-        let f = flexmbd_relative::compile(&scene).unwrap();
+        let f = flexmbd_model::PreparedScene::new(&scene)
+            .and_then(|p| flexmbd_relative::compile(&p))
+            .unwrap();
         let ie = scene
             .sensors
             .iter()

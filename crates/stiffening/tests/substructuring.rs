@@ -11,7 +11,7 @@ use flexmbd::model::{BodyModel, FormulationKind, JointKind, Scene, SensorKind, S
 use flexmbd::simulation::{compile, run};
 use flexmbd_ancf::{CableSpec, History, run_spin_up};
 use flexmbd_core::Dim;
-use flexmbd_stiffening::substructure;
+use flexmbd_model::rewrite::substructure;
 
 fn scene_2d() -> Scene {
     let path = concat!(

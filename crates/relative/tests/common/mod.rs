@@ -79,11 +79,15 @@ pub fn run_with<F: Formulation>(
 pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
     let mut s = scene.clone();
     s.solver.formulation = FormulationKind::Relative;
-    let mut f = flexmbd_relative::compile(&s).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(&s)
+        .and_then(|p| flexmbd_relative::compile(&p))
+        .unwrap();
     run_with(&mut f, &s, h, duration, every)
 }
 
 pub fn run_absolute(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let mut f = flexmbd_absolute::compile(scene).unwrap();
+    let mut f = flexmbd_model::PreparedScene::new(scene)
+        .and_then(|p| flexmbd_absolute::compile(&p))
+        .unwrap();
     run_with(&mut f, scene, h, duration, every)
 }

@@ -1,0 +1,39 @@
+//! The kinematic query a formulation answers for the elements written once over it: force
+//! elements (`flexmbd_model::force_elements`) and, later, sensors and inputs.
+//!
+//! An element names the formulation's markers by the formulation's own handle
+//! ([`MarkerKinematics::Marker`], resolved once when the scene is compiled) and asks, at a
+//! state (q, q̇):
+//!
+//! - the marker's position r_P and velocity ṙ_P (ground components; z = 0 in a planar
+//!   scene);
+//! - the non-zero columns ∂r_P/∂q_i of the marker's position Jacobian, so that a force F on
+//!   the marker adds Q_i += ∂r_P/∂q_i · F (the virtual work F · δr_P, methods.md §2.6).
+//!
+//! A formulation whose kinematics are recursive (the relative one) answers from its last
+//! kinematic pass, which must be at (q, q̇): it calls the elements after that pass.
+
+use nalgebra::{DVector, Vector3};
+
+/// Marker positions, velocities and Jacobian columns of a formulation.
+pub trait MarkerKinematics {
+    /// The formulation's handle of a marker.
+    type Marker;
+
+    /// Position r_P (m) and velocity ṙ_P (m/s) of `marker` at (q, q̇), ground components.
+    fn marker_state(
+        &self,
+        marker: &Self::Marker,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>);
+
+    /// Visit the non-zero columns (i, ∂r_P/∂q_i) of `marker` at q. A coordinate visited twice
+    /// has the sum of its columns.
+    fn marker_jacobian(
+        &mut self,
+        marker: &Self::Marker,
+        q: &DVector<f64>,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    );
+}

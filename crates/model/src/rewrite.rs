@@ -1,0 +1,317 @@
+//! The scene rewrites a stiffening method asks for (thesis ch. 4; methods.md §6), done once
+//! by [`PreparedScene::new`](crate::PreparedScene::new) before any formulation sees the scene:
+//!
+//! - FNL2 ([`complete_axial_basis`]): a static mode (Craig–Bampton boundary DOF) for the axial
+//!   DOF `Ux` of every node but the frame node of every flexible straight beam along body x,
+//!   `axial_modes` set to 0 (§6.2 correction: FNL2 locks without the complete axial basis). The
+//!   modal-coordinate count changes; `Modal` sensors are re-pointed to the same mode (normal
+//!   modes move behind the added static modes), or refused when the original basis had axial
+//!   normal modes.
+//! - FS0 ([`drop_axial_modes`], §6.3): no axial modes on any flexible beam; its frame must be
+//!   clamped at the root node 0.
+//! - Substructuring SBn ([`substructure`], §6.4): every flexible straight beam becomes n
+//!   linear substructures joined by `Rigid` (bracket) joints.
+
+use std::borrow::Cow;
+
+use flexmbd_fe::{Dof, NodeDof, ReferenceFrame};
+use nalgebra::Vector3;
+
+use crate::error::ModelError;
+use crate::scene::{
+    Body, BodyModel, Force, FormulationKind, Joint, JointKind, Marker, Scene, SensorKind,
+    Stiffening, V3,
+};
+
+pub(crate) fn refuse_fs0(scene: &Scene, what: String) -> ModelError {
+    ModelError::Unsupported(format!("{}: foreshortening (FS0): {what}", scene.origin))
+}
+
+/// The scene to compile for its stiffening choice: FNL2 completes the axial basis of
+/// flexible straight beams; FS0 drops the axial modes; SBn splits every flexible beam.
+pub fn rewrite_for_stiffening(scene: &Scene) -> Result<Cow<'_, Scene>, ModelError> {
+    match scene.solver.stiffening {
+        Stiffening::Linear | Stiffening::Fnl1 => Ok(Cow::Borrowed(scene)),
+        Stiffening::Fnl2 => complete_axial_basis(scene).map(Cow::Owned),
+        Stiffening::Foreshortening => drop_axial_modes(scene).map(Cow::Owned),
+        Stiffening::Substructuring(n) => substructure(scene, n).map(Cow::Owned),
+    }
+}
+
+/// FNL2's axial basis (methods.md §6.2 correction): every node's `Ux` but the frame
+/// node's becomes a static mode of every flexible beam (straight, along body x,
+/// clamped frame).
+pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
+    let mut out = scene.clone();
+    for b in out.bodies.iter_mut() {
+        let BodyModel::Beam(spec) = &mut b.model else {
+            continue;
+        };
+        if !b.flexible {
+            continue;
+        }
+        let straight = spec
+            .geometry
+            .points
+            .iter()
+            .all(|p| p.iter().skip(1).all(|c| *c == 0.0));
+        let ReferenceFrame::Clamped { node: frame } = spec.frame else {
+            return Err(ModelError::Unsupported(format!(
+                "{}: body `{}`: FNL2 needs a clamped frame (methods.md §6)",
+                scene.origin, b.name
+            )));
+        };
+        if !straight {
+            return Err(ModelError::Unsupported(format!(
+                "{}: body `{}`: FNL2 needs a straight beam along body x (methods.md §6)",
+                scene.origin, b.name
+            )));
+        }
+        // The axial normal modes are replaced by the complete static basis.
+        let (n_static, had_axial) = (spec.boundary.len(), spec.axial_modes > 0);
+        spec.axial_modes = 0;
+        for node in 0..spec.n_nodes() {
+            let nd = NodeDof { node, dof: Dof::Ux };
+            if node != frame && !spec.boundary.contains(&nd) {
+                spec.boundary.push(nd);
+            }
+        }
+        let added = spec.boundary.len() - n_static;
+        // Modal sensors keep naming the same mode: static modes keep their index, normal
+        // modes move behind the added static modes. With axial normal modes in the original
+        // basis (interleaved with the bending ones by frequency) the map needs the
+        // eigen-solution, so such sensors are refused rather than silently re-pointed.
+        for sensor in out.sensors.iter_mut() {
+            let SensorKind::Modal { body, index } = &mut sensor.kind else {
+                continue;
+            };
+            if *body != b.name || *index < n_static {
+                continue;
+            }
+            if had_axial {
+                return Err(ModelError::Unsupported(format!(
+                    "{}: sensor `{}`: modal index {} of body `{}` names a normal mode, and FNL2 \
+                     replaces that body's axial modes (axial_modes > 0) by static modes, so the \
+                     normal modes are renumbered; use a Position sensor or run without axial_modes",
+                    scene.origin, sensor.name, index, b.name
+                )));
+            }
+            *index += added;
+        }
+    }
+    Ok(out)
+}
+
+/// Substructuring SBn (methods.md §6.4, scenes.md §5): every flexible beam (straight along
+/// body x, frame clamped at node 0, one segment) becomes n bodies `{name}_1` …
+/// `{name}_n`, each a 2-element beam (whatever the original mesh; markers must sit on
+/// the new nodes), frame clamped at its inner node, static modes of
+/// every DOF of its outer node (2D: u, v, θ; 3D: 6) and one fixed-interface mode per
+/// bending plane (3D: 2), linear elasticity; consecutive bodies are joined by `Rigid`
+/// joints `{name}_bracket_k` between `outer` and `inner` markers. Markers, joints and
+/// sensors naming the beam move to the substructure that holds the point (the root to
+/// the first, a point on an interface to the inner end of the outer body, the tip to the
+/// last); a sensor frame naming the beam becomes the first substructure's frame, which is
+/// the beam's floating frame. `Modal` sensors and initial modes of a split beam are refused.
+pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
+    let refuse = |what: String| Err(ModelError::Unsupported(format!("{}: {what}", scene.origin)));
+    if n == 0 {
+        return refuse("substructuring needs n ≥ 1 substructures".into());
+    }
+    if scene.solver.formulation != FormulationKind::Relative {
+        return refuse(format!(
+            "substructuring SB{n} runs in the relative formulation only (methods.md §6.4); \
+             use --formulation relative"
+        ));
+    }
+    let mut out = scene.clone();
+    out.solver.stiffening = Stiffening::Linear;
+    out.bodies.clear();
+    out.joints = scene.joints.clone();
+    // (old body, old marker) → (new body, new marker name)
+    let mut moved: Vec<(String, String, String, String)> = Vec::new();
+    let mut first_of: Vec<(String, String)> = Vec::new();
+    for b in &scene.bodies {
+        let BodyModel::Beam(spec) = &b.model else {
+            out.bodies.push(b.clone());
+            continue;
+        };
+        if !b.flexible {
+            out.bodies.push(b.clone());
+            continue;
+        }
+        let pts = &spec.geometry.points;
+        let straight = pts.len() == 2
+            && pts[0].iter().all(|c| *c == 0.0)
+            && pts[1].iter().skip(1).all(|c| *c == 0.0)
+            && pts[1][0] > 0.0;
+        if !straight || spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
+            return refuse(format!(
+                "body `{}`: substructuring needs a straight beam from the origin along body x \
+                 with its frame clamped at node 0",
+                b.name
+            ));
+        }
+        if !b.initial_modes.is_empty() {
+            return refuse(format!(
+                "body `{}`: initial modes of a split beam are not supported",
+                b.name
+            ));
+        }
+        // Each substructure: 2 elements (methods.md §6.4 prototype, scenes.md §5).
+        let (length, per) = (pts[1][0], 2);
+        let ls = length / n as f64;
+        let a0 = b.orientation.matrix();
+        let planar = spec.dim == flexmbd_core::Dim::Planar;
+        let dofs: &[Dof] = if planar {
+            &[Dof::Ux, Dof::Uy, Dof::Rz]
+        } else {
+            &[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]
+        };
+        let v3 = |x: f64| V3([x, 0.0, 0.0]);
+        let point = |x: f64| -> Vec<f64> {
+            if planar {
+                vec![x, 0.0]
+            } else {
+                vec![x, 0.0, 0.0]
+            }
+        };
+        let name = |k: usize| format!("{}_{}", b.name, k + 1);
+        first_of.push((b.name.clone(), name(0)));
+        for k in 0..n {
+            let mut sub = spec.clone();
+            sub.geometry.points = vec![point(0.0), point(ls)];
+            sub.geometry.elements_per_segment = per;
+            sub.boundary = dofs.iter().map(|&dof| NodeDof { node: per, dof }).collect();
+            sub.normal_modes = if planar { 1 } else { 2 };
+            sub.axial_modes = 0;
+            let offset = a0 * Vector3::new(k as f64 * ls, 0.0, 0.0);
+            let w = b.velocity.angular.vec();
+            let mut velocity = b.velocity.clone();
+            velocity.linear = V3((b.velocity.linear.vec() + w.cross(&offset)).into());
+            let mut markers = vec![
+                Marker {
+                    name: "inner".into(),
+                    position: v3(0.0),
+                },
+                Marker {
+                    name: "outer".into(),
+                    position: v3(ls),
+                },
+            ];
+            for m in &b.markers {
+                let x = m.position.0[0];
+                let kk = ((x / ls + 1e-9).floor() as usize).min(n - 1);
+                if kk == k {
+                    markers.push(Marker {
+                        name: m.name.clone(),
+                        position: v3(x - k as f64 * ls),
+                    });
+                    moved.push((b.name.clone(), m.name.clone(), name(k), m.name.clone()));
+                }
+            }
+            out.bodies.push(Body {
+                name: name(k),
+                origin: V3((b.origin.vec() + offset).into()),
+                orientation: b.orientation.clone(),
+                model: BodyModel::Beam(sub),
+                flexible: true,
+                markers,
+                velocity,
+                initial_modes: Vec::new(),
+            });
+            if k > 0 {
+                out.joints.push(Joint {
+                    name: format!("{}_bracket_{k}", b.name),
+                    kind: JointKind::Rigid,
+                    body1: name(k - 1),
+                    marker1: "outer".into(),
+                    body2: name(k),
+                    marker2: "inner".into(),
+                });
+            }
+        }
+    }
+    let remap = |body: &mut String, marker: &mut String| {
+        if let Some((_, _, nb, nm)) = moved
+            .iter()
+            .find(|(ob, om, _, _)| ob == body && om == marker)
+        {
+            *body = nb.clone();
+            *marker = nm.clone();
+        }
+    };
+    for j in out.joints.iter_mut() {
+        remap(&mut j.body1, &mut j.marker1);
+        remap(&mut j.body2, &mut j.marker2);
+    }
+    for f in out.forces.iter_mut() {
+        let Force::SpringDamper {
+            body1,
+            marker1,
+            body2,
+            marker2,
+            ..
+        } = f;
+        remap(body1, marker1);
+        remap(body2, marker2);
+    }
+    let frame_of = |f: &mut Option<String>| {
+        if let Some(name) = f
+            && let Some((_, first)) = first_of.iter().find(|(o, _)| o == name)
+        {
+            *name = first.clone();
+        }
+    };
+    for s in out.sensors.iter_mut() {
+        match &mut s.kind {
+            SensorKind::Position {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            } => {
+                remap(body, marker);
+                frame_of(frame);
+            }
+            SensorKind::Modal { body, .. } if first_of.iter().any(|(o, _)| o == body) => {
+                return refuse(format!(
+                    "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
+                    s.name
+                ));
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
+/// The scene FS0 compiles: every flexible beam without axial modes.
+pub fn drop_axial_modes(scene: &Scene) -> Result<Scene, ModelError> {
+    let mut out = scene.clone();
+    for b in out.bodies.iter_mut() {
+        let BodyModel::Beam(spec) = &mut b.model else {
+            continue;
+        };
+        if !b.flexible {
+            continue;
+        }
+        if spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
+            return Err(refuse_fs0(
+                scene,
+                format!(
+                    "body `{}`: the frame must be clamped at the root node 0 (methods.md §6.3)",
+                    b.name
+                ),
+            ));
+        }
+        spec.axial_modes = 0;
+    }
+    Ok(out)
+}
