@@ -1,4 +1,4 @@
-//! Foreshortening, FS0 (methods.md §6.3): the scene preparation and the body set-up.
+//! Foreshortening, FS0 (docs/methods.md §6.3): the scene preparation and the body set-up.
 //!
 //! - [`prepare`]: FS0 keeps **no axial modes** (`axial_modes` set to 0 on every flexible
 //!   beam); it runs in both formulations, 2D and 3D, and needs each flexible beam's frame
@@ -7,7 +7,7 @@
 //!   and attaches it to the run-time body, which then uses the foreshortened kinematics in
 //!   both inertia routes (the scene's `solver.inertia`: B-matrix projection or the FS0 shape
 //!   integrals) and in marker/sensor positions. Refuses bent beams, modes with axial content,
-//!   and joints or force elements at any marker of the body but its root (methods.md §6.3
+//!   and joints or force elements at any marker of the body but its root (docs/methods.md §6.3
 //!   limits: the static-mode-as-joint recursion ignores u_fs at other nodes). Elasticity
 //!   stays linear, −K_L y.
 

@@ -1,4 +1,4 @@
-//! Geometric stiffening of Euler–Bernoulli beam bodies (thesis ch. 4; methods.md §6).
+//! Geometric stiffening of Euler–Bernoulli beam bodies (thesis ch. 4; docs/methods.md §6).
 //!
 //! - [`Nonlinear`]: the FNL1 and FNL2 elastic models of §6.2 as
 //!   [`flexmbd_body::ElasticModel`]s, with their tangents:
@@ -21,7 +21,7 @@
 //!   For `Substructuring(n)` it splits every flexible straight beam into n equal
 //!   linear substructures joined by `Rigid` (bracket) joints ([`substructure`], §6.4).
 //!
-//! - Foreshortening FS0 ([`foreshortening`], methods.md §6.3): no axial modes, F at the
+//! - Foreshortening FS0 ([`foreshortening`], docs/methods.md §6.3): no axial modes, F at the
 //!   cloud points and nodes attached to the body; both formulations (2D and 3D) and both
 //!   inertia routes (the body's FS0 shape integrals or the B-matrix projection).
 //!
@@ -29,12 +29,12 @@
 //! `Energy` sensor adds the model's strain energy U(y) (for FNL1, which is not
 //! conservative, the same U as FNL2's first two terms).
 //!
-//! Measured on the 2D spin-up beam (`models/spin_up_beam_2d.ron`, scenes.md §5, 20 s at
+//! Measured on the 2D spin-up beam (`models/spin_up_beam_2d.ron`, docs/scenes.md §5, 20 s at
 //! h = 1 ms) against the ANCF cable of `flexmbd-ancf` (16 elements), max |Δu_x| / |Δu_y|:
 //! FNL1 (4 bending + 2 axial cantilever modes) 18.902 / 8.383 mm; FNL2 (4 bending + 20
 //! axial static modes, element-mean H) 0.112 / 1.990 mm; SB5 / SB10 / SB20 1.660 / 47.9,
 //! 0.373 / 10.44, 0.090 / 2.478 mm; linear fails at t = 11.5 s (u_y = −72 m at 10 s),
-//! i.e. the methods.md §6 prototype figures. Newton iterations per step: 1.0 (relative)
+//! i.e. the docs/methods.md §6 prototype figures. Newton iterations per step: 1.0 (relative)
 //! and 1.8 (absolute) for FNL1 and FNL2, 1.4–1.5 for SBn.
 
 pub mod foreshortening;
@@ -58,7 +58,7 @@ pub enum Kind {
     Fnl2,
 }
 
-/// FNL1 / FNL2 elasticity of one reduced beam body (methods.md §6.2).
+/// FNL1 / FNL2 elasticity of one reduced beam body (docs/methods.md §6.2).
 #[derive(Clone, Debug)]
 pub struct Nonlinear {
     kind: Kind,
@@ -145,7 +145,7 @@ impl Nonlinear {
         self.kind
     }
 
-    /// Strain energy U(y) of FNL2 (methods.md §6.1 with the element-averaged H).
+    /// Strain energy U(y) of FNL2 (docs/methods.md §6.1 with the element-averaged H).
     /// For FNL1 (not conservative) this is the same function, which FNL1's force is not
     /// the gradient of.
     pub fn strain_energy(&self, y: &[f64]) -> f64 {
@@ -414,7 +414,7 @@ pub fn prepare_scene(scene: &Scene) -> Result<Cow<'_, Scene>, ModelError> {
     }
 }
 
-/// FNL2's axial basis (methods.md §6.2 correction): every node's `Ux` but the frame
+/// FNL2's axial basis (docs/methods.md §6.2 correction): every node's `Ux` but the frame
 /// node's becomes a static mode of every flexible beam (straight, along body x,
 /// clamped frame).
 pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
@@ -534,7 +534,7 @@ pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
                 b.name
             ));
         }
-        // Each substructure: 2 elements (methods.md §6.4 prototype, scenes.md §5).
+        // Each substructure: 2 elements (docs/methods.md §6.4 prototype, docs/scenes.md §5).
         let (length, per) = (pts[1][0], 2);
         let ls = length / n as f64;
         let a0 = b.orientation.matrix();
