@@ -1,7 +1,7 @@
 //! One ALI3-P step of the relative (semi-recursive) formulation on planar pendulum
 //! chains of 2 to 32 rigid links (1 kg, 1 m, revolute joints, gravity), released from
 //! horizontal: the per-step cost should grow no faster than the cube of the coordinate
-//! count (methods.md §4.5, "Cost": O(n) kinematics, O(n²) assembly, O(n³)
+//! count (docs/methods.md §4.5, "Cost": O(n) kinematics, O(n²) assembly, O(n³)
 //! factorisation). The same chains in the absolute formulation for comparison.
 //! Every measured step starts from the same state at t = 0.05 s.
 

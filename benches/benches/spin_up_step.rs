@@ -1,11 +1,11 @@
-//! One ALI3-P step of the 2D spin-up beam (scenes.md §5, h = 1 ms) with each stiffening
+//! One ALI3-P step of the 2D spin-up beam (docs/scenes.md §5, h = 1 ms) with each stiffening
 //! method in each formulation that runs it (thesis ch. 4; the targets are for the
 //! whole 20 s: FS0 and FNL1 in 40 ms relative, 80 ms absolute, i.e. 2 and 4 µs per step).
 //! Every measured step starts from the same state at t = 8 s (mid spin-up).
 //!
 //! FS0 rows: `fs0` (the scene's default inertia route, the FS0 shape integrals), `fs0_bmatrix`
 //! (the B-matrix projection over the 80-point cloud, the reference), and the 3D beam
-//! (scenes.md §5 scene F, gravity, 8 bending modes, 320-point cloud) by both routes:
+//! (docs/scenes.md §5 scene F, gravity, 8 bending modes, 320-point cloud) by both routes:
 //! `fs0_3d`, `fs0_3d_bmatrix`.
 
 use std::path::PathBuf;

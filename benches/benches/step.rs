@@ -1,4 +1,4 @@
-//! One ALI3-P integration step of the double four-bar (scenes.md §1), absolute
+//! One ALI3-P integration step of the double four-bar (docs/scenes.md §1), absolute
 //! formulation, h = 1 ms, with 0 to 5 flexible bars (crank1, coupler1, crank2,
 //! coupler2, crank3 in that order) and each inertia route.
 //!

@@ -1,7 +1,7 @@
 //! A flexible body's terms in the planar natural set, projected on its basis.
 //!
 //! The body crate gives M_f and Q_v,f in frame coordinates {r0, u, y}
-//! (methods.md §2.5); gravity (§2.6, folded 2D rows) and the elastic forces are
+//! (docs/methods.md §2.5); gravity (§2.6, folded 2D rows) and the elastic forces are
 //! added here, and the constant basis map T (see `planar`) gives
 //! M_b = T_extᵀ M_f T_ext, Q_b = T_extᵀ Q_f with T_ext = blockdiag(T, I_n).
 

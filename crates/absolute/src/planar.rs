@@ -1,4 +1,4 @@
-//! The planar natural-coordinate formulation (methods.md §3, thesis ch. 2).
+//! The planar natural-coordinate formulation (docs/methods.md §3, thesis ch. 2).
 //!
 //! **Coordinates.** Basic points are shared by the bodies they join: every group of
 //! markers connected by revolute joints is one point, fixed when it touches the ground
@@ -15,15 +15,15 @@
 //!
 //! The body frame (r0, u), A = [u  E u], is a constant linear map of the basis,
 //! f = T x_b (two points: u = R(−φ)(r_j − r_i)/L, r0 = r_i − (r̄_i1 I + r̄_i2 E) u), so the
-//! body's natural-set mass matrix and forces (methods.md §2.5–§2.6) are projected with
+//! body's natural-set mass matrix and forces (docs/methods.md §2.5–§2.6) are projected with
 //! the constant T: M_b = Tᵀ M_f T, Q_b = Tᵀ Q_f, and no velocity terms arise from T.
 //!
 //! **Constraints.** Joint points of a body that are not in its basis are tied to it by
 //! r0 + A (r̄_P + X_P y) − r_point = 0 (linear for rigid bodies, bilinear for flexible
-//! ones, methods.md §3.3). Angle drivers and brackets use Φ = σ cos θ − κ sin θ
-//! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ (methods.md §3.2), never singular at
+//! ones, docs/methods.md §3.3). Angle drivers and brackets use Φ = σ cos θ − κ sin θ
+//! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ (docs/methods.md §3.2), never singular at
 //! its root. A body-fixed direction is d = A (I + θ_P E) ā (θ_P the node rotation at a
-//! flexible node, methods.md §3.3).
+//! flexible node, docs/methods.md §3.3).
 //!
 //! **Prismatic joints.** The markers are not shared points: the marker P2 of body 2 slides
 //! along the axis d₁ fixed in body 1 through its marker P1, (r_P2 − r_P1) × d₁ = 0, and the
@@ -1160,7 +1160,7 @@ impl Body2 {
                     pd.x += tx[j] * ydj;
                     pd.y += ty[j] * ydj;
                 }
-                // FS0 (methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+                // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
                 let ys = self.y_off..self.y_off + self.n;
                 let (y, yd) = (&q.as_slice()[ys.clone()], &qd.as_slice()[ys]);
                 if let Some(sh) = self.body.node_foreshortening(node, y, yd) {

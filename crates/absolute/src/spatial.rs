@@ -1,4 +1,4 @@
-//! The spatial (3D) natural-coordinate formulation (methods.md §3, §2.5–§2.6).
+//! The spatial (3D) natural-coordinate formulation (docs/methods.md §3, §2.5–§2.6).
 //!
 //! **Coordinates (the choice).** Every body has its own frame coordinates
 //! `q_b = {r0; u; v; w; y}`: the origin, the three body axes `A = [u v w]` in ground
@@ -19,7 +19,7 @@
 //! x(q) = δ r0 + A (x̄ + V y),  δ = 1 for a point, 0 for a direction,
 //! ```
 //!
-//! bilinear in (A, y) (methods.md §3.3): a marker point on a flexible body sits on an FE
+//! bilinear in (A, y) (docs/methods.md §3.3): a marker point on a flexible body sits on an FE
 //! node P, `x̄ = r̄_P`, `V = X_P` (translation rows); a direction ā at a node P turns with
 //! the node, `a_P = A (I + θ̃_P) ā` with `θ̄_P = X^r_P y`, i.e. `V = [X^r_j × ā]_j`. On a
 //! rigid body V is empty. The Jacobian is `[δ I  x̃_1 I  x̃_2 I  x̃_3 I  A V]` with
@@ -35,7 +35,7 @@
 //! | revolute | point + `a¹·n²₁ = 0`, `a¹·n²₂ = 0` | 5 |
 //! | universal | point + `a¹₁·a²₂ = 0` (cross arms) | 4 |
 //! | cylindrical | `a¹·n²₁ = a¹·n²₂ = 0`, `(r_P2 − r_P1)·n¹₁ = c₁`, `(r_P2 − r_P1)·n¹₂ = c₂` | 4 |
-//! | prismatic | cylindrical + `n¹₁·n²₂ = 0` (φ₀ = 90°, methods.md §3.2 correction) | 5 |
+//! | prismatic | cylindrical + `n¹₁·n²₂ = 0` (φ₀ = 90°, docs/methods.md §3.2 correction) | 5 |
 //! | rigid | point + `e¹_x·e²_y = e¹_y·e²_z = e¹_z·e²_x = 0` | 6 |
 //!
 //! (superscripts: the body the vector is fixed in; `c₁, c₂` are the values at t = 0, so a
@@ -43,7 +43,7 @@
 //! have mobility 9, 7, 8, 8, 7, 6 (tested by the rank of Φ_q).
 //!
 //! **Drivers.** A revolute joint is driven by `Φ = σ cos θ(t) − κ sin θ(t) = sin(φ − θ)`
-//! with `σ = (p¹ × p²)·a¹`, `κ = p¹·p²`, `p = n₁` fixed in each body (methods.md §3.2);
+//! with `σ = (p¹ × p²)·a¹`, `κ = p¹·p²`, `p = n₁` fixed in each body (docs/methods.md §3.2);
 //! a prismatic joint by `(r_P2 − r_P1)·a¹ = s₀ + s(t)`. Other drivers are refused.
 //!
 //! **Coordinate counts.** n = Σ (12 + n_b); m = 6 · (bodies) + Σ joint rows + drivers.
@@ -106,7 +106,7 @@ struct Term {
     xbar: Vector3<f64>,
     /// V, 3 × n row-major (empty for rigid bodies).
     rows: Vec<f64>,
-    /// FS0 (methods.md §6.3): the FE node of a point on a foreshortened body, whose axial
+    /// FS0 (docs/methods.md §6.3): the FE node of a point on a foreshortened body, whose axial
     /// shift −½ ē₁ yᵀF y joins x̄ + V y.
     fs_node: Option<usize>,
 }

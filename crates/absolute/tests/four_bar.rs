@@ -1,4 +1,4 @@
-//! The rigid double four-bar in natural coordinates (scenes.md §1, scene A):
+//! The rigid double four-bar in natural coordinates (docs/scenes.md §1, scene A):
 //! B0 at t = 10 s against the converged reference, constraints at every step,
 //! energy conservation and its second-order convergence, coordinate count.
 
@@ -6,7 +6,7 @@ use flexmbd_core::Formulation;
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::Scene;
 
-/// Converged rigid N = 2 values at t = 10 s [S3 via scenes.md §1 "Reference values"].
+/// Converged rigid N = 2 values at t = 10 s [S3 via docs/scenes.md §1 "Reference values"].
 const B0_REF: [f64; 2] = [0.32846, 0.94452];
 
 fn scene() -> Scene {
@@ -78,7 +78,7 @@ fn rigid_four_bar_matches_the_reference_at_10_s() {
     );
     assert!(err < 1e-4, "B0 error {err:e}");
     assert!(r.max_phi < 1e-9, "constraint violation {:e}", r.max_phi);
-    // Initial kinetic energy 1.5 J (scenes.md §1).
+    // Initial kinetic energy 1.5 J (docs/scenes.md §1).
     assert!(
         r.energy_drift < 1e-3 * 1.5,
         "energy drift {:e} J (E0 = {} J)",

@@ -2,8 +2,8 @@
 //!
 //! - every joint's Φ_q against a numerical Jacobian, its bias c against a second
 //!   difference of Φ, Φ_t against a time difference, and the mobility (coordinates − rank
-//!   Φ_q) of two free bodies (methods.md §3.2: 9, 7, 8, 8, 7, 6), on rigid and flexible
-//!   bodies (joint node P ≠ R on a beam with static modes, methods.md §3.3);
+//!   Φ_q) of two free bodies (docs/methods.md §3.2: 9, 7, 8, 8, 7, 6), on rigid and flexible
+//!   bodies (joint node P ≠ R on a beam with static modes, docs/methods.md §3.3);
 //! - a rigid 3D double pendulum: second-order energy drift, constraint residuals;
 //! - the double four-bar written as a 3D scene reproduces the planar formulation;
 //! - a flexible 3D pendulum: energy conservation, both inertia routes agree;

@@ -29,7 +29,7 @@ fn spatial_steps_do_not_allocate() {
     let mut bm = model("flexible_pendulum_3d.ron");
     bm.solver.inertia = InertiaMethod::BMatrix;
     scenes.push(bm);
-    // FS0 (methods.md §6.3): the 3D spin-up beam, both inertia routes.
+    // FS0 (docs/methods.md §6.3): the 3D spin-up beam, both inertia routes.
     let mut fs0 = model("spin_up_beam_3d.ron");
     fs0.solver.stiffening = flexmbd_model::Stiffening::Foreshortening;
     scenes.push(fs0.clone());

@@ -1,4 +1,4 @@
-//! The convergence study of methods.md §7.3: the spin-up beam (scenes.md §5) with 8, 16,
+//! The convergence study of docs/methods.md §7.3: the spin-up beam (docs/scenes.md §5) with 8, 16,
 //! 32 and 64 elements at h = 1e-3 s, and 16 elements at h = 5e-4 s, over 20 s.
 //!
 //! `cargo run --release -p flexmbd-ancf --example convergence -- [2d|3d] [max_elements]`

@@ -1,4 +1,4 @@
-//! One spin-up run of the ANCF reference (methods.md §7.3, scenes.md §5).
+//! One spin-up run of the ANCF reference (docs/methods.md §7.3, docs/scenes.md §5).
 //!
 //! `cargo run --release -p flexmbd-ancf --example spin_up -- [2d|3d] [elements] [h] [duration] [csv]`
 

@@ -1,6 +1,6 @@
 //! The cable as a [`Formulation`]: constant M, Q = elastic + distributed gravity with
 //! the analytic tangent K = −∂Q/∂q, and the root constraints of the driven hub
-//! (methods.md §7.3), plus the static-equilibrium solver (§5.4 item 4).
+//! (docs/methods.md §7.3), plus the static-equilibrium solver (§5.4 item 4).
 //!
 //! Coordinates: node k (k = 0..N) holds r_k (d values) then r′_k (d values) at offset
 //! 2dk, so element e owns the contiguous slice [2de, 2de + 4d).
@@ -12,7 +12,7 @@
 //! - c = Φ̇_q q̇ + Φ̇_t = n̈₁·r₁′ + 2 ṅ₁·ṙ₁′ with n̈₁ = −θ̈ t₁ − θ̇² n₁.
 //!
 //! The root axial stretch stays free. θ, θ̇, θ̈ come from
-//! [`flexmbd_model::MotionLaw::SpinUp`] (methods.md §6.5).
+//! [`flexmbd_model::MotionLaw::SpinUp`] (docs/methods.md §6.5).
 //!
 //! Sensors: the tip displacement in the frame turning with θ,
 //! d = A(θ)ᵀ r_tip − (L, 0, 0) (`tip_ux`, `tip_uy`, and `tip_uz` in 3D), and the total
@@ -290,7 +290,7 @@ impl Cable {
     /// Newton on ∂U/∂q − μ Q_g + Φ_qᵀλ = 0, Φ = 0 with the bordered tangent
     /// [K Φ_qᵀ; Φ_q 0], load factor μ raised to 1 in `load_steps` increments, halved on
     /// failure and doubled again (up to 1/`load_steps`) after a step that took ≤ 5
-    /// iterations (methods.md §5.4 item 4). Starts from and updates the initial positions.
+    /// iterations (docs/methods.md §5.4 item 4). Starts from and updates the initial positions.
     pub fn solve_static(&mut self, t: f64, load_steps: usize) -> Result<StaticReport, StaticError> {
         let (n, m) = (self.n, self.m);
         let mut q = self.q0.clone();

@@ -1,5 +1,5 @@
 //! One ANCF cable element: Hermite shape functions, constant mass, distributed load,
-//! and the elastic energy, force and analytic tangent (methods.md §7.1–§7.2; elastic
+//! and the elastic energy, force and analytic tangent (docs/methods.md §7.1–§7.2; elastic
 //! line approach after Berzeri & Shabana 2000 and Gerstmayr & Shabana 2006, with the
 //! corrections of Gerstmayr & Irschik 2008 as methods.md records them).
 //!
@@ -67,7 +67,7 @@ fn gauss_rule(points: usize) -> (&'static [f64], &'static [f64]) {
     }
 }
 
-/// S(x) of one element of length `l` (methods.md §7.1).
+/// S(x) of one element of length `l` (docs/methods.md §7.1).
 #[cfg(test)]
 pub(crate) fn shape(l: f64, x: f64) -> [f64; 4] {
     let xi = x / l;

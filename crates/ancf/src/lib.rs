@@ -1,5 +1,5 @@
 //! ANCF cable elements in 2D and 3D: the large-deformation reference model of the
-//! spin-up beam (thesis ch. 4; methods.md §7; scenes.md §5).
+//! spin-up beam (thesis ch. 4; docs/methods.md §7; docs/scenes.md §5).
 //!
 //! - `element` (private): Hermite interpolation, constant mass, distributed
 //!   load, elastic line energy with ε = |r′| − 1 and |κ|² = |r′ × r″|²/|r′|⁴, analytic

@@ -1,4 +1,4 @@
-//! The spin-up run (methods.md §7.3, scenes.md §5): build the cable, start from static
+//! The spin-up run (docs/methods.md §7.3, docs/scenes.md §5): build the cable, start from static
 //! equilibrium when gravity is present (§5.4 item 4), integrate with ALI3-P (§5) and
 //! record the tip displacement in the frame turning with θ(t) at a fixed interval.
 
@@ -65,7 +65,7 @@ impl History {
 
 /// Run the spin-up of `spec` with step `h` for `duration` seconds, recording every
 /// `output_interval` (rounded to a whole number of steps), with the default ALI3-P
-/// settings of methods.md §5.
+/// settings of docs/methods.md §5.
 pub fn run_spin_up(
     spec: &CableSpec,
     h: f64,

@@ -1,11 +1,11 @@
-//! The description of a uniform cable clamped to a driven hub (methods.md §7.3;
-//! scenes.md §5 for the spin-up data), with validation that names the bad field.
+//! The description of a uniform cable clamped to a driven hub (docs/methods.md §7.3;
+//! docs/scenes.md §5 for the spin-up data), with validation that names the bad field.
 
 use flexmbd_core::{Dim, InvalidValue, require_non_negative, require_positive};
 use serde::{Deserialize, Serialize};
 
 /// A uniform ANCF cable along +x from the origin, its root clamped to a hub turning
-/// about z with the spin-up law θ(t) of methods.md §6.5.
+/// about z with the spin-up law θ(t) of docs/methods.md §6.5.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CableSpec {
@@ -30,7 +30,7 @@ pub struct CableSpec {
 }
 
 impl CableSpec {
-    /// The spin-up beam of scenes.md §5: L = 10 m, EA = 2.8e7 N, EI = 1.4e4 N·m²,
+    /// The spin-up beam of docs/scenes.md §5: L = 10 m, EA = 2.8e7 N, EI = 1.4e4 N·m²,
     /// ρA = 1.2 kg/m, Ω_s = 6 rad/s, T_s = 15 s; 2D without gravity, 3D with g = 9.81 m/s²
     /// along −z.
     pub fn spin_up_beam(dim: Dim, elements: usize) -> Self {
@@ -50,7 +50,7 @@ impl CableSpec {
         }
     }
 
-    /// The static check of methods.md §7.3 (Exudyn ANCFCable example): a 2 m cantilever,
+    /// The static check of docs/methods.md §7.3 (Exudyn ANCFCable example): a 2 m cantilever,
     /// ρA = 78 kg/m, EA = 1e6 N, EI = 1e4/12 = 833.333… N·m², g = 9.81 m/s² along −y.
     /// The example sets `EI = 833.3333333333333`; the rounded 833.333 of methods.md
     /// moves the tip by 2.3e-7 m.

@@ -1,4 +1,4 @@
-//! Derivatives of the cable against finite differences (methods.md §8 items 6 and 11):
+//! Derivatives of the cable against finite differences (docs/methods.md §8 items 6 and 11):
 //! elastic force = −∂U/∂q, tangent K = −∂Q/∂q, Φ_q, Φ_t and the bias c along a motion;
 //! zero elastic force under rigid motion; small-amplitude frequencies against
 //! Euler–Bernoulli values.
@@ -227,7 +227,7 @@ fn constraint_rates_match_finite_differences_along_a_motion() {
 
 /// Small-amplitude frequencies of the clamped cable (root constraints eliminated) against
 /// the Euler–Bernoulli cantilever, ω_j = (β_j L)² √(EI/(ρA L⁴)), and the first axial
-/// frequency (π/2)√(EA/ρA)/L (scenes.md §5: 3.80, 23.8, 66.6 and 759 rad/s).
+/// frequency (π/2)√(EA/ρA)/L (docs/scenes.md §5: 3.80, 23.8, 66.6 and 759 rad/s).
 #[test]
 fn small_amplitude_frequencies_match_euler_bernoulli() {
     let mut c = Cable::new(&spec(Dim::Planar, 16)).unwrap();

@@ -1,4 +1,4 @@
-//! The planar spin-up beam (scenes.md §5, methods.md §7.3) with ALI3-P: minimum tip
+//! The planar spin-up beam (docs/scenes.md §5, docs/methods.md §7.3) with ALI3-P: minimum tip
 //! deflection against the reference, mesh convergence with its observed rate, step
 //! sensitivity, and the energy balance of the driven hub.
 //!
@@ -11,7 +11,7 @@ use common::balance;
 use flexmbd_ancf::{CableSpec, History, run_spin_up};
 use flexmbd_core::Dim;
 
-/// Min tip u_y of the converged reference (Exudyn ANCFCable2D, n = 64; methods.md §7).
+/// Min tip u_y of the converged reference (Exudyn ANCFCable2D, n = 64; docs/methods.md §7).
 const REFERENCE_MIN_UY: f64 = -0.5737900;
 
 fn run(elements: usize, h: f64) -> History {
@@ -105,7 +105,7 @@ fn hub_power_balances_energy_and_jacobi_integral_holds() {
     assert!(r1 > 1.7 && r2 > 1.7, "orders {r1}, {r2}");
 }
 
-/// The study of methods.md §7.3 over the full 20 s (about 30 s of CPU):
+/// The study of docs/methods.md §7.3 over the full 20 s (about 30 s of CPU):
 /// `cargo test --release -p flexmbd-ancf --test spin_up_2d -- --ignored`.
 #[test]
 #[ignore]

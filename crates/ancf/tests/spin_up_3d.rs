@@ -1,5 +1,5 @@
-//! The spatial spin-up beam (scenes.md §5): static droop under gravity along −z, then the
-//! spin-up from that equilibrium (methods.md §5.4 item 4, §7.3).
+//! The spatial spin-up beam (docs/scenes.md §5): static droop under gravity along −z, then the
+//! spin-up from that equilibrium (docs/methods.md §5.4 item 4, §7.3).
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! The static check of methods.md §7.3 against the Exudyn ANCFCable example: a 2 m
+//! The static check of docs/methods.md §7.3 against the Exudyn ANCFCable example: a 2 m
 //! cantilever under its own weight, 32 elements, static tip u_x = −0.5013058140308901 m.
 
 use flexmbd_ancf::{Cable, CableSpec};

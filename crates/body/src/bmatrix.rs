@@ -1,4 +1,4 @@
-//! Route (a): B-matrix projection on the mass cloud (methods.md §2.2).
+//! Route (a): B-matrix projection on the mass cloud (docs/methods.md §2.2).
 //!
 //! For each cloud point k, with `r̄_k = r̄_uk + X_k y` and `r_k = r0 + A r̄_k`:
 //!

@@ -1,4 +1,4 @@
-//! Elastic and damping forces of the modal coordinates (methods.md §1.5, §6).
+//! Elastic and damping forces of the modal coordinates (docs/methods.md §1.5, §6).
 //!
 //! The body calls its elastic model through the [`ElasticModel`] trait, so that the
 //! geometric-stiffening models of §6 (FNL1 with `StiffeningIntegrals::k_g`, FNL2,
@@ -49,7 +49,7 @@ impl Clone for Box<dyn ElasticModel> {
     }
 }
 
-/// Linear FFR elasticity (methods.md §1.5): `Q_el = −K_ff y − C_ff ẏ`.
+/// Linear FFR elasticity (docs/methods.md §1.5): `Q_el = −K_ff y − C_ff ẏ`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinearElastic {
     n: usize,

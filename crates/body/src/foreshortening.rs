@@ -1,4 +1,4 @@
-//! Foreshortening, FS0 (methods.md §6.3): route (a) with the configuration-dependent
+//! Foreshortening, FS0 (docs/methods.md §6.3): route (a) with the configuration-dependent
 //! mode rows of a straight beam that shortens along its axis ē₁.
 //!
 //! For each cloud point k, with its own `F_k` (n × n, symmetric):
@@ -14,7 +14,7 @@
 //! integrals of F, r̄_u F, F ⊗ X and F ⊗ F do: [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod)
 //! evaluates FS0 from them without a loop over the cloud (`fs_shape.rs`, which states the
 //! algebra), and the two routes agree to round-off (`tests/fs0_routes.rs`). In natural
-//! coordinates (methods.md §2.5) the same projection uses, in 2D {r0, u, y},
+//! coordinates (docs/methods.md §2.5) the same projection uses, in 2D {r0, u, y},
 //! `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, in 3D {r0, u, v, w, y}
 //! `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`, and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`.
 //! F_k y, yᵀF_k y and ẏᵀF_k ẏ are formed once per station (the 4 section points of a 3D
@@ -57,7 +57,7 @@ pub(crate) struct Foreshortening {
     fy: Vec<f64>,
 }
 
-/// The foreshortening of one FE node (body components; methods.md §6.3).
+/// The foreshortening of one FE node (body components; docs/methods.md §6.3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodeShift {
     /// Position shift −½ ē₁ yᵀF y, added to r̄_u + X^t y.
@@ -169,7 +169,7 @@ pub(crate) fn mat_vec(f: &[f64], v: &[f64], out: &mut [f64]) {
 }
 
 impl FlexibleBody {
-    /// Attach FS0 data (methods.md §6.3) to this body: from then on both inertia routes use
+    /// Attach FS0 data (docs/methods.md §6.3) to this body: from then on both inertia routes use
     /// the foreshortened kinematics, and [`node_foreshortening`](Self::node_foreshortening)
     /// reports node shifts. Refuses data of the wrong sizes. Make natural-coordinate
     /// workspaces ([`natural_workspace`](Self::natural_workspace)) after this call.
@@ -411,7 +411,7 @@ impl FlexibleBody {
         write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
     }
 
-    /// Planar natural coordinates {r0, u, y} (methods.md §2.5) with FS0 kinematics, route
+    /// Planar natural coordinates {r0, u, y} (docs/methods.md §2.5) with FS0 kinematics, route
     /// (a): `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`,
     /// with `A = [u  E u]` (not necessarily orthonormal) and the deformed r̄_k.
     pub(crate) fn natural_bmatrix_fs_2d<SM, SQ>(
@@ -514,7 +514,7 @@ impl FlexibleBody {
         write_bmatrix_natural_2d(m_out, q_out, n, &sums, sy, wy, yy, qy);
     }
 
-    /// Spatial natural coordinates {r0, u, v, w, y} (methods.md §2.5) with FS0 kinematics,
+    /// Spatial natural coordinates {r0, u, v, w, y} (docs/methods.md §2.5) with FS0 kinematics,
     /// route (a): `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`,
     /// `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`, with `A = [u v w]` (not necessarily
     /// orthonormal) and the deformed r̄_k. The reference for the shape-integral route.

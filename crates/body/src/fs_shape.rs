@@ -1,4 +1,4 @@
-//! Foreshortening, FS0, by shape integrals (methods.md §6.3 kinematics; §2.3–§2.5 assembly):
+//! Foreshortening, FS0, by shape integrals (docs/methods.md §6.3 kinematics; §2.3–§2.5 assembly):
 //! the FS0 inertia terms without a loop over the mass cloud.
 //!
 //! **Kinematics** (§6.3). Cloud point k: `p_k = r̄_uk + X_k y` (the linear position),
@@ -11,7 +11,7 @@
 //! Every sum the B-matrix route forms (`Σ w B_kᵀB_k`, `Σ w B_kᵀḂ_k Z`, relative or natural set)
 //! is a sum of the body-frame moments below, products of `1, r̄_k, X̂_k` and `c_k`. Expanding
 //! `r̄_k` and `X̂_k` gives sums of `F_k`, `F_k ⊗ r̄_uk`, `F_k ⊗ X_k` and `F_k ⊗ F_k`, which are
-//! precomputed once on the cloud (methods.md §6.3 "Why B-projection" names them):
+//! precomputed once on the cloud (docs/methods.md §6.3 "Why B-projection" names them):
 //!
 //! ```text
 //! 𝔽 = Σ w F_k,   𝔽ᵃ = Σ w r̄_uk,a F_k,   Tᵃ_{lji} = Σ w F_k,lj X_k,ai,   Q_{ijlm} = Σ w F_k,ij F_k,lm

@@ -1,9 +1,9 @@
-//! The reduced flexible body of flexmbd at run time (methods.md §1.1, §1.5, §2;
+//! The reduced flexible body of flexmbd at run time (docs/methods.md §1.1, §1.5, §2;
 //! thesis chapters 2–3).
 //!
 //! A [`FlexibleBody`] is built once from a [`ReducedBody`] (FE preprocessing output)
 //! and then evaluates, without allocating, the inertia terms of one body in the
-//! **relative set** of methods.md §2.4 / §4.1,
+//! **relative set** of docs/methods.md §2.4 / §4.1,
 //!
 //! ```text
 //! Z = {ṡ; ω; ẏ}   (3D: 6 + n entries)        Z = {ṡx; ṡy; ωz; ẏ}   (2D: 3 + n entries)
@@ -58,7 +58,7 @@ use nalgebra::{
 };
 use serde::{Deserialize, Serialize};
 
-/// Which route evaluates the inertia terms (methods.md §2.2 / §2.3).
+/// Which route evaluates the inertia terms (docs/methods.md §2.2 / §2.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum InertiaMethod {
     /// Route (a): projection `Σ w_k B_kᵀ B_k` over the mass cloud, O(N_p n²).
@@ -223,7 +223,7 @@ pub struct FlexibleBody {
     c_ff: DMatrix<f64>,
     elastic: Box<dyn ElasticModel>,
     pub(crate) ws: Workspace,
-    /// FS0 data (methods.md §6.3), when the body is foreshortened.
+    /// FS0 data (docs/methods.md §6.3), when the body is foreshortened.
     pub(crate) fs: Option<foreshortening::Foreshortening>,
 }
 
@@ -476,7 +476,7 @@ impl FlexibleBody {
     pub fn cloud_len(&self) -> usize {
         self.w.len()
     }
-    /// Which cloud this is (reported beside cost comparisons, methods.md §2.7).
+    /// Which cloud this is (reported beside cost comparisons, docs/methods.md §2.7).
     pub fn cloud_description(&self) -> &str {
         &self.cloud_description
     }
@@ -524,7 +524,7 @@ impl FlexibleBody {
         }
     }
 
-    /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (methods.md §2.4 step 2), written
+    /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (docs/methods.md §2.4 step 2), written
     /// into caller storage. Same sizes as [`inertia`](Self::inertia); the velocity of
     /// the origin is `state.r0_dot()`.
     ///
@@ -577,7 +577,7 @@ impl FlexibleBody {
         }
     }
 
-    /// M and Q_v in natural coordinates (methods.md §2.5) by either route, written into
+    /// M and Q_v in natural coordinates (docs/methods.md §2.5) by either route, written into
     /// caller storage ((12+n)² in 3D, (4+n)² in 2D; every entry overwritten). Takes
     /// `&self` and a workspace from [`natural_workspace`](Self::natural_workspace).
     /// The exact `e_a·e_b` is used in M_yy, so M and Q_v derive from one kinetic
@@ -659,7 +659,7 @@ impl FlexibleBody {
         }
     }
 
-    /// Gravity in natural coordinates (methods.md §2.6): 3D
+    /// Gravity in natural coordinates (docs/methods.md §2.6): 3D
     /// `{m g; m̄_1 g; m̄_2 g; m̄_3 g; Sᵀ Aᵀ g}`, 2D `{m g; (m̄_1 I − m̄_2 E) g; Sᵀ Aᵀ g}`
     /// (length 12 + n or 4 + n), with m̄ = m̄(y).
     pub fn gravity_natural(&self, state: &NaturalState<'_>, g: &Vector3<f64>, out: &mut [f64]) {
@@ -700,7 +700,7 @@ impl FlexibleBody {
     }
 
     /// Elastic and damping forces on the modal coordinates, `Q_el(y, ẏ)` (length n),
-    /// by the body's elastic model (linear: `−K_ff y − C_ff ẏ`, methods.md §1.5).
+    /// by the body's elastic model (linear: `−K_ff y − C_ff ẏ`, docs/methods.md §1.5).
     pub fn elastic_forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
         self.elastic.forces(y, y_dot, out);
     }
@@ -728,7 +728,7 @@ impl FlexibleBody {
     }
 
     /// Current first moment in body components, `m̄(y) = m̄_u + S y` (FS0: minus
-    /// `½ ē₁ yᵀ(Σ_k w_k F_k) y`, methods.md §6.3).
+    /// `½ ē₁ yᵀ(Σ_k w_k F_k) y`, docs/methods.md §6.3).
     pub fn first_moment_at(&self, y: &[f64]) -> Vector3<f64> {
         let n = self.n;
         assert_eq!(y.len(), n);
@@ -742,7 +742,7 @@ impl FlexibleBody {
         m
     }
 
-    /// Gravity in the s form (methods.md §2.6):
+    /// Gravity in the s form (docs/methods.md §2.6):
     /// `{m g; (m r0 + A m̄(y)) × g; Sᵀ Aᵀ g}`, written into `out`
     /// (length 6 + n in 3D; 3 + n in 2D, with the x, y, θz rows).
     pub fn gravity_forces(&self, state: &BodyState<'_>, g: &Vector3<f64>, out: &mut [f64]) {
@@ -812,7 +812,7 @@ pub(crate) fn write_modal_block<SM, SQ>(
 }
 
 /// The rigid 12 × 12 block of a spatial natural-coordinate mass matrix over (r0, u, v, w)
-/// (methods.md §3.2): every 3 × 3 block is a scalar times I₃, the scalars being
+/// (docs/methods.md §3.2): every 3 × 3 block is a scalar times I₃, the scalars being
 /// [[m, m̄ᵀ], [m̄, P]] with the first moment m̄ and second moment P of the (deformed) body.
 #[inline]
 pub(crate) fn write_natural_rigid_block_3d<SM>(

@@ -1,4 +1,4 @@
-//! Inertia terms in natural coordinates (methods.md §2.5), both routes.
+//! Inertia terms in natural coordinates (docs/methods.md §2.5), both routes.
 //!
 //! 3D: `q = {r0; u; v; w; y}` (12 + n), `A = [u v w]` (not necessarily orthonormal),
 //! `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X_k]`, `Ḃ_k q̇ = 2 Ȧ X_k ẏ`:
@@ -68,7 +68,7 @@ impl<'a> NaturalState<'a> {
 #[derive(Clone, Debug)]
 pub struct NaturalWorkspace(pub(crate) Workspace);
 
-/// A material point of a body (methods.md §1.1): undeformed position r̄_u and
+/// A material point of a body (docs/methods.md §1.1): undeformed position r̄_u and
 /// translational mode rows X_P (3 × n, row-major), e.g. an FE node used by a joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyPoint {

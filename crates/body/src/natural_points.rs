@@ -1,5 +1,5 @@
 //! Body points, coordinate packing and the gravity potential in natural coordinates
-//! (methods.md §2.6, §3.3), beside the inertia terms of `natural.rs`.
+//! (docs/methods.md §2.6, §3.3), beside the inertia terms of `natural.rs`.
 //!
 //! Coordinate order of one body (as in `natural.rs`):
 //!
@@ -209,7 +209,7 @@ impl FlexibleBody {
     }
 
     /// Add the generalized force of a global force `f` applied at a body point,
-    /// `(∂r_P/∂q)ᵀ f` (methods.md §2.6: 3D `{f; r̄'_1 f; r̄'_2 f; r̄'_3 f; X_Pᵀ Aᵀ f}`,
+    /// `(∂r_P/∂q)ᵀ f` (docs/methods.md §2.6: 3D `{f; r̄'_1 f; r̄'_2 f; r̄'_3 f; X_Pᵀ Aᵀ f}`,
     /// 2D `{f; (r̄'_1 I − r̄'_2 E) f; X_Pᵀ Aᵀ f}`), to `out` (length 12 + n or 4 + n).
     pub fn add_point_force(
         &self,

@@ -1,4 +1,4 @@
-//! Route (b): inertia terms from the 13 shape integrals (methods.md §2.3, §2.4 steps 1–3).
+//! Route (b): inertia terms from the 13 shape integrals (docs/methods.md §2.3, §2.4 steps 1–3).
 //!
 //! Body-frame origin form (step 1), with ω̄ = Aᵀω and `(ω̃ω̃)_ab = ω̄_a ω̄_b − |ω̄|² δ_ab`:
 //!

@@ -43,7 +43,7 @@ fn routes_agree(rb: &ReducedBody, seed: u64) -> (f64, f64) {
         assert!(dm < TOL && dq < TOL, "routes differ: M̄ {dm:e}, Q̄ {dq:e}");
         worst = (worst.0.max(dm), worst.1.max(dq));
     }
-    // M_yy of the cloud equals the reduced M_ff (consistent cloud, methods.md §2.3).
+    // M_yy of the cloud equals the reduced M_ff (consistent cloud, docs/methods.md §2.3).
     let myy = body.m_yy();
     let d = (&myy - body.m_ff()).amax() / body.m_ff().amax().max(1e-300);
     if n > 0 {

@@ -1,4 +1,4 @@
-//! FS0 (methods.md §6.3) inertia terms on the spin-up beam (scenes.md §5), 2D and 3D:
+//! FS0 (docs/methods.md §6.3) inertia terms on the spin-up beam (docs/scenes.md §5), 2D and 3D:
 //!
 //! * virtual power / Lagrange: along a smooth prescribed motion, Σ w_k J_kᵀ r̈_k =
 //!   M̄ Ż − Q̄_v, with the point positions r_k = r0 + A (r̄_uk + X_k y − ½ ē₁ yᵀF_k y),

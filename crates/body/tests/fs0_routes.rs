@@ -1,4 +1,4 @@
-//! FS0 (methods.md §6.3): the shape-integral route (`fs_shape.rs`) equals the B-matrix
+//! FS0 (docs/methods.md §6.3): the shape-integral route (`fs_shape.rs`) equals the B-matrix
 //! projection over the mass cloud (the reference) at random states, in the relative set
 //! (2D and 3D) and in natural coordinates (2D and 3D, with a non-orthonormal A), on the
 //! spin-up beam and on random clouds with random F's and a skew beam axis (§2.7: both

@@ -1,7 +1,7 @@
 //! Independent checks of the inertia formulas, not using B_k or Ḃ_k:
 //!
 //! * kinetic energy: ½ Zᵀ M̄ Z = ½ Σ w_k |ṙ_k|² with ṙ_k from differencing the point
-//!   positions along a motion (methods.md §8 item 4);
+//!   positions along a motion (docs/methods.md §8 item 4);
 //! * virtual power / Jourdain: along a smooth prescribed motion,
 //!   Σ w_k B_kᵀ r̈_k (r̈_k from differencing positions) = M̄ Ż − Q̄_v (§8 item 5),
 //!   with Ż = {s̈; ω̇; ÿ} also from differencing. This catches a sign error common to

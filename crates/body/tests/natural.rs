@@ -1,4 +1,4 @@
-//! Natural coordinates (methods.md §2.5): routes (a) and (b) agree at random states
+//! Natural coordinates (docs/methods.md §2.5): routes (a) and (b) agree at random states
 //! with a deliberately non-orthonormal A, and Q_v passes the virtual-power check
 //! Σ w_k B_kᵀ r̈_k = M q̈ − Q_v with B_k = ∂r_k/∂q and r̈_k, q̈ from differencing.
 

@@ -1,4 +1,4 @@
-//! The natural-coordinate terms (methods.md §2.2 absolute set, §2.5, §2.6, §3.1, §3.3),
+//! The natural-coordinate terms (docs/methods.md §2.2 absolute set, §2.5, §2.6, §3.1, §3.3),
 //! checked physics against physics, beside `natural.rs`:
 //!
 //! * routes (a) and (b) agree on random clouds and on FE beams (straight, L-shaped with
@@ -479,7 +479,7 @@ fn two_point_map(len: f64) -> DMatrix<f64> {
 }
 
 /// 2D, n = 0, uniform bar of length L from points i (= r0) and j: the mass `Tᵀ M T`
-/// is the classical `[m/3 I  m/6 I; m/6 I  m/3 I]` (methods.md §3.1).
+/// is the classical `[m/3 I  m/6 I; m/6 I  m/3 I]` (docs/methods.md §3.1).
 #[test]
 fn rigid_bar_from_two_points() {
     let len = 1.5;

@@ -1,5 +1,5 @@
 //! Route (a) (B-matrix projection) and route (b) (shape integrals) agree to round-off
-//! on the same cloud at random states (methods.md §2.7, §8 item 3).
+//! on the same cloud at random states (docs/methods.md §2.7, §8 item 3).
 
 mod common;
 use common::*;
@@ -58,7 +58,7 @@ fn routes_agree_2d_rigid() {
 }
 
 /// The lean 2D path equals the 3D formulas with third components zero, keeping the
-/// x, y, θz rows and columns (methods.md §0 reduction rule), for both routes.
+/// x, y, θz rows and columns (docs/methods.md §0 reduction rule), for both routes.
 #[test]
 fn planar_path_equals_3d_extraction() {
     let keep = |n: usize| -> Vec<usize> {

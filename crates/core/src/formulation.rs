@@ -1,5 +1,5 @@
 //! The contract between a formulation (absolute or relative coordinates) and the
-//! integrators (ARCHITECTURE.md, "The `Formulation` trait"; methods.md §5).
+//! integrators (ARCHITECTURE.md, "The `Formulation` trait"; docs/methods.md §5).
 //!
 //! At a trial state (t, q, q̇) a formulation computes, in **one pass** over its
 //! bodies, whatever [`Request`] asks for, into the [`SystemTerms`] that the
@@ -117,7 +117,7 @@ pub trait Formulation {
     /// The user's initial guess of positions and velocities (not yet consistent).
     fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>);
     /// Coordinates whose initial position and velocity the user specified; they are held
-    /// while the initial conditions are made consistent (methods.md §5.4).
+    /// while the initial conditions are made consistent (docs/methods.md §5.4).
     fn specified_coordinates(&self) -> &[usize];
     /// One pass: set the requested terms of `out` at (t, q, q̇). `out` comes cleared.
     fn evaluate(

@@ -8,7 +8,7 @@
 //! - the marker's position r_P and velocity ṙ_P (ground components; z = 0 in a planar
 //!   scene);
 //! - the non-zero columns ∂r_P/∂q_i of the marker's position Jacobian, so that a force F on
-//!   the marker adds Q_i += ∂r_P/∂q_i · F (the virtual work F · δr_P, methods.md §2.6).
+//!   the marker adds Q_i += ∂r_P/∂q_i · F (the virtual work F · δr_P, docs/methods.md §2.6).
 //!
 //! A formulation whose kinematics are recursive (the relative one) answers from its last
 //! kinematic pass, which must be at (q, q̇): it calls the elements after that pass.

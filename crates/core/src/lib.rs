@@ -52,7 +52,7 @@ impl std::fmt::Display for Dim {
     }
 }
 
-/// The skew-symmetric matrix ã with ã b = a × b (methods.md §0).
+/// The skew-symmetric matrix ã with ã b = a × b (docs/methods.md §0).
 #[inline]
 pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)

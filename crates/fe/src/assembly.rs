@@ -1,5 +1,5 @@
 //! Mesh, element axes, transformation to body components and sparse assembly
-//! (methods.md §1.2 "Assembly" and "Element axes").
+//! (docs/methods.md §1.2 "Assembly" and "Element axes").
 //!
 //! - Element axes: x_e from the first node to the second; y_e = k̄ × x_e / |k̄ × x_e|,
 //!   z_e = x_e × y_e, with k̄ the orientation vector (default ē₃, ē₂ for an
@@ -296,7 +296,7 @@ pub fn submatrix(a: &DMatrix<f64>, rows: &[usize], cols: &[usize]) -> DMatrix<f6
     DMatrix::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
 }
 
-/// The r / b / i DOF sets of the Craig–Bampton split (methods.md §1.3), as
+/// The r / b / i DOF sets of the Craig–Bampton split (docs/methods.md §1.3), as
 /// global indices: r and b in the order given, i ascending (everything else).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DofSets {

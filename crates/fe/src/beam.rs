@@ -1,4 +1,4 @@
-//! Euler–Bernoulli beam element matrices in element axes (methods.md §1.2, [R: standard FE]).
+//! Euler–Bernoulli beam element matrices in element axes (docs/methods.md §1.2, [R: standard FE]).
 //!
 //! Local DOFs:
 //! - 2D: (u₁, v₁, θ₁, u₂, v₂, θ₂), θ = v′.

@@ -1,4 +1,4 @@
-//! The mass cloud of a beam body (methods.md §2.7 items 3 and 4, §2.1).
+//! The mass cloud of a beam body (docs/methods.md §2.7 items 3 and 4, §2.1).
 //!
 //! - 2D: 4 Gauss stations per element on the centre line, weights
 //!   ρA (L_e/2) w_g, rows X_g = Λ_eᵀ N_e(ξ_g) T_e X_e with linear axial and

@@ -1,4 +1,4 @@
-//! Craig–Bampton reduction (methods.md §1.3–§1.5; [R: Craig & Bampton 1968]).
+//! Craig–Bampton reduction (docs/methods.md §1.3–§1.5; [R: Craig & Bampton 1968]).
 //!
 //! With the DOFs split into r (frame, removed), b (boundary) and i (interior):
 //!
@@ -10,7 +10,7 @@
 //!   (static–dynamic stiffness coupling vanishes);
 //! - C_ff from the damping choice of §1.5.
 //!
-//! Refusals (methods.md §1.4, "Pitfall"): K_ii singular (Cholesky pivot fails or
+//! Refusals (docs/methods.md §1.4, "Pitfall"): K_ii singular (Cholesky pivot fails or
 //! is negligible), or K_ff x = λ M_ff x with λ ≤ 0 (a static mode is a rigid
 //! motion). Both mean the r set does not hold all rigid-body motion.
 
@@ -162,7 +162,7 @@ fn sym(a: &DMatrix<f64>) -> DMatrix<f64> {
     (a + a.transpose()) * 0.5
 }
 
-/// Reduced damping C_ff (methods.md §1.5): none, a_K K_ff, or modal ratio ζ
+/// Reduced damping C_ff (docs/methods.md §1.5): none, a_K K_ff, or modal ratio ζ
 /// on the normal modes (C_jj = 2ζω_j) with a_K on the static block K̂_bb.
 pub fn damping_matrix(d: &Damping, r: &Reduction) -> DMatrix<f64> {
     let n = r.k_ff.nrows();

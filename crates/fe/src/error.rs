@@ -38,7 +38,7 @@ pub enum FeError {
 
     /// The interior stiffness K_ii of the Craig–Bampton split is singular: the
     /// frame DOFs together with the boundary DOFs do not hold all rigid motion
-    /// (methods.md §1.4).
+    /// (docs/methods.md §1.4).
     #[error(
         "{spec}: interior stiffness K_ii is singular ({detail}); the frame DOFs {frame} \
          do not remove all rigid-body motion (methods.md §1.4: the r set must be an isostatic support)"
@@ -53,7 +53,7 @@ pub enum FeError {
     },
 
     /// The reduced stiffness K_ff has an eigenvalue ≤ 0: a static mode is a
-    /// rigid-body motion (methods.md §1.4, "Pitfall").
+    /// rigid-body motion (docs/methods.md §1.4, "Pitfall").
     #[error(
         "{spec}: reduced stiffness K_ff has eigenvalue {eigenvalue:e} <= 0 (largest {largest:e}); \
          the frame DOFs {frame} do not hold all rigid-body motion, so a static mode moves the body rigidly \

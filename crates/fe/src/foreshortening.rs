@@ -1,4 +1,4 @@
-//! Foreshortening integrals F(x) = ∫₀ˣ G dξ (methods.md §6.3, FS0), with
+//! Foreshortening integrals F(x) = ∫₀ˣ G dξ (docs/methods.md §6.3, FS0), with
 //! G = g_v g_vᵀ + g_w g_wᵀ the outer products of the modes' transverse slopes.
 //!
 //! - Element ends: `F_end = F_start + X_e^(v)ᵀ K_σ X_e^(v) + X_e^(w)ᵀ K_σ^(w) X_e^(w)`,
@@ -9,7 +9,7 @@
 //!   Hermite element, so G is of degree 4 and the rule is exact).
 //!
 //! Only straight beams whose nodes follow the mesh order from the root are accepted
-//! (methods.md §6.3 "Limits"); the shortening acts along the beam axis ē₁.
+//! (docs/methods.md §6.3 "Limits"); the shortening acts along the beam axis ē₁.
 
 use flexmbd_core::{Dim, InvalidValue};
 use nalgebra::{DMatrix, Vector3};
@@ -26,7 +26,7 @@ const GAUSS3: [(f64, f64); 3] = [
     (0.774_596_669_241_483_4, 5.0 / 9.0),
 ];
 
-/// The FS0 data of one straight beam body (methods.md §6.3): the beam axis and F at
+/// The FS0 data of one straight beam body (docs/methods.md §6.3): the beam axis and F at
 /// every mass-cloud point and every FE node (n × n, symmetric).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ForeshorteningData {

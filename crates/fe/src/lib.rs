@@ -1,4 +1,4 @@
-//! Finite-element preprocessing for flexmbd (methods.md §1–§2.3, §6.1).
+//! Finite-element preprocessing for flexmbd (docs/methods.md §1–§2.3, §6.1).
 //!
 //! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
 //! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)

@@ -1,4 +1,4 @@
-//! Dense symmetric generalized eigenproblem K x = ω² M x (methods.md §1.3 step 3).
+//! Dense symmetric generalized eigenproblem K x = ω² M x (docs/methods.md §1.3 step 3).
 //!
 //! Method (faer): Cholesky M = L Lᵀ, the standard symmetric problem
 //! A = L⁻¹ K L⁻ᵀ = U Λ Uᵀ, and x = L⁻ᵀ u. The vectors are then mass-normalised

@@ -2,7 +2,7 @@
 //!
 //! A [`ReducedBody`] is everything a formulation needs of one flexible body and
 //! nothing of the FE model it came from: the mode inventory, the reduced
-//! matrices, the mass cloud (methods.md §2.1) on which **both** inertia routes
+//! matrices, the mass cloud (docs/methods.md §2.1) on which **both** inertia routes
 //! act, the 13 shape integrals (§2.3) computed from that same cloud, the nodal
 //! mode rows (for joints and sensors) and the per-mode stiffening integrals (§6).
 //! A rigid body is the same type with zero modes.
@@ -71,7 +71,7 @@ impl ModeInventory {
     }
 }
 
-/// The discrete mass model both inertia routes use (methods.md §2.1, §2.7):
+/// The discrete mass model both inertia routes use (docs/methods.md §2.1, §2.7):
 /// points with scalar (diagonal) weights, undeformed positions and translational mode rows.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MassCloud {
@@ -85,7 +85,7 @@ pub struct MassCloud {
     /// entry (k, a, j) at `k * 3 * n + a * n + j`.
     pub mode_rows: Vec<f64>,
     /// Which cloud this is (e.g. "4 Gauss stations per element, 4 section points each"),
-    /// reported beside cost comparisons (methods.md §2.7, "Cost").
+    /// reported beside cost comparisons (docs/methods.md §2.7, "Cost").
     pub description: String,
 }
 
@@ -105,7 +105,7 @@ impl MassCloud {
     }
 }
 
-/// The 13 inertia shape integrals of methods.md §2.3, computed on the mass cloud.
+/// The 13 inertia shape integrals of docs/methods.md §2.3, computed on the mass cloud.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShapeIntegrals {
     /// m = ∫ dm (kg).
@@ -133,14 +133,14 @@ pub struct NodeModes {
     pub rotation: DMatrix<f64>,
 }
 
-/// Per-mode integrals for geometric stiffening (methods.md §6.1). Later methods
+/// Per-mode integrals for geometric stiffening (docs/methods.md §6.1). Later methods
 /// (K_H, foreshortening integrals) add fields here without changing the body's interface.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StiffeningIntegrals {
     /// K_Gk = ∫ EA g_u,k G dx (n × n each, one per mode k); empty for a rigid body.
     pub k_g: Vec<DMatrix<f64>>,
     /// Element means Ḡ_e of G = g_v g_vᵀ + g_w g_wᵀ (n × n each, one per element;
-    /// methods.md §6.2 correction); empty for a rigid body.
+    /// docs/methods.md §6.2 correction); empty for a rigid body.
     #[serde(default)]
     pub g_mean: Vec<DMatrix<f64>>,
     /// EA_e L_e per element: H_ijkl = Σ_e `h_weight[e]` Ḡ_e,ij Ḡ_e,kl (§6.2).
@@ -171,7 +171,7 @@ pub struct ReducedBody {
     pub nodes: Vec<NodeModes>,
     /// Geometric-stiffening integrals.
     pub stiffening: StiffeningIntegrals,
-    /// Foreshortening data (FS0, methods.md §6.3): F at every cloud point and node.
+    /// Foreshortening data (FS0, docs/methods.md §6.3): F at every cloud point and node.
     /// Computed only when asked ([`crate::foreshortening::foreshortening`]); `None` otherwise.
     #[serde(default)]
     pub foreshortening: Option<crate::foreshortening::ForeshorteningData>,
@@ -189,7 +189,7 @@ impl ReducedBody {
 }
 
 impl ShapeIntegrals {
-    /// The 13 constants of methods.md §2.3 on a diagonal cloud: every integral
+    /// The 13 constants of docs/methods.md §2.3 on a diagonal cloud: every integral
     /// ∫ f g dm is Σ_k w_k f_k g_k, so they agree with B-matrix projection on the
     /// same cloud to round-off (§2.7).
     pub fn from_cloud(cloud: &MassCloud) -> Self {

@@ -1,4 +1,4 @@
-//! A rigid body as a [`ReducedBody`] with zero modes (methods.md §2.4, "Rigid body").
+//! A rigid body as a [`ReducedBody`] with zero modes (docs/methods.md §2.4, "Rigid body").
 //!
 //! The body gets a small mass cloud whose mass, first moment and second moment
 //! reproduce the given mass, centre of mass and inertia tensor to round-off, so

@@ -1,7 +1,7 @@
 //! The RON description of one flexible beam body, [`BeamBodySpec`], its loading
 //! and its validation.
 //!
-//! It describes the FE model of methods.md §1.2 (Euler–Bernoulli beams on a
+//! It describes the FE model of docs/methods.md §1.2 (Euler–Bernoulli beams on a
 //! polyline, element axes from the orientation vector k̄), the reference
 //! conditions of §1.4 (clamped node or 2D pinned–roller chord frame), the
 //! Craig–Bampton boundary set and number of normal modes of §1.3, and the
@@ -51,7 +51,7 @@ pub struct Material {
     pub shear_modulus: Option<f64>,
 }
 
-/// Cross-section. Element axes y_e, z_e are those of methods.md §1.2 ("Element axes").
+/// Cross-section. Element axes y_e, z_e are those of docs/methods.md §1.2 ("Element axes").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Section {
@@ -155,13 +155,13 @@ pub struct Geometry {
     /// Elements per segment (≥ 1).
     pub elements_per_segment: usize,
     /// Orientation vector k̄ (body components) that fixes the element axes:
-    /// y_e = k̄ × x_e / |k̄ × x_e|, z_e = x_e × y_e (methods.md §1.2). Default ē₃
+    /// y_e = k̄ × x_e / |k̄ × x_e|, z_e = x_e × y_e (docs/methods.md §1.2). Default ē₃
     /// (ē₂ for an element parallel to ē₃). In 2D only +ē₃ is allowed.
     #[serde(default)]
     pub orientation: Option<[f64; 3]>,
 }
 
-/// Reference conditions: which DOFs the floating frame takes (methods.md §1.4).
+/// Reference conditions: which DOFs the floating frame takes (docs/methods.md §1.4).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum ReferenceFrame {
@@ -191,7 +191,7 @@ impl Default for ReferenceFrame {
     }
 }
 
-/// Damping choice (methods.md §1.5). Mass-proportional damping is deliberately absent.
+/// Damping choice (docs/methods.md §1.5). Mass-proportional damping is deliberately absent.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Damping {
@@ -227,13 +227,13 @@ pub struct BeamBodySpec {
     /// Reference conditions (default `Clamped(node: 0)`).
     #[serde(default)]
     pub frame: ReferenceFrame,
-    /// Boundary DOFs: one static mode each, in this order (methods.md §1.3–§1.4).
+    /// Boundary DOFs: one static mode each, in this order (docs/methods.md §1.3–§1.4).
     #[serde(default)]
     pub boundary: Vec<NodeDof>,
     /// Number of fixed-interface normal modes n_d.
     pub normal_modes: usize,
-    /// Purely axial normal modes kept in addition (geometric stiffening, methods.md §6;
-    /// scenes.md §5 "4 bending + 2 axial"). When > 0, `normal_modes` counts the lowest
+    /// Purely axial normal modes kept in addition (geometric stiffening, docs/methods.md §6;
+    /// docs/scenes.md §5 "4 bending + 2 axial"). When > 0, `normal_modes` counts the lowest
     /// modes that are not purely axial, and the lowest `axial_modes` purely axial ones
     /// (only Ux rows, i.e. a beam along body x) are added; normal modes stay in
     /// ascending frequency. 0 (default): the `normal_modes` lowest modes of any kind.

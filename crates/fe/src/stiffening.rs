@@ -1,4 +1,4 @@
-//! Per-mode geometric stiffness K_Gk (methods.md §6.1, §6.2 "Precomputation").
+//! Per-mode geometric stiffness K_Gk (docs/methods.md §6.1, §6.2 "Precomputation").
 //!
 //! With linear axial and Hermite transverse shape functions, the axial strain
 //! of mode k is constant on an element, g_u,k = Δu_k,e / L_e, so
@@ -12,7 +12,7 @@
 //!
 //! [`element_mean_g`] gives the element means Ḡ_e = (X_e^(v)ᵀ K_σ X_e^(v) +
 //! X_e^(w)ᵀ K_σ^(w) X_e^(w)) / L_e and the weights EA_e L_e, from which
-//! H_ijkl = Σ_e EA_e L_e Ḡ_e,ij Ḡ_e,kl (methods.md §6.2 correction: the element
+//! H_ijkl = Σ_e EA_e L_e Ḡ_e,ij Ḡ_e,kl (docs/methods.md §6.2 correction: the element
 //! mean of G, not an exact quadrature, matches the constant axial strain of the
 //! linear axial element). H is kept in this factored form (n² per element
 //! instead of n⁴).
@@ -56,7 +56,7 @@ pub fn geometric_stiffness(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<DMatrix<f64>> {
 }
 
 /// Element means Ḡ_e (n × n, symmetric, one per element) and weights EA_e L_e
-/// (methods.md §6.2, "H: Correction"): H_ijkl = Σ_e w_e Ḡ_e,ij Ḡ_e,kl.
+/// (docs/methods.md §6.2, "H: Correction"): H_ijkl = Σ_e w_e Ḡ_e,ij Ḡ_e,kl.
 pub fn element_mean_g(mesh: &Mesh, x: &DMatrix<f64>) -> (Vec<DMatrix<f64>>, Vec<f64>) {
     let n = x.ncols();
     let ea = mesh.props.e * mesh.props.area;

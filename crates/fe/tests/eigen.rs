@@ -1,4 +1,4 @@
-//! Eigenfrequencies against Euler–Bernoulli theory (methods.md §1.2, §8 item 1).
+//! Eigenfrequencies against Euler–Bernoulli theory (docs/methods.md §1.2, §8 item 1).
 
 mod common;
 

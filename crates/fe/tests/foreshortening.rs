@@ -1,5 +1,5 @@
-//! F(x) = ∫₀ˣ (g_v g_vᵀ + g_w g_wᵀ) dξ of FS0 (methods.md §6.3) on the spin-up beam
-//! (scenes.md §5): at the cloud points and nodes against a dense midpoint quadrature,
+//! F(x) = ∫₀ˣ (g_v g_vᵀ + g_w g_wᵀ) dξ of FS0 (docs/methods.md §6.3) on the spin-up beam
+//! (docs/scenes.md §5): at the cloud points and nodes against a dense midpoint quadrature,
 //! symmetry, the root, the ordering of the cloud, and the refusal of a bent beam.
 
 use flexmbd_core::Dim;

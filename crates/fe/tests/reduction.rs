@@ -1,5 +1,5 @@
 //! Craig–Bampton reduction, static modes, rigid-body motion, cloud and shape
-//! integrals, K_G, determinism (methods.md §1.3–§1.4, §2.3, §2.7, §6.1–§6.2, §8).
+//! integrals, K_G, determinism (docs/methods.md §1.3–§1.4, §2.3, §2.7, §6.1–§6.2, §8).
 
 mod common;
 
@@ -94,7 +94,7 @@ fn static_modes_reproduce_cantilever_tip_force_and_moment_3d() {
 
 #[test]
 fn unit_tip_deflection_mode_is_the_cubic() {
-    // methods.md §8 item 1: (3x²L − x³)/(2L³), tip rotation free.
+    // docs/methods.md §8 item 1: (3x²L − x³)/(2L³), tip rotation free.
     let spec = tip_spec(Dim::Planar, square10(), vec![nd(20, Dof::Uy)], 0);
     let body = reduce(&spec).unwrap();
     for (k, node) in body.nodes.iter().enumerate() {
@@ -148,7 +148,7 @@ fn craig_bampton_properties_four_bar_bar() {
             assert_eq!(x[(r, c)], 0.0);
         }
     }
-    // v_B mode = (3x²L − x³)/(2L³) (methods.md §1.4 prototype check).
+    // v_B mode = (3x²L − x³)/(2L³) (docs/methods.md §1.4 prototype check).
     for node in &b.nodes {
         let xx = node.position.x;
         assert!((node.translation[(1, 1)] - (3.0 * xx * xx - xx.powi(3)) / 2.0).abs() < 1e-12);

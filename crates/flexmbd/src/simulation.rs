@@ -1,5 +1,5 @@
 //! Running a scene: compile it with the chosen formulation, find its static equilibrium
-//! when `solver.initial_state` asks for it (methods.md §5.4 item 4,
+//! when `solver.initial_state` asks for it (docs/methods.md §5.4 item 4,
 //! `flexmbd_integrators::statics`), integrate it with ALI3-P, record the sensors at the
 //! output interval, and summarise the run.
 //!

@@ -1,4 +1,4 @@
-//! The static start of a run (`solver.initial_state: StaticEquilibrium`, methods.md §5.4
+//! The static start of a run (`solver.initial_state: StaticEquilibrium`, docs/methods.md §5.4
 //! item 4) on floating-frame scenes: the linear cantilever droop against qL⁴/(8EI) in both
 //! formulations, a pendulum that must turn to hang, and the scene option end to end.
 
@@ -24,7 +24,7 @@ fn value(v: &[(String, f64)], name: &str) -> f64 {
     v.iter().find(|(n, _)| n == name).unwrap().1
 }
 
-/// The 3D spin-up beam (scenes.md §5) with linear elasticity, hub held at θ = 0: the tip
+/// The 3D spin-up beam (docs/scenes.md §5) with linear elasticity, hub held at θ = 0: the tip
 /// droop is the linear cantilever's qL⁴/(8EI) = 1.2·9.81·10⁴/(8·1.4e4) = 1.05114 m up to
 /// the truncation of the modal basis (the 20 Hermite elements are exact at the nodes for a
 /// uniform load). Measured: 4 bending modes per plane (the scene's 8 normal modes)

@@ -1,6 +1,6 @@
 //! ALI3-P: the index-3 augmented Lagrangian formulation with mass-orthogonal
 //! projections of velocities and accelerations, on the trapezoidal rule
-//! (thesis ch. 2; methods.md §5; Bayo & Ledesma 1996, Cuadrado et al. 2001).
+//! (thesis ch. 2; docs/methods.md §5; Bayo & Ledesma 1996, Cuadrado et al. 2001).
 //!
 //! Equations of motion with a scalar penalty α and multipliers λ*:
 //!
@@ -44,7 +44,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::lu::{DenseLlt, DenseLu};
 
-/// Solver settings (methods.md §5.2–§5.3; defaults there are marked CHOSEN).
+/// Solver settings (docs/methods.md §5.2–§5.3; defaults there are marked CHOSEN).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ali3pSettings {
     /// Time step h (s).

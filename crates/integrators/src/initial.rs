@@ -1,4 +1,4 @@
-//! Consistent initial conditions (methods.md §5.4, with its checked corrections):
+//! Consistent initial conditions (docs/methods.md §5.4, with its checked corrections):
 //!
 //! 1. positions: Φ(q₀) = 0 with the user-specified coordinates held, by a
 //!    regularised Gauss–Newton iteration (μI + JᵀJ) Δq = −Jᵀ Φ_ext that tolerates

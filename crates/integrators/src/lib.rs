@@ -1,6 +1,6 @@
 //! Time integrators of flexmbd, generic over [`flexmbd_core::Formulation`]:
-//! ALI3-P on the trapezoidal rule (methods.md §5), its consistent initial conditions, and
-//! the static equilibrium that can start a run (methods.md §5.4 item 4, [`statics`]).
+//! ALI3-P on the trapezoidal rule (docs/methods.md §5), its consistent initial conditions, and
+//! the static equilibrium that can start a run (docs/methods.md §5.4 item 4, [`statics`]).
 
 pub mod ali3p;
 mod initial;

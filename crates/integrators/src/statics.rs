@@ -1,5 +1,5 @@
-//! Static equilibrium of a [`Formulation`] at a fixed time (methods.md §5.4 item 4, first
-//! option; scenes.md §5 "start from rest with the beam in static equilibrium"), used to
+//! Static equilibrium of a [`Formulation`] at a fixed time (docs/methods.md §5.4 item 4, first
+//! option; docs/scenes.md §5 "start from rest with the beam in static equilibrium"), used to
 //! start a run at rest in equilibrium before ALI3-P's consistent initial conditions.
 //!
 //! At fixed t with q̇ = 0 find q and λ with
@@ -10,7 +10,7 @@
 //! values. Q holds every applied and elastic force (gravity, springs, FNL1/FNL2/FS0
 //! elasticity); velocity-dependent terms vanish at q̇ = 0.
 //!
-//! **Structure: the augmented-Lagrangian Newton step of ALI3-P** (methods.md §5.1–§5.2),
+//! **Structure: the augmented-Lagrangian Newton step of ALI3-P** (docs/methods.md §5.1–§5.2),
 //! with the static residual in place of the dynamic one and M replaced by nothing:
 //!
 //! g(q; λ) = −Q(q) + Φ_qᵀ(λ + αΦ),  H Δq = −g,
@@ -20,7 +20,7 @@
 //! with two changes that statics needs (measured on the pendulum of `tests/statics.rs`):
 //!
 //! - after every correction q is **projected** back onto Φ = 0 by the Gauss–Newton iteration of
-//!   the consistent initial positions (methods.md §5.4 item 1, held coordinates fixed). In a
+//!   the consistent initial positions (docs/methods.md §5.4 item 1, held coordinates fixed). In a
 //!   time step the correction is O(h²) and the penalty's curvature term is harmless; in statics
 //!   a pendulum 57° off the vertical gets a correction of 2 m along the tangent of its 1.5 m rod,
 //!   and without the projection the penalty term α Φ Φ_q of that trial point raised ‖g‖ by 10⁵,
@@ -31,7 +31,7 @@
 //!   it is also what puts the constraint curvature into H (with λ = 0 a pendulum's H is singular).
 //!
 //! Why not a bordered Newton on [H Φ_qᵀ; Φ_q 0]: the scenes have redundant constraints (the
-//! rigid four-bars, methods.md §5.3 "Redundant constraints"), which make the bordered matrix
+//! rigid four-bars, docs/methods.md §5.3 "Redundant constraints"), which make the bordered matrix
 //! singular; with the penalty the n × n matrix H stays regular whenever H is positive definite
 //! on the motions the constraints allow, redundancy or not, as ALI3-P's leading matrix does.
 //! The step is then, for large α, the null-space Newton step.
@@ -64,7 +64,7 @@
 //! 1/`load_steps`, halved after a failed level and doubled again after an easy one.
 //!
 //! **Penalty.** α = 10⁴ k_ref (CHOSEN, as ALI3-P's effective penalty h²α/4 = 10⁴ m_ref of
-//! methods.md §5.3 with the stiffness scale in place of the mass scale), k_ref the largest
+//! docs/methods.md §5.3 with the stiffness scale in place of the mass scale), k_ref the largest
 //! diagonal entry of H without the penalty at the first iterate (or of M, per s², when that
 //! is zero). With the projection α only has to make H regular across the constraints.
 //!
@@ -302,7 +302,7 @@ impl Solver<'_> {
 
     /// Project q onto Φ(q, t) = 0 with the held coordinates fixed: Gauss–Newton on the
     /// regularised normal equations (εI + JᵀJ) Δq = −JᵀΦ (tolerates redundancy, as the
-    /// consistent initial positions of methods.md §5.4 item 1). Uses `h`, `lu`, `base` as
+    /// consistent initial positions of docs/methods.md §5.4 item 1). Uses `h`, `lu`, `base` as
     /// scratch. False when it does not reach ‖Φ‖∞ ≤ ε_Φ.
     fn project<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &mut DVector<f64>) -> bool {
         if self.terms.phi.is_empty() {

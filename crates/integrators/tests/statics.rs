@@ -1,4 +1,4 @@
-//! The static-equilibrium solver (methods.md §5.4 item 4) on small formulations with
+//! The static-equilibrium solver (docs/methods.md §5.4 item 4) on small formulations with
 //! closed-form answers: a hanging pendulum in natural coordinates (constraint curvature is
 //! the only tangent; redundant copies of the constraint), a hardening spring chain with a
 //! held coordinate, the load stepping of a snap-free but strongly non-linear spring, and

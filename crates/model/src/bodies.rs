@@ -2,7 +2,7 @@
 //! [`ReducedBody`] for every body; rigid bodies and beams run rigid have zero modes), the
 //! FE node each marker of a flexible body sits on, and the run-time [`FlexibleBody`] with
 //! the elastic model of the scene's stiffening method installed (FNL1, FNL2 from
-//! `flexmbd-stiffening`; FS0's shortening data attached, methods.md §6.2–§6.3).
+//! `flexmbd-stiffening`; FS0's shortening data attached, docs/methods.md §6.2–§6.3).
 
 use flexmbd_body::{ElasticModel, FlexibleBody};
 use flexmbd_core::InvalidValue;

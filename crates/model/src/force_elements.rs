@@ -1,6 +1,6 @@
 //! Force elements, written once for every formulation over its [`MarkerKinematics`].
 //!
-//! **Spring–damper** between markers P1 and P2 (methods.md §2.6): with d = r_P2 − r_P1,
+//! **Spring–damper** between markers P1 and P2 (docs/methods.md §2.6): with d = r_P2 − r_P1,
 //! l = |d|, n = d/l and the tension f = k (l − l₀) + c n·(ṙ_P2 − ṙ_P1), the markers feel −f n
 //! (at P2) and +f n (at P1), so Q += −f Jᵀn with J = ∂d/∂q. Tangents:
 //! K += Jᵀ(k nnᵀ + f/l (I − nnᵀ)) J and C += c Jᵀ nnᵀ J; the terms from ∂J/∂q and the damper's

@@ -1,9 +1,9 @@
-//! Foreshortening, FS0 (methods.md §6.3): the body set-up. F is computed at every cloud
+//! Foreshortening, FS0 (docs/methods.md §6.3): the body set-up. F is computed at every cloud
 //! point and node (`flexmbd_fe::foreshortening`) and attached to the run-time body, which
 //! then uses the foreshortened kinematics in both inertia routes (the scene's
 //! `solver.inertia`: B-matrix projection or the FS0 shape integrals) and in marker and
 //! sensor positions. Refused: modes with axial content, and joints or force elements at any
-//! marker of the body but its root (methods.md §6.3 limits: the static-mode-as-joint
+//! marker of the body but its root (docs/methods.md §6.3 limits: the static-mode-as-joint
 //! recursion ignores u_fs at other nodes). Elasticity stays linear, −K_L y. The scene
 //! rewrite that drops the axial modes is [`crate::rewrite::drop_axial_modes`].
 

@@ -1,4 +1,4 @@
-//! The scene rewrites a stiffening method asks for (thesis ch. 4; methods.md §6), done once
+//! The scene rewrites a stiffening method asks for (thesis ch. 4; docs/methods.md §6), done once
 //! by [`PreparedScene::new`](crate::PreparedScene::new) before any formulation sees the scene:
 //!
 //! - FNL2 ([`complete_axial_basis`]): a static mode (Craig–Bampton boundary DOF) for the axial
@@ -38,7 +38,7 @@ pub fn rewrite_for_stiffening(scene: &Scene) -> Result<Cow<'_, Scene>, ModelErro
     }
 }
 
-/// FNL2's axial basis (methods.md §6.2 correction): every node's `Ux` but the frame
+/// FNL2's axial basis (docs/methods.md §6.2 correction): every node's `Ux` but the frame
 /// node's becomes a static mode of every flexible beam (straight, along body x,
 /// clamped frame).
 pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
@@ -158,7 +158,7 @@ pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
                 b.name
             ));
         }
-        // Each substructure: 2 elements (methods.md §6.4 prototype, scenes.md §5).
+        // Each substructure: 2 elements (docs/methods.md §6.4 prototype, docs/scenes.md §5).
         let (length, per) = (pts[1][0], 2);
         let ls = length / n as f64;
         let a0 = b.orientation.matrix();

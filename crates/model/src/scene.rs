@@ -358,7 +358,7 @@ pub enum MotionLaw {
     Locked,
     /// Constant rate: θ = rate · t.
     ConstantRate(f64),
-    /// The spin-up manoeuvre (thesis ch. 4, methods.md §6.5):
+    /// The spin-up manoeuvre (thesis ch. 4, docs/methods.md §6.5):
     /// ω(t) = Ωs/Ts [t − Ts/(2π) sin(2πt/Ts)] for t < Ts, Ωs after.
     SpinUp {
         /// Final angular speed Ωs (rad/s).
@@ -517,7 +517,7 @@ pub enum Stiffening {
     Substructuring(usize),
 }
 
-/// Solver settings (methods.md §5).
+/// Solver settings (docs/methods.md §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Solver {
@@ -543,7 +543,7 @@ pub struct Solver {
     /// Newton iteration limit per step.
     #[serde(default = "default_iterations")]
     pub max_iterations: usize,
-    /// Penalty α; 4·10⁴ m_ref / h² when omitted (methods.md §5.3).
+    /// Penalty α; 4·10⁴ m_ref / h² when omitted (docs/methods.md §5.3).
     #[serde(default)]
     pub penalty: Option<f64>,
     /// How the run starts (`Given` when omitted).
@@ -551,7 +551,7 @@ pub struct Solver {
     pub initial_state: InitialState,
 }
 
-/// The state a run starts from, before ALI3-P makes it consistent (methods.md §5.4).
+/// The state a run starts from, before ALI3-P makes it consistent (docs/methods.md §5.4).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum InitialState {
     /// The positions and velocities the scene gives: the bodies' placements and
@@ -560,8 +560,8 @@ pub enum InitialState {
     Given,
     /// At rest in static equilibrium under the loads at t = 0 (gravity, springs, elasticity
     /// with the chosen stiffening), found from the given positions with the drivers and
-    /// joints held (methods.md §5.4 item 4; `flexmbd_integrators::statics`); the velocity
-    /// guesses are replaced by zero. scenes.md §5 asks this of the 3D spin-up beam.
+    /// joints held (docs/methods.md §5.4 item 4; `flexmbd_integrators::statics`); the velocity
+    /// guesses are replaced by zero. docs/scenes.md §5 asks this of the 3D spin-up beam.
     StaticEquilibrium,
 }
 

@@ -1,4 +1,4 @@
-//! The semi-recursive relative-coordinate formulation of flexmbd (methods.md §4;
+//! The semi-recursive relative-coordinate formulation of flexmbd (docs/methods.md §4;
 //! García de Jalón et al. 2005; the flexible extension of Lugrís's thesis, ch. 2).
 //!
 //! **Coordinates** (§4.4): z = the elementary-joint coordinates of a spanning tree of

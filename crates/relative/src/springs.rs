@@ -3,7 +3,7 @@
 //!
 //! With d = r_P2 − r_P1, l = |d|, n = d/l and the tension f = k (l − l₀) + c l̇, the markers
 //! feel −f n (at P2) and +f n (at P1), so Q_z += J_zᵀ(−f n) with J_z = ∂d/∂z. J_z is built
-//! like the cut-joint rows (methods.md §4.4–§4.6): each marker's velocity per unit rate of
+//! like the cut-joint rows (docs/methods.md §4.4–§4.6): each marker's velocity per unit rate of
 //! every elementary joint on its body's path, u_a = ṡ_a + ω_a × r_P (the twist in the s form),
 //! plus the node's modal columns A X^t of a flexible body, then folded into z through L.
 //! Tangents as in the absolute formulation: K += J_zᵀ(k nnᵀ + f/l (I − nnᵀ)) J_z and

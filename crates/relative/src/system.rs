@@ -1,4 +1,4 @@
-//! The compiled scene and its one evaluation pass (methods.md §4.5 steps 1–7, §4.6).
+//! The compiled scene and its one evaluation pass (docs/methods.md §4.5 steps 1–7, §4.6).
 //!
 //! Storage: for every frame F of the augmented tree its position r_F, rotation A_F,
 //! velocity Z^r_F = {ṡ; ω} and velocity-product acceleration D_F (6-vectors in the 3D
@@ -37,7 +37,7 @@ pub(crate) struct BodyRt {
     elastic: Vec<f64>,
 }
 
-/// A constraint (methods.md §4.6).
+/// A constraint (docs/methods.md §4.6).
 #[derive(Clone, Debug)]
 pub(crate) enum Con {
     /// r_i − r_j = 0 (2 rows in 2D, 3 in 3D).
@@ -1606,7 +1606,7 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
                 vl[i] += b.rows.t(node, i, m) * yd;
             }
         }
-        // FS0 (methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+        // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.y_off..b.y_off + b.n;
         let (y, yd) = (
             &rel.last_z.as_slice()[ys.clone()],

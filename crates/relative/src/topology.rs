@@ -1,4 +1,4 @@
-//! The augmented kinematic tree of a scene (methods.md §4.2–§4.4): the spanning tree
+//! The augmented kinematic tree of a scene (docs/methods.md §4.2–§4.4): the spanning tree
 //! of the joints, chosen breadth-first from the ground, and the chain of frames it
 //! implies.
 //!
@@ -34,7 +34,7 @@ use flexmbd_core::Dim;
 use flexmbd_model::{GROUND, JointKind, ModelError, Scene};
 use nalgebra::{Matrix3, Vector3};
 
-/// Elementary joint type (methods.md §4.2).
+/// Elementary joint type (docs/methods.md §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum ElemKind {
     Revolute,

@@ -1,4 +1,4 @@
-//! The rigid double four-bar in relative coordinates (scenes.md §1, methods.md §4.6).
+//! The rigid double four-bar in relative coordinates (docs/scenes.md §1, docs/methods.md §4.6).
 
 mod common;
 use common::*;

@@ -1,6 +1,6 @@
 //! 3D: the recursive terms against dense products and Lagrange's equations, cut-joint
 //! Jacobians and bias by differences, and whole runs against the spatial natural-coordinate
-//! formulation (methods.md §4 in 3D, §8 items 6–8).
+//! formulation (docs/methods.md §4 in 3D, §8 items 6–8).
 
 mod common;
 use common::*;
@@ -38,7 +38,7 @@ fn four_bar_3d(planar: &Scene) -> Scene {
 
 /// Two flexible beams in a chain on ball joints: the first carries static modes at its tip
 /// (3 translations, §4.3 node frame), the second hangs there. The stiff axial static mode
-/// (~2.5 kHz, undamped) needs a small step for the energy test (methods.md §4.3 note).
+/// (~2.5 kHz, undamped) needs a small step for the energy test (docs/methods.md §4.3 note).
 fn flexible_chain_3d() -> Scene {
     let mut s = model("flexible_pendulum_3d.ron");
     let mut b2 = s.bodies[0].clone();

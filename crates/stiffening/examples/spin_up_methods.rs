@@ -1,5 +1,5 @@
 //! The 2D (or 3D) spin-up beam with every available stiffening method, against the ANCF
-//! reference (methods.md §6, §7; scenes.md §5): max |Δu_x|, |Δu_y| (|Δu_z|) over the run,
+//! reference (docs/methods.md §6, §7; docs/scenes.md §5): max |Δu_x|, |Δu_y| (|Δu_z|) over the run,
 //! CPU time and Newton iterations per step.
 //!
 //! `cargo run --release -p flexmbd-stiffening --example spin_up_methods -- [2d|3d] [duration] [absolute|relative]`

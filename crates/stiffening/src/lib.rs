@@ -1,4 +1,4 @@
-//! Geometric stiffening of Euler–Bernoulli beam bodies (thesis ch. 4; methods.md §6): the
+//! Geometric stiffening of Euler–Bernoulli beam bodies (thesis ch. 4; docs/methods.md §6): the
 //! nonlinear elastic models, as [`flexmbd_body::ElasticModel`]s with their tangents.
 //!
 //! - FNL1: `Q = −(K_L + K_G(y)) y − C ẏ`, `K_G = Σ_k y_k K_Gk`; tangent
@@ -28,7 +28,7 @@ pub enum Kind {
     Fnl2,
 }
 
-/// FNL1 / FNL2 elasticity of one reduced beam body (methods.md §6.2).
+/// FNL1 / FNL2 elasticity of one reduced beam body (docs/methods.md §6.2).
 #[derive(Clone, Debug)]
 pub struct Nonlinear {
     kind: Kind,
@@ -115,7 +115,7 @@ impl Nonlinear {
         self.kind
     }
 
-    /// Strain energy U(y) of FNL2 (methods.md §6.1 with the element-averaged H).
+    /// Strain energy U(y) of FNL2 (docs/methods.md §6.1 with the element-averaged H).
     /// For FNL1 (not conservative) this is the same function, which FNL1's force is not
     /// the gradient of.
     pub fn strain_energy(&self, y: &[f64]) -> f64 {

@@ -1,9 +1,9 @@
-//! The `Energy` sensor includes the stiffening model's strain energy U(y) (methods.md §6.1),
+//! The `Energy` sensor includes the stiffening model's strain energy U(y) (docs/methods.md §6.1),
 //! so an undamped, undriven FNL2 beam conserves it. Scene: the 2D spin-up beam (scenes.md
 //! §5 data) with its hub left free, spinning at 6 rad/s from the undeformed state, in a
 //! vertical plane under gravity (which bends it every turn, so the geometric terms of U carry
 //! energy). FNL2's force is the gradient of U, so the trapezoidal rule keeps E to O(h²).
-//! (FNL1 is not conservative: its force is not the gradient of any U, methods.md §6.2.)
+//! (FNL1 is not conservative: its force is not the gradient of any U, docs/methods.md §6.2.)
 
 use flexmbd::model::{FormulationKind, Scene, Sensor, SensorKind, Stiffening, V3};
 use flexmbd::simulation::run;

@@ -1,9 +1,9 @@
-//! The 2D spin-up beam (scenes.md §5; methods.md §6.5) with foreshortening, FS0
-//! (methods.md §6.3: 4 bending modes, no axial modes, inertia by the scene's default
+//! The 2D spin-up beam (docs/scenes.md §5; docs/methods.md §6.5) with foreshortening, FS0
+//! (docs/methods.md §6.3: 4 bending modes, no axial modes, inertia by the scene's default
 //! route, shape integrals, relative formulation), against the ANCF reference of `flexmbd-ancf` (16 elements, h = 1 ms;
-//! it matches the independent Exudyn reference to < 0.001 mm, methods.md §7).
+//! it matches the independent Exudyn reference to < 0.001 mm, docs/methods.md §7).
 //!
-//! Bounds, from the methods.md §6.3 prototype (max over 20 s of |Δu_x| / |Δu_y|:
+//! Bounds, from the docs/methods.md §6.3 prototype (max over 20 s of |Δu_x| / |Δu_y|:
 //! 0.515 / 2.13 mm, ~1.0 Newton iterations per step with K = K_L):
 //! - |Δu_x| is the centrifugal stretch FS0 cannot show (no axial modes),
 //!   Ω_s² ρA L³ / (3 EA) = 36 · 1.2 · 1000 / 8.4e7 = 0.514 mm once at full speed, so it is
@@ -142,7 +142,7 @@ fn full_20_s_fs0_errors_against_reference() {
 
 #[test]
 fn spatial_fs0_without_gravity_equals_planar() {
-    // 3D, 4 + 4 bending modes and no axial modes (scenes.md §5), gravity off: the motion
+    // 3D, 4 + 4 bending modes and no axial modes (docs/scenes.md §5), gravity off: the motion
     // stays in the plane and matches the 2D reference as the 2D model does (the ANCF
     // 3D cable without gravity equals the 2D one, flexmbd-ancf tests).
     let mut s = scene_of("spin_up_beam_3d.ron", 20.0);
@@ -258,7 +258,7 @@ fn spatial_tips(form: FormulationKind, h: f64, duration: f64) -> (Vec<Vec<f64>>,
 
 #[test]
 fn spatial_absolute_equals_relative() {
-    // The 3D spin-up beam with gravity (scenes.md §5 scene F, started at rest as the scene
+    // The 3D spin-up beam with gravity (docs/scenes.md §5 scene F, started at rest as the scene
     // file does), FS0, in natural and in relative coordinates. Both integrate the same
     // equations with the trapezoidal rule in different coordinates, so the tip histories
     // differ by the step error, which falls as h² (ALI3-P is second order).

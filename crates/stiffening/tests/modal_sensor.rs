@@ -1,6 +1,6 @@
 //! FNL2 renumbers a beam's modal coordinates (every node's axial DOF becomes a static mode,
-//! methods.md §6.2 correction); a `Modal` sensor must keep naming the mode it named.
-//! Check: the first bending mode's coordinate on the 2D spin-up beam (scenes.md §5) over the
+//! docs/methods.md §6.2 correction); a `Modal` sensor must keep naming the mode it named.
+//! Check: the first bending mode's coordinate on the 2D spin-up beam (docs/scenes.md §5) over the
 //! first 3 s, where stiffening barely matters yet, is the same under FNL1 and FNL2 (same
 //! cantilever bending shape: the straight beam's bending modes have no axial rows).
 

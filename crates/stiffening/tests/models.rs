@@ -1,4 +1,4 @@
-//! FNL1 / FNL2 elastic models (methods.md §6.1–§6.2): strain-free rigid motion, FNL2
+//! FNL1 / FNL2 elastic models (docs/methods.md §6.1–§6.2): strain-free rigid motion, FNL2
 //! force = −∇U and tangent = Hessian, FNL1 tangent = −∂Q/∂y, K_Gk of bending modes.
 
 use flexmbd_body::ElasticModel;
@@ -7,7 +7,7 @@ use flexmbd_fe::{BeamBodySpec, Dof, NodeDof, ReducedBody, reduce};
 use flexmbd_stiffening::{Kind, Nonlinear};
 use nalgebra::DMatrix;
 
-/// The spin-up beam of scenes.md §5 with `axial` = the nodes whose Ux is a static mode.
+/// The spin-up beam of docs/scenes.md §5 with `axial` = the nodes whose Ux is a static mode.
 fn beam(dim: Dim, axial: &[usize], bending: usize) -> ReducedBody {
     beam_with(dim, axial, bending, 0)
 }
@@ -229,7 +229,7 @@ fn element_mean_h_matches_hand_value_for_one_element() {
 
 #[test]
 fn axial_normal_modes_are_selected_after_the_bending_modes() {
-    // scenes.md §5: 4 bending + 2 axial cantilever modes. Derived frequencies: bending
+    // docs/scenes.md §5: 4 bending + 2 axial cantilever modes. Derived frequencies: bending
     // 3.80, 23.8, 66.6, 130.6 rad/s; axial (2k − 1) π/(2L) √(EA/ρA) = 759, 2277 rad/s.
     let body = beam_with(Dim::Planar, &[], 4, 2);
     let w: Vec<f64> = body

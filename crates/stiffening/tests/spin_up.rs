@@ -1,8 +1,8 @@
-//! The 2D spin-up beam (scenes.md §5; methods.md §6.5) with linear, FNL1 and FNL2
+//! The 2D spin-up beam (docs/scenes.md §5; docs/methods.md §6.5) with linear, FNL1 and FNL2
 //! elasticity against the ANCF reference of `flexmbd-ancf` (16 elements, the same
-//! h = 1 ms; it matches the independent Exudyn reference to < 0.001 mm, methods.md §7).
+//! h = 1 ms; it matches the independent Exudyn reference to < 0.001 mm, docs/methods.md §7).
 //!
-//! Bounds come from the methods.md §6 prototype figures, max over 20 s of |Δu_x| / |Δu_y|:
+//! Bounds come from the docs/methods.md §6 prototype figures, max over 20 s of |Δu_x| / |Δu_y|:
 //! FNL1 (4 bending + 2 axial modes) 18.9 / 8.4 mm; FNL2 corrected (4 bending + all 20 axial
 //! DOFs, element-mean H) 0.11 / 2.0 mm; linear diverges (|u_y| ≈ 1 m at 6.8 s). This code
 //! measures FNL1 18.902 / 8.383 mm and FNL2 0.112 / 1.990 mm over 20 s. The regular test
@@ -92,7 +92,7 @@ fn first_8_s_fnl1_fnl2_near_reference_and_linear_far_off() {
         check(Stiffening::Fnl2, f, 8.0, &r, [0.0, 0.12], 2.1);
     }
     // Linear: above its critical speed (first bending frequency 3.80 rad/s < Ωs), the
-    // centrifugal softening is not balanced and the tip runs away (methods.md §6.2).
+    // centrifugal softening is not balanced and the tip runs away (docs/methods.md §6.2).
     let o = spin_up(Stiffening::Linear, FormulationKind::Relative, 8.0, &r);
     assert!(
         o.status == "failed" || o.err[1] > 1.0,

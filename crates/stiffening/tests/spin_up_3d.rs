@@ -1,5 +1,5 @@
-//! The 3D spin-up scene (scenes.md §5 scene F, gravity along −z) started at rest in static
-//! equilibrium (`solver.initial_state: StaticEquilibrium`, methods.md §5.4 item 4), against
+//! The 3D spin-up scene (docs/scenes.md §5 scene F, gravity along −z) started at rest in static
+//! equilibrium (`solver.initial_state: StaticEquilibrium`, docs/methods.md §5.4 item 4), against
 //! the ANCF cable started from its own static equilibrium (`Cable::solve_static`). The full
 //! 20 s comparison of every method is the report's (`cargo xtask reproduce-thesis --only
 //! spin-up`); these tests take the static droop and the first 8 s.
@@ -162,7 +162,7 @@ fn run_errors(
 /// absolute formulation equals the relative run to 1e-3 mm. The vertical errors are set at
 /// t = 0 by the static droop (see `static_droop_against_the_cable`); FNL1's axial error is the
 /// shortening 0.6 δ²/L = 65 mm of the 1.04 m droop, which it cannot represent (the thesis's
-/// 28 mm, scenes.md §7.4, is the same effect on a stiffer beam). Bounds: measured + 10 %.
+/// 28 mm, docs/scenes.md §7.4, is the same effect on a stiffer beam). Bounds: measured + 10 %.
 #[test]
 fn first_8_s_against_the_cable() {
     use FormulationKind::{Absolute, Relative};

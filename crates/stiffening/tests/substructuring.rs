@@ -1,7 +1,7 @@
-//! Substructuring SBn (methods.md §6.4) as a scene transformation, run in the relative
-//! formulation against the ANCF reference of the 2D spin-up (scenes.md §5).
+//! Substructuring SBn (docs/methods.md §6.4) as a scene transformation, run in the relative
+//! formulation against the ANCF reference of the 2D spin-up (docs/scenes.md §5).
 //!
-//! methods.md §6.4 prototype, max |Δu_x| / |Δu_y| over 20 s: SB5 1.66 / 47.9 mm, SB10
+//! docs/methods.md §6.4 prototype, max |Δu_x| / |Δu_y| over 20 s: SB5 1.66 / 47.9 mm, SB10
 //! 0.37 / 10.4 mm, SB20 0.09 / 2.48 mm (2-element substructures, 3 static + 1
 //! fixed-interface mode, linear). Measured here: SB5 1.660 / 47.937, SB10 0.373 / 10.440,
 //! SB20 0.090 / 2.478 mm. Bounds: measured + about 5 %; u_y also from below, since each

@@ -1,9 +1,9 @@
-//! Thesis ch. 2, first example: the 2D double four-bar (scenes.md §1) with 0 to 5
+//! Thesis ch. 2, first example: the 2D double four-bar (docs/scenes.md §1) with 0 to 5
 //! flexible bars, both inertia routes, both formulations, 5 s at h = 1 ms. Beside
-//! the thesis's tables of coordinate counts and CPU times (scenes.md §7.1): our counts,
+//! the thesis's tables of coordinate counts and CPU times (docs/scenes.md §7.1): our counts,
 //! the median CPU time of the 5 s run, the real-time factor, Newton iterations per step,
 //! the split of time by phase, the agreement of the two inertia routes, and the rigid
-//! check against the converged 10 s reference of scenes.md §1.
+//! check against the converged 10 s reference of docs/scenes.md §1.
 
 use std::path::PathBuf;
 
@@ -16,21 +16,21 @@ use crate::Settings;
 use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
 
-/// The bars made flexible, in this order (scenes.md §1 "Outputs": CHOSEN bars 1, 2, …, k).
+/// The bars made flexible, in this order (docs/scenes.md §1 "Outputs": CHOSEN bars 1, 2, …, k).
 pub const BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
-/// Thesis, absolute formulation: coordinates for k = 0..5 (scenes.md §7.1).
+/// Thesis, absolute formulation: coordinates for k = 0..5 (docs/scenes.md §7.1).
 const THESIS_ABS_COORDS: [usize; 6] = [6, 13, 20, 27, 34, 41];
-/// Thesis, relative formulation: coordinates for k = 0..5 (scenes.md §7.1).
+/// Thesis, relative formulation: coordinates for k = 0..5 (docs/scenes.md §7.1).
 const THESIS_REL_COORDS: [usize; 6] = [5, 8, 11, 14, 17, 20];
-/// Thesis, absolute formulation: CPU time (s) of the 5 s run, 2008 hardware (scenes.md §7.1).
+/// Thesis, absolute formulation: CPU time (s) of the 5 s run, 2008 hardware (docs/scenes.md §7.1).
 const THESIS_ABS_CPU: [f64; 6] = [0.91, 3.30, 6.24, 9.61, 11.51, 15.22];
-/// Thesis, relative formulation: CPU time (s) of the 5 s run (scenes.md §7.1).
+/// Thesis, relative formulation: CPU time (s) of the 5 s run (docs/scenes.md §7.1).
 const THESIS_REL_CPU: [f64; 6] = [4.85, 9.11, 12.62, 15.74, 17.74, 20.92];
-/// Converged rigid B0 position and velocity at t = 10 s (scenes.md §1 "Reference values
+/// Converged rigid B0 position and velocity at t = 10 s (docs/scenes.md §1 "Reference values
 /// for the rigid case", from S3).
 const REF_B0_10S: (f64, f64) = (0.32846, 0.94452);
 const REF_B0_VEL_10S: (f64, f64) = (1.42305, -0.49487);
-/// Initial kinetic energy (J), scenes.md §1 "Loads and initial conditions" (DERIVED).
+/// Initial kinetic energy (J), docs/scenes.md §1 "Loads and initial conditions" (DERIVED).
 const KINETIC_0: f64 = 1.5;
 /// Time window (s) of the chart of the flexible deviation of B0.
 const DEV_WINDOW: (f64, f64) = (0.5, 1.5);

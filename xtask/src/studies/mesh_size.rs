@@ -1,4 +1,4 @@
-//! Thesis ch. 3, "CPU-time vs. finite element mesh size" (scenes.md §4): a scene with
+//! Thesis ch. 3, "CPU-time vs. finite element mesh size" (docs/scenes.md §4): a scene with
 //! several flexible bodies — the double four-bar with all five bars flexible (scenes.md
 //! §4 names the 12-body vehicle, which does not exist yet) — with the number of
 //! elements per bar swept at a fixed mode set (2 static + 2 normal modes per bar), in

@@ -1,7 +1,7 @@
-//! Thesis ch. 4: the spin-up beam (scenes.md §5, methods.md §6). Every stiffening method
+//! Thesis ch. 4: the spin-up beam (docs/scenes.md §5, docs/methods.md §6). Every stiffening method
 //! in both formulations against the project's own converged large-deformation reference
-//! (ANCF cable elements, `flexmbd-ancf`, methods.md §7), beside the thesis's tables
-//! (scenes.md §7.3–§7.4). Where each method fails over the final speed Ωs and the step h
+//! (ANCF cable elements, `flexmbd-ancf`, docs/methods.md §7), beside the thesis's tables
+//! (docs/scenes.md §7.3–§7.4). Where each method fails over the final speed Ωs and the step h
 //! is the next study (`stability_map`).
 
 use flexmbd::ancf::{CableSpec, run_spin_up};
@@ -31,16 +31,16 @@ const FORMS: [(&str, FormulationKind); 2] = [
     ("AC", FormulationKind::Absolute),
     ("RC", FormulationKind::Relative),
 ];
-/// Beam length (m), scenes.md §5.
+/// Beam length (m), docs/scenes.md §5.
 const LENGTH: f64 = 10.0;
-/// Thesis, 2D spin-up CPU times (s), AC / RC (scenes.md §7.3).
+/// Thesis, 2D spin-up CPU times (s), AC / RC (docs/scenes.md §7.3).
 const THESIS_2D_CPU: [(&str, f64, f64); 3] = [
     ("FNL1", 0.266, 0.094),
     ("FNL2", 0.297, 0.125),
     ("FS0", 0.266, 0.094),
 ];
 /// An error below this (m) counts as accurate in the stability map: 5 mm, about the
-/// thesis's FS0 / SB20 transverse errors (scenes.md §7.4).
+/// thesis's FS0 / SB20 transverse errors (docs/scenes.md §7.4).
 pub(super) const ACCURATE: f64 = 5e-3;
 /// A tip displacement beyond this (m) is a divergence: the beam is 10 m long.
 pub(super) const DIVERGED: f64 = 10.0;
@@ -340,9 +340,9 @@ type Tip3 = Vec<(f64, [f64; 3])>;
 /// The linear cantilever droop of the 3D beam with 4 bending modes per plane (m), measured by
 /// `crates/flexmbd/tests/statics.rs` (qL⁴/(8EI) = 1.051071 m with every mode).
 const LINEAR_DROOP_4_MODES: f64 = 1.051027;
-/// Spin-up time Ts (s), scenes.md §5.
+/// Spin-up time Ts (s), docs/scenes.md §5.
 const T_S: f64 = 15.0;
-/// The thesis's 3D table (scenes.md §7.4): method, CPU AC (s), CPU RC (s), Δx, Δy, Δz (mm).
+/// The thesis's 3D table (docs/scenes.md §7.4): method, CPU AC (s), CPU RC (s), Δx, Δy, Δz (mm).
 // FS0's Δy is the thesis's 3.140 mm, not an approximation of π.
 #[allow(clippy::approx_constant)]
 const THESIS_3D: [(&str, Option<f64>, f64, [f64; 3]); 5] = [
@@ -389,7 +389,7 @@ fn errors3(tip: &[(f64, [f64; 3])], reference: &flexmbd::ancf::History, from: f6
     e
 }
 
-/// The 3D spin-up (scenes.md §5 scene F, §7.4): gravity along −z, started at rest in static
+/// The 3D spin-up (docs/scenes.md §5 scene F, §7.4): gravity along −z, started at rest in static
 /// equilibrium, every method of the thesis's table in both formulations against the 3D ANCF
 /// cable started from its own static equilibrium.
 fn spin_up_3d(settings: &Settings, report: &mut Report) -> StudyResult {

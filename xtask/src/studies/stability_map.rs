@@ -1,12 +1,12 @@
 //! Where the stiffening methods fail (issue 6, thesis ch. 4): for every method × formulation,
 //! over the final speed Ωs of the spin-up manoeuvre and the step h, whether the 2D spin-up
-//! beam (scenes.md §5) is **accurate** (largest tip error below [`ACCURATE`] against the ANCF
+//! beam (docs/scenes.md §5) is **accurate** (largest tip error below [`ACCURATE`] against the ANCF
 //! reference at that Ωs), **bounded but inaccurate**, or **failed** (Newton failure or a tip
 //! beyond [`DIVERGED`]), as a table and a chart.
 //!
 //! The linear floating-frame model softens with speed: in the turning frame its first
 //! bending mode has ω² = ω₁² − Ωs², so above Ωs = ω₁ = 3.80 rad/s (the cantilever's first
-//! bending frequency, scenes.md §5 DERIVED) it has no restoring force and diverges.
+//! bending frequency, docs/scenes.md §5 DERIVED) it has no restoring force and diverges.
 //!
 //! `--quick` runs a coarse map (3 speeds × 2 steps, 3 methods); the full map (10 × 7, all
 //! six methods, both formulations: 840 runs of 20 s) is
@@ -24,9 +24,9 @@ use super::spin_up::{ACCURATE, DIVERGED, METHODS, Outcome, run_one, scene_2d};
 use crate::Settings;
 use crate::report::Report;
 
-/// First cantilever bending frequency of the spin-up beam (rad/s), scenes.md §5 (DERIVED).
+/// First cantilever bending frequency of the spin-up beam (rad/s), docs/scenes.md §5 (DERIVED).
 const OMEGA_1: f64 = 3.80;
-/// Simulated time (s), scenes.md §5.
+/// Simulated time (s), docs/scenes.md §5.
 const DURATION: f64 = 20.0;
 
 /// One cell of the map.
