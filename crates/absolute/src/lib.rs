@@ -1,11 +1,7 @@
 //! The absolute formulation of flexmbd: natural (fully Cartesian) coordinates,
 //! basic points and unit vectors shared between bodies (García de Jalón & Bayo
 //! 1994), with floating-frame flexible bodies in natural coordinates (thesis ch. 2,
-<<<<<<< HEAD
-//! methods.md §3). It compiles a [`flexmbd_model::PreparedScene`] and implements
-=======
-//! docs/methods.md §3). It compiles a [`flexmbd_model::Scene`] and implements
->>>>>>> methodsdoc
+//! docs/methods.md §3). It compiles a [`flexmbd_model::PreparedScene`] and implements
 //! [`flexmbd_core::Formulation`]: planar scenes by [`Planar`], spatial scenes by
 //! [`Spatial`], both behind the [`Absolute`] enum that [`compile`] returns.
 
