@@ -66,10 +66,11 @@
 //! **Allocation.** `evaluate` allocates nothing: every workspace is sized at compile time.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
-use flexmbd_core::{Dim, Request, SystemTerms};
+use flexmbd_core::{Dim, MarkerKinematics, Request, SystemTerms};
+use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{
-    Axis, FormulationKind, GROUND, JointKind, ModelError, MotionLaw, PreparedScene, Scene,
-    SensorKind,
+    Axis, FormulationKind, GROUND, JointKind, MarkerId, ModelError, MotionLaw, PreparedScene,
+    Scene, SensorKind,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -98,7 +99,7 @@ struct Body3 {
 
 /// A body point or body-fixed direction `x = δ r0 + A (x̄ + V y)`, or a ground constant.
 #[derive(Clone, Debug)]
-struct Term {
+pub struct Term {
     /// `None`: a ground constant `xbar`.
     body: Option<usize>,
     /// δ = 1 (point) or 0 (direction).
@@ -304,6 +305,9 @@ pub struct Spatial {
     sensor_names: Vec<String>,
     sensors: Vec<Sensor3>,
     method: InertiaMethod,
+    force_elements: ForceElements<Term>,
+    /// Zero rates (n), to evaluate a term's position alone.
+    zero_rates: DVector<f64>,
 }
 
 fn unsupported(what: String) -> ModelError {
@@ -416,13 +420,6 @@ impl Spatial {
         let scene = prepared.scene();
         debug_assert_eq!(scene.solver.formulation, FormulationKind::Absolute);
         debug_assert_eq!(scene.dim, Dim::Spatial);
-        if let Some(f) = scene.forces.first() {
-            let flexmbd_model::Force::SpringDamper { name, .. } = f;
-            return Err(unsupported(format!(
-                "{}: force `{name}`: force elements are not supported by the spatial absolute formulation yet",
-                scene.origin
-            )));
-        }
         let method = scene.solver.inertia;
         let mut n = 0usize;
         let mut q0 = Vec::new();
@@ -510,18 +507,16 @@ impl Spatial {
             node_rot,
         };
         // Point terms with the node translation rows.
-        let point = |body: &str, marker: &str| -> Term {
-            let bi = lk.body(body);
+        let point_of = |bi: Option<usize>, k: usize| -> Term {
             match bi {
                 None => Term {
                     body: None,
                     point: true,
-                    xbar: scene.ground[lk.marker(None, marker)].position.vec(),
+                    xbar: scene.ground[k].position.vec(),
                     rows: Vec::new(),
                     fs_node: None,
                 },
                 Some(bi) => {
-                    let k = lk.marker(Some(bi), marker);
                     let b = &lk.bodies[bi];
                     let rows = match &node_trans[bi][k] {
                         Some(xt) => {
@@ -551,6 +546,17 @@ impl Spatial {
                 }
             }
         };
+        let point = |body: &str, marker: &str| -> Term {
+            let bi = lk.body(body);
+            point_of(bi, lk.marker(bi, marker))
+        };
+        let point_at = |id: MarkerId| point_of(id.body.map(|b| b.0), id.index);
+        let force_markers: std::collections::HashMap<MarkerId, Term> = prepared
+            .force_markers()
+            .iter()
+            .flat_map(|pair| [pair.first, pair.second])
+            .map(|id| (id, point_at(id)))
+            .collect();
         let joint_err = |j: &flexmbd_model::Joint, what: &str| -> ModelError {
             unsupported(format!("{}: joint `{}`: {what}", scene.origin, j.name))
         };
@@ -793,6 +799,8 @@ impl Spatial {
             sensor_names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
             sensors,
             method,
+            force_elements: ForceElements::default(),
+            zero_rates: DVector::zeros(n),
         };
         // Reference angles of the angle drivers and sensors at t = 0.
         let z = DVector::zeros(n);
@@ -821,6 +829,9 @@ impl Spatial {
                 *phi0 = it.next().expect("one angle per sensor");
             }
         }
+        let (q0, qd0) = (sp.q0.clone(), sp.qd0.clone());
+        sp.force_elements =
+            ForceElements::new(prepared, |id| force_markers[&id].clone(), &sp, &q0, &qd0, n)?;
         Ok(sp)
     }
 
@@ -884,6 +895,11 @@ impl Spatial {
                     out.damping.view_mut((oy, oy), (nb, nb)),
                 );
             }
+        }
+        if !self.force_elements.is_empty() {
+            let mut force_elements = std::mem::take(&mut self.force_elements);
+            force_elements.add_forces(self, q, qd, tangents, out);
+            self.force_elements = force_elements;
         }
     }
 
@@ -1050,7 +1066,7 @@ impl Spatial {
                 e += b.body.strain_energy(st.y);
             }
         }
-        e
+        e + self.force_elements.potential_energy(self, q, qd)
     }
 
     /// The rotation of a body frame, `A = [u v w]`.
@@ -1105,10 +1121,13 @@ impl flexmbd_core::Formulation for Spatial {
         }
     }
     fn constant_tangents(&self) -> bool {
-        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only.
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_linear())
+        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
+        // tangents turn with the spring's direction.
+        self.force_elements.is_empty()
+            && self
+                .bodies
+                .iter()
+                .all(|b| b.body.elastic_model().is_linear())
     }
     fn symmetric_tangent(&self) -> bool {
         self.bodies
@@ -1165,6 +1184,58 @@ impl flexmbd_core::Formulation for Spatial {
                 Sensor3::Modal { q: i } => q[*i],
                 Sensor3::Energy => self.energy(q, qd),
             };
+        }
+    }
+}
+
+impl MarkerKinematics for Spatial {
+    type Marker = Term;
+
+    fn marker_state(
+        &self,
+        marker: &Term,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let ev = marker.eval(&self.bodies, q, qd);
+        (ev.x, ev.xd)
+    }
+
+    /// ∂x/∂r0 = I, ∂x/∂(column c of A) = x̃_c I, ∂x/∂y_j = A (V_j + FS0 shift column).
+    fn marker_jacobian(
+        &mut self,
+        marker: &Term,
+        q: &DVector<f64>,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    ) {
+        let Some(bi) = marker.body else { return };
+        let ev = marker.eval(&self.bodies, q, &self.zero_rates);
+        let b = &self.bodies[bi];
+        let o = b.off;
+        let unit = Matrix3::<f64>::identity();
+        if marker.point {
+            for i in 0..3 {
+                visit(o + i, unit.column(i).into_owned());
+            }
+        }
+        for c in 0..3 {
+            for i in 0..3 {
+                visit(o + 3 + 3 * c + i, ev.local[c] * unit.column(i));
+            }
+        }
+        if marker.rows.is_empty() {
+            return;
+        }
+        let (_, a) = frame_of(q.as_slice(), o);
+        let n = b.n;
+        let y = &q.as_slice()[o + 12..o + 12 + n];
+        for j in 0..n {
+            let rows = &marker.rows;
+            let mut column = Vector3::new(rows[j], rows[n + j], rows[2 * n + j]);
+            if let Some(node) = marker.fs_node {
+                column += b.body.node_foreshortening_column(node, y, j);
+            }
+            visit(o + 12 + j, a * column);
         }
     }
 }

@@ -2,7 +2,8 @@
 //! evaluation passes of every kind and whole ALI3-P steps, on the rigid double pendulum
 //! (constant rigid-body terms, spherical and revolute joints) and the flexible pendulum
 //! (natural-set inertia, gravity, elastic forces and tangents), and the FS0 spin-up beam
-//! (both inertia routes, tip sensors with the foreshortening shift).
+//! (both inertia routes, tip sensors with the foreshortening shift), and a spring–damper to a
+//! flexible body's node (force elements with their tangents).
 
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
@@ -35,6 +36,19 @@ fn spatial_steps_do_not_allocate() {
     scenes.push(fs0.clone());
     fs0.solver.inertia = InertiaMethod::BMatrix;
     scenes.push(fs0);
+    // A spring–damper from the ground to the flexible pendulum's tip node.
+    let mut sprung = model("flexible_pendulum_3d.ron");
+    sprung.forces.push(flexmbd_model::Force::SpringDamper {
+        name: "anchor_tip".into(),
+        body1: "ground".into(),
+        marker1: "O".into(),
+        body2: "beam".into(),
+        marker2: "tip".into(),
+        stiffness: 30.0,
+        damping: 0.2,
+        free_length: Some(0.5),
+    });
+    scenes.push(sprung);
     for scene in &scenes {
         let mut f = flexmbd_model::PreparedScene::new(scene)
             .and_then(|p| flexmbd_absolute::compile(&p))
