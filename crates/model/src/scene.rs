@@ -304,6 +304,13 @@ pub enum Force {
 }
 
 impl Force {
+    /// The element's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Force::SpringDamper { name, .. } => name,
+        }
+    }
+
     /// The free length of a spring–damper whose markers sit at `r1`, `r2` at t = 0: its
     /// `free_length`, or their distance. Markers that coincide are refused (a spring of zero
     /// length has no direction), naming the force.

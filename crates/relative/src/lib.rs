@@ -47,7 +47,7 @@
 //! `initial_modes`); ż(0) by the kinetic-energy-weighted least-squares fit of the
 //! scene's body velocities, M ż = Σ R_kᵀ M̄_k Z*_k. The integrator makes both consistent.
 
-mod springs;
+mod marker_kinematics;
 mod system;
 pub mod topology;
 

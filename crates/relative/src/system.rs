@@ -15,10 +15,11 @@
 
 use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod};
 use flexmbd_core::{Dim, Request, SystemTerms};
-use flexmbd_model::{JointKind, ModelError, MotionLaw, PreparedScene, Scene, SensorKind};
+use flexmbd_model::force_elements::ForceElements;
+use flexmbd_model::{JointKind, MarkerId, ModelError, MotionLaw, PreparedScene, Scene, SensorKind};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Unit, Vector2, Vector3, Vector6};
 
-use crate::springs::{Spring, Springs};
+use crate::marker_kinematics::MarkerJacobian;
 use crate::topology::{BodyInfo, CoordRef, ElemKind, FrameKind, NodeRows, Side, Topology, side_of};
 
 /// One body at run time.
@@ -187,7 +188,9 @@ pub struct Relative {
     /// The current constraint pass writes Φ_w (a Jacobian was requested).
     jac: bool,
     /// Spring–dampers and their Jacobian scratch.
-    pub(crate) springs: Springs,
+    pub(crate) force_elements: ForceElements<Side>,
+    /// Scratch of one marker's Jacobian (the force elements' query).
+    pub(crate) marker_jacobian: MarkerJacobian,
 }
 
 fn unsupported(s: String) -> ModelError {
@@ -580,7 +583,8 @@ impl Relative {
             fixed_identity,
             planar_frames,
             jac: true,
-            springs: Springs::default(),
+            force_elements: ForceElements::default(),
+            marker_jacobian: MarkerJacobian::default(),
         };
         if dim == Dim::Planar {
             rel.gravity.z = 0.0;
@@ -595,50 +599,45 @@ impl Relative {
         rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene);
         rel.build_sensors(scene, &infos)?;
-        rel.build_springs(scene, &infos)?;
+        rel.build_force_elements(prepared, &infos)?;
         Ok(rel)
     }
 
-    /// Resolve the scene's spring–dampers (free length: the t = 0 distance when omitted).
-    fn build_springs(&mut self, scene: &Scene, infos: &[BodyInfo]) -> Result<(), ModelError> {
+    /// Compile the scene's force elements over this formulation's markers (free lengths left
+    /// to the start: the t = 0 distance).
+    fn build_force_elements(
+        &mut self,
+        prepared: &PreparedScene,
+        infos: &[BodyInfo],
+    ) -> Result<(), ModelError> {
+        let scene = prepared.scene();
+        let side_at = |id: MarkerId| match id.body {
+            None => Side {
+                body: None,
+                rbar: prepared.marker_position(id),
+                node: None,
+            },
+            Some(b) => infos[b.0].markers[id.index],
+        };
+        if scene.solver.stiffening == flexmbd_model::Stiffening::Foreshortening {
+            for (force, pair) in scene.forces.iter().zip(prepared.force_markers()) {
+                let at_fs0_node = [pair.first, pair.second].into_iter().any(|id| {
+                    let s = side_at(id);
+                    s.node.is_some() && s.body.is_some_and(|b| infos[b].flexible)
+                });
+                if at_fs0_node {
+                    return Err(unsupported(format!(
+                        "{}: force `{}`: a spring at a node of a foreshortening (FS0) body is not supported by the relative formulation",
+                        scene.origin,
+                        force.name()
+                    )));
+                }
+            }
+        }
         let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
         self.kinematics(&q0, &qd0);
-        let mut list = Vec::new();
-        for force in &scene.forces {
-            let flexmbd_model::Force::SpringDamper {
-                name,
-                body1,
-                marker1,
-                body2,
-                marker2,
-                stiffness,
-                damping,
-                ..
-            } = force;
-            let m1 = side_of(scene, infos, body1, marker1);
-            let m2 = side_of(scene, infos, body2, marker2);
-            let fs0 = scene.solver.stiffening == flexmbd_model::Stiffening::Foreshortening;
-            if fs0
-                && [m1, m2]
-                    .iter()
-                    .any(|s| s.node.is_some() && s.body.is_some_and(|b| infos[b].flexible))
-            {
-                return Err(unsupported(format!(
-                    "{}: force `{name}`: a spring at a node of a foreshortening (FS0) body is not supported by the relative formulation",
-                    scene.origin
-                )));
-            }
-            let (r1, _) = point_at(self, &m1);
-            let (r2, _) = point_at(self, &m2);
-            list.push(Spring {
-                m1,
-                m2,
-                k: *stiffness,
-                c: *damping,
-                l0: force.spring_free_length(&scene.origin, &r1, &r2)?,
-            });
-        }
-        self.springs = Springs::new(list, self.n_w, self.n_z);
+        self.marker_jacobian = MarkerJacobian::new(self.n_w, self.n_z);
+        self.force_elements = ForceElements::new(prepared, side_at, &*self, &q0, &qd0, self.n_z)?;
         Ok(())
     }
 
@@ -1239,8 +1238,10 @@ impl Relative {
                     .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (n, n)));
             }
         }
-        if !self.springs.list.is_empty() {
-            self.spring_forces(tangents, out);
+        if !self.force_elements.is_empty() {
+            let mut force_elements = std::mem::take(&mut self.force_elements);
+            force_elements.add_forces(self, z, zd, tangents, out);
+            self.force_elements = force_elements;
         }
     }
 
@@ -1552,7 +1553,7 @@ impl Relative {
             e -= g.dot(&(state.r0 * b.body.mass() + state.a * mb));
             e += b.body.strain_energy(state.y);
         }
-        e + self.spring_energy()
+        e + self.force_elements.potential_energy(self, z, zd)
     }
 
     /// Names of the coordinates z (joint coordinates, then `body.y<m>`).
@@ -1690,7 +1691,7 @@ impl flexmbd_core::Formulation for Relative {
         self.bodies
             .iter()
             .all(|b| b.body.elastic_model().is_linear())
-            && self.springs.list.is_empty()
+            && self.force_elements.is_empty()
     }
     fn evaluate(
         &mut self,

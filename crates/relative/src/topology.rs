@@ -80,9 +80,10 @@ pub(crate) struct Frame {
     pub(crate) kind: FrameKind,
 }
 
-/// A marker as the formulation sees it.
+/// A marker as the relative formulation sees it: a ground point, or a body point (at an FE
+/// node on a flexible body).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Side {
+pub struct Side {
     /// `None`: the ground (then `rbar` is in ground components).
     pub(crate) body: Option<usize>,
     /// Undeformed position, body components.
