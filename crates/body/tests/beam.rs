@@ -86,10 +86,10 @@ fn cantilever_model_file_3d() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../models/cantilever_3d.ron"
     );
-    if let Ok(s) = BeamBodySpec::from_file(path) {
-        let rb = reduce(&s).unwrap();
-        routes_agree(&rb, 3);
-    }
+    let s = BeamBodySpec::from_file(path).expect("models/cantilever_3d.ron parses");
+    let rb = reduce(&s).unwrap();
+    assert_eq!(rb.n_modes(), 6, "the model file asks for 6 normal modes");
+    routes_agree(&rb, 3);
 }
 
 #[test]

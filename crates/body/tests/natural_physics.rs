@@ -747,35 +747,3 @@ fn natural_evaluation_allocates_nothing() {
         );
     }
 }
-
-/// Rough cost of one evaluation per route (3D, 8 modes); printed, not asserted.
-#[test]
-fn timing_3d_8_modes() {
-    let rb = spec(Dim::Spatial, "[[0,0,0],[1,0,0]]", "[]", 8, 10);
-    let body = FlexibleBody::new(&rb).unwrap();
-    let mut ws = body.natural_workspace();
-    let mut r = rng(90);
-    let s = random_q(&mut r, Dim::Spatial, body.n_modes(), 0.1);
-    let st = s.view();
-    let nc = body.n_natural_coords();
-    let mut m = DMatrix::zeros(nc, nc);
-    let mut q = DVector::zeros(nc);
-    for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-        let reps = 2000;
-        for _ in 0..100 {
-            body.inertia_natural(&st, method, &mut ws, &mut m, &mut q);
-        }
-        let t0 = std::time::Instant::now();
-        for _ in 0..reps {
-            body.inertia_natural(std::hint::black_box(&st), method, &mut ws, &mut m, &mut q);
-            std::hint::black_box(&m);
-        }
-        let dt = t0.elapsed().as_secs_f64() / reps as f64;
-        eprintln!(
-            "natural {method:?}, 3D, {} modes, {} cloud points: {:.2} µs",
-            body.n_modes(),
-            body.cloud_len(),
-            dt * 1e6
-        );
-    }
-}
