@@ -6,29 +6,8 @@ use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{BodyModel, Orientation, Scene};
+use flexmbd_test_support::scenes::{four_bar, model};
 use nalgebra::{DMatrix, DVector};
-
-const BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
-
-fn model(name: &str) -> Scene {
-    Scene::load(format!(
-        "{}/../../models/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
-
-fn four_bar(flexible: usize) -> Scene {
-    let mut s = model("double_four_bar.ron");
-    for b in s
-        .bodies
-        .iter_mut()
-        .filter(|b| BARS[..flexible].contains(&b.name.as_str()))
-    {
-        b.flexible = true;
-    }
-    s
-}
 
 /// Run a scene; return the sensor rows at every step.
 fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {

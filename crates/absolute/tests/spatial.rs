@@ -13,15 +13,8 @@ use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, Inertia, JointKind, Scene, V3};
+use flexmbd_test_support::scenes::model;
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
-
-fn model(name: &str) -> Scene {
-    Scene::load(format!(
-        "{}/../../models/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 /// Deterministic pseudo-random numbers in [−1, 1].
 fn noise(k: usize) -> f64 {
@@ -630,20 +623,23 @@ fn bad_input_gives_clear_errors() {
     s.bodies[1].origin = V3([0.8, 0.0, 0.05]);
     let e = compile_err(&s);
     assert!(e.contains("coincide") && e.contains("link2.J"), "{e}");
-    // Force elements are not supported yet.
+    // A spring whose two markers coincide at t = 0 has no direction (free length omitted).
     let mut s = base.clone();
     s.forces.push(flexmbd_model::Force::SpringDamper {
         name: "spring".into(),
-        body1: "ground".into(),
-        marker1: "O".into(),
+        body1: "link1".into(),
+        marker1: "J".into(),
         body2: "link2".into(),
-        marker2: "tip".into(),
+        marker2: "J".into(),
         stiffness: 10.0,
         damping: 0.0,
         free_length: None,
     });
     let e = compile_err(&s);
-    assert!(e.contains("spring") && e.contains("not supported"), "{e}");
+    assert!(
+        e.contains("forces[spring]") && e.contains("coincide"),
+        "{e}"
+    );
     // A modal sensor on a beam run rigid.
     let mut s = model("flexible_pendulum_3d.ron");
     s.bodies[0].flexible = false;

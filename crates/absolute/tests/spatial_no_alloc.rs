@@ -8,18 +8,10 @@
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::Scene;
+use flexmbd_test_support::scenes::model;
 
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
-
-fn model(name: &str) -> Scene {
-    Scene::load(format!(
-        "{}/../../models/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 #[test]
 fn spatial_steps_do_not_allocate() {

@@ -1,4 +1,5 @@
-//! Test support shared by the flexmbd crates: a global allocator that counts the
+//! Test support shared by the flexmbd crates: the scenes and runs of the physics tests
+//! (`scenes`, behind the feature of that name), and a global allocator that counts the
 //! allocations of each thread, for the tests that hold "the per-step path allocates
 //! nothing". A test binary installs it with
 //!
@@ -12,6 +13,9 @@
 
 // `GlobalAlloc` is an unsafe trait; this implementation only counts and forwards to `System`.
 #![allow(unsafe_code)]
+
+#[cfg(feature = "scenes")]
+pub mod scenes;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

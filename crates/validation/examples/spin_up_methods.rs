@@ -2,7 +2,7 @@
 //! reference (docs/methods.md §6, §7; docs/scenes.md §5): max |Δu_x|, |Δu_y| (|Δu_z|) over the run,
 //! CPU time and Newton iterations per step.
 //!
-//! `cargo run --release -p flexmbd-stiffening --example spin_up_methods -- [2d|3d] [duration] [absolute|relative]`
+//! `cargo run --release -p flexmbd-validation --example spin_up_methods -- [2d|3d] [duration] [absolute|relative]`
 //! with `SPIN_UP_METHODS=linear,fnl1,fnl2,sb5,sb10,sb20` (substructuring runs relative).
 
 use flexmbd::model::{FormulationKind, Scene, Stiffening};

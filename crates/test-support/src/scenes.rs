@@ -1,0 +1,75 @@
+//! The scenes and runs the physics tests share (feature `scenes`): the models of `models/`,
+//! the double four-bar with k flexible bars, the ALI3-P settings a scene's solver asks for,
+//! and a run that records the sensors.
+
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_integrators::{Ali3p, Ali3pSettings};
+use flexmbd_model::Scene;
+
+/// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
+pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
+
+/// The directory of the project's models.
+pub fn models_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models")
+}
+
+/// A model of `models/`, loaded and validated (panics with the loader's error otherwise).
+pub fn model(file: &str) -> Scene {
+    Scene::load(models_dir().join(file)).unwrap_or_else(|e| panic!("models/{file}: {e}"))
+}
+
+/// The double four-bar (`models/double_four_bar.ron`) with its first `flexible` bars flexible.
+pub fn four_bar(flexible: usize) -> Scene {
+    let mut scene = model("double_four_bar.ron");
+    for body in scene
+        .bodies
+        .iter_mut()
+        .filter(|b| FOUR_BAR_BARS[..flexible].contains(&b.name.as_str()))
+    {
+        body.flexible = true;
+    }
+    scene
+}
+
+/// The ALI3-P settings of a scene's solver at step `h`.
+pub fn settings(scene: &Scene, h: f64) -> Ali3pSettings {
+    Ali3pSettings {
+        step: h,
+        tol_q: scene.solver.newton_tolerance,
+        tol_phi: scene.solver.newton_tolerance,
+        max_iterations: scene.solver.max_iterations,
+        penalty: scene.solver.penalty,
+        ..Default::default()
+    }
+}
+
+/// Run a compiled formulation for `duration` at step `h`: the sensor rows every `every`
+/// steps (and at t = 0), and the largest ‖Φ‖∞ seen at those instants.
+pub fn run_with<F: Formulation>(
+    formulation: &mut F,
+    scene: &Scene,
+    h: f64,
+    duration: f64,
+    every: usize,
+) -> (Vec<Vec<f64>>, f64) {
+    let mut integrator = Ali3p::new(formulation, 0.0, settings(scene, h)).unwrap();
+    let mut row = vec![0.0; formulation.sensor_names().len()];
+    formulation.sensors(0.0, &integrator.q, &integrator.qd, &mut row);
+    let mut rows = vec![row.clone()];
+    let steps = (duration / h).round() as usize;
+    let mut phi_max = 0.0f64;
+    let mut terms = SystemTerms::new(formulation.n_coordinates(), formulation.n_constraints());
+    for k in 1..=steps {
+        integrator.step(formulation).unwrap();
+        if k % every == 0 {
+            let (t, q, qd) = (integrator.t, &integrator.q, &integrator.qd);
+            formulation.sensors(t, q, qd, &mut row);
+            rows.push(row.clone());
+            terms.clear(Request::CONSTRAINTS);
+            formulation.evaluate(t, q, qd, Request::CONSTRAINTS, &mut terms);
+            phi_max = phi_max.max(terms.phi.amax());
+        }
+    }
+    (rows, phi_max)
+}
