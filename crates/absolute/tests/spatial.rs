@@ -13,7 +13,7 @@ use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, Inertia, JointKind, Scene, V3};
-use flexmbd_test_support::scenes::model;
+use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
 
 /// Deterministic pseudo-random numbers in [−1, 1].
@@ -411,41 +411,11 @@ fn rigid_double_pendulum_conserves_energy_to_second_order() {
 }
 
 // ---------------------------------------------------------------------------------------
-// A planar scene written in 3D.
-
-/// The double four-bar as a 3D scene: revolute axes along z, each bar the rigid body with
-/// the planar bar's mass properties (rod-like: a tiny axial inertia).
-fn four_bar_3d(planar: &Scene) -> Scene {
-    let mut s = planar.clone();
-    s.dim = flexmbd_core::Dim::Spatial;
-    let prepared = flexmbd_model::PreparedScene::new(planar).unwrap();
-    for (b, p) in s.bodies.iter_mut().zip(prepared.bodies()) {
-        let body = &p.body;
-        let (m, c) = (body.mass(), body.center_of_mass());
-        let pz = body.second_moment();
-        // About the centre of mass: I_zz = P_xx + P_yy − m (c_x² + c_y²).
-        let izz = pz[(0, 0)] + pz[(1, 1)] - m * (c.x * c.x + c.y * c.y);
-        let ixx = 1e-6 * izz;
-        b.model = BodyModel::Rigid {
-            mass: m,
-            center_of_mass: V3([c.x, c.y, 0.0]),
-            inertia: Inertia::Full([[ixx, 0.0, 0.0], [0.0, izz, 0.0], [0.0, 0.0, izz]]),
-        };
-        b.flexible = false;
-    }
-    for j in &mut s.joints {
-        j.kind = JointKind::Revolute {
-            axis: Some(V3([0.0, 0.0, 1.0])),
-        };
-    }
-    s.validate().unwrap();
-    s
-}
 
 #[test]
 fn four_bar_in_3d_reproduces_the_planar_run() {
     let planar = model("double_four_bar.ron");
-    let spatial = four_bar_3d(&planar);
+    let spatial = planar_scene_in_3d(&planar);
     let f = flexmbd_model::PreparedScene::new(&spatial)
         .and_then(|p| flexmbd_absolute::compile(&p))
         .unwrap();

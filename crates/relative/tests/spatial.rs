@@ -1,40 +1,14 @@
 //! 3D: the recursive terms against dense products and Lagrange's equations, cut-joint
-//! Jacobians and bias by differences, and whole runs against the spatial natural-coordinate
-//! formulation (docs/methods.md §4 in 3D, §8 items 6–8).
+//! Jacobians and bias by differences, energy conservation (docs/methods.md §4 in 3D, §8 items
+//! 6–8); the runs against the spatial natural-coordinate formulation are in
+//! `crates/validation/tests/formulations_agree_spatial.rs`.
 
 mod common;
 use common::*;
 use flexmbd_core::{Formulation, Request, SystemTerms};
-use flexmbd_model::{BodyModel, Inertia, JointKind, Scene, V3};
+use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_relative::Relative;
 use nalgebra::{DMatrix, DVector};
-
-/// The double four-bar as a 3D scene (revolute axes along z, rod-like rigid bars).
-fn four_bar_3d(planar: &Scene) -> Scene {
-    let mut s = planar.clone();
-    s.dim = flexmbd_core::Dim::Spatial;
-    let prepared = flexmbd_model::PreparedScene::new(planar).unwrap();
-    for (b, p) in s.bodies.iter_mut().zip(prepared.bodies()) {
-        let body = &p.body;
-        let (m, c) = (body.mass(), body.center_of_mass());
-        let pz = body.second_moment();
-        let izz = pz[(0, 0)] + pz[(1, 1)] - m * (c.x * c.x + c.y * c.y);
-        let ixx = 1e-6 * izz;
-        b.model = BodyModel::Rigid {
-            mass: m,
-            center_of_mass: V3([c.x, c.y, 0.0]),
-            inertia: Inertia::Full([[ixx, 0.0, 0.0], [0.0, izz, 0.0], [0.0, 0.0, izz]]),
-        };
-        b.flexible = false;
-    }
-    for j in &mut s.joints {
-        j.kind = JointKind::Revolute {
-            axis: Some(V3([0.0, 0.0, 1.0])),
-        };
-    }
-    s.validate().unwrap();
-    s
-}
 
 /// Two flexible beams in a chain on ball joints: the first carries static modes at its tip
 /// (3 translations, §4.3 node frame), the second hangs there. The stiff axial static mode
@@ -163,74 +137,7 @@ fn spatial_terms_match_dense_products_lagrange_and_differences() {
     check_terms(&model("double_pendulum_3d.ron"));
     check_terms(&model("flexible_pendulum_3d.ron"));
     check_terms(&flexible_chain_3d());
-    check_terms(&four_bar_3d(&four_bar(0)));
-}
-
-#[test]
-fn double_pendulum_3d_agrees_with_natural_coordinates() {
-    let s = model("double_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&s)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
-    assert_eq!((f.n_coordinates(), f.n_constraints()), (4, 0));
-    let d: Vec<f64> = [2e-3f64, 1e-3, 5e-4]
-        .iter()
-        .map(|&h| {
-            let every = (0.01 / h).round() as usize;
-            let (a, _) = run_absolute(&s, h, 2.0, every);
-            let (r, _) = run_relative(&s, h, 2.0, every);
-            a.iter()
-                .zip(&r)
-                .map(|(x, y)| (0..3).map(|c| (x[c] - y[c]).abs()).fold(0.0, f64::max))
-                .fold(0.0, f64::max)
-        })
-        .collect();
-    let drift = |h: f64| {
-        let (r, _) = run_relative(&s, h, 2.0, 1);
-        r.iter().map(|x| (x[4] - r[0][4]).abs()).fold(0.0, f64::max)
-    };
-    let (e1, e2) = (drift(2e-3), drift(1e-3));
-    eprintln!(
-        "3D double pendulum, 2 s: max |tip_rel − tip_abs| at h = 2, 1, 0.5 ms: {:.2e} {:.2e} {:.2e} m (ratios {:.2}, {:.2}); relative energy drift {e1:.2e} / {e2:.2e} J",
-        d[0],
-        d[1],
-        d[2],
-        d[0] / d[1],
-        d[1] / d[2]
-    );
-    assert!(d[0] / d[1] > 3.0 && d[1] / d[2] > 3.0, "{d:?}");
-    assert!(d[2] < 1e-3, "{d:?}");
-    assert!(e1 / e2 > 3.0, "{e1:e} {e2:e}");
-}
-
-#[test]
-fn spatial_four_bar_reproduces_the_planar_run() {
-    let planar = four_bar(0);
-    let spatial = four_bar_3d(&planar);
-    let f = flexmbd_model::PreparedScene::new(&spatial)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
-    eprintln!(
-        "four-bar in 3D: {} coordinates, {} constraints",
-        f.n_coordinates(),
-        f.n_constraints()
-    );
-    assert_eq!(f.n_coordinates(), 5);
-    let (p, _) = run_relative(&planar, 1e-3, 2.0, 10);
-    let (r, phi) = run_relative(&spatial, 1e-3, 2.0, 10);
-    let (a, _) = run_absolute(&spatial, 1e-3, 2.0, 10);
-    let d = |u: &[Vec<f64>], v: &[Vec<f64>]| {
-        u.iter()
-            .zip(v)
-            .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
-            .fold(0.0, f64::max)
-    };
-    let (d2, da) = (d(&p, &r), d(&a, &r));
-    eprintln!(
-        "four-bar 3D relative: vs planar relative {d2:.2e} m, vs 3D absolute {da:.2e} m, ‖Φ‖ {phi:.1e}"
-    );
-    assert!(d2 < 1e-6, "{d2:e}");
-    assert!(da < 1e-3, "{da:e}");
+    check_terms(&planar_scene_in_3d(&four_bar(0)));
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::Scene;
+use flexmbd_model::{BodyModel, Inertia, JointKind, PreparedScene, Scene, V3};
 
 /// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
 pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
@@ -30,6 +30,36 @@ pub fn four_bar(flexible: usize) -> Scene {
         body.flexible = true;
     }
     scene
+}
+
+/// A planar scene of rigid bars and revolute joints written in 3D: revolute axes along z,
+/// each body the rigid body with the planar body's mass properties (rod-like: a tiny axial
+/// inertia about body x).
+pub fn planar_scene_in_3d(planar: &Scene) -> Scene {
+    let mut s = planar.clone();
+    s.dim = flexmbd_core::Dim::Spatial;
+    let prepared = PreparedScene::new(planar).unwrap();
+    for (b, p) in s.bodies.iter_mut().zip(prepared.bodies()) {
+        let body = &p.body;
+        let (m, c) = (body.mass(), body.center_of_mass());
+        let pz = body.second_moment();
+        // About the centre of mass: I_zz = P_xx + P_yy − m (c_x² + c_y²).
+        let izz = pz[(0, 0)] + pz[(1, 1)] - m * (c.x * c.x + c.y * c.y);
+        let ixx = 1e-6 * izz;
+        b.model = BodyModel::Rigid {
+            mass: m,
+            center_of_mass: V3([c.x, c.y, 0.0]),
+            inertia: Inertia::Full([[ixx, 0.0, 0.0], [0.0, izz, 0.0], [0.0, 0.0, izz]]),
+        };
+        b.flexible = false;
+    }
+    for j in &mut s.joints {
+        j.kind = JointKind::Revolute {
+            axis: Some(V3([0.0, 0.0, 1.0])),
+        };
+    }
+    s.validate().unwrap();
+    s
 }
 
 /// The ALI3-P settings of a scene's solver at step `h`.

@@ -3,7 +3,7 @@
 #![allow(dead_code, unused_imports)]
 
 use flexmbd_model::{FormulationKind, PreparedScene, Scene};
-pub use flexmbd_test_support::scenes::{four_bar, model, run_with, settings};
+pub use flexmbd_test_support::scenes::{four_bar, model, planar_scene_in_3d, run_with, settings};
 
 /// Run `scene` in the relative formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
 pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
