@@ -12,7 +12,7 @@
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
-use flexmbd_model::{BodyModel, Inertia, JointKind, Scene, V3};
+use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
 
