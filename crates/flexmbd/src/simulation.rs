@@ -7,7 +7,6 @@
 //! with `status = "failed"`, the time and the reason; the rows computed so far
 //! are kept.
 
-use std::io::Write;
 use std::time::Instant;
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
@@ -85,17 +84,6 @@ pub struct History {
 }
 
 impl History {
-    /// Write as CSV.
-    pub fn write_csv(&self, w: impl Write) -> csv::Result<()> {
-        let mut out = csv::Writer::from_writer(w);
-        out.write_record(&self.header)?;
-        for r in &self.rows {
-            // `{:?}` prints the shortest representation that reads back bit for bit.
-            out.write_record(r.iter().map(|v| format!("{v:?}")))?;
-        }
-        out.flush()?;
-        Ok(())
-    }
     /// The column of a sensor.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let k = self.header.iter().position(|h| h == name)?;
