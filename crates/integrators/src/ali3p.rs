@@ -285,6 +285,32 @@ impl Ali3p {
         }
     }
 
+    /// Overwrite `c` with the state a step starts from, like [`Ali3p::checkpoint`] but into
+    /// existing storage: no allocation, so a driver can keep the last good state every step.
+    ///
+    /// # Panics
+    /// If `c` was taken from an integrator of another size.
+    pub fn checkpoint_into(&self, c: &mut Checkpoint) {
+        assert!(
+            c.q.len() == self.q.len() && c.lambda.len() == self.lambda.len(),
+            "checkpoint of {} coordinates and {} constraints overwritten from an integrator of {} and {}",
+            c.q.len(),
+            c.lambda.len(),
+            self.q.len(),
+            self.lambda.len()
+        );
+        c.t = self.t;
+        c.q.copy_from(&self.q);
+        c.qd.copy_from(&self.qd);
+        c.qdd.copy_from(&self.qdd);
+        c.lambda.copy_from(&self.lambda);
+        c.stats.clone_from(&self.stats);
+        c.qdd_prev.copy_from(&self.qdd_prev);
+        c.have_qdd_prev = self.have_qdd_prev;
+        c.extrapolate.copy_from_slice(&self.extrapolate);
+        c.pred_err.copy_from_slice(&self.pred_err);
+    }
+
     /// Return to a checkpoint of this integrator, so that the next step is the same step
     /// again (benchmarks time one step many times this way). Copies into the existing
     /// storage: no allocation.
