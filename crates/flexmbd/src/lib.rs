@@ -18,9 +18,13 @@ pub use flexmbd_body as body;
 pub use flexmbd_core as core;
 pub use flexmbd_fe as fe;
 
+mod error;
 pub mod fixtures;
 pub mod inventory;
 pub mod simulation;
+
+pub use error::Error;
+pub use simulation::{Simulation, integrator_settings};
 
 pub use flexmbd_absolute as absolute;
 pub use flexmbd_ancf as ancf;
