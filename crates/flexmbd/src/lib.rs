@@ -19,7 +19,6 @@ pub use flexmbd_core as core;
 pub use flexmbd_fe as fe;
 
 mod error;
-pub mod fixtures;
 pub mod inventory;
 pub mod simulation;
 

@@ -1,6 +1,7 @@
-//! Test support shared by the flexmbd crates: a global allocator that counts the
-//! allocations of each thread, for the tests that hold "the per-step path allocates
-//! nothing". A test binary installs it with
+//! Test support shared by the flexmbd crates: the standard sample bodies and states of the
+//! benchmarks and the report (`samples`, behind the feature of that name), and a global
+//! allocator that counts the allocations of each thread, for the tests that hold "the
+//! per-step path allocates nothing". A test binary installs it with
 //!
 //! ```ignore
 //! #[global_allocator]
@@ -12,6 +13,9 @@
 
 // `GlobalAlloc` is an unsafe trait; this implementation only counts and forwards to `System`.
 #![allow(unsafe_code)]
+
+#[cfg(feature = "samples")]
+pub mod samples;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
