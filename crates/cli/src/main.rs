@@ -6,6 +6,8 @@
 //! - `flexmbd simulate SCENE.ron [options]` runs a scene and writes the sensor
 //!   histories as CSV and a run summary.
 
+#![warn(missing_docs)]
+
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

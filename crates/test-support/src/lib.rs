@@ -11,6 +11,7 @@
 //! and compares [`allocations`] before and after the code under test. Counting per thread
 //! keeps tests that run in parallel in one binary from seeing each other's allocations.
 
+#![warn(missing_docs)]
 // `GlobalAlloc` is an unsafe trait; this implementation only counts and forwards to `System`.
 #![allow(unsafe_code)]
 
