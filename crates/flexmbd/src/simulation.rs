@@ -21,10 +21,10 @@ use flexmbd_integrators::{
     solve_static,
 };
 use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Solver, Stiffening};
-
-use crate::Error;
 use nalgebra::DVector;
 use serde::Serialize;
+
+use crate::Error;
 
 /// Everything a run reports (the `--json` summary of `flexmbd simulate`).
 #[derive(Clone, Debug, Serialize)]
