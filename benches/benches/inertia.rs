@@ -8,7 +8,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use flexmbd::body::{FlexibleBody, InertiaMethod};
 use flexmbd::core::Dim;
 use flexmbd::fe::reduce;
-use flexmbd::fixtures::{Probe, cantilever};
+use flexmbd_test_support::samples::{Probe, cantilever};
 use nalgebra::{DMatrix, DVector};
 
 fn inertia(c: &mut Criterion) {

@@ -12,7 +12,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use flexmbd::body::InertiaMethod;
-use flexmbd::integrators::{Ali3p, Ali3pSettings};
+use flexmbd::integrator_settings;
+use flexmbd::integrators::Ali3p;
 use flexmbd::model::Scene;
 use flexmbd::simulation::compile;
 
@@ -44,15 +45,7 @@ fn step(c: &mut Criterion) {
     ] {
         for k in 0..=5usize {
             let sc = scene(k, method);
-            let s = &sc.solver;
-            let settings = Ali3pSettings {
-                step: s.step,
-                penalty: s.penalty,
-                tol_q: s.newton_tolerance,
-                tol_phi: s.newton_tolerance,
-                max_iterations: s.max_iterations,
-                ..Default::default()
-            };
+            let settings = integrator_settings(&sc.solver);
             let mut f = compile(&sc).expect("the scene compiles");
             let mut integ =
                 Ali3p::new(f.as_mut(), 0.0, settings).expect("consistent initial conditions");

@@ -12,7 +12,8 @@ use std::path::PathBuf;
 
 use flexmbd::body::InertiaMethod;
 use flexmbd::core::Formulation;
-use flexmbd::integrators::{Ali3p, Ali3pSettings};
+use flexmbd::integrator_settings;
+use flexmbd::integrators::Ali3p;
 use flexmbd::model::{FormulationKind, Scene, Stiffening};
 use flexmbd::simulation::compile;
 
@@ -82,15 +83,7 @@ fn main() {
     };
     scene.solver.formulation = form;
     let steps: usize = opt("--steps").map_or(default_steps, |s| s.parse().expect("steps"));
-    let s = &scene.solver;
-    let settings = Ali3pSettings {
-        step: s.step,
-        penalty: s.penalty,
-        tol_q: s.newton_tolerance,
-        tol_phi: s.newton_tolerance,
-        max_iterations: s.max_iterations,
-        ..Default::default()
-    };
+    let settings = integrator_settings(&scene.solver);
     let mut f = compile(&scene).expect("compiles");
     let mut integ = Ali3p::new(f.as_mut(), 0.0, settings).expect("consistent start");
     let n = f.n_coordinates();

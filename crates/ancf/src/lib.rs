@@ -19,6 +19,8 @@
 //! 2D spin-up min u_y = −0.5737896 m with 16 elements (reference −0.5737900);
 //! tip differences falling with rate 4.4–6.5 between 8, 16, 32 and 64 elements.
 
+#![warn(missing_docs)]
+
 mod cable;
 mod element;
 mod run;

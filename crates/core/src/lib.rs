@@ -4,6 +4,8 @@
 //! Everything here is plain data with no dependency on the later stages
 //! (`fe` → `body` → formulations → integrators), so every crate can use it.
 
+#![warn(missing_docs)]
+
 pub mod formulation;
 pub mod kinematics;
 

@@ -4,6 +4,8 @@
 //! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 
+#![warn(missing_docs)]
+
 pub mod assembly;
 pub mod beam;
 pub mod cloud;

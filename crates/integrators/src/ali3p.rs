@@ -1,6 +1,6 @@
 //! ALI3-P: the index-3 augmented Lagrangian formulation with mass-orthogonal
 //! projections of velocities and accelerations, on the trapezoidal rule
-//! (thesis ch. 2; docs/methods.md §5; Bayo & Ledesma 1996, Cuadrado et al. 2001).
+//! (thesis ch. 2; methods.md §5; Bayo & Ledesma 1996, Cuadrado et al. 2001).
 //!
 //! Equations of motion with a scalar penalty α and multipliers λ*:
 //!
@@ -44,25 +44,59 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::lu::{DenseLlt, DenseLu};
 
-/// Solver settings (docs/methods.md §5.2–§5.3; defaults there are marked CHOSEN).
+/// Solver settings (docs/methods.md §5.2–§5.3; defaults there are marked CHOSEN). A scene's
+/// solver block sets `step`, `penalty`, `tol_q`/`tol_phi` and `max_iterations`
+/// (`flexmbd::integrator_settings`); the others keep their defaults.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ali3pSettings {
-    /// Time step h (s).
+    /// Time step h (s). Default: `1e-3`.
+    ///
+    /// Fixed for the run. Choose it to resolve the fastest mode that matters: the
+    /// trapezoidal rule is unconditionally stable but damps nothing and shifts the frequency
+    /// of a mode with ωh ≳ 1, so keep h below about 1/(10 f) for the highest frequency f (Hz)
+    /// whose motion you read; smaller steps also help Newton through singular configurations.
     pub step: f64,
-    /// Penalty α; `None` for 4·10⁴ m_ref / h² with m_ref the largest diagonal entry of M at t₀.
+    /// Penalty α. Default: `None`, i.e. 4·10⁴ m_ref / h² with m_ref the largest diagonal
+    /// entry of M at t₀.
+    ///
+    /// The default makes the penalty term h²α/4 Φ_qᵀΦ_q of the leading matrix 10⁴ times its
+    /// largest mass, which holds the constraints to round-off in a few iterations without
+    /// ruining the matrix's conditioning. Set a value only to reproduce a published run;
+    /// much larger values cost accuracy in the projections, much smaller ones iterations.
     pub penalty: Option<f64>,
-    /// Relative position tolerance ε_q: ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞).
+    /// Relative position tolerance ε_q of Newton: ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞) (with the
+    /// contraction estimate of the error). Default: `1e-9`.
+    ///
+    /// It bounds the error each step leaves in the positions, so it is the floor of a
+    /// trajectory's accuracy once h is small; tighter values cost iterations, and values
+    /// near round-off (1e-15 relative) cannot be met.
     pub tol_q: f64,
-    /// Constraint tolerance ε_Φ on ‖Φ‖∞.
+    /// Constraint tolerance ε_Φ on ‖Φ‖∞ (m or rad, as the constraints). Default: `1e-9`.
+    ///
+    /// Usually equal to `tol_q`; both must hold for a step to converge.
     pub tol_phi: f64,
-    /// At the iteration limit, accept the iterate when ‖Φ‖∞ is below this.
+    /// At the iteration limit, accept the iterate when ‖Φ‖∞ is below this (counted in
+    /// [`Stats::accepted_unconverged`]). Default: `1e-6`.
+    ///
+    /// A safety valve for singular configurations where the multipliers converge slowly;
+    /// set it to `tol_phi` to make every such step an error instead.
     pub accept_phi: f64,
-    /// Newton iteration limit per step.
+    /// Newton iteration limit per step. Default: `20`.
+    ///
+    /// A step that needs more is too large for the motion: a higher limit rarely helps,
+    /// a smaller `step` does.
     pub max_iterations: usize,
-    /// Modified Newton: keep the factorised f_q while ‖Δq_i‖/‖Δq_{i−1}‖ < 0.5 (methods.md §5.2).
+    /// Modified Newton: keep the factorised f_q while ‖Δq_i‖/‖Δq_{i−1}‖ < 0.5 (methods.md
+    /// §5.2). Default: `false`.
+    ///
+    /// Saves factorisations when f_q changes slowly (large n, mild nonlinearity) at the cost
+    /// of extra iterations; off, every iteration refactorises.
     pub reuse_tangent: bool,
     /// Time the phases (evaluation, factorisation, projection) on every k-th step only and
-    /// scale, so that reading the clock does not cost more than the step (k = 1: every step).
+    /// scale, so that reading the clock does not cost more than the step. Default: `8`.
+    ///
+    /// `1` times every step (exact phase times, slower small systems); larger values only
+    /// make the phase times in [`Stats`] coarser. Never changes the trajectory.
     pub profile_every: usize,
 }
 
@@ -283,6 +317,32 @@ impl Ali3p {
             extrapolate: self.extrapolate.clone(),
             pred_err: self.pred_err.clone(),
         }
+    }
+
+    /// Overwrite `c` with the state a step starts from, like [`Ali3p::checkpoint`] but into
+    /// existing storage: no allocation, so a driver can keep the last good state every step.
+    ///
+    /// # Panics
+    /// If `c` was taken from an integrator of another size.
+    pub fn checkpoint_into(&self, c: &mut Checkpoint) {
+        assert!(
+            c.q.len() == self.q.len() && c.lambda.len() == self.lambda.len(),
+            "checkpoint of {} coordinates and {} constraints overwritten from an integrator of {} and {}",
+            c.q.len(),
+            c.lambda.len(),
+            self.q.len(),
+            self.lambda.len()
+        );
+        c.t = self.t;
+        c.q.copy_from(&self.q);
+        c.qd.copy_from(&self.qd);
+        c.qdd.copy_from(&self.qdd);
+        c.lambda.copy_from(&self.lambda);
+        c.stats.clone_from(&self.stats);
+        c.qdd_prev.copy_from(&self.qdd_prev);
+        c.have_qdd_prev = self.have_qdd_prev;
+        c.extrapolate.copy_from_slice(&self.extrapolate);
+        c.pred_err.copy_from_slice(&self.pred_err);
     }
 
     /// Return to a checkpoint of this integrator, so that the next step is the same step

@@ -2,6 +2,8 @@
 //! ALI3-P on the trapezoidal rule (docs/methods.md §5), its consistent initial conditions, and
 //! the static equilibrium that can start a run (docs/methods.md §5.4 item 4, [`statics`]).
 
+#![warn(missing_docs)]
+
 pub mod ali3p;
 mod initial;
 pub mod lu;

@@ -8,7 +8,7 @@
 //!
 //! **Velocities** (§4.1): every body k has Z_k = {ṡ_k; ω_k; ẏ_k}, with ṡ_k the velocity
 //! of the body point at the global origin. Along the augmented tree (see
-//! [`topology`](crate::topology)), an elementary joint e moves its frame by its twist,
+//! [`topology`]), an elementary joint e moves its frame by its twist,
 //! Z^r_next = Z^r_f + v_e ė, and D_next = D_f + d_e with (§4.2)
 //!
 //! ```text

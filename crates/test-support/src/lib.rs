@@ -1,5 +1,6 @@
-//! Test support shared by the flexmbd crates: the scenes and runs of the physics tests
-//! (`scenes`, behind the feature of that name), and a global allocator that counts the
+//! Test support shared by the flexmbd crates: the standard sample bodies and states of the
+//! benchmarks and the report (`samples`, behind the feature of that name), the scenes and runs
+//! of the physics tests (`scenes`, likewise), and a global allocator that counts the
 //! allocations of each thread, for the tests that hold "the per-step path allocates
 //! nothing". A test binary installs it with
 //!
@@ -11,9 +12,12 @@
 //! and compares [`allocations`] before and after the code under test. Counting per thread
 //! keeps tests that run in parallel in one binary from seeing each other's allocations.
 
+#![warn(missing_docs)]
 // `GlobalAlloc` is an unsafe trait; this implementation only counts and forwards to `System`.
 #![allow(unsafe_code)]
 
+#[cfg(feature = "samples")]
+pub mod samples;
 #[cfg(feature = "scenes")]
 pub mod scenes;
 

@@ -9,7 +9,7 @@ use std::time::Instant;
 use flexmbd::body::{FlexibleBody, InertiaMethod};
 use flexmbd::core::Dim;
 use flexmbd::fe::{ShapeIntegrals, reduce};
-use flexmbd::fixtures::{Probe, cantilever};
+use flexmbd_test_support::samples::{Probe, cantilever};
 use nalgebra::{DMatrix, DVector};
 
 use super::StudyResult;

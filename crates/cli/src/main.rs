@@ -6,6 +6,8 @@
 //! - `flexmbd simulate SCENE.ron [options]` runs a scene and writes the sensor
 //!   histories as CSV and a run summary.
 
+#![warn(missing_docs)]
+
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,7 +17,19 @@ use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
-use flexmbd::simulation;
+use flexmbd::simulation::{self, History};
+
+/// Write a history as CSV: the header, then one row per output instant. `{:?}` prints the
+/// shortest representation of an f64 that reads back bit for bit.
+fn write_csv(history: &History, w: impl std::io::Write) -> csv::Result<()> {
+    let mut out = csv::Writer::from_writer(w);
+    out.write_record(&history.header)?;
+    for r in &history.rows {
+        out.write_record(r.iter().map(|v| format!("{v:?}")))?;
+    }
+    out.flush()?;
+    Ok(())
+}
 
 #[derive(Parser)]
 #[command(
@@ -165,7 +179,7 @@ fn simulate(
     let mut scene = Scene::load(path).map_err(|e| -> Box<dyn std::error::Error> {
         // A body model (the input of `flexmbd modes`) given to `simulate`: say so.
         let is_body_model = std::fs::read_to_string(path).is_ok_and(|text| {
-            flexmbd_fe::BeamBodySpec::from_ron_str(&text, &path.display().to_string()).is_ok()
+            BeamBodySpec::from_ron_str(&text, &path.display().to_string()).is_ok()
         });
         if is_body_model {
             format!(
@@ -229,7 +243,7 @@ fn simulate(
     if let Some(out) = output {
         let file = std::fs::File::create(out)
             .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-        history.write_csv(std::io::BufWriter::new(file))?;
+        write_csv(&history, std::io::BufWriter::new(file))?;
     }
     if json {
         println!("{}", serde_json::to_string(&summary)?);

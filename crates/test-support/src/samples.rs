@@ -1,5 +1,5 @@
 //! Standard bodies and states shared by the report (`xtask`) and the benchmarks,
-//! so both measure exactly the same thing.
+//! so both measure exactly the same thing (feature `samples`).
 
 use flexmbd_body::BodyState;
 use flexmbd_core::Dim;

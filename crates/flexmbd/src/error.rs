@@ -1,0 +1,44 @@
+//! The one error of the facade: every failure a library user can meet, from reading a body
+//! model to a time step that does not converge, with the lower crates' errors kept whole
+//! (their data, not their message) so a program can match on them.
+
+use flexmbd_fe::FeError;
+use flexmbd_integrators::{IntegratorError, StaticError};
+use flexmbd_model::ModelError;
+
+/// Why flexmbd could not load, compile, start or advance a simulation.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene was refused: unreadable, malformed, inconsistent, or a formulation cannot
+    /// run it (names the file, item and field).
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// FE preprocessing refused a body model (e.g. [`crate::fe::reduce`] of a model file).
+    #[error(transparent)]
+    Fe(#[from] FeError),
+    /// No static equilibrium was found for a scene that asks to start in one
+    /// (`solver.initial_state: StaticEquilibrium`).
+    #[error("static start: {0}")]
+    Static(#[from] StaticError),
+    /// ALI3-P could not make the initial conditions consistent, or a step failed (the
+    /// variants of a step carry its time `t`; see [`Error::failed_at`]).
+    #[error(transparent)]
+    Integrator(#[from] IntegratorError),
+    /// Reading or writing a file failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+}
+
+impl Error {
+    /// The time of the step that failed (s), for a failed time step; `None` otherwise.
+    pub fn failed_at(&self) -> Option<f64> {
+        match self {
+            Error::Integrator(
+                IntegratorError::NoConvergence { t, .. }
+                | IntegratorError::Diverged { t }
+                | IntegratorError::Singular { t, .. },
+            ) => Some(*t),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! The stepping interface: `Simulation::step` and `read_sensors` reproduce `run`'s history
+//! bit for bit, `advance_to` lands on the step grid, a checkpoint restored replays the same
+//! steps, a failed step leaves the last good state, and a step allocates nothing.
+
+use flexmbd::model::{FormulationKind, Scene};
+use flexmbd::simulation::run;
+use flexmbd::{Error, Simulation, integrators::IntegratorError};
+
+#[global_allocator]
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
+
+fn model(name: &str) -> Scene {
+    Scene::load(format!(
+        "{}/../../models/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap()
+}
+
+/// Stepping by hand and reading the sensors after each step gives `run`'s rows exactly
+/// (output interval = one step), in both formulations.
+#[test]
+fn stepping_by_hand_reproduces_run() {
+    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
+        let mut scene = model("flexible_pendulum.ron");
+        scene.solver.formulation = form;
+        scene.solver.duration = 0.05;
+        scene.solver.output_interval = None;
+        let (summary, history) = run(&scene, |_| {}).unwrap();
+        assert_eq!(summary.status, "ok");
+        let mut sim = Simulation::new(&scene).unwrap();
+        assert_eq!(sim.sensor_names(), &history.header[1..]);
+        assert_eq!(sim.n_coordinates(), summary.n_coordinates);
+        let mut values = vec![0.0; sim.sensor_names().len()];
+        for row in &history.rows {
+            if row[0] > 0.0 {
+                sim.step().unwrap();
+            }
+            sim.read_sensors(&mut values);
+            assert_eq!(sim.time().to_bits(), row[0].to_bits(), "{form:?}");
+            assert_eq!(values, row[1..], "{form:?} at t = {}", row[0]);
+        }
+        assert_eq!(sim.stats().steps, summary.steps);
+        assert_eq!(sim.stats().newton_iterations, summary.newton_iterations);
+    }
+}
+
+/// `advance_to` stops on the multiple of h nearest the target and never steps backwards.
+#[test]
+fn advance_to_lands_on_the_step_grid() {
+    let mut sim = Simulation::new(&model("double_four_bar.ron")).unwrap();
+    let h = sim.step_size();
+    sim.advance_to(10.4 * h).unwrap();
+    assert_eq!(sim.stats().steps, 10);
+    sim.advance_to(10.6 * h).unwrap();
+    assert_eq!(sim.stats().steps, 11);
+    sim.advance_to(0.0).unwrap();
+    assert_eq!(sim.stats().steps, 11);
+    assert!((sim.time() - 11.0 * h).abs() < 1e-15);
+}
+
+/// After `restore` the next steps are the same steps again, bit for bit.
+#[test]
+fn restored_checkpoint_replays_the_same_steps() {
+    let mut sim = Simulation::new(&model("double_four_bar.ron")).unwrap();
+    sim.advance_to(0.02).unwrap();
+    let start = sim.checkpoint();
+    sim.advance_to(0.05).unwrap();
+    let first = sim.sensors();
+    let t = sim.time();
+    sim.restore(&start);
+    assert!(sim.time() < t);
+    sim.advance_to(0.05).unwrap();
+    assert_eq!(sim.time(), t);
+    assert_eq!(sim.sensors(), first);
+}
+
+/// A 0.3 s step cannot follow the four-bar through its first singular passage: the error
+/// carries the time of the failed step, and the simulation stays at the last good state.
+#[test]
+fn a_failed_step_keeps_the_last_good_state() {
+    let mut scene = model("double_four_bar.ron");
+    scene.solver.step = 0.3;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let (mut before, mut t_before) = (sim.sensors(), sim.time());
+    let error = loop {
+        match sim.step() {
+            Ok(()) => (before, t_before) = (sim.sensors(), sim.time()),
+            Err(e) => break e,
+        }
+        assert!(sim.time() < 10.0, "no failure within 10 s");
+    };
+    assert!(
+        matches!(
+            error,
+            Error::Integrator(IntegratorError::NoConvergence { .. })
+        ),
+        "{error:?}"
+    );
+    let failed_at = error.failed_at().unwrap();
+    assert!((failed_at - (t_before + 0.3)).abs() < 1e-12, "{failed_at}");
+    assert_eq!(sim.time(), t_before);
+    assert_eq!(sim.sensors(), before);
+    assert_eq!(sim.stats().failed_steps, 1);
+    // `run` reports the same failure, with the typed error behind its message.
+    let (summary, _) = run(&scene, |_| {}).unwrap();
+    assert_eq!(summary.failed_at, Some(failed_at));
+    let typed = summary.error.as_deref().expect("typed error");
+    assert_eq!(summary.message.as_deref(), Some(typed.to_string().as_str()));
+}
+
+/// `step` allocates nothing (after a few steps have sized everything), nor does
+/// `read_sensors` of the rigid four-bar. (The planar absolute formulation's body-frame and
+/// energy sensors of the flexible pendulum still allocate, 3 per reading, in
+/// `flexmbd_absolute`; the facade adds none.)
+#[test]
+fn steps_do_not_allocate() {
+    for name in ["double_four_bar.ron", "flexible_pendulum.ron"] {
+        let mut sim = Simulation::new(&model(name)).unwrap();
+        let mut values = vec![0.0; sim.sensor_names().len()];
+        for _ in 0..3 {
+            sim.step().unwrap();
+        }
+        let before = flexmbd_test_support::allocations();
+        for _ in 0..20 {
+            sim.step().unwrap();
+        }
+        let made = flexmbd_test_support::allocations() - before;
+        assert_eq!(made, 0, "{name}: {made} allocations in 20 steps");
+        if name == "double_four_bar.ron" {
+            let before = flexmbd_test_support::allocations();
+            sim.read_sensors(&mut values);
+            let made = flexmbd_test_support::allocations() - before;
+            assert_eq!(made, 0, "{name}: {made} allocations in read_sensors");
+        }
+    }
+}
