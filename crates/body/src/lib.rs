@@ -43,6 +43,7 @@ mod bmatrix;
 pub mod elastic;
 mod foreshortening;
 mod fs_shape;
+mod kinematics;
 mod natural;
 mod natural_points;
 mod shape;
@@ -52,6 +53,8 @@ pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;
 pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
+
+use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};
 
 use nalgebra::{
     DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3,
@@ -141,6 +144,10 @@ impl<'a> BodyState<'a> {
 }
 
 /// Scratch storage sized once at construction (no allocation per evaluation).
+///
+/// Held one way: every inertia kernel takes `&self` and a `&mut Workspace`. The relative set
+/// uses the body's own (lent out of the body for the call), the natural set the caller's
+/// [`NaturalWorkspace`]; nothing else holds scratch.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Workspace {
     /// 9n: u^{ab} = S^{ab} y (3D), or [M_yy y; G_3 y; G_3 ẏ] (2D, 3n).
@@ -163,6 +170,8 @@ pub(crate) struct Workspace {
     pub(crate) c: Vec<f64>,
     /// FS0 shape-integral scratch (empty without FS0 data).
     pub(crate) fs: fs_shape::FsScratch,
+    /// FS0 cloud-point scratch of route (a) (empty without FS0 data).
+    pub(crate) points: PointScratch,
 }
 
 impl Workspace {
@@ -178,6 +187,7 @@ impl Workspace {
             qy: vec![0.0; n],
             c: vec![0.0; 3 * n],
             fs: fs_shape::FsScratch::default(),
+            points: PointScratch::default(),
         }
     }
 
@@ -186,6 +196,7 @@ impl Workspace {
         let mut w = Self::new(n);
         if fs0 {
             w.fs = fs_shape::FsScratch::new(n);
+            w.points = PointScratch::new(n);
         }
         w
     }
@@ -222,7 +233,9 @@ pub struct FlexibleBody {
     k_ff: DMatrix<f64>,
     c_ff: DMatrix<f64>,
     elastic: Box<dyn ElasticModel>,
-    pub(crate) ws: Workspace,
+    /// The workspace of the relative set, boxed so that lending it to a kernel moves a
+    /// pointer (`None` only while [`inertia`](Self::inertia) runs).
+    workspace: Option<Box<Workspace>>,
     /// FS0 data (methods.md §6.3), when the body is foreshortened.
     pub(crate) fs: Option<foreshortening::Foreshortening>,
 }
@@ -415,7 +428,10 @@ impl FlexibleBody {
             k_ff: reduced.k_ff.clone(),
             c_ff: reduced.c_ff.clone(),
             elastic: Box::new(LinearElastic::from_reduced(reduced)),
-            ws: Workspace::for_body(n, reduced.foreshortening.is_some()),
+            workspace: Some(Box::new(Workspace::for_body(
+                n,
+                reduced.foreshortening.is_some(),
+            ))),
         })
     }
 
@@ -506,22 +522,30 @@ impl FlexibleBody {
             self.n,
             "inertia: y_dot must have n entries"
         );
-        if self.fs.is_some() {
-            return match method {
-                InertiaMethod::BMatrix => self.bmatrix_fs(state, m_out, qv_out),
-                InertiaMethod::ShapeIntegrals => {
-                    let mut ws = std::mem::take(&mut self.ws);
-                    self.shape_fs(state, &mut ws, m_out, qv_out);
-                    self.ws = ws;
-                }
-            };
+        let mut workspace = self.workspace.take().expect("inertia: workspace lent out");
+        let ws = workspace.as_mut();
+        match (self.dim, method, self.fs.is_some()) {
+            (_, InertiaMethod::ShapeIntegrals, true) => self.shape_fs(state, ws, m_out, qv_out),
+            (_, InertiaMethod::BMatrix, true) => {
+                let mut scratch = std::mem::take(&mut ws.points);
+                let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
+                self.bmatrix_3d(state, points, ws, m_out, qv_out);
+                ws.points = scratch;
+            }
+            (Dim::Spatial, InertiaMethod::ShapeIntegrals, false) => {
+                self.shape_3d(state, ws, m_out, qv_out)
+            }
+            (Dim::Planar, InertiaMethod::ShapeIntegrals, false) => {
+                self.shape_2d(state, ws, m_out, qv_out)
+            }
+            (Dim::Spatial, InertiaMethod::BMatrix, false) => {
+                self.bmatrix_3d(state, Linear, ws, m_out, qv_out)
+            }
+            (Dim::Planar, InertiaMethod::BMatrix, false) => {
+                self.bmatrix_2d(state, ws, m_out, qv_out)
+            }
         }
-        match (self.dim, method) {
-            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => self.shape_3d(state, m_out, qv_out),
-            (Dim::Planar, InertiaMethod::ShapeIntegrals) => self.shape_2d(state, m_out, qv_out),
-            (Dim::Spatial, InertiaMethod::BMatrix) => self.bmatrix_3d(state, m_out, qv_out),
-            (Dim::Planar, InertiaMethod::BMatrix) => self.bmatrix_2d(state, m_out, qv_out),
-        }
+        self.workspace = Some(workspace);
     }
 
     /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (methods.md §2.4 step 2), written
@@ -635,27 +659,41 @@ impl FlexibleBody {
                 (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
                     self.natural_shape_fs_2d(state, ws, m_out, qv_out)
                 }
-                (Dim::Spatial, InertiaMethod::BMatrix) => {
-                    self.natural_bmatrix_fs_3d(state, ws, m_out, qv_out)
-                }
-                (Dim::Planar, InertiaMethod::BMatrix) => {
-                    self.natural_bmatrix_fs_2d(state, ws, m_out, qv_out)
+                (_, InertiaMethod::BMatrix) => {
+                    let ws = &mut ws.0;
+                    let mut scratch = std::mem::take(&mut ws.points);
+                    let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
+                    self.natural_bmatrix(state, points, ws, m_out, qv_out);
+                    ws.points = scratch;
                 }
             };
         }
-        match (self.dim, method) {
-            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
-                self.natural_shape_3d(state, ws, m_out, qv_out)
-            }
-            (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
-                self.natural_shape_2d(state, ws, m_out, qv_out)
-            }
-            (Dim::Spatial, InertiaMethod::BMatrix) => {
-                self.natural_bmatrix_3d(state, ws, m_out, qv_out)
-            }
-            (Dim::Planar, InertiaMethod::BMatrix) => {
-                self.natural_bmatrix_2d(state, ws, m_out, qv_out)
-            }
+        match method {
+            InertiaMethod::ShapeIntegrals => match self.dim {
+                Dim::Spatial => self.natural_shape_3d(state, ws, m_out, qv_out),
+                Dim::Planar => self.natural_shape_2d(state, ws, m_out, qv_out),
+            },
+            InertiaMethod::BMatrix => self.natural_bmatrix(state, Linear, &mut ws.0, m_out, qv_out),
+        }
+    }
+
+    /// Route (a) in natural coordinates of this body's dimension for the cloud-point
+    /// kinematics `points`.
+    fn natural_bmatrix<K, SM, SQ>(
+        &self,
+        state: &NaturalState<'_>,
+        points: K,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        qv_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        K: PointKinematics,
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        match self.dim {
+            Dim::Spatial => self.natural_bmatrix_3d(state, points, ws, m_out, qv_out),
+            Dim::Planar => self.natural_bmatrix_2d(state, points, ws, m_out, qv_out),
         }
     }
 

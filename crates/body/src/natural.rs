@@ -14,8 +14,11 @@
 //! `M_yy = |u|² (S¹¹ + S²²)`, `Q_v = −2 {Ȧ S ẏ; (Ȧ L_1 − E Ȧ L_2) ẏ; Σ_ab (AᵀȦ)_ab Sᵃᵇ ẏ}`
 //! with `Ȧ = [u̇  E u̇]`, and `Σ_ab (AᵀȦ)_ab Sᵃᵇ = (u·u̇)(S¹¹ + S²²) − (u·E u̇) G_3`.
 //!
-//! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block.
+//! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block, generic
+//! over the cloud-point kinematics (`kinematics.rs`): for FS0 (methods.md §6.3) `X̂_k` replaces
+//! `X_k`, `r̄_k` carries the axial shortening and `Ḃ_k q̇` gains `−A ē₁ (ẏᵀF_k ẏ)`.
 
+use crate::kinematics::PointKinematics;
 use crate::{FlexibleBody, Workspace, dot, write_modal_block, write_natural_rigid_block_3d};
 use flexmbd_fe::NodeModes;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
@@ -348,21 +351,26 @@ impl FlexibleBody {
         }
     }
 
-    pub(crate) fn natural_bmatrix_3d<SM, SQ>(
+    /// Route (a) in spatial natural coordinates {r0, u, v, w, y} for the cloud-point
+    /// kinematics `points` (module doc, with `X̂_k` for `X_k` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ + A b_k`).
+    pub(crate) fn natural_bmatrix_3d<K, SM, SQ>(
         &self,
         st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
+        mut points: K,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
+        K: PointKinematics,
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
         let (a, ad) = (&st.a, &st.a_dot);
-        let ws = &mut nws.0;
-        // Accumulators: sy (A X), l (r̄_b A X for b = 0..3, at 3 n b), yy, qy.
+        let axis = points.axis();
+        let a_axis = a * axis;
+        // Accumulators: sy (A X̂), l (r̄_b A X̂ for b = 0..3, at 3 n b), yy, qy.
         ws.sy.fill(0.0);
         ws.l.fill(0.0);
         ws.yy.fill(0.0);
@@ -376,9 +384,16 @@ impl FlexibleBody {
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
+            points.at(k, x);
+            let xh = points.velocity_rows(x);
             let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
-            let rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
-            let acc = 2.0 * (ad * Vector3::new(dot(x0, yd), dot(x1, yd), dot(x2, yd)));
+            let (xh0, xh1, xh2) = (&xh[..n], &xh[n..2 * n], &xh[2 * n..3 * n]);
+            let mut rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
+            let mut acc = 2.0 * (ad * Vector3::new(dot(xh0, yd), dot(xh1, yd), dot(xh2, yd)));
+            if let Some(s) = points.axial() {
+                rb -= axis * s.shortening;
+                acc -= a_axis * s.velocity_product;
+            }
             msum += wk;
             rsum += wk * rb;
             psum += (wk * rb) * rb.transpose();
@@ -390,7 +405,7 @@ impl FlexibleBody {
             let (ax0, rest) = ws.ax.split_at_mut(n);
             let (ax1, ax2) = rest.split_at_mut(n);
             for j in 0..n {
-                let v = a * Vector3::new(x0[j], x1[j], x2[j]);
+                let v = a * Vector3::new(xh0[j], xh1[j], xh2[j]);
                 ax0[j] = v.x;
                 ax1[j] = v.y;
                 ax2[j] = v.z;
@@ -419,13 +434,17 @@ impl FlexibleBody {
         write_bmatrix_natural_3d(m_out, q_out, n, &sums, &ws.sy, &ws.l, &ws.yy, &ws.qy);
     }
 
-    pub(crate) fn natural_bmatrix_2d<SM, SQ>(
+    /// Route (a) in planar natural coordinates {r0, u, y} for the cloud-point kinematics
+    /// `points` (module doc, with `X̂_k` for `X_k` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ + A b_k`).
+    pub(crate) fn natural_bmatrix_2d<K, SM, SQ>(
         &self,
         st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
+        mut points: K,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
+        K: PointKinematics,
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
@@ -435,7 +454,8 @@ impl FlexibleBody {
         let ud = st.a_dot.column(0).xy();
         let a = Matrix2::new(u.x, -u.y, u.y, u.x);
         let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
-        let ws = &mut nws.0;
+        let axis = points.axis().xy();
+        let a_axis = a * axis;
         ws.sy.fill(0.0);
         ws.wy.fill(0.0);
         ws.yy.fill(0.0);
@@ -449,9 +469,16 @@ impl FlexibleBody {
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
+            points.at(k, x);
+            let xh = points.velocity_rows(x);
             let (x0, x1) = (&x[..n], &x[n..2 * n]);
-            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
-            let acc = 2.0 * (ad * Vector2::new(dot(x0, yd), dot(x1, yd)));
+            let (xh0, xh1) = (&xh[..n], &xh[n..2 * n]);
+            let mut rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
+            let mut acc = 2.0 * (ad * Vector2::new(dot(xh0, yd), dot(xh1, yd)));
+            if let Some(s) = points.axial() {
+                rb -= axis * s.shortening;
+                acc -= a_axis * s.velocity_product;
+            }
             msum += wk;
             rsum += wk * rb;
             psum += wk * rb.norm_squared();
@@ -460,7 +487,7 @@ impl FlexibleBody {
             qu += wk * (rb.x * acc - rb.y * e2(acc));
             let (ax0, ax1) = ws.ax.split_at_mut(n);
             for j in 0..n {
-                let v = a * Vector2::new(x0[j], x1[j]);
+                let v = a * Vector2::new(xh0[j], xh1[j]);
                 ax0[j] = v.x;
                 ax1[j] = v.y;
                 ws.sy[j] += wk * v.x;

@@ -15,13 +15,14 @@
 //! `M̄_ωω = J_O = tr(P_g) I − P_g` with `P_g = ∫ r rᵀ dm` about the global origin,
 //! `M̄_ωy = r̃0 A S + A C`.
 
-use crate::{BodyState, FlexibleBody, dot, planar_rotation};
+use crate::{BodyState, FlexibleBody, Workspace, dot, planar_rotation};
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 impl FlexibleBody {
     pub(crate) fn shape_3d<SM, SQ>(
-        &mut self,
+        &self,
         st: &BodyState<'_>,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
@@ -35,7 +36,6 @@ impl FlexibleBody {
         let wb = a.tr_mul(&st.omega);
         let v0b = a.tr_mul(&st.r0_dot());
         let ab = wb.cross(&v0b);
-        let ws = &mut self.ws;
 
         // m̄(y), S ẏ.
         let mut mb = self.m_u;
@@ -174,8 +174,9 @@ impl FlexibleBody {
     }
 
     pub(crate) fn shape_2d<SM, SQ>(
-        &mut self,
+        &self,
         st: &BodyState<'_>,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
@@ -204,7 +205,6 @@ impl FlexibleBody {
         // C_3 = S¹_2 − S²_1 + G_3 y ; all in O(n²) with three mat-vecs.
         let mut izz = self.p_u[(0, 0)] + self.p_u[(1, 1)];
         let mut h_yd = 0.0;
-        let ws = &mut self.ws;
         let g3 = &self.g[2 * n * n..3 * n * n];
         if n > 0 {
             let (t, rest) = ws.u.split_at_mut(n);
