@@ -22,8 +22,10 @@
 //! `Ḃ_k Z = ω E ṡ − ω² r_k + 2 ω E A X_k ẏ`.
 
 use crate::kinematics::PointKinematics;
-use crate::{BodyState, FlexibleBody, Workspace, planar_rotation, write_modal_block};
-use flexmbd_core::Dim;
+use crate::{
+    BodyState, FlexibleBody, Workspace, planar_rotation, relative_layout, write_modal_block,
+    write_relative_couplings, write_relative_rigid,
+};
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 impl FlexibleBody {
@@ -125,41 +127,11 @@ impl FlexibleBody {
                 }
             }
         }
-        // Full 3D layout {ṡ; ω; ẏ}; a planar body keeps x, y, θz.
-        let (map, nr): ([Option<usize>; 6], usize) = match self.dim {
-            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
-            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
-        };
         let jo = Matrix3::identity() * psum.trace() - psum;
-        let gt = flexmbd_core::skew(&gsum);
-        let mut rigid = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                rigid[i][j] = if i == j { msum } else { 0.0 };
-                rigid[i][j + 3] = -gt[(i, j)];
-                rigid[i + 3][j] = gt[(i, j)];
-                rigid[i + 3][j + 3] = jo[(i, j)];
-            }
-        }
-        let q_rigid = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
-        for (i, mi) in map.iter().enumerate() {
-            let Some(oi) = *mi else { continue };
-            for (j, mj) in map.iter().enumerate() {
-                if let Some(oj) = *mj {
-                    m_out[(oi, oj)] = rigid[i][j];
-                }
-            }
-            q_out[oi] = q_rigid[i];
-            for jm in 0..n {
-                let v = if i < 3 {
-                    ws.sy[i * n + jm]
-                } else {
-                    ws.wy[(i - 3) * n + jm]
-                };
-                m_out[(oi, nr + jm)] = v;
-                m_out[(nr + jm, oi)] = v;
-            }
-        }
+        let force = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
+        write_relative_rigid(m_out, q_out, self.dim, msum, &gsum, &jo, &force);
+        write_relative_couplings(m_out, self.dim, n, &ws.sy, &ws.wy);
+        let (_, nr) = relative_layout(self.dim);
         write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
     }
 

@@ -73,9 +73,11 @@
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
 use crate::foreshortening::mat_vec;
+use crate::natural::write_natural_couplings_3d;
+use crate::shape::{body_frame_motion, c_rows, modal_inertia_forces};
 use crate::{
-    BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot,
-    write_natural_rigid_block_3d,
+    BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot, relative_layout,
+    write_modal_rows, write_natural_rigid_block_3d, write_relative_rigid,
 };
 use flexmbd_core::Dim;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
@@ -259,42 +261,7 @@ impl FlexibleBody {
         // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
         // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
         let na = if self.dim == Dim::Planar { 2 } else { 3 };
-        for c in 0..na {
-            for b in 0..na {
-                let blk = &self.sab[(3 * c + b) * n2..(3 * c + b + 1) * n2];
-                let dst = &mut u[(3 * c + b) * n..(3 * c + b + 1) * n];
-                for (uu, row) in dst.iter_mut().zip(blk.chunks_exact(n)) {
-                    *uu = dot(row, y);
-                }
-            }
-        }
-        if na == 2 {
-            l[2 * n..3 * n].fill(0.0);
-            l[5 * n..9 * n].fill(0.0);
-        }
-        for b in 0..na {
-            for c in 0..na {
-                let dst = (3 * b + c) * n;
-                let src = (3 * c + b) * n;
-                for j in 0..n {
-                    l[dst + j] = self.sa[dst + j] + u[src + j];
-                }
-            }
-        }
-        let mut mb = self.m_u;
-        for c in 0..na {
-            mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
-        }
-        let mut p = self.p_u;
-        for c in 0..na {
-            for b in c..na {
-                let v = self.p_u[(c, b)]
-                    + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                    + dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                p[(c, b)] = v;
-                p[(b, c)] = v;
-            }
-        }
+        let (mb, p) = self.linear_moments::<N>(y, na, u, l);
         // 𝔽 and 𝔽ᵃ (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0).
         mat_vec(&fs.wf, y, &mut sc.fy);
         mat_vec(&fs.wf, yd, &mut sc.fyd);
@@ -520,12 +487,8 @@ impl FlexibleBody {
     {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
-        let a = &st.a;
-        let r0 = st.r0;
         let e = self.fs.as_ref().expect("shape_fs without FS0 data").axis;
-        let wb = a.tr_mul(&st.omega);
-        let v0b = a.tr_mul(&st.r0_dot());
-        let ab = wb.cross(&v0b);
+        let (wb, ab) = body_frame_motion(st);
         let mo = self.fs_moments(y, yd, ws);
         let (mb, p) = (mo.mb, mo.p);
         let mut s_yd = Vector3::zeros();
@@ -541,30 +504,17 @@ impl FlexibleBody {
         let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd) - e * mo.c0) - self.mass * ab;
         let w_yd = wb * h_yd - lam.tr_mul(&wb);
         let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd - mo.c1.cross(&e)) - mb.cross(&ab);
-        // Global blocks (§2.4 steps 2–3).
-        let am = a * mb;
-        let lever = self.mass * r0 + am;
-        let pg = a * p * a.transpose()
-            + self.mass * r0 * r0.transpose()
-            + r0 * am.transpose()
-            + am * r0.transpose();
-        let jo = Matrix3::identity() * pg.trace() - pg;
-        let qtg = a * qt;
-        let qrg = r0.cross(&qtg) + a * qr;
-        let lt = flexmbd_core::skew(&lever);
-        let mut rig = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                rig[i][j] = if i == j { self.mass } else { 0.0 };
-                rig[i][j + 3] = -lt[(i, j)];
-                rig[i + 3][j] = lt[(i, j)];
-                rig[i + 3][j + 3] = jo[(i, j)];
-            }
-        }
-        let qrig = [qtg.x, qtg.y, qtg.z, qrg.x, qrg.y, qrg.z];
+        let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
+        write_relative_rigid(
+            m_out,
+            q_out,
+            self.dim,
+            self.mass,
+            &rigid.moment,
+            &rigid.inertia,
+            &rigid.force,
+        );
         // Modal rows: q_y = −(Σ (ω̃ω̃)_ab (L̂_b)_a + 2 Ĝẏ) + Σ w c X̂ᵀe − Ŝᵀā.
-        let ww = wb.norm_squared();
-        let om = wb * wb.transpose() - Matrix3::identity() * ww;
         {
             // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ (a planar body: G_3 only).
             let qy = &mut ws.qy;
@@ -582,56 +532,15 @@ impl FlexibleBody {
         let h = wb.cross(&e);
         let mut qy = std::mem::take(&mut ws.qy);
         self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, &mut qy);
-        for j in 0..n {
-            let mut t = 0.0;
-            for c in 0..3 {
-                for b in 0..3 {
-                    t += om[(c, b)] * ws.l[(3 * b + c) * n + j];
-                }
-            }
-            let sta = ws.sy[j] * ab.x + ws.sy[n + j] * ab.y + ws.sy[2 * n + j] * ab.z;
-            qy[j] = -(t + 2.0 * qy[j]) - sta;
-        }
+        modal_inertia_forces(&wb, &ab, &ws.sy, &ws.l, &mut qy);
         self.fs_add_c_term(ws, &e, &mut qy);
         let mut yy = std::mem::take(&mut ws.yy);
         self.fs_yy(ws, &e, 1.0, &self.m_yy, &mut yy);
         // Ŝ and Ĉ columns in global components.
-        let (map, nr): ([Option<usize>; 6], usize) = match self.dim {
-            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
-            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
-        };
-        let lrow = |b: usize, c: usize, j: usize| ws.l[(3 * b + c) * n + j];
-        for j in 0..n {
-            let sj = Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
-            let cj = Vector3::new(
-                lrow(1, 2, j) - lrow(2, 1, j),
-                lrow(2, 0, j) - lrow(0, 2, j),
-                lrow(0, 1, j) - lrow(1, 0, j),
-            );
-            let asj = a * sj;
-            let wyj = r0.cross(&asj) + a * cj;
-            for (i, mi) in map.iter().enumerate() {
-                let Some(oi) = *mi else { continue };
-                let v = if i < 3 { asj[i] } else { wyj[i - 3] };
-                m_out[(oi, nr + j)] = v;
-                m_out[(nr + j, oi)] = v;
-            }
-        }
-        for (i, mi) in map.iter().enumerate() {
-            let Some(oi) = *mi else { continue };
-            for (j, mj) in map.iter().enumerate() {
-                if let Some(oj) = *mj {
-                    m_out[(oi, oj)] = rig[i][j];
-                }
-            }
-            q_out[oi] = qrig[i];
-        }
-        for i in 0..n {
-            q_out[nr + i] = qy[i];
-            for j in 0..n {
-                m_out[(nr + i, nr + j)] = yy[i * n + j];
-            }
-        }
+        c_rows(n, &ws.l, &mut ws.c);
+        self.write_shape_couplings(&st.a, &st.r0, &ws.sy, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
+        let (_, nr) = relative_layout(self.dim);
+        write_modal_rows(m_out, q_out, nr, &yy, &qy);
         ws.qy = qy;
         ws.yy = yy;
     }
@@ -702,37 +611,14 @@ impl FlexibleBody {
             return;
         }
         let o = 12;
-        for j in 0..n {
-            let asj = a * Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
-            for i in 0..3 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-            }
-            for b in 0..3 {
-                let lbj = Vector3::new(
-                    ws.l[(3 * b) * n + j],
-                    ws.l[(3 * b + 1) * n + j],
-                    ws.l[(3 * b + 2) * n + j],
-                );
-                let alj = a * lbj;
-                for i in 0..3 {
-                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
-                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
-                }
-            }
-        }
+        write_natural_couplings_3d(m_out, a, n, &ws.sy, &ws.l);
         let gram = a.tr_mul(a);
         let cdot = a.tr_mul(ad);
         // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.ax-free scratch (ws.yy), then FS0 terms.
         let mut base = std::mem::take(&mut ws.yy);
         for i in 0..n {
             for j in i..n {
-                let mut v = 0.0;
-                for aa in 0..3 {
-                    for bb in 0..3 {
-                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
-                    }
-                }
+                let v = self.gram_modal_mass(&gram, i, j);
                 base[i * n + j] = v;
                 base[j * n + i] = v;
             }

@@ -132,6 +132,20 @@ fn e2(v: Vector2<f64>) -> Vector2<f64> {
 }
 
 impl FlexibleBody {
+    /// `Σ_ab G_ab Sᵃᵇ_ij` for the Gram matrix `G_ab = e_a·e_b` (the modal mass of the natural
+    /// set, §2.5).
+    #[inline(always)]
+    pub(crate) fn gram_modal_mass(&self, gram: &Matrix3<f64>, i: usize, j: usize) -> f64 {
+        let n = self.n;
+        let mut v = 0.0;
+        for aa in 0..3 {
+            for bb in 0..3 {
+                v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
+            }
+        }
+        v
+    }
+
     pub(crate) fn natural_shape_3d<SM, SQ>(
         &self,
         st: &NaturalState<'_>,
@@ -146,43 +160,10 @@ impl FlexibleBody {
         let (y, yd) = (st.y, st.y_dot);
         let (a, ad) = (&st.a, &st.a_dot);
         let ws = &mut nws.0;
-        let mut mb = self.m_u;
+        let (mb, p) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
         let mut s_yd = Vector3::zeros();
         for c in 0..3 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
-        }
-        let mut p = self.p_u;
-        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
-        if n > 0 {
-            for (row, u) in self.sab.chunks_exact(n).zip(ws.u.iter_mut()) {
-                *u = dot(row, y);
-            }
-            for b in 0..3 {
-                for c in 0..3 {
-                    let dst = (3 * b + c) * n;
-                    let src = (3 * c + b) * n;
-                    let (l, sa, u) = (
-                        &mut ws.l[dst..dst + n],
-                        &self.sa[dst..dst + n],
-                        &ws.u[src..src + n],
-                    );
-                    for j in 0..n {
-                        l[j] = sa[j] + u[j];
-                    }
-                    lam[(b, c)] = dot(l, yd);
-                }
-            }
-            for c in 0..3 {
-                for b in c..3 {
-                    let v = self.p_u[(c, b)]
-                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                        + dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                    p[(c, b)] = v;
-                    p[(b, c)] = v;
-                }
-            }
+            s_yd[c] = dot(&self.s[c * n..(c + 1) * n], yd);
         }
         let m = self.mass;
         write_natural_rigid_block_3d(m_out, m, &mb, &p);
@@ -191,8 +172,13 @@ impl FlexibleBody {
             q_out[i] = q0[i];
         }
         for b in 0..3 {
-            // L_b ẏ = (lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]).
-            let lby = Vector3::new(lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]);
+            // L_b ẏ.
+            let mut lby = Vector3::zeros();
+            if n > 0 {
+                for c in 0..3 {
+                    lby[c] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+                }
+            }
             let qb = -2.0 * (ad * lby);
             for i in 0..3 {
                 q_out[3 + 3 * b + i] = qb[i];
@@ -204,28 +190,7 @@ impl FlexibleBody {
         let o = 12;
         let gram = a.tr_mul(a); // e_a · e_b
         let cdot = a.tr_mul(ad); // e_a · ė_b
-        // A S and A L_b columns.
-        for j in 0..n {
-            let sj = Vector3::new(self.s[j], self.s[n + j], self.s[2 * n + j]);
-            let asj = a * sj;
-            for i in 0..3 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-            }
-            for b in 0..3 {
-                let l = &ws.l;
-                let lbj = Vector3::new(
-                    l[(3 * b) * n + j],
-                    l[(3 * b + 1) * n + j],
-                    l[(3 * b + 2) * n + j],
-                );
-                let alj = a * lbj;
-                for i in 0..3 {
-                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
-                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
-                }
-            }
-        }
+        write_natural_couplings_3d(m_out, a, n, &self.s, &ws.l);
         // M_yy = Σ_ab (e_a·e_b) Sᵃᵇ (upper triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ);
         // Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ.
         let qy = &mut ws.qy;
@@ -241,12 +206,7 @@ impl FlexibleBody {
         }
         for i in 0..n {
             for j in i..n {
-                let mut v = 0.0;
-                for aa in 0..3 {
-                    for bb in 0..3 {
-                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
-                    }
-                }
+                let v = self.gram_modal_mass(&gram, i, j);
                 m_out[(o + i, o + j)] = v;
                 m_out[(o + j, o + i)] = v;
             }
@@ -514,6 +474,39 @@ impl FlexibleBody {
             qu,
         };
         write_bmatrix_natural_2d(m_out, q_out, n, &sums, &ws.sy, &ws.wy, &ws.yy, &ws.qy);
+    }
+}
+
+/// The rigid–modal couplings of a spatial natural-coordinate M, symmetric: `M_r0y = A S` and
+/// `M_eby = A L_b` from the body-frame rows of S (3 × n) and L ((L_b)_a at (3b + a) n).
+pub(crate) fn write_natural_couplings_3d<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    a: &Matrix3<f64>,
+    n: usize,
+    s: &[f64],
+    l: &[f64],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    let o = 12;
+    for j in 0..n {
+        let asj = a * Vector3::new(s[j], s[n + j], s[2 * n + j]);
+        for i in 0..3 {
+            m_out[(i, o + j)] = asj[i];
+            m_out[(o + j, i)] = asj[i];
+        }
+        for b in 0..3 {
+            let lbj = Vector3::new(
+                l[(3 * b) * n + j],
+                l[(3 * b + 1) * n + j],
+                l[(3 * b + 2) * n + j],
+            );
+            let alj = a * lbj;
+            for i in 0..3 {
+                m_out[(3 + 3 * b + i, o + j)] = alj[i];
+                m_out[(o + j, 3 + 3 * b + i)] = alj[i];
+            }
+        }
     }
 }
 
