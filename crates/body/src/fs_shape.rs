@@ -73,12 +73,8 @@
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
 use crate::foreshortening::mat_vec;
-use crate::natural::write_natural_couplings_3d;
-use crate::shape::{body_frame_motion, c_rows, modal_inertia_forces};
-use crate::{
-    BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot, relative_layout,
-    write_modal_rows, write_natural_rigid_block_3d, write_relative_rigid,
-};
+use crate::shape::{AxialMoments, ShapeMoments};
+use crate::{FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot, write_modal_rows};
 use flexmbd_core::Dim;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -224,19 +220,10 @@ impl FsScratch {
     }
 }
 
-/// The fixed-size FS0 moments at (y, ẏ) (body components); Ŝ, L̂ and the contractions are
-/// left in the workspace.
-struct Moments {
-    mb: Vector3<f64>,
-    p: Matrix3<f64>,
-    c0: f64,
-    c1: Vector3<f64>,
-}
-
 impl FlexibleBody {
     /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
     /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
-    fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
+    pub(crate) fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
         // The loops run over rows of n entries; with n a compile-time constant for the common
         // mode counts the compiler unrolls them and drops the bounds checks.
         match self.n {
@@ -247,7 +234,12 @@ impl FlexibleBody {
     }
 
     /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
-    fn fs_moments_n<const N: usize>(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
+    fn fs_moments_n<const N: usize>(
+        &self,
+        y: &[f64],
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) -> ShapeMoments {
         let n = if N == 0 { self.n } else { N };
         debug_assert_eq!(n, self.n);
         let (y, yd) = (&y[..n], &yd[..n]);
@@ -393,17 +385,23 @@ impl FlexibleBody {
                 }
             }
         }
-        Moments {
+        ShapeMoments {
             mb: mbh,
             p: ph,
-            c0,
-            c1,
+            axial: Some(AxialMoments { axis: e, c0, c1 }),
         }
     }
 
     /// `out[i][j] = base[i][j] − (K_g + K_gᵀ)_ij + s N_ij` with `K_g = Σ_a g_a Kᵃ`
     /// (i.e. Σ_ab C_ab Ŝᵃᵇ for a symmetric C, g = C e, s = eᵀC e; upper triangle mirrored).
-    fn fs_yy(&self, ws: &Workspace, g: &Vector3<f64>, s: f64, base: &[f64], out: &mut [f64]) {
+    pub(crate) fn fs_yy(
+        &self,
+        ws: &Workspace,
+        g: &Vector3<f64>,
+        s: f64,
+        base: &[f64],
+        out: &mut [f64],
+    ) {
         let n = self.n;
         let n2 = n * n;
         let sc = &ws.fs;
@@ -463,7 +461,7 @@ impl FlexibleBody {
     }
 
     /// `Σ w c_k X̂_kᵀ g = Σ_a g_a zᵃ − (e·g) Σ w c_k f_k`, added to `out`.
-    fn fs_add_c_term(&self, ws: &Workspace, g: &Vector3<f64>, out: &mut [f64]) {
+    pub(crate) fn fs_add_c_term(&self, ws: &Workspace, g: &Vector3<f64>, out: &mut [f64]) {
         let n = self.n;
         let e = self.fs.as_ref().map_or(Vector3::zeros(), |f| f.axis);
         let sc = &ws.fs;
@@ -473,76 +471,29 @@ impl FlexibleBody {
         }
     }
 
-    /// Relative set {ṡ, ω, ẏ}, FS0, shape-integral route (both dimensions: the 3D algebra, a
-    /// planar body keeps x, y, θz).
-    pub(crate) fn shape_fs<SM, SQ>(
+    /// `G̑ ẏ = Σ_ab ω̃_ab Ŝᵃᵇ ẏ = G(ω̄) ẏ − K_{ω̄×e} ẏ + K_{ω̄×e}ᵀ ẏ` into `out` (n; a planar body:
+    /// G_3 only).
+    pub(crate) fn fs_gyroscopic(
         &self,
-        st: &BodyState<'_>,
-        ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        wb: &Vector3<f64>,
+        e: &Vector3<f64>,
+        yd: &[f64],
+        ws: &Workspace,
+        out: &mut [f64],
+    ) {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let e = self.fs.as_ref().expect("shape_fs without FS0 data").axis;
-        let (wb, ab) = body_frame_motion(st);
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let mut s_yd = Vector3::zeros();
-        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L̂_b)_c · ẏ
+        out.fill(0.0);
         for c in 0..3 {
-            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
-            for b in 0..3 {
-                lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+            if wb[c] == 0.0 {
+                continue;
+            }
+            let gc = &self.g[c * n * n..(c + 1) * n * n];
+            for (o, row) in out.iter_mut().zip(gc.chunks_exact(n)) {
+                *o += wb[c] * dot(row, yd);
             }
         }
-        let h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
-        let io = Matrix3::identity() * p.trace() - p;
-        let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd) - e * mo.c0) - self.mass * ab;
-        let w_yd = wb * h_yd - lam.tr_mul(&wb);
-        let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd - mo.c1.cross(&e)) - mb.cross(&ab);
-        let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
-        write_relative_rigid(
-            m_out,
-            q_out,
-            self.dim,
-            self.mass,
-            &rigid.moment,
-            &rigid.inertia,
-            &rigid.force,
-        );
-        // Modal rows: q_y = −(Σ (ω̃ω̃)_ab (L̂_b)_a + 2 Ĝẏ) + Σ w c X̂ᵀe − Ŝᵀā.
-        {
-            // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ (a planar body: G_3 only).
-            let qy = &mut ws.qy;
-            qy.fill(0.0);
-            for c in 0..3 {
-                if wb[c] == 0.0 {
-                    continue;
-                }
-                let gc = &self.g[c * n * n..(c + 1) * n * n];
-                for (o, row) in qy.iter_mut().zip(gc.chunks_exact(n)) {
-                    *o += wb[c] * dot(row, yd);
-                }
-            }
-        }
-        let h = wb.cross(&e);
-        let mut qy = std::mem::take(&mut ws.qy);
-        self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, &mut qy);
-        modal_inertia_forces(&wb, &ab, &ws.sy, &ws.l, &mut qy);
-        self.fs_add_c_term(ws, &e, &mut qy);
-        let mut yy = std::mem::take(&mut ws.yy);
-        self.fs_yy(ws, &e, 1.0, &self.m_yy, &mut yy);
-        // Ŝ and Ĉ columns in global components.
-        c_rows(n, &ws.l, &mut ws.c);
-        self.write_shape_couplings(&st.a, &st.r0, &ws.sy, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
-        let (_, nr) = relative_layout(self.dim);
-        write_modal_rows(m_out, q_out, nr, &yy, &qy);
-        ws.qy = qy;
-        ws.yy = yy;
+        let h = wb.cross(e);
+        self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, out);
     }
 
     /// Σ_ab D_ab Sᵃᵇ x (the linear part), skipping zero D entries, into `out`.
@@ -563,11 +514,15 @@ impl FlexibleBody {
         }
     }
 
-    /// Spatial natural coordinates {r0, u, v, w, y}, FS0, shape-integral route.
-    pub(crate) fn natural_shape_fs_3d<SM, SQ>(
+    /// The modal block of the spatial natural set for FS0 (module doc): `M_yy = Σ_ab (e_a·e_b)
+    /// Ŝᵃᵇ` and `Q_y = −2 Σ_ab (e_a·ė_b) Ŝᵃᵇ ẏ + Σ w c_k X̂_kᵀ (AᵀA e)`, written at offset 12,
+    /// with `gram = AᵀA` and `cdot = AᵀȦ`.
+    pub(crate) fn natural_modal_terms_fs_3d<SM, SQ>(
         &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
+        yd: &[f64],
+        gram: &Matrix3<f64>,
+        cdot: &Matrix3<f64>,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
@@ -575,50 +530,17 @@ impl FlexibleBody {
         SQ: StorageMut<f64, Dyn, U1>,
     {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let (a, ad) = (&st.a, &st.a_dot);
+        let o = 12;
         let e = self
             .fs
             .as_ref()
-            .expect("natural_shape_fs_3d without FS0")
+            .expect("FS0 modal terms without FS0 data")
             .axis;
-        let ws = &mut nws.0;
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let m = self.mass;
-        write_natural_rigid_block_3d(m_out, m, &mb, &p);
-        let ae = a * e;
-        let mut s_yd = Vector3::zeros();
-        for c in 0..3 {
-            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
-        }
-        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
-        for i in 0..3 {
-            q_out[i] = q0[i];
-        }
-        for b in 0..3 {
-            let lby = Vector3::new(
-                dot(&ws.l[(3 * b) * n..(3 * b + 1) * n], yd),
-                dot(&ws.l[(3 * b + 1) * n..(3 * b + 2) * n], yd),
-                dot(&ws.l[(3 * b + 2) * n..(3 * b + 3) * n], yd),
-            );
-            let qb = -2.0 * (ad * lby) + ae * mo.c1[b];
-            for i in 0..3 {
-                q_out[3 + 3 * b + i] = qb[i];
-            }
-        }
-        if n == 0 {
-            return;
-        }
-        let o = 12;
-        write_natural_couplings_3d(m_out, a, n, &ws.sy, &ws.l);
-        let gram = a.tr_mul(a);
-        let cdot = a.tr_mul(ad);
-        // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.ax-free scratch (ws.yy), then FS0 terms.
+        // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.yy, then FS0 terms.
         let mut base = std::mem::take(&mut ws.yy);
         for i in 0..n {
             for j in i..n {
-                let v = self.gram_modal_mass(&gram, i, j);
+                let v = self.gram_modal_mass(gram, i, j);
                 base[i * n + j] = v;
                 base[j * n + i] = v;
             }
@@ -626,25 +548,18 @@ impl FlexibleBody {
         let g = gram * e;
         let mut yy = std::mem::take(&mut ws.fs.tmp_nn);
         self.fs_yy(ws, &g, e.dot(&g), &base, &mut yy);
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(o + i, o + j)] = yy[i * n + j];
-            }
-        }
-        ws.fs.tmp_nn = yy;
-        ws.yy = base;
         // Q_y = −2 Σ cdot_ab Ŝᵃᵇ ẏ + Σ w c X̂ᵀ (gram e).
         let mut qy = std::mem::take(&mut ws.qy);
-        self.sab_vec(&cdot, yd, &mut qy);
+        self.sab_vec(cdot, yd, &mut qy);
         let (h, k) = (cdot * e, cdot.transpose() * e);
         self.fs_sab_vec(ws, &h, &k, e.dot(&h), yd, &mut qy);
         for v in qy.iter_mut() {
             *v *= -2.0;
         }
         self.fs_add_c_term(ws, &g, &mut qy);
-        for i in 0..n {
-            q_out[o + i] = qy[i];
-        }
+        write_modal_rows(m_out, q_out, o, &yy, &qy);
+        ws.fs.tmp_nn = yy;
+        ws.yy = base;
         ws.qy = qy;
     }
 
@@ -675,6 +590,7 @@ impl FlexibleBody {
         let ws = &mut nws.0;
         let mo = self.fs_moments(y, yd, ws);
         let (mb, p) = (mo.mb, mo.p);
+        let ax = mo.axial.expect("FS0 moments carry the axial terms");
         let m = self.mass;
         m_out[(0, 0)] = m;
         m_out[(1, 1)] = m;
@@ -694,8 +610,8 @@ impl FlexibleBody {
         let l1y = Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd));
         let l2y = Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd));
         let ae = a * e;
-        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
-        let qu = -2.0 * (ad * l1y - rot(ad * l2y)) + ae * mo.c1.x - rot(ae) * mo.c1.y;
+        let q0 = -2.0 * (ad * s_yd) + ae * ax.c0;
+        let qu = -2.0 * (ad * l1y - rot(ad * l2y)) + ae * ax.c1.x - rot(ae) * ax.c1.y;
         q_out[0] = q0.x;
         q_out[1] = q0.y;
         q_out[2] = qu.x;

@@ -524,25 +524,22 @@ impl FlexibleBody {
         );
         let mut workspace = self.workspace.take().expect("inertia: workspace lent out");
         let ws = workspace.as_mut();
-        match (self.dim, method, self.fs.is_some()) {
-            (_, InertiaMethod::ShapeIntegrals, true) => self.shape_fs(state, ws, m_out, qv_out),
-            (_, InertiaMethod::BMatrix, true) => {
+        // Linear spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body
+        // keeps their x, y, θz rows); linear planar bodies the lean planar ones.
+        match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
+                self.shape_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, _, _) => self.shape_3d(state, ws, m_out, qv_out),
+            (InertiaMethod::BMatrix, Dim::Planar, false) => {
+                self.bmatrix_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::BMatrix, _, false) => self.bmatrix_3d(state, Linear, ws, m_out, qv_out),
+            (InertiaMethod::BMatrix, _, true) => {
                 let mut scratch = std::mem::take(&mut ws.points);
                 let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
                 self.bmatrix_3d(state, points, ws, m_out, qv_out);
                 ws.points = scratch;
-            }
-            (Dim::Spatial, InertiaMethod::ShapeIntegrals, false) => {
-                self.shape_3d(state, ws, m_out, qv_out)
-            }
-            (Dim::Planar, InertiaMethod::ShapeIntegrals, false) => {
-                self.shape_2d(state, ws, m_out, qv_out)
-            }
-            (Dim::Spatial, InertiaMethod::BMatrix, false) => {
-                self.bmatrix_3d(state, Linear, ws, m_out, qv_out)
-            }
-            (Dim::Planar, InertiaMethod::BMatrix, false) => {
-                self.bmatrix_2d(state, ws, m_out, qv_out)
             }
         }
         self.workspace = Some(workspace);
@@ -651,29 +648,26 @@ impl FlexibleBody {
             self.fs.is_none(),
             "inertia_natural: workspace made before set_foreshortening (make it after)"
         );
-        if self.fs.is_some() {
-            return match (self.dim, method) {
-                (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
-                    self.natural_shape_fs_3d(state, ws, m_out, qv_out)
-                }
-                (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
-                    self.natural_shape_fs_2d(state, ws, m_out, qv_out)
-                }
-                (_, InertiaMethod::BMatrix) => {
-                    let ws = &mut ws.0;
-                    let mut scratch = std::mem::take(&mut ws.points);
-                    let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
-                    self.natural_bmatrix(state, points, ws, m_out, qv_out);
-                    ws.points = scratch;
-                }
-            };
-        }
-        match method {
-            InertiaMethod::ShapeIntegrals => match self.dim {
-                Dim::Spatial => self.natural_shape_3d(state, ws, m_out, qv_out),
-                Dim::Planar => self.natural_shape_2d(state, ws, m_out, qv_out),
-            },
-            InertiaMethod::BMatrix => self.natural_bmatrix(state, Linear, &mut ws.0, m_out, qv_out),
+        match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Spatial, _) => {
+                self.natural_shape_3d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
+                self.natural_shape_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, true) => {
+                self.natural_shape_fs_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::BMatrix, _, false) => {
+                self.natural_bmatrix(state, Linear, &mut ws.0, m_out, qv_out)
+            }
+            (InertiaMethod::BMatrix, _, true) => {
+                let ws = &mut ws.0;
+                let mut scratch = std::mem::take(&mut ws.points);
+                let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
+                self.natural_bmatrix(state, points, ws, m_out, qv_out);
+                ws.points = scratch;
+            }
         }
     }
 

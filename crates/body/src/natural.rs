@@ -146,6 +146,8 @@ impl FlexibleBody {
         v
     }
 
+    /// Route (b) in spatial natural coordinates (module doc), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs` and the velocity-product terms `A e c₀`, `A e c₁,b`).
     pub(crate) fn natural_shape_3d<SM, SQ>(
         &self,
         st: &NaturalState<'_>,
@@ -160,14 +162,22 @@ impl FlexibleBody {
         let (y, yd) = (st.y, st.y_dot);
         let (a, ad) = (&st.a, &st.a_dot);
         let ws = &mut nws.0;
-        let (mb, p) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
+        let moments = self.shape_moments(y, yd, ws);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
         let mut s_yd = Vector3::zeros();
         for c in 0..3 {
-            s_yd[c] = dot(&self.s[c * n..(c + 1) * n], yd);
+            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
         }
-        let m = self.mass;
-        write_natural_rigid_block_3d(m_out, m, &mb, &p);
-        let q0 = -2.0 * (ad * s_yd);
+        write_natural_rigid_block_3d(m_out, self.mass, &moments.mb, &moments.p);
+        let axial = moments.axial.as_ref().map(|ax| (a * ax.axis, ax));
+        let mut q0 = -2.0 * (ad * s_yd);
+        if let Some((ae, ax)) = &axial {
+            q0 += ae * ax.c0;
+        }
         for i in 0..3 {
             q_out[i] = q0[i];
         }
@@ -179,7 +189,10 @@ impl FlexibleBody {
                     lby[c] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
                 }
             }
-            let qb = -2.0 * (ad * lby);
+            let mut qb = -2.0 * (ad * lby);
+            if let Some((ae, ax)) = &axial {
+                qb += ae * ax.c1[b];
+            }
             for i in 0..3 {
                 q_out[3 + 3 * b + i] = qb[i];
             }
@@ -187,12 +200,32 @@ impl FlexibleBody {
         if n == 0 {
             return;
         }
-        let o = 12;
         let gram = a.tr_mul(a); // e_a · e_b
         let cdot = a.tr_mul(ad); // e_a · ė_b
-        write_natural_couplings_3d(m_out, a, n, &self.s, &ws.l);
-        // M_yy = Σ_ab (e_a·e_b) Sᵃᵇ (upper triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ);
-        // Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ.
+        write_natural_couplings_3d(m_out, a, n, s_rows, &ws.l);
+        match axial {
+            None => self.natural_modal_terms_3d(yd, &gram, &cdot, ws, m_out, q_out),
+            Some(_) => self.natural_modal_terms_fs_3d(yd, &gram, &cdot, ws, m_out, q_out),
+        }
+    }
+
+    /// The modal block of the spatial natural set: `M_yy = Σ_ab (e_a·e_b) Sᵃᵇ` (upper
+    /// triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ) and `Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ` at offset 12, with
+    /// `gram = AᵀA` and `cdot = AᵀȦ`.
+    fn natural_modal_terms_3d<SM, SQ>(
+        &self,
+        yd: &[f64],
+        gram: &Matrix3<f64>,
+        cdot: &Matrix3<f64>,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let o = 12;
         let qy = &mut ws.qy;
         qy.fill(0.0);
         for aa in 0..3 {
@@ -206,7 +239,7 @@ impl FlexibleBody {
         }
         for i in 0..n {
             for j in i..n {
-                let v = self.gram_modal_mass(&gram, i, j);
+                let v = self.gram_modal_mass(gram, i, j);
                 m_out[(o + i, o + j)] = v;
                 m_out[(o + j, o + i)] = v;
             }

@@ -16,7 +16,7 @@
 //! `M̄_ωy = r̃0 A S + A C`.
 
 use crate::{
-    BodyState, FlexibleBody, Workspace, dot, planar_rotation, write_modal_rows,
+    BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout, write_modal_rows,
     write_relative_couplings, write_relative_rigid,
 };
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
@@ -28,6 +28,25 @@ pub(crate) struct GlobalRigid {
     pub(crate) moment: Vector3<f64>,
     pub(crate) inertia: Matrix3<f64>,
     pub(crate) force: [f64; 6],
+}
+
+/// The configuration-dependent moments of a body at (y, ẏ) in body components (§2.3; FS0:
+/// the hatted moments of §6.3), beside the S and L rows the kernels read from the workspace.
+pub(crate) struct ShapeMoments {
+    /// m̄(y).
+    pub(crate) mb: Vector3<f64>,
+    /// P(y) = Σ w r̄ r̄ᵀ.
+    pub(crate) p: Matrix3<f64>,
+    /// The velocity-product moments of a foreshortened body, `None` for a linear one.
+    pub(crate) axial: Option<AxialMoments>,
+}
+
+/// The velocity-product moments of FS0 (§6.3): `c₀ = Σ w c_k`, `c₁ = Σ w c_k r̄_k` with
+/// `c_k = ẏᵀF_k ẏ`, along the beam axis ē₁.
+pub(crate) struct AxialMoments {
+    pub(crate) axis: Vector3<f64>,
+    pub(crate) c0: f64,
+    pub(crate) c1: Vector3<f64>,
 }
 
 /// The motion of the body frame in body components: ω̄ = Aᵀω and the shift term
@@ -187,6 +206,21 @@ impl FlexibleBody {
         write_relative_couplings(m_out, self.dim, n, translation, rotation);
     }
 
+    /// The moments of this body at (y, ẏ): linear (§2.3, S and L rows in `self.s`, `ws.l`) or
+    /// foreshortened (§6.3, Ŝ and L̂ rows in `ws.sy`, `ws.l`, contractions in `ws.fs`).
+    pub(crate) fn shape_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
+        match self.fs {
+            None => {
+                let (mb, p) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
+                ShapeMoments { mb, p, axial: None }
+            }
+            Some(_) => self.fs_moments(y, yd, ws),
+        }
+    }
+
+    /// Route (b) in the spatial relative set (§2.4 steps 1–3), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs`, and the velocity-product terms `e c₀`, `c₁ × e`,
+    /// `Σ w c_k X̂_kᵀ e`); a planar FS0 body runs it too and keeps x, y, θz.
     pub(crate) fn shape_3d<SM, SQ>(
         &self,
         st: &BodyState<'_>,
@@ -200,18 +234,20 @@ impl FlexibleBody {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
         let (wb, ab) = body_frame_motion(st);
-        let (mb, p) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
+        let moments = self.shape_moments(y, yd, ws);
+        let (mb, p) = (moments.mb, moments.p);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
         let mut s_yd = Vector3::zeros();
         for c in 0..3 {
-            s_yd[c] = dot(&self.s[c * n..(c + 1) * n], yd);
+            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
         }
         let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         let mut h_yd = 0.0;
         if n > 0 {
-            // G_c ẏ (3 n-vectors).
-            for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
-                *g = dot(row, yd);
-            }
             for b in 0..3 {
                 for c in 0..3 {
                     lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
@@ -221,11 +257,18 @@ impl FlexibleBody {
         }
         let io = Matrix3::identity() * p.trace() - p;
 
-        // Body-frame inertia forces including the D-shift term −M̄_body {ā; 0; 0}.
-        let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd)) - self.mass * ab;
+        // Body-frame inertia forces including the D-shift term −M̄_body {ā; 0; 0}, with
         // W ẏ = ω̄ (h·ẏ) − Σ_b ω̄_b (L_b ẏ).
+        let translation = wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd);
         let w_yd = wb * h_yd - lam.tr_mul(&wb);
-        let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd) - mb.cross(&ab);
+        let rotation = wb.cross(&(io * wb)) + 2.0 * w_yd;
+        let (qt, qr) = match &moments.axial {
+            None => (-translation - self.mass * ab, -rotation - mb.cross(&ab)),
+            Some(ax) => (
+                -(translation - ax.axis * ax.c0) - self.mass * ab,
+                -(rotation - ax.c1.cross(&ax.axis)) - mb.cross(&ab),
+            ),
+        };
         let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
         write_relative_rigid(
             m_out,
@@ -239,15 +282,57 @@ impl FlexibleBody {
         if n == 0 {
             return;
         }
-
-        // G(ω̄) ẏ, then q_y; C rows.
-        for j in 0..n {
-            ws.qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
-        }
-        modal_inertia_forces(&wb, &ab, &self.s, &ws.l, &mut ws.qy);
+        let mut qy = std::mem::take(&mut ws.qy);
+        let mut yy = std::mem::take(&mut ws.yy);
+        let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
-        self.write_shape_couplings(&st.a, &st.r0, &self.s, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
-        write_modal_rows(m_out, q_out, 6, &self.m_yy, &ws.qy);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
+        self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
+        let (_, o) = relative_layout(self.dim);
+        write_modal_rows(m_out, q_out, o, modal_mass.unwrap_or(&yy), &qy);
+        ws.qy = qy;
+        ws.yy = yy;
+    }
+
+    /// The modal rows of the relative set: `q_y = −(Σ_ab (ω̃ω̃)_ab (L_b)_a + 2 G ẏ) − Sᵀā` into
+    /// `qy` (FS0: hatted, `+ Σ w c_k X̂_kᵀ e`), and the modal mass: `None` for the body's
+    /// `M_yy`, or FS0's `M̂_yy` written into `yy`.
+    #[allow(clippy::too_many_arguments)]
+    fn shape_modal_terms<'m>(
+        &'m self,
+        wb: &Vector3<f64>,
+        ab: &Vector3<f64>,
+        yd: &[f64],
+        moments: &ShapeMoments,
+        ws: &mut Workspace,
+        qy: &mut [f64],
+        yy: &mut [f64],
+    ) -> Option<&'m [f64]> {
+        let n = self.n;
+        match &moments.axial {
+            None => {
+                // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ.
+                for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
+                    *g = dot(row, yd);
+                }
+                for j in 0..n {
+                    qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
+                }
+                modal_inertia_forces(wb, ab, &self.s, &ws.l, qy);
+                Some(&self.m_yy)
+            }
+            Some(ax) => {
+                self.fs_gyroscopic(wb, &ax.axis, yd, ws, qy);
+                modal_inertia_forces(wb, ab, &ws.sy, &ws.l, qy);
+                self.fs_add_c_term(ws, &ax.axis, qy);
+                self.fs_yy(ws, &ax.axis, 1.0, &self.m_yy, yy);
+                None
+            }
+        }
     }
 
     pub(crate) fn shape_2d<SM, SQ>(
