@@ -73,10 +73,11 @@
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
 use crate::foreshortening::mat_vec;
+use crate::natural::PlanarMoments;
 use crate::shape::{AxialMoments, ShapeMoments};
-use crate::{FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot, write_modal_rows};
+use crate::{FlexibleBody, Workspace, dot};
 use flexmbd_core::Dim;
-use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector2, Vector3};
 
 /// The precomputed FS0 shape integrals of one body (see the module doc).
 #[derive(Clone, Debug, Default)]
@@ -186,8 +187,8 @@ pub(crate) struct FsScratch {
     ry: Vec<f64>,
     cf: Vec<f64>,
     tmp: Vec<f64>,
-    /// n² scratch (natural-set M_yy).
-    tmp_nn: Vec<f64>,
+    /// M̂_yy of the natural set (n²).
+    pub(crate) modal_mass: Vec<f64>,
     /// Sized for a foreshortened body.
     live: bool,
 }
@@ -214,7 +215,7 @@ impl FsScratch {
             ry: vec![0.0; n],
             cf: vec![0.0; n],
             tmp: vec![0.0; n],
-            tmp_nn: vec![0.0; n * n],
+            modal_mass: vec![0.0; n * n],
             live: true,
         }
     }
@@ -514,23 +515,17 @@ impl FlexibleBody {
         }
     }
 
-    /// The modal block of the spatial natural set for FS0 (module doc): `M_yy = Σ_ab (e_a·e_b)
-    /// Ŝᵃᵇ` and `Q_y = −2 Σ_ab (e_a·ė_b) Ŝᵃᵇ ẏ + Σ w c_k X̂_kᵀ (AᵀA e)`, written at offset 12,
-    /// with `gram = AᵀA` and `cdot = AᵀȦ`.
-    pub(crate) fn natural_modal_terms_fs_3d<SM, SQ>(
+    /// The modal terms of the spatial natural set for FS0 (module doc), `M_yy = Σ_ab (e_a·e_b)
+    /// Ŝᵃᵇ` into `ws.fs.modal_mass` and `Q_y = −2 Σ_ab (e_a·ė_b) Ŝᵃᵇ ẏ + Σ w c_k X̂_kᵀ (AᵀA e)` into
+    /// `ws.qy`, from `gram = AᵀA` and `cdot = AᵀȦ`.
+    pub(crate) fn natural_modal_terms_fs_3d(
         &self,
         yd: &[f64],
         gram: &Matrix3<f64>,
         cdot: &Matrix3<f64>,
         ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+    ) {
         let n = self.n;
-        let o = 12;
         let e = self
             .fs
             .as_ref()
@@ -546,7 +541,7 @@ impl FlexibleBody {
             }
         }
         let g = gram * e;
-        let mut yy = std::mem::take(&mut ws.fs.tmp_nn);
+        let mut yy = std::mem::take(&mut ws.fs.modal_mass);
         self.fs_yy(ws, &g, e.dot(&g), &base, &mut yy);
         // Q_y = −2 Σ cdot_ab Ŝᵃᵇ ẏ + Σ w c X̂ᵀ (gram e).
         let mut qy = std::mem::take(&mut ws.qy);
@@ -557,92 +552,55 @@ impl FlexibleBody {
             *v *= -2.0;
         }
         self.fs_add_c_term(ws, &g, &mut qy);
-        write_modal_rows(m_out, q_out, o, &yy, &qy);
-        ws.fs.tmp_nn = yy;
+        ws.fs.modal_mass = yy;
         ws.yy = base;
         ws.qy = qy;
     }
 
-    /// Planar natural coordinates {r0, u, y}, FS0, shape-integral route.
-    pub(crate) fn natural_shape_fs_2d<SM, SQ>(
+    /// The planar natural-set moments of an FS0 body (the 3D algebra's planar rows; Ŝ in
+    /// `ws.sy`, L̂ at (3b + a) n in `ws.l`).
+    pub(crate) fn planar_fs_moments(
         &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        y: &[f64],
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) -> PlanarMoments {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
+        let mo = self.fs_moments(y, yd, ws);
+        let lb = |b: usize, c: usize| &ws.l[(3 * b + c) * n..(3 * b + c + 1) * n];
+        PlanarMoments {
+            mb: mo.mb.xy(),
+            trace: mo.p[(0, 0)] + mo.p[(1, 1)],
+            s_yd: Vector2::new(dot(&ws.sy[..n], yd), dot(&ws.sy[n..2 * n], yd)),
+            l1_yd: Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd)),
+            l2_yd: Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd)),
+            l2_row: 3,
+            axial: mo.axial,
+        }
+    }
+
+    /// The modal terms of the planar natural set for FS0 (module doc): `Σ_a Ŝᵃᵃ` into `ws.yy`
+    /// (the caller scales it by |u|²) and `Q_y = −2 Σ_ab (AᵀȦ)_ab Ŝᵃᵇ ẏ + |u|² Σ w c_k X̂_kᵀ e`
+    /// into `ws.qy`.
+    pub(crate) fn natural_modal_terms_fs_2d(
+        &self,
+        u: &Vector2<f64>,
+        ud: &Vector2<f64>,
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) {
         let e3 = self
             .fs
             .as_ref()
-            .expect("natural_shape_fs_2d without FS0")
+            .expect("FS0 modal terms without FS0 data")
             .axis;
-        let e = e3.xy();
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
         let rot = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
-        let ws = &mut nws.0;
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let ax = mo.axial.expect("FS0 moments carry the axial terms");
-        let m = self.mass;
-        m_out[(0, 0)] = m;
-        m_out[(1, 1)] = m;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
-        let ptr = p[(0, 0)] + p[(1, 1)];
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
-            }
-        }
-        let s_yd = Vector2::new(dot(&ws.sy[..n], yd), dot(&ws.sy[n..2 * n], yd));
-        let lb = |b: usize, c: usize| &ws.l[(3 * b + c) * n..(3 * b + c + 1) * n];
-        let l1y = Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd));
-        let l2y = Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd));
-        let ae = a * e;
-        let q0 = -2.0 * (ad * s_yd) + ae * ax.c0;
-        let qu = -2.0 * (ad * l1y - rot(ad * l2y)) + ae * ax.c1.x - rot(ae) * ax.c1.y;
-        q_out[0] = q0.x;
-        q_out[1] = q0.y;
-        q_out[2] = qu.x;
-        q_out[3] = qu.y;
-        if n == 0 {
-            return;
-        }
-        let o = 4;
-        for j in 0..n {
-            let asj = a * Vector2::new(ws.sy[j], ws.sy[n + j]);
-            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
-            let l2 = Vector2::new(ws.l[3 * n + j], ws.l[4 * n + j]);
-            let uy = a * l1 - rot(a * l2);
-            for i in 0..2 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-                m_out[(2 + i, o + j)] = uy[i];
-                m_out[(o + j, 2 + i)] = uy[i];
-            }
-        }
         let uu = u.norm_squared();
         let mut yy = std::mem::take(&mut ws.yy);
         self.fs_yy(ws, &e3, 1.0, &self.m_yy, &mut yy);
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(o + i, o + j)] = uu * yy[i * n + j];
-            }
-        }
         ws.yy = yy;
         // (AᵀȦ) in 3D indices: [[u·u̇, u·E u̇, 0], [−u·E u̇, u·u̇, 0], [0, 0, 0]].
-        let (c11, c12) = (u.dot(&ud), u.dot(&rot(ud)));
+        let (c11, c12) = (u.dot(ud), u.dot(&rot(*ud)));
         let d = Matrix3::new(c11, c12, 0.0, -c12, c11, 0.0, 0.0, 0.0, 0.0);
         let mut qy = std::mem::take(&mut ws.qy);
         self.sab_vec(&d, yd, &mut qy);
@@ -652,9 +610,6 @@ impl FlexibleBody {
             *v *= -2.0;
         }
         self.fs_add_c_term(ws, &(e3 * uu), &mut qy);
-        for i in 0..n {
-            q_out[o + i] = qy[i];
-        }
         ws.qy = qy;
     }
 }

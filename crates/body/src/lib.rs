@@ -652,11 +652,8 @@ impl FlexibleBody {
             (InertiaMethod::ShapeIntegrals, Dim::Spatial, _) => {
                 self.natural_shape_3d(state, ws, m_out, qv_out)
             }
-            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, _) => {
                 self.natural_shape_2d(state, ws, m_out, qv_out)
-            }
-            (InertiaMethod::ShapeIntegrals, Dim::Planar, true) => {
-                self.natural_shape_fs_2d(state, ws, m_out, qv_out)
             }
             (InertiaMethod::BMatrix, _, false) => {
                 self.natural_bmatrix(state, Linear, &mut ws.0, m_out, qv_out)

@@ -19,7 +19,10 @@
 //! `X_k`, `r̄_k` carries the axial shortening and `Ḃ_k q̇` gains `−A ē₁ (ẏᵀF_k ẏ)`.
 
 use crate::kinematics::PointKinematics;
-use crate::{FlexibleBody, Workspace, dot, write_modal_block, write_natural_rigid_block_3d};
+use crate::shape::AxialMoments;
+use crate::{
+    FlexibleBody, Workspace, dot, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
+};
 use flexmbd_fe::NodeModes;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -126,6 +129,57 @@ impl BodyPoint {
     }
 }
 
+/// The frame of a planar natural state: `u`, `u̇`, `A = [u  E u]` and `Ȧ = [u̇  E u̇]`.
+fn planar_frame(st: &NaturalState<'_>) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
+    let u = st.a.column(0).xy();
+    let ud = st.a_dot.column(0).xy();
+    let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+    let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+    (u, ud, a, ad)
+}
+
+/// The moments the planar natural-set kernel reads (§2.5 2D; FS0: hatted, §6.3).
+pub(crate) struct PlanarMoments {
+    /// m̄_1, m̄_2.
+    pub(crate) mb: Vector2<f64>,
+    /// P_11 + P_22.
+    pub(crate) trace: f64,
+    /// S ẏ (planar rows).
+    pub(crate) s_yd: Vector2<f64>,
+    /// L_1 ẏ and L_2 ẏ (planar rows).
+    pub(crate) l1_yd: Vector2<f64>,
+    pub(crate) l2_yd: Vector2<f64>,
+    /// Where the rows of L_2 start in `ws.l`, in units of n (linear 2, FS0 3).
+    pub(crate) l2_row: usize,
+    /// The velocity-product moments of a foreshortened body.
+    pub(crate) axial: Option<AxialMoments>,
+}
+
+/// The rigid 4 × 4 block of a planar natural-coordinate mass matrix over (r0, u):
+/// `[[m I, m̄_1 I + m̄_2 E], [(m̄_1 I + m̄_2 E)ᵀ, (P_11 + P_22) I]]`.
+fn write_natural_rigid_block_2d<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    m: f64,
+    mb: &Vector2<f64>,
+    trace: f64,
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    m_out[(0, 0)] = m;
+    m_out[(1, 1)] = m;
+    m_out[(0, 1)] = 0.0;
+    m_out[(1, 0)] = 0.0;
+    // m̄_1 I + m̄_2 E = [[m̄1, −m̄2], [m̄2, m̄1]].
+    let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
+    for i in 0..2 {
+        for j in 0..2 {
+            m_out[(i, 2 + j)] = r0u[(i, j)];
+            m_out[(2 + j, i)] = r0u[(i, j)];
+            m_out[(2 + i, 2 + j)] = if i == j { trace } else { 0.0 };
+        }
+    }
+}
+
 #[inline(always)]
 fn e2(v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-v.y, v.x)
@@ -203,29 +257,14 @@ impl FlexibleBody {
         let gram = a.tr_mul(a); // e_a · e_b
         let cdot = a.tr_mul(ad); // e_a · ė_b
         write_natural_couplings_3d(m_out, a, n, s_rows, &ws.l);
-        match axial {
-            None => self.natural_modal_terms_3d(yd, &gram, &cdot, ws, m_out, q_out),
-            Some(_) => self.natural_modal_terms_fs_3d(yd, &gram, &cdot, ws, m_out, q_out),
-        }
-    }
-
-    /// The modal block of the spatial natural set: `M_yy = Σ_ab (e_a·e_b) Sᵃᵇ` (upper
-    /// triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ) and `Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ` at offset 12, with
-    /// `gram = AᵀA` and `cdot = AᵀȦ`.
-    fn natural_modal_terms_3d<SM, SQ>(
-        &self,
-        yd: &[f64],
-        gram: &Matrix3<f64>,
-        cdot: &Matrix3<f64>,
-        ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
-        let n = self.n;
         let o = 12;
+        if axial.is_some() {
+            self.natural_modal_terms_fs_3d(yd, &gram, &cdot, ws);
+            write_modal_rows(m_out, q_out, o, &ws.fs.modal_mass, &ws.qy);
+            return;
+        }
+        // M_yy = Σ_ab (e_a·e_b) Sᵃᵇ (upper triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ);
+        // Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ.
         let qy = &mut ws.qy;
         qy.fill(0.0);
         for aa in 0..3 {
@@ -239,7 +278,7 @@ impl FlexibleBody {
         }
         for i in 0..n {
             for j in i..n {
-                let v = self.gram_modal_mass(gram, i, j);
+                let v = self.gram_modal_mass(&gram, i, j);
                 m_out[(o + i, o + j)] = v;
                 m_out[(o + j, o + i)] = v;
             }
@@ -247,23 +286,10 @@ impl FlexibleBody {
         }
     }
 
-    pub(crate) fn natural_shape_2d<SM, SQ>(
-        &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+    /// The planar moments of a linear body (§2.3 in the planar rows), with the rows of L in
+    /// `ws.l`: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n.
+    fn planar_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> PlanarMoments {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
-        let m = self.mass;
         let mut mb = self.m_u.xy();
         let mut s_yd = Vector2::zeros();
         for c in 0..2 {
@@ -272,8 +298,6 @@ impl FlexibleBody {
             s_yd[c] = dot(sr, yd);
         }
         let mut ptr = self.p_u[(0, 0)] + self.p_u[(1, 1)];
-        // l rows: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n (ws.l).
-        let ws = &mut nws.0;
         let mut lam = Matrix2::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         if n > 0 {
             for b in 0..2 {
@@ -292,24 +316,45 @@ impl FlexibleBody {
                     + dot(&ws.l[(2 * c + c) * n..(2 * c + c + 1) * n], y);
             }
         }
-        // Rigid 4 × 4 part.
-        m_out[(0, 0)] = m;
-        m_out[(1, 1)] = m;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        // m̄_1 I + m̄_2 E = [[m̄1, −m̄2], [m̄2, m̄1]].
-        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
-            }
+        PlanarMoments {
+            mb,
+            trace: ptr,
+            s_yd,
+            l1_yd: Vector2::new(lam[(0, 0)], lam[(0, 1)]),
+            l2_yd: Vector2::new(lam[(1, 0)], lam[(1, 1)]),
+            l2_row: 2,
+            axial: None,
         }
-        let q0 = -2.0 * (ad * s_yd);
-        let l1y = Vector2::new(lam[(0, 0)], lam[(0, 1)]);
-        let l2y = Vector2::new(lam[(1, 0)], lam[(1, 1)]);
-        let qu = -2.0 * (ad * l1y - e2(ad * l2y));
+    }
+
+    /// Route (b) in planar natural coordinates (module doc), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs` and the velocity-product terms `A e c₀`, `(c₁,1 I − c₁,2 E) A e`).
+    pub(crate) fn natural_shape_2d<SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        nws: &mut NaturalWorkspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (u, ud, a, ad) = planar_frame(st);
+        let ws = &mut nws.0;
+        let moments = match self.fs {
+            None => self.planar_moments(st.y, st.y_dot, ws),
+            Some(_) => self.planar_fs_moments(st.y, st.y_dot, ws),
+        };
+        write_natural_rigid_block_2d(m_out, self.mass, &moments.mb, moments.trace);
+        let mut q0 = -2.0 * (ad * moments.s_yd);
+        let mut qu = -2.0 * (ad * moments.l1_yd - e2(ad * moments.l2_yd));
+        if let Some(ax) = &moments.axial {
+            let ae = a * ax.axis.xy();
+            q0 += ae * ax.c0;
+            qu += ae * ax.c1.x;
+            qu -= e2(ae) * ax.c1.y;
+        }
         q_out[0] = q0.x;
         q_out[1] = q0.y;
         q_out[2] = qu.x;
@@ -318,14 +363,16 @@ impl FlexibleBody {
             return;
         }
         let o = 4;
-        let uu = u.norm_squared();
-        let u_ud = u.dot(&ud);
-        let u_eud = u.dot(&e2(ud));
-        let g3 = &self.g[2 * n * n..3 * n * n];
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
+        let l2 = moments.l2_row * n;
         for j in 0..n {
-            let asj = a * Vector2::new(self.s[j], self.s[n + j]);
+            let asj = a * Vector2::new(s_rows[j], s_rows[n + j]);
             let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
-            let l2 = Vector2::new(ws.l[2 * n + j], ws.l[3 * n + j]);
+            let l2 = Vector2::new(ws.l[l2 + j], ws.l[l2 + n + j]);
             let uy = a * l1 - e2(a * l2);
             for i in 0..2 {
                 m_out[(i, o + j)] = asj[i];
@@ -333,9 +380,26 @@ impl FlexibleBody {
                 m_out[(2 + i, o + j)] = uy[i];
                 m_out[(o + j, 2 + i)] = uy[i];
             }
+        }
+        let uu = u.norm_squared();
+        if moments.axial.is_some() {
+            self.natural_modal_terms_fs_2d(&u, &ud, st.y_dot, ws);
+            for i in 0..n {
+                for j in 0..n {
+                    m_out[(o + i, o + j)] = uu * ws.yy[i * n + j];
+                }
+                q_out[o + i] = ws.qy[i];
+            }
+            return;
+        }
+        // M_yy = |u|² (S¹¹ + S²²), Q_y = −2 ((u·u̇)(S¹¹ + S²²) − (u·E u̇) G_3) ẏ.
+        let u_ud = u.dot(&ud);
+        let u_eud = u.dot(&e2(ud));
+        let g3 = &self.g[2 * n * n..3 * n * n];
+        for j in 0..n {
             let row_m = &self.m_yy[j * n..(j + 1) * n];
             let row_g = &g3[j * n..(j + 1) * n];
-            q_out[o + j] = -2.0 * (u_ud * dot(row_m, yd) - u_eud * dot(row_g, yd));
+            q_out[o + j] = -2.0 * (u_ud * dot(row_m, st.y_dot) - u_eud * dot(row_g, st.y_dot));
             for i in j..n {
                 let v = uu * self.m_yy[j * n + i];
                 m_out[(o + j, o + i)] = v;
@@ -443,10 +507,7 @@ impl FlexibleBody {
     {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+        let (_, _, a, ad) = planar_frame(st);
         let axis = points.axis().xy();
         let a_axis = a * axis;
         ws.sy.fill(0.0);
