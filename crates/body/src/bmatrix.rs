@@ -84,48 +84,7 @@ impl FlexibleBody {
             tq += wk * r.cross(&acc);
             let wr = wk * r;
             let wacc = wk * acc;
-            let xh = points.velocity_rows(x);
-            {
-                let (ax0, rest) = ws.ax.split_at_mut(n);
-                let (ax1, ax2) = rest.split_at_mut(n);
-                let (sy0, rest) = ws.sy.split_at_mut(n);
-                let (sy1, sy2) = rest.split_at_mut(n);
-                let (wy0, rest) = ws.wy.split_at_mut(n);
-                let (wy1, wy2) = rest.split_at_mut(n);
-                let qy = &mut ws.qy[..n];
-                let (ax2, sy2, wy2) = (&mut ax2[..n], &mut sy2[..n], &mut wy2[..n]);
-                let (x0, x1, x2) = (&xh[..n], &xh[n..2 * n], &xh[2 * n..3 * n]);
-                // Row-wise (vectorizable over j): A X̂_k, then the accumulators.
-                let (a00, a01, a02) = (a[(0, 0)], a[(0, 1)], a[(0, 2)]);
-                let (a10, a11, a12) = (a[(1, 0)], a[(1, 1)], a[(1, 2)]);
-                let (a20, a21, a22) = (a[(2, 0)], a[(2, 1)], a[(2, 2)]);
-                for j in 0..n {
-                    let (u, v, w) = (x0[j], x1[j], x2[j]);
-                    ax0[j] = a00 * u + a01 * v + a02 * w;
-                    ax1[j] = a10 * u + a11 * v + a12 * w;
-                    ax2[j] = a20 * u + a21 * v + a22 * w;
-                }
-                for j in 0..n {
-                    let (p, q, r) = (ax0[j], ax1[j], ax2[j]);
-                    sy0[j] += wk * p;
-                    sy1[j] += wk * q;
-                    sy2[j] += wk * r;
-                    wy0[j] += wr.y * r - wr.z * q;
-                    wy1[j] += wr.z * p - wr.x * r;
-                    wy2[j] += wr.x * q - wr.y * p;
-                    qy[j] += wacc.x * p + wacc.y * q + wacc.z * r;
-                }
-            }
-            if n == 0 {
-                continue;
-            }
-            let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
-            for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
-                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
-                for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
-                    *o += p0 * b0 + p1 * b1 + p2 * b2;
-                }
-            }
+            accumulate_modal_3d(a, wk, &wr, &wacc, points.velocity_rows(x), ws);
         }
         let jo = Matrix3::identity() * psum.trace() - psum;
         let force = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
@@ -228,5 +187,62 @@ impl FlexibleBody {
             m_out[(3 + j, 2)] = ws.wy[j];
         }
         write_modal_block(m_out, q_out, 3, n, &ws.yy, &ws.qy);
+    }
+}
+
+/// Add one cloud point's modal terms to the spatial route-(a) sums: with the global rows
+/// `A X̂_k` (into `ws.ax`), `Σ w A X̂_k` (`ws.sy`), `Σ w r̃_k A X̂_k` (`ws.wy`, with `wr = w r_k`),
+/// `Σ w (A X̂_k)ᵀ a_k` (`ws.qy`, with `wacc = w a_k`) and `Σ w (A X̂_k)ᵀ (A X̂_k)` (`ws.yy`, the
+/// upper triangle is what is read).
+#[inline(always)]
+fn accumulate_modal_3d(
+    a: &Matrix3<f64>,
+    wk: f64,
+    wr: &Vector3<f64>,
+    wacc: &Vector3<f64>,
+    xh: &[f64],
+    ws: &mut Workspace,
+) {
+    let n = ws.qy.len();
+    {
+        let (ax0, rest) = ws.ax.split_at_mut(n);
+        let (ax1, ax2) = rest.split_at_mut(n);
+        let (sy0, rest) = ws.sy.split_at_mut(n);
+        let (sy1, sy2) = rest.split_at_mut(n);
+        let (wy0, rest) = ws.wy.split_at_mut(n);
+        let (wy1, wy2) = rest.split_at_mut(n);
+        let qy = &mut ws.qy[..n];
+        let (ax2, sy2, wy2) = (&mut ax2[..n], &mut sy2[..n], &mut wy2[..n]);
+        let (x0, x1, x2) = (&xh[..n], &xh[n..2 * n], &xh[2 * n..3 * n]);
+        // Row-wise (vectorizable over j): A X̂_k, then the accumulators.
+        let (a00, a01, a02) = (a[(0, 0)], a[(0, 1)], a[(0, 2)]);
+        let (a10, a11, a12) = (a[(1, 0)], a[(1, 1)], a[(1, 2)]);
+        let (a20, a21, a22) = (a[(2, 0)], a[(2, 1)], a[(2, 2)]);
+        for j in 0..n {
+            let (u, v, w) = (x0[j], x1[j], x2[j]);
+            ax0[j] = a00 * u + a01 * v + a02 * w;
+            ax1[j] = a10 * u + a11 * v + a12 * w;
+            ax2[j] = a20 * u + a21 * v + a22 * w;
+        }
+        for j in 0..n {
+            let (p, q, r) = (ax0[j], ax1[j], ax2[j]);
+            sy0[j] += wk * p;
+            sy1[j] += wk * q;
+            sy2[j] += wk * r;
+            wy0[j] += wr.y * r - wr.z * q;
+            wy1[j] += wr.z * p - wr.x * r;
+            wy2[j] += wr.x * q - wr.y * p;
+            qy[j] += wacc.x * p + wacc.y * q + wacc.z * r;
+        }
+    }
+    if n == 0 {
+        return;
+    }
+    let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
+    for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
+        let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
+        for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
+            *o += p0 * b0 + p1 * b1 + p2 * b2;
+        }
     }
 }

@@ -72,7 +72,7 @@
 //! terms; nothing depends on the cloud size. The contractions run with n as a compile-time
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
 
-use crate::foreshortening::mat_vec;
+use crate::foreshortening::{Foreshortening, mat_vec};
 use crate::natural::PlanarMoments;
 use crate::shape::{AxialMoments, ShapeMoments};
 use crate::{FlexibleBody, Workspace, dot};
@@ -219,51 +219,27 @@ impl FsScratch {
             live: true,
         }
     }
-}
 
-impl FlexibleBody {
-    /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
-    /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
-    pub(crate) fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
-        // The loops run over rows of n entries; with n a compile-time constant for the common
-        // mode counts the compiler unrolls them and drops the bounds checks.
-        match self.n {
-            4 => self.fs_moments_n::<4>(y, yd, ws),
-            8 => self.fs_moments_n::<8>(y, yd, ws),
-            _ => self.fs_moments_n::<0>(y, yd, ws),
-        }
-    }
-
-    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
-    fn fs_moments_n<const N: usize>(
-        &self,
+    /// 𝔽 and 𝔽ᵃ contracted (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0): leaves 𝔽y,
+    /// 𝔽ẏ, 𝔽ᵃy here and returns `yᵀ𝔽y`, `c₀ = ẏᵀ𝔽ẏ`, `yᵀ𝔽ᵃy` and `ẏᵀ𝔽ᵃẏ`.
+    #[inline(always)]
+    fn contract_f<const N: usize>(
+        &mut self,
+        fs: &Foreshortening,
         y: &[f64],
         yd: &[f64],
-        ws: &mut Workspace,
-    ) -> ShapeMoments {
-        let n = if N == 0 { self.n } else { N };
-        debug_assert_eq!(n, self.n);
-        let (y, yd) = (&y[..n], &yd[..n]);
+    ) -> (f64, f64, Vector3<f64>, Vector3<f64>) {
+        let n = if N == 0 { y.len() } else { N };
         let n2 = n * n;
-        let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
         let ints = &fs.ints;
-        let e = fs.axis;
-        let Workspace {
-            u, l, sy, fs: sc, ..
-        } = ws;
-        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
-        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
-        let na = if self.dim == Dim::Planar { 2 } else { 3 };
-        let (mb, p) = self.linear_moments::<N>(y, na, u, l);
-        // 𝔽 and 𝔽ᵃ (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0).
-        mat_vec(&fs.wf, y, &mut sc.fy);
-        mat_vec(&fs.wf, yd, &mut sc.fyd);
-        let phibar = dot(y, &sc.fy);
-        let c0 = dot(yd, &sc.fyd);
+        mat_vec(&fs.wf, y, &mut self.fy);
+        mat_vec(&fs.wf, yd, &mut self.fyd);
+        let phibar = dot(y, &self.fy);
+        let c0 = dot(yd, &self.fyd);
         let mut q = Vector3::zeros();
         let mut c1 = Vector3::zeros();
         for a in 0..3 {
-            let fay = &mut sc.fay[a * n..(a + 1) * n];
+            let fay = &mut self.fay[a * n..(a + 1) * n];
             if !ints.fa_live[a] {
                 fay.fill(0.0);
                 continue;
@@ -271,19 +247,33 @@ impl FlexibleBody {
             let fa = &ints.fa[a * n2..(a + 1) * n2];
             mat_vec(fa, y, fay);
             q[a] = dot(y, fay);
-            mat_vec(fa, yd, &mut sc.tmp);
-            c1[a] = dot(yd, &sc.tmp);
+            mat_vec(fa, yd, &mut self.tmp);
+            c1[a] = dot(yd, &self.tmp);
         }
-        // Tᵃ: Kᵃ, Kᵈᵃ, Kᵃ y, Kᵃᵀ y, zᵃ.
+        (phibar, c0, q, c1)
+    }
+
+    /// Tᵃ contracted: Kᵃ, Kᵈᵃ, Kᵃ y, Kᵃᵀ y, zᵃ here; adds `yᵀKᵃy` to `q` and `zᵃ·y` to `c1`.
+    #[inline(always)]
+    fn contract_t<const N: usize>(
+        &mut self,
+        ints: &FsIntegrals,
+        y: &[f64],
+        yd: &[f64],
+        q: &mut Vector3<f64>,
+        c1: &mut Vector3<f64>,
+    ) {
+        let n = if N == 0 { y.len() } else { N };
+        let n2 = n * n;
         for a in 0..3 {
             let (kt, kd) = (
-                &mut sc.kt[a * n2..(a + 1) * n2],
-                &mut sc.kd[a * n2..(a + 1) * n2],
+                &mut self.kt[a * n2..(a + 1) * n2],
+                &mut self.kd[a * n2..(a + 1) * n2],
             );
             let (ky, kty, z) = (
-                &mut sc.ky[a * n..(a + 1) * n],
-                &mut sc.kty[a * n..(a + 1) * n],
-                &mut sc.z[a * n..(a + 1) * n],
+                &mut self.ky[a * n..(a + 1) * n],
+                &mut self.kty[a * n..(a + 1) * n],
+                &mut self.z[a * n..(a + 1) * n],
             );
             kt.fill(0.0);
             kd.fill(0.0);
@@ -315,7 +305,18 @@ impl FlexibleBody {
             q[a] += dot(y, ky);
             c1[a] += dot(y, z);
         }
-        // Q: V, R, N, Σ w c f.
+    }
+
+    /// Q contracted: V, R, N and Σ w c_k f_k here; returns `yᵀR y` and `ẏᵀR ẏ`.
+    #[inline(always)]
+    fn contract_q<const N: usize>(
+        &mut self,
+        ints: &FsIntegrals,
+        y: &[f64],
+        yd: &[f64],
+    ) -> (f64, f64) {
+        let n = if N == 0 { y.len() } else { N };
+        let n2 = n * n;
         let n3 = n2 * n;
         // V_{ijl} = V_{jil} (F_k symmetric): form i ≤ j, copy the other half.
         for i in 0..n {
@@ -323,24 +324,24 @@ impl FlexibleBody {
                 let ij = (i * n + j) * n;
                 for lidx in 0..n {
                     let o = ij + lidx;
-                    sc.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
+                    self.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
                 }
                 if j > i {
                     let ji = (j * n + i) * n;
-                    sc.v.copy_within(ij..ij + n, ji);
+                    self.v.copy_within(ij..ij + n, ji);
                 }
             }
         }
         for ij in 0..n2 {
-            sc.r[ij] = dot(&sc.v[ij * n..(ij + 1) * n], y);
+            self.r[ij] = dot(&self.v[ij * n..(ij + 1) * n], y);
         }
-        sc.nm.fill(0.0);
-        sc.cf.fill(0.0);
+        self.nm.fill(0.0);
+        self.cf.fill(0.0);
         for i in 0..n {
             for (lidx, &yl) in y.iter().enumerate() {
                 // N_ij += V[i][l][j] y_l
-                let src = &sc.v[(i * n + lidx) * n..(i * n + lidx + 1) * n];
-                let dst = &mut sc.nm[i * n..(i + 1) * n];
+                let src = &self.v[(i * n + lidx) * n..(i * n + lidx + 1) * n];
+                let dst = &mut self.nm[i * n..(i + 1) * n];
                 for (o, vv) in dst.iter_mut().zip(src) {
                     *o += yl * vv;
                 }
@@ -351,25 +352,28 @@ impl FlexibleBody {
                 // Σ w c f: cf_i += V[l][m][i] ẏ_l ẏ_m
                 let c = ydl * ydm;
                 let lm = lidx * n + m;
-                for (o, vv) in sc.cf.iter_mut().zip(&sc.v[lm * n..(lm + 1) * n]) {
+                for (o, vv) in self.cf.iter_mut().zip(&self.v[lm * n..(lm + 1) * n]) {
                     *o += c * vv;
                 }
             }
         }
-        debug_assert_eq!(sc.v.len(), n3);
-        mat_vec(&sc.r, y, &mut sc.ry);
-        let psi = dot(y, &sc.ry);
-        mat_vec(&sc.r, yd, &mut sc.tmp);
-        let cphi = dot(yd, &sc.tmp);
+        debug_assert_eq!(self.v.len(), n3);
+        mat_vec(&self.r, y, &mut self.ry);
+        let psi = dot(y, &self.ry);
+        mat_vec(&self.r, yd, &mut self.tmp);
+        let cphi = dot(yd, &self.tmp);
 
-        // Moments.
-        let mbh = mb - e * (0.5 * phibar);
-        let ph =
-            p - 0.5 * (e * q.transpose() + q * e.transpose()) + (0.25 * psi) * (e * e.transpose());
-        let c1 = c1 - e * (0.5 * cphi);
+        (psi, cphi)
+    }
+
+    /// The hatted rows: Ŝ (rows a at a n) into `sy` from S, and the FS0 part of L̂ added to
+    /// `l` ((L̂_b)_a at (3b + a) n), along the axis `e`.
+    #[inline(always)]
+    fn hat_rows<const N: usize>(&self, e: &Vector3<f64>, s: &[f64], sy: &mut [f64], l: &mut [f64]) {
+        let n = if N == 0 { self.fy.len() } else { N };
         for a in 0..3 {
             for j in 0..n {
-                sy[a * n + j] = self.s[a * n + j] - e[a] * sc.fy[j];
+                sy[a * n + j] = s[a * n + j] - e[a] * self.fy[j];
             }
         }
         for b in 0..3 {
@@ -380,12 +384,57 @@ impl FlexibleBody {
                 }
                 let dst = &mut l[(3 * b + a) * n..(3 * b + a + 1) * n];
                 for j in 0..n {
-                    dst[j] += -ea * (sc.fay[b * n + j] + sc.kty[b * n + j])
-                        - 0.5 * eb * sc.ky[a * n + j]
-                        + 0.5 * ea * eb * sc.ry[j];
+                    dst[j] += -ea * (self.fay[b * n + j] + self.kty[b * n + j])
+                        - 0.5 * eb * self.ky[a * n + j]
+                        + 0.5 * ea * eb * self.ry[j];
                 }
             }
         }
+    }
+}
+
+impl FlexibleBody {
+    /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
+    /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
+    pub(crate) fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
+        // The loops run over rows of n entries; with n a compile-time constant for the common
+        // mode counts the compiler unrolls them and drops the bounds checks.
+        match self.n {
+            4 => self.fs_moments_n::<4>(y, yd, ws),
+            8 => self.fs_moments_n::<8>(y, yd, ws),
+            _ => self.fs_moments_n::<0>(y, yd, ws),
+        }
+    }
+
+    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
+    fn fs_moments_n<const N: usize>(
+        &self,
+        y: &[f64],
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) -> ShapeMoments {
+        let n = if N == 0 { self.n } else { N };
+        debug_assert_eq!(n, self.n);
+        let (y, yd) = (&y[..n], &yd[..n]);
+        let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
+        let e = fs.axis;
+        let Workspace {
+            u, l, sy, fs: sc, ..
+        } = ws;
+        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
+        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
+        let na = if self.dim == Dim::Planar { 2 } else { 3 };
+        let (mb, p) = self.linear_moments::<N>(y, na, u, l);
+        let (phibar, c0, mut q, mut c1) = sc.contract_f::<N>(fs, y, yd);
+        sc.contract_t::<N>(&fs.ints, y, yd, &mut q, &mut c1);
+        let (psi, cphi) = sc.contract_q::<N>(&fs.ints, y, yd);
+
+        // Moments.
+        let mbh = mb - e * (0.5 * phibar);
+        let ph =
+            p - 0.5 * (e * q.transpose() + q * e.transpose()) + (0.25 * psi) * (e * e.transpose());
+        let c1 = c1 - e * (0.5 * cphi);
+        sc.hat_rows::<N>(&e, &self.s, sy, l);
         ShapeMoments {
             mb: mbh,
             p: ph,

@@ -40,13 +40,16 @@
 //! formulas. It is implemented as its own lean path (see `docs/body.md` for why).
 
 mod bmatrix;
+mod construction;
 pub mod elastic;
 mod foreshortening;
 mod fs_shape;
 mod kinematics;
+mod layout;
 mod natural;
 mod natural_points;
 mod shape;
+mod state;
 
 pub use elastic::{ElasticModel, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
@@ -54,11 +57,15 @@ pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;
 pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
 
+use construction::{PackedIntegrals, check_reduced};
 use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};
-
-use nalgebra::{
-    DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3,
+pub(crate) use layout::{
+    relative_layout, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
+    write_relative_couplings, write_relative_rigid,
 };
+pub use state::BodyState;
+
+use nalgebra::{DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// Which route evaluates the inertia terms (methods.md §2.2 / §2.3).
@@ -68,79 +75,6 @@ pub enum InertiaMethod {
     BMatrix,
     /// Route (b): the 13 inertia shape integrals, O(n²).
     ShapeIntegrals,
-}
-
-/// The state of one body in the relative set (plain data).
-///
-/// * `r0`: global position of the body-frame origin O;
-/// * `a`: rotation matrix, columns = body axes in global components;
-/// * `omega`: global angular velocity ω (2D: `(0, 0, ω_z)`);
-/// * `s_dot`: ṡ, the velocity of the body point that coincides with the global
-///   origin: `ṡ = ṙ0 + r0 × ω`, equivalently `ṙ0 = ṡ − r̃0 ω`;
-/// * `y`, `y_dot`: modal coordinates and their rates (length n).
-///
-/// In 2D the z components of `r0`, `omega.xy`, `s_dot` must be zero and `a` a
-/// rotation about z ([`BodyState::planar`] builds one).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyState<'a> {
-    /// Global position of the frame origin O (m).
-    pub r0: Vector3<f64>,
-    /// Orientation A (columns = body axes, global components).
-    pub a: Matrix3<f64>,
-    /// Global angular velocity ω (rad/s).
-    pub omega: Vector3<f64>,
-    /// ṡ = ṙ0 + r0 × ω (m/s).
-    pub s_dot: Vector3<f64>,
-    /// Modal coordinates y.
-    pub y: &'a [f64],
-    /// Modal rates ẏ.
-    pub y_dot: &'a [f64],
-}
-
-impl<'a> BodyState<'a> {
-    /// Build from the velocity of the frame origin: `ṡ = ṙ0 + r0 × ω`.
-    pub fn from_origin_velocity(
-        r0: Vector3<f64>,
-        a: Matrix3<f64>,
-        omega: Vector3<f64>,
-        r0_dot: Vector3<f64>,
-        y: &'a [f64],
-        y_dot: &'a [f64],
-    ) -> Self {
-        Self {
-            r0,
-            a,
-            omega,
-            s_dot: r0_dot + r0.cross(&omega),
-            y,
-            y_dot,
-        }
-    }
-
-    /// A planar state: origin (x, y), angle θ about z, ṡ = (ṡx, ṡy), ω_z.
-    pub fn planar(
-        r0: Vector2<f64>,
-        theta: f64,
-        s_dot: Vector2<f64>,
-        omega_z: f64,
-        y: &'a [f64],
-        y_dot: &'a [f64],
-    ) -> Self {
-        let (s, c) = theta.sin_cos();
-        Self {
-            r0: Vector3::new(r0.x, r0.y, 0.0),
-            a: Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
-            omega: Vector3::new(0.0, 0.0, omega_z),
-            s_dot: Vector3::new(s_dot.x, s_dot.y, 0.0),
-            y,
-            y_dot,
-        }
-    }
-
-    /// Velocity of the frame origin, `ṙ0 = ṡ − r0 × ω`.
-    pub fn r0_dot(&self) -> Vector3<f64> {
-        self.s_dot - self.r0.cross(&self.omega)
-    }
 }
 
 /// Scratch storage sized once at construction (no allocation per evaluation).
@@ -240,163 +174,23 @@ pub struct FlexibleBody {
     pub(crate) fs: Option<foreshortening::Foreshortening>,
 }
 
-fn check_shape(field: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), InvalidValue> {
-    if m.shape() != (r, c) {
-        return Err(InvalidValue::new(
-            field,
-            format!("{}x{}", m.nrows(), m.ncols()),
-            format!("must be {r}x{c}"),
-        ));
-    }
-    if !m.iter().all(|v| v.is_finite()) {
-        return Err(InvalidValue::new(
-            field,
-            "non-finite entry",
-            "must be finite",
-        ));
-    }
-    Ok(())
-}
-
 impl FlexibleBody {
     /// Build the run-time body: copies the invariants into contiguous storage,
     /// precomputes `G_1, G_2, G_3` and `M_yy`, sizes the workspace, and uses the
     /// linear elastic model. Refuses inconsistent sizes, negative or non-finite
     /// weights, and (2D) a cloud that leaves the plane z = 0.
     pub fn new(reduced: &ReducedBody) -> Result<Self, InvalidValue> {
+        check_reduced(reduced)?;
         let cloud = &reduced.cloud;
         let n = cloud.n_modes;
-        if reduced.n_modes() != n {
-            return Err(InvalidValue::new(
-                "cloud.n_modes",
-                n,
-                format!("must equal the mode inventory's {}", reduced.n_modes()),
-            ));
-        }
-        if cloud.positions.len() != cloud.weights.len() {
-            return Err(InvalidValue::new(
-                "cloud.positions",
-                cloud.positions.len(),
-                format!("must have one entry per weight ({})", cloud.weights.len()),
-            ));
-        }
-        if cloud.mode_rows.len() != 3 * n * cloud.len() {
-            return Err(InvalidValue::new(
-                "cloud.mode_rows",
-                cloud.mode_rows.len(),
-                format!("must hold 3 n N_p = {} entries", 3 * n * cloud.len()),
-            ));
-        }
-        for (k, w) in cloud.weights.iter().enumerate() {
-            if !(w.is_finite() && *w >= 0.0) {
-                return Err(InvalidValue::new(
-                    format!("cloud.weights[{k}]"),
-                    w,
-                    "must be finite and >= 0",
-                ));
-            }
-        }
-        for (k, p) in cloud.positions.iter().enumerate() {
-            if !p.iter().all(|v| v.is_finite()) {
-                return Err(InvalidValue::new(
-                    format!("cloud.positions[{k}]"),
-                    format!("{p:?}"),
-                    "must be finite",
-                ));
-            }
-            if reduced.dim == Dim::Planar && p.z != 0.0 {
-                return Err(InvalidValue::new(
-                    format!("cloud.positions[{k}].z"),
-                    p.z,
-                    "a planar body lives in z = 0",
-                ));
-            }
-        }
-        if let Some(v) = cloud.mode_rows.iter().find(|v| !v.is_finite()) {
-            return Err(InvalidValue::new("cloud.mode_rows", v, "must be finite"));
-        }
-        if reduced.dim == Dim::Planar {
-            for k in 0..cloud.len() {
-                let zr = &cloud.rows(k)[2 * n..3 * n];
-                if let Some(v) = zr.iter().find(|v| **v != 0.0) {
-                    return Err(InvalidValue::new(
-                        format!("cloud.mode_rows[{k}].z"),
-                        v,
-                        "a planar body has zero z mode rows",
-                    ));
-                }
-            }
-        }
-        check_shape("k_ff", &reduced.k_ff, n, n)?;
-        check_shape("c_ff", &reduced.c_ff, n, n)?;
         let si = &reduced.shape_integrals;
-        crate_require_positive("shape_integrals.mass", si.mass)?;
-        check_shape("shape_integrals.s", &si.s, 3, n)?;
-        for a in 0..3 {
-            check_shape(&format!("shape_integrals.s_a[{a}]"), &si.s_a[a], 3, n)?;
-            for b in 0..3 {
-                check_shape(
-                    &format!("shape_integrals.s_ab[{a}][{b}]"),
-                    &si.s_ab[a][b],
-                    n,
-                    n,
-                )?;
-            }
-        }
-
-        let mut s = vec![0.0; 3 * n];
-        let mut sa = vec![0.0; 9 * n];
-        let mut sab = vec![0.0; 9 * n * n];
-        for a in 0..3 {
-            for j in 0..n {
-                s[a * n + j] = si.s[(a, j)];
-            }
-        }
-        for b in 0..3 {
-            for a in 0..3 {
-                for j in 0..n {
-                    sa[(3 * b + a) * n + j] = si.s_a[b][(a, j)];
-                }
-            }
-        }
-        for a in 0..3 {
-            for b in 0..3 {
-                let off = (3 * a + b) * n * n;
-                for i in 0..n {
-                    for j in 0..n {
-                        sab[off + i * n + j] = si.s_ab[a][b][(i, j)];
-                    }
-                }
-            }
-        }
-        // G_1 = S³² − S²³, G_2 = S¹³ − S³¹, G_3 = S²¹ − S¹² (0-based pairs).
-        let pairs = [(2, 1, 1, 2), (0, 2, 2, 0), (1, 0, 0, 1)];
-        let mut g = vec![0.0; 3 * n * n];
-        for (c, &(a1, b1, a2, b2)) in pairs.iter().enumerate() {
-            for i in 0..n {
-                for j in 0..n {
-                    g[c * n * n + i * n + j] = si.s_ab[a1][b1][(i, j)] - si.s_ab[a2][b2][(i, j)];
-                }
-            }
-        }
-        let n_axes = if reduced.dim == Dim::Planar { 2 } else { 3 };
-        let mut m_yy = vec![0.0; n * n];
-        for a in 0..n_axes {
-            for i in 0..n {
-                for j in 0..n {
-                    m_yy[i * n + j] += si.s_ab[a][a][(i, j)];
-                }
-            }
-        }
-        // Symmetrize exactly (round-off of the cloud sums).
-        for i in 0..n {
-            for j in 0..i {
-                let v = 0.5 * (m_yy[i * n + j] + m_yy[j * n + i]);
-                m_yy[i * n + j] = v;
-                m_yy[j * n + i] = v;
-            }
-        }
-
+        let PackedIntegrals {
+            s,
+            sa,
+            sab,
+            g,
+            m_yy,
+        } = PackedIntegrals::new(si, n, reduced.dim);
         let fs = match &reduced.foreshortening {
             Some(d) => Some(foreshortening::Foreshortening::new(
                 d,
@@ -808,162 +602,6 @@ impl FlexibleBody {
         }
         // FS0: Σ w X̂_kᵀ Aᵀ g adds −(Σ w F_k) y (ē₁ · Aᵀ g).
         self.add_fs_gravity(state.y, &gb, &mut out[nr..]);
-    }
-}
-
-fn crate_require_positive(field: &str, v: f64) -> Result<f64, InvalidValue> {
-    flexmbd_core::require_positive(field, v)
-}
-
-/// The modal part of a route-(a) result: `Q[o + j] = −qy[j]` and the symmetric n × n block
-/// of M at (o, o) from the upper triangle of `yy` (row-major), which the B-matrix loops
-/// accumulate one triangle of.
-#[inline]
-pub(crate) fn write_modal_block<SM, SQ>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    o: usize,
-    n: usize,
-    yy: &[f64],
-    qy: &[f64],
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-    SQ: StorageMut<f64, Dyn, U1>,
-{
-    for i in 0..n {
-        q_out[o + i] = -qy[i];
-        for j in i..n {
-            let v = yy[i * n + j];
-            m_out[(o + i, o + j)] = v;
-            m_out[(o + j, o + i)] = v;
-        }
-    }
-}
-
-/// The rows and columns a body keeps of the spatial relative set {ṡ; ω; ẏ}: for each of the
-/// six rigid entries its place in the body's set (a planar body keeps x, y, θz, §0), and the
-/// offset of the modal entries.
-#[inline]
-pub(crate) fn relative_layout(dim: Dim) -> ([Option<usize>; 6], usize) {
-    match dim {
-        Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
-        Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
-    }
-}
-
-/// The rigid part of a relative-set result written in the layout of `dim`: M̄ = [[m I, −g̃],
-/// [g̃, J]] with the first moment g about the global origin and the inertia J there, and the
-/// six rigid entries of Q̄.
-#[inline]
-pub(crate) fn write_relative_rigid<SM, SQ>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    dim: Dim,
-    mass: f64,
-    moment: &Vector3<f64>,
-    inertia: &Matrix3<f64>,
-    force: &[f64; 6],
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-    SQ: StorageMut<f64, Dyn, U1>,
-{
-    let (layout, _) = relative_layout(dim);
-    let gt = flexmbd_core::skew(moment);
-    let mut rigid = [[0.0; 6]; 6];
-    for i in 0..3 {
-        for j in 0..3 {
-            rigid[i][j] = if i == j { mass } else { 0.0 };
-            rigid[i][j + 3] = -gt[(i, j)];
-            rigid[i + 3][j] = gt[(i, j)];
-            rigid[i + 3][j + 3] = inertia[(i, j)];
-        }
-    }
-    for (i, row) in layout.iter().enumerate() {
-        let Some(oi) = *row else { continue };
-        for (j, column) in layout.iter().enumerate() {
-            if let Some(oj) = *column {
-                m_out[(oi, oj)] = rigid[i][j];
-            }
-        }
-        q_out[oi] = force[i];
-    }
-}
-
-/// The rigid–modal couplings of a relative-set M̄ in the layout of `dim`, symmetric: rows
-/// ṡ from `translation` and rows ω from `rotation` (both 3 × n, row-major).
-#[inline]
-pub(crate) fn write_relative_couplings<SM>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    dim: Dim,
-    n: usize,
-    translation: &[f64],
-    rotation: &[f64],
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-{
-    let (layout, o) = relative_layout(dim);
-    for (i, row) in layout.iter().enumerate() {
-        let Some(oi) = *row else { continue };
-        let source = if i < 3 {
-            &translation[i * n..(i + 1) * n]
-        } else {
-            &rotation[(i - 3) * n..(i - 2) * n]
-        };
-        for (j, &v) in source.iter().enumerate() {
-            m_out[(oi, o + j)] = v;
-            m_out[(o + j, oi)] = v;
-        }
-    }
-}
-
-/// The modal part of a route-(b) result: `Q[o + j] = force[j]` and the n × n block of M at
-/// (o, o) from the full row-major `mass`.
-#[inline]
-pub(crate) fn write_modal_rows<SM, SQ>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    o: usize,
-    mass: &[f64],
-    force: &[f64],
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-    SQ: StorageMut<f64, Dyn, U1>,
-{
-    let n = force.len();
-    for i in 0..n {
-        q_out[o + i] = force[i];
-        for j in 0..n {
-            m_out[(o + i, o + j)] = mass[i * n + j];
-        }
-    }
-}
-
-/// The rigid 12 × 12 block of a spatial natural-coordinate mass matrix over (r0, u, v, w)
-/// (methods.md §3.2): every 3 × 3 block is a scalar times I₃, the scalars being
-/// [[m, m̄ᵀ], [m̄, P]] with the first moment m̄ and second moment P of the (deformed) body.
-#[inline]
-pub(crate) fn write_natural_rigid_block_3d<SM>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    m: f64,
-    mb: &Vector3<f64>,
-    p: &Matrix3<f64>,
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-{
-    for bi in 0..4 {
-        for bj in 0..4 {
-            let v = match (bi, bj) {
-                (0, 0) => m,
-                (0, b) => mb[b - 1],
-                (a, 0) => mb[a - 1],
-                (a, b) => p[(a - 1, b - 1)],
-            };
-            for i in 0..3 {
-                for j in 0..3 {
-                    m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                }
-            }
-        }
     }
 }
 

@@ -130,6 +130,7 @@ impl BodyPoint {
 }
 
 /// The frame of a planar natural state: `u`, `u̇`, `A = [u  E u]` and `Ȧ = [u̇  E u̇]`.
+#[inline(always)]
 fn planar_frame(st: &NaturalState<'_>) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
     let u = st.a.column(0).xy();
     let ud = st.a_dot.column(0).xy();
@@ -157,6 +158,7 @@ pub(crate) struct PlanarMoments {
 
 /// The rigid 4 × 4 block of a planar natural-coordinate mass matrix over (r0, u):
 /// `[[m I, m̄_1 I + m̄_2 E], [(m̄_1 I + m̄_2 E)ᵀ, (P_11 + P_22) I]]`.
+#[inline(always)]
 fn write_natural_rigid_block_2d<SM>(
     m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
     m: f64,
@@ -288,6 +290,7 @@ impl FlexibleBody {
 
     /// The planar moments of a linear body (§2.3 in the planar rows), with the rows of L in
     /// `ws.l`: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n.
+    #[inline(always)]
     fn planar_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> PlanarMoments {
         let n = self.n;
         let mut mb = self.m_u.xy();
@@ -573,6 +576,7 @@ impl FlexibleBody {
 
 /// The rigid–modal couplings of a spatial natural-coordinate M, symmetric: `M_r0y = A S` and
 /// `M_eby = A L_b` from the body-frame rows of S (3 × n) and L ((L_b)_a at (3b + a) n).
+#[inline(always)]
 pub(crate) fn write_natural_couplings_3d<SM>(
     m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
     a: &Matrix3<f64>,

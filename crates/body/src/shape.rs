@@ -19,7 +19,7 @@ use crate::{
     BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout, write_modal_rows,
     write_relative_couplings, write_relative_rigid,
 };
-use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
+use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 /// The rigid blocks of the s form in global components (§2.4 steps 2–3), from the body-frame
 /// moments and forces: `M̄_sω = −g̃` with the first moment `g = m r0 + A m̄` about the global
@@ -51,6 +51,7 @@ pub(crate) struct AxialMoments {
 
 /// The motion of the body frame in body components: ω̄ = Aᵀω and the shift term
 /// `ā = ω̄ × v̄0` (`v̄0 = Aᵀṙ0`) of step 3.
+#[inline(always)]
 pub(crate) fn body_frame_motion(st: &BodyState<'_>) -> (Vector3<f64>, Vector3<f64>) {
     let wb = st.a.tr_mul(&st.omega);
     let v0b = st.a.tr_mul(&st.r0_dot());
@@ -59,6 +60,7 @@ pub(crate) fn body_frame_motion(st: &BodyState<'_>) -> (Vector3<f64>, Vector3<f6
 
 /// The rows of `C_a = Σ_bc ε_abc (L_b)_c` (3 × n into `c`) from L ((L_b)_a at (3b + a) n):
 /// `C_1 = (L_2)_3 − (L_3)_2`, `C_2 = (L_3)_1 − (L_1)_3`, `C_3 = (L_1)_2 − (L_2)_1`.
+#[inline(always)]
 pub(crate) fn c_rows(n: usize, l: &[f64], c: &mut [f64]) {
     let lrow = |b: usize, a: usize| &l[(3 * b + a) * n..(3 * b + a + 1) * n];
     for j in 0..n {
@@ -71,6 +73,7 @@ pub(crate) fn c_rows(n: usize, l: &[f64], c: &mut [f64]) {
 /// The modal inertia force of the body-frame origin form with the shift term,
 /// `q_y = −(Σ_ab (ω̃ω̃)_ab (L_b)_aᵀ + 2 G ẏ) − Sᵀ ā`, over `q` (n) which holds `G ẏ` on entry;
 /// `s` and `l` are the rows of S and L (3n, 9n).
+#[inline(always)]
 pub(crate) fn modal_inertia_forces(
     wb: &Vector3<f64>,
     ab: &Vector3<f64>,
@@ -98,6 +101,7 @@ impl FlexibleBody {
     /// (3, or 2 for the planar rows): `u^{ab} = Sᵃᵇ y` into `u` and `(L_b)_a = Sᵇ_a + u^{ab}`
     /// into `l` (at (3b + a) n; the z entries zero when `axes` = 2); returns `m̄(y) = m̄_u + S y`
     /// and `P_ab = P̄_ab + Sᵃ_b·y + (L_b)_a·y`. `N` = n as a compile-time constant, or 0.
+    #[inline(always)]
     pub(crate) fn linear_moments<const N: usize>(
         &self,
         y: &[f64],
@@ -151,6 +155,7 @@ impl FlexibleBody {
 
     /// [`GlobalRigid`] from m̄, P and the body-frame forces q_t, q_r at orientation `a` and
     /// origin `r0`.
+    #[inline(always)]
     pub(crate) fn global_rigid(
         &self,
         a: &Matrix3<f64>,
@@ -180,6 +185,7 @@ impl FlexibleBody {
     /// rows of S and C (3 × n each), written in the layout of the body's dimension through the
     /// global rows `translation` and `rotation` (3n each).
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     pub(crate) fn write_shape_couplings<SM>(
         &self,
         a: &Matrix3<f64>,
@@ -208,6 +214,7 @@ impl FlexibleBody {
 
     /// The moments of this body at (y, ẏ): linear (§2.3, S and L rows in `self.s`, `ws.l`) or
     /// foreshortened (§6.3, Ŝ and L̂ rows in `ws.sy`, `ws.l`, contractions in `ws.fs`).
+    #[inline(always)]
     pub(crate) fn shape_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
         match self.fs {
             None => {
@@ -302,6 +309,7 @@ impl FlexibleBody {
     /// `qy` (FS0: hatted, `+ Σ w c_k X̂_kᵀ e`), and the modal mass: `None` for the body's
     /// `M_yy`, or FS0's `M̂_yy` written into `yy`.
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn shape_modal_terms<'m>(
         &'m self,
         wb: &Vector3<f64>,
@@ -417,6 +425,27 @@ impl FlexibleBody {
         if n == 0 {
             return;
         }
+        self.write_planar_modal_terms(&a, &r0, w, &ab, ws, m_out, q_out);
+    }
+
+    /// The modal rows and columns of the planar lean path: `M̄_sy = A S`, `M̄_θy = r0 × (A S) + C_3`,
+    /// `M_yy`, and `q_y = ω² h − 2ω G_3 ẏ − Sᵀā`, from h, C_3 and G_3 ẏ in the workspace.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn write_planar_modal_terms<SM, SQ>(
+        &self,
+        a: &Matrix2<f64>,
+        r0: &Vector2<f64>,
+        w: f64,
+        ab: &Vector2<f64>,
+        ws: &Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
         let h = &ws.l[..n];
         let c3 = &ws.c[..n];
         let g3yd = &ws.u[2 * n..3 * n];
