@@ -71,6 +71,11 @@
 //! for the FS0 contractions (V = Q·y on i ≤ j only, F being symmetric), plus the linear §2.3
 //! terms; nothing depends on the cloud size. The contractions run with n as a compile-time
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
+//!
+//! This module computes the hatted moments ([`ShapeMoments`] with their axial terms, and the
+//! planar rows of the natural set) and the FS0 parts of the modal block. The kernels that read
+//! them are the linear ones of `shape.rs` and `natural.rs`, which branch only where FS0 adds a
+//! term, so each formula above that FS0 shares with §2.3–§2.5 is written once.
 
 use crate::foreshortening::{Foreshortening, mat_vec};
 use crate::natural::PlanarMoments;

@@ -38,6 +38,15 @@
 //! 2D (§0 reduction rule): a planar body lives in z = 0, `A` is a rotation about z,
 //! ω = ω_z e_z, and the planar set keeps the x, y, θ_z rows and columns of the 3D
 //! formulas. It is implemented as its own lean path (see `docs/body.md` for why).
+//!
+//! A foreshortened body (FS0, methods.md §6.3) is not a separate set of kernels: route (a) is
+//! the same B-matrix kernel compiled for the foreshortened point kinematics (`kinematics.rs`:
+//! `r̄_k` shortened along the beam axis, `X̂_k` for `X_k`, a velocity-product term in `Ḃ_k`),
+//! and route (b) the same shape-integral kernel fed the hatted moments of `fs_shape.rs`. An
+//! FS0 planar body runs the spatial kernels and keeps their x, y, θz rows and columns.
+//!
+//! Scratch is held one way: every kernel takes `&self` and a `&mut Workspace`, the body's own
+//! for the relative set and the caller's [`NaturalWorkspace`] for natural coordinates.
 
 mod bmatrix;
 mod construction;
