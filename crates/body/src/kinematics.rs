@@ -33,6 +33,9 @@ pub(crate) struct AxialShortening {
     pub(crate) velocity_product: f64,
 }
 
+/// `(X_k y, X̂_k ẏ)` of one cloud point (body components).
+pub(crate) type ModalProducts = (Vector3<f64>, Vector3<f64>);
+
 /// The kinematics of the cloud points of one body at one (y, ẏ): see the module doc.
 pub(crate) trait PointKinematics {
     /// The beam axis ē₁ along which points shorten (zero when they do not).
@@ -44,12 +47,7 @@ pub(crate) trait PointKinematics {
     /// The axial terms of the current point, `None` for linear kinematics.
     fn axial(&self) -> Option<AxialShortening>;
     /// `(X_k y, X̂_k ẏ)` of the current point as the relative-set kernel sums them.
-    fn relative_products(
-        &self,
-        rows: &[f64],
-        y: &[f64],
-        y_dot: &[f64],
-    ) -> (Vector3<f64>, Vector3<f64>);
+    fn relative_products(&self, rows: &[f64], y: &[f64], y_dot: &[f64]) -> ModalProducts;
 }
 
 /// Linear kinematics, `r̄_k = r̄_uk + X_k y` (methods.md §1.1).
@@ -73,12 +71,7 @@ impl PointKinematics for Linear {
     }
     /// One pass over the three rows, six independent sums.
     #[inline(always)]
-    fn relative_products(
-        &self,
-        rows: &[f64],
-        y: &[f64],
-        y_dot: &[f64],
-    ) -> (Vector3<f64>, Vector3<f64>) {
+    fn relative_products(&self, rows: &[f64], y: &[f64], y_dot: &[f64]) -> ModalProducts {
         let n = y.len();
         let (x0, x1, x2) = (&rows[..n], &rows[n..2 * n], &rows[2 * n..3 * n]);
         let (mut xy, mut xyd) = ([0.0f64; 3], [0.0f64; 3]);
@@ -199,12 +192,7 @@ impl PointKinematics for Foreshortened<'_> {
     }
 
     /// Row by row (`dot`), X_k for y and X̂_k for ẏ.
-    fn relative_products(
-        &self,
-        rows: &[f64],
-        y: &[f64],
-        y_dot: &[f64],
-    ) -> (Vector3<f64>, Vector3<f64>) {
+    fn relative_products(&self, rows: &[f64], y: &[f64], y_dot: &[f64]) -> ModalProducts {
         let n = y.len();
         let xhat = &self.scratch.velocity_rows;
         let mut xy = Vector3::zeros();
