@@ -13,19 +13,34 @@
 //! `Q̄_v = −{Σ w a_k; Σ w r_k × a_k; Σ w (A X_k)ᵀ a_k}` with `a_k = Ḃ_k Z`.
 //! Per point: about `3n(n+1)/2 + 30 n + 60` multiply-adds (3D).
 //!
+//! The spatial kernel is generic over the cloud-point kinematics (`kinematics.rs`): compiled
+//! for linear points it is the formula above; for foreshortened points (FS0, docs/methods.md §6.3)
+//! `X̂_k` replaces `X_k`, `r̄_k` carries the axial shortening and `Ḃ_k Z` gains
+//! `−A ē₁ (ẏᵀF_k ẏ)`. A planar FS0 body runs it too and keeps the x, y, θz rows and columns.
+//!
 //! 2D: `B_k = [I₂  E r_k  A X_k]` (E = 90° rotation, `e_z × r = E r`),
 //! `Ḃ_k Z = ω E ṡ − ω² r_k + 2 ω E A X_k ẏ`.
 
-use crate::{BodyState, FlexibleBody, planar_rotation, write_modal_block};
+use crate::kinematics::PointKinematics;
+use crate::{
+    BodyState, FlexibleBody, Workspace, planar_rotation, relative_layout, write_modal_block,
+    write_relative_couplings, write_relative_rigid,
+};
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 impl FlexibleBody {
-    pub(crate) fn bmatrix_3d<SM, SQ>(
-        &mut self,
+    /// Route (a) in the spatial relative set for the cloud-point kinematics `points`
+    /// (`X̂_k` for `X_k`, `+ A b_k` in `Ḃ_k Z`); a planar body keeps the x, y, θz rows and
+    /// columns of the 3D sums.
+    pub(crate) fn bmatrix_3d<K, SM, SQ>(
+        &self,
         st: &BodyState<'_>,
+        mut points: K,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
+        K: PointKinematics,
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
@@ -35,7 +50,8 @@ impl FlexibleBody {
         let r0 = st.r0;
         let om = st.omega;
         let w_sd = om.cross(&st.s_dot);
-        let ws = &mut self.ws;
+        let axis = points.axis();
+        let a_axis = a * axis;
         ws.sy.fill(0.0);
         ws.wy.fill(0.0);
         ws.yy.fill(0.0);
@@ -49,21 +65,18 @@ impl FlexibleBody {
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
-            let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
-            // X_k y and X_k ẏ in one pass (six independent sums).
-            let (mut xy, mut xyd) = ([0.0f64; 3], [0.0f64; 3]);
-            for (((&u, &v), &w), (&p, &q)) in x0.iter().zip(x1).zip(x2).zip(y.iter().zip(yd)) {
-                xy[0] += u * p;
-                xy[1] += v * p;
-                xy[2] += w * p;
-                xyd[0] += u * q;
-                xyd[1] += v * q;
-                xyd[2] += w * q;
+            points.at(k, x);
+            let (xy, xhyd) = points.relative_products(x, y, yd);
+            let mut rb = self.pos[k] + xy;
+            if let Some(s) = points.axial() {
+                rb -= axis * s.shortening;
             }
-            let rb = self.pos[k] + Vector3::from(xy);
             let r = r0 + a * rb;
-            let axyd = a * Vector3::from(xyd);
-            let acc = w_sd + om.cross(&om.cross(&r)) + 2.0 * om.cross(&axyd);
+            let axyd = a * xhyd;
+            let mut acc = w_sd + om.cross(&om.cross(&r)) + 2.0 * om.cross(&axyd);
+            if let Some(s) = points.axial() {
+                acc -= a_axis * s.velocity_product;
+            }
             msum += wk;
             gsum += wk * r;
             psum += (wk * r) * r.transpose();
@@ -71,76 +84,20 @@ impl FlexibleBody {
             tq += wk * r.cross(&acc);
             let wr = wk * r;
             let wacc = wk * acc;
-            {
-                let (ax0, rest) = ws.ax.split_at_mut(n);
-                let (ax1, ax2) = rest.split_at_mut(n);
-                let (sy0, rest) = ws.sy.split_at_mut(n);
-                let (sy1, sy2) = rest.split_at_mut(n);
-                let (wy0, rest) = ws.wy.split_at_mut(n);
-                let (wy1, wy2) = rest.split_at_mut(n);
-                let qy = &mut ws.qy[..n];
-                let (ax2, sy2, wy2) = (&mut ax2[..n], &mut sy2[..n], &mut wy2[..n]);
-                let (x0, x1, x2) = (&x0[..n], &x1[..n], &x2[..n]);
-                // Row-wise (vectorizable over j): A X_k, then the accumulators.
-                let (a00, a01, a02) = (a[(0, 0)], a[(0, 1)], a[(0, 2)]);
-                let (a10, a11, a12) = (a[(1, 0)], a[(1, 1)], a[(1, 2)]);
-                let (a20, a21, a22) = (a[(2, 0)], a[(2, 1)], a[(2, 2)]);
-                for j in 0..n {
-                    let (u, v, w) = (x0[j], x1[j], x2[j]);
-                    ax0[j] = a00 * u + a01 * v + a02 * w;
-                    ax1[j] = a10 * u + a11 * v + a12 * w;
-                    ax2[j] = a20 * u + a21 * v + a22 * w;
-                }
-                for j in 0..n {
-                    let (p, q, r) = (ax0[j], ax1[j], ax2[j]);
-                    sy0[j] += wk * p;
-                    sy1[j] += wk * q;
-                    sy2[j] += wk * r;
-                    wy0[j] += wr.y * r - wr.z * q;
-                    wy1[j] += wr.z * p - wr.x * r;
-                    wy2[j] += wr.x * q - wr.y * p;
-                    qy[j] += wacc.x * p + wacc.y * q + wacc.z * r;
-                }
-            }
-            if n == 0 {
-                continue;
-            }
-            let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
-            for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
-                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
-                for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
-                    *o += p0 * b0 + p1 * b1 + p2 * b2;
-                }
-            }
+            accumulate_modal_3d(a, wk, &wr, &wacc, points.velocity_rows(x), ws);
         }
         let jo = Matrix3::identity() * psum.trace() - psum;
-        let gt = flexmbd_core::skew(&gsum);
-        for i in 0..3 {
-            for j in 0..3 {
-                m_out[(i, j)] = if i == j { msum } else { 0.0 };
-                m_out[(i, j + 3)] = -gt[(i, j)];
-                m_out[(i + 3, j)] = gt[(i, j)];
-                m_out[(i + 3, j + 3)] = jo[(i, j)];
-            }
-            q_out[i] = -asum[i];
-            q_out[i + 3] = -tq[i];
-        }
-        for j in 0..n {
-            for i in 0..3 {
-                let v = ws.sy[i * n + j];
-                m_out[(i, 6 + j)] = v;
-                m_out[(6 + j, i)] = v;
-                let v = ws.wy[i * n + j];
-                m_out[(3 + i, 6 + j)] = v;
-                m_out[(6 + j, 3 + i)] = v;
-            }
-        }
-        write_modal_block(m_out, q_out, 6, n, &ws.yy, &ws.qy);
+        let force = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
+        write_relative_rigid(m_out, q_out, self.dim, msum, &gsum, &jo, &force);
+        write_relative_couplings(m_out, self.dim, n, &ws.sy, &ws.wy);
+        let (_, nr) = relative_layout(self.dim);
+        write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
     }
 
     pub(crate) fn bmatrix_2d<SM, SQ>(
-        &mut self,
+        &self,
         st: &BodyState<'_>,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
@@ -154,7 +111,6 @@ impl FlexibleBody {
         let w = st.omega.z;
         let e = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
         let w_sd = w * e(st.s_dot.xy());
-        let ws = &mut self.ws;
         ws.sy.fill(0.0);
         ws.wy.fill(0.0);
         ws.yy.fill(0.0);
@@ -231,5 +187,62 @@ impl FlexibleBody {
             m_out[(3 + j, 2)] = ws.wy[j];
         }
         write_modal_block(m_out, q_out, 3, n, &ws.yy, &ws.qy);
+    }
+}
+
+/// Add one cloud point's modal terms to the spatial route-(a) sums: with the global rows
+/// `A X̂_k` (into `ws.ax`), `Σ w A X̂_k` (`ws.sy`), `Σ w r̃_k A X̂_k` (`ws.wy`, with `wr = w r_k`),
+/// `Σ w (A X̂_k)ᵀ a_k` (`ws.qy`, with `wacc = w a_k`) and `Σ w (A X̂_k)ᵀ (A X̂_k)` (`ws.yy`, the
+/// upper triangle is what is read).
+#[inline(always)]
+fn accumulate_modal_3d(
+    a: &Matrix3<f64>,
+    wk: f64,
+    wr: &Vector3<f64>,
+    wacc: &Vector3<f64>,
+    xh: &[f64],
+    ws: &mut Workspace,
+) {
+    let n = ws.qy.len();
+    {
+        let (ax0, rest) = ws.ax.split_at_mut(n);
+        let (ax1, ax2) = rest.split_at_mut(n);
+        let (sy0, rest) = ws.sy.split_at_mut(n);
+        let (sy1, sy2) = rest.split_at_mut(n);
+        let (wy0, rest) = ws.wy.split_at_mut(n);
+        let (wy1, wy2) = rest.split_at_mut(n);
+        let qy = &mut ws.qy[..n];
+        let (ax2, sy2, wy2) = (&mut ax2[..n], &mut sy2[..n], &mut wy2[..n]);
+        let (x0, x1, x2) = (&xh[..n], &xh[n..2 * n], &xh[2 * n..3 * n]);
+        // Row-wise (vectorizable over j): A X̂_k, then the accumulators.
+        let (a00, a01, a02) = (a[(0, 0)], a[(0, 1)], a[(0, 2)]);
+        let (a10, a11, a12) = (a[(1, 0)], a[(1, 1)], a[(1, 2)]);
+        let (a20, a21, a22) = (a[(2, 0)], a[(2, 1)], a[(2, 2)]);
+        for j in 0..n {
+            let (u, v, w) = (x0[j], x1[j], x2[j]);
+            ax0[j] = a00 * u + a01 * v + a02 * w;
+            ax1[j] = a10 * u + a11 * v + a12 * w;
+            ax2[j] = a20 * u + a21 * v + a22 * w;
+        }
+        for j in 0..n {
+            let (p, q, r) = (ax0[j], ax1[j], ax2[j]);
+            sy0[j] += wk * p;
+            sy1[j] += wk * q;
+            sy2[j] += wk * r;
+            wy0[j] += wr.y * r - wr.z * q;
+            wy1[j] += wr.z * p - wr.x * r;
+            wy2[j] += wr.x * q - wr.y * p;
+            qy[j] += wacc.x * p + wacc.y * q + wacc.z * r;
+        }
+    }
+    if n == 0 {
+        return;
+    }
+    let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
+    for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
+        let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
+        for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
+            *o += p0 * b0 + p1 * b1 + p2 * b2;
+        }
     }
 }

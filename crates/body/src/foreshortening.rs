@@ -1,5 +1,5 @@
-//! Foreshortening, FS0 (docs/methods.md §6.3): route (a) with the configuration-dependent
-//! mode rows of a straight beam that shortens along its axis ē₁.
+//! Foreshortening, FS0 (docs/methods.md §6.3): the data of a straight beam that shortens along
+//! its axis ē₁, and the helpers that use it outside the inertia kernels.
 //!
 //! For each cloud point k, with its own `F_k` (n × n, symmetric):
 //!
@@ -10,15 +10,13 @@
 //! M̄ = Σ w_k B_kᵀ B_k,   Q̄_v = −Σ w_k B_kᵀ (Ḃ_k Z).
 //! ```
 //!
-//! This is the reference route. The 13 shape integrals alone do not suffice, but the
-//! integrals of F, r̄_u F, F ⊗ X and F ⊗ F do: [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod)
-//! evaluates FS0 from them without a loop over the cloud (`fs_shape.rs`, which states the
-//! algebra), and the two routes agree to round-off (`tests/fs0_routes.rs`). In natural
-//! coordinates (docs/methods.md §2.5) the same projection uses, in 2D {r0, u, y},
-//! `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, in 3D {r0, u, v, w, y}
-//! `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`, and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`.
-//! F_k y, yᵀF_k y and ẏᵀF_k ẏ are formed once per station (the 4 section points of a 3D
-//! Gauss station share F_k).
+//! The B-matrix route (the reference) is the linear kernel of `bmatrix.rs` (relative set)
+//! and `natural.rs` (natural coordinates, `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`) compiled
+//! for the foreshortened point kinematics of `kinematics.rs`. The 13 shape integrals alone
+//! do not suffice, but the integrals of F, r̄_u F, F ⊗ X and F ⊗ F do:
+//! [`InertiaMethod::ShapeIntegrals`](crate::InertiaMethod) evaluates FS0 from them without a
+//! loop over the cloud (`fs_shape.rs`, which states the algebra), and the two routes agree
+//! to round-off (`tests/fs0_routes.rs`).
 //!
 //! The same kinematics at an FE node give the marker helper
 //! [`FlexibleBody::node_foreshortening`] (position shift −½ ē₁ yᵀF_node y, its rate
@@ -27,17 +25,12 @@
 
 use flexmbd_core::{Dim, InvalidValue};
 use flexmbd_fe::ForeshorteningData;
-use nalgebra::{DMatrix, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+use nalgebra::{DMatrix, Vector3};
 
 use crate::fs_shape::FsIntegrals;
-use crate::natural::{
-    BMatrixSums2, BMatrixSums3, write_bmatrix_natural_2d, write_bmatrix_natural_3d,
-};
-use crate::{
-    BodyState, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, dot, write_modal_block,
-};
+use crate::{FlexibleBody, InertiaMethod, dot};
 
-/// FS0 data of a body at run time (contiguous, row-major F's) and its scratch.
+/// FS0 data of a body at run time (contiguous, row-major F's).
 #[derive(Clone, Debug)]
 pub(crate) struct Foreshortening {
     pub(crate) axis: Vector3<f64>,
@@ -52,9 +45,6 @@ pub(crate) struct Foreshortening {
     pub(crate) wf: Vec<f64>,
     /// The FS0 shape integrals of the shape-integral route (`fs_shape.rs`).
     pub(crate) ints: FsIntegrals,
-    /// Scratch: X̂_k (3n), F_k y (n).
-    xhat: Vec<f64>,
-    fy: Vec<f64>,
 }
 
 /// The foreshortening of one FE node (body components; docs/methods.md §6.3).
@@ -154,8 +144,6 @@ impl Foreshortening {
             cloud,
             station,
             nodes: flatten("foreshortening.nodes", &data.nodes, n)?,
-            xhat: vec![0.0; 3 * n],
-            fy: vec![0.0; n],
         })
     }
 }
@@ -177,7 +165,7 @@ impl FlexibleBody {
         self.fs = Some(Foreshortening::new(
             data, self.dim, self.n, &self.w, &self.pos, &self.rows,
         )?);
-        self.ws.fs = crate::fs_shape::FsScratch::new(self.n);
+        self.workspace = Some(Box::new(crate::Workspace::for_body(self.n, true)));
         Ok(())
     }
 
@@ -274,352 +262,5 @@ impl FlexibleBody {
         for (j, o) in out.iter_mut().enumerate() {
             *o -= s * dot(&fs.wf[j * n..(j + 1) * n], y);
         }
-    }
-
-    /// Route (a) with FS0 kinematics, both dimensions (3D accumulators; a planar body
-    /// keeps the x, y, θz rows and columns).
-    pub(crate) fn bmatrix_fs<SM, SQ>(
-        &mut self,
-        st: &BodyState<'_>,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
-        let n = self.n;
-        let dim = self.dim;
-        let FlexibleBody {
-            pos,
-            w,
-            rows,
-            ws,
-            fs,
-            ..
-        } = self;
-        let fs = fs.as_mut().expect("bmatrix_fs without FS0 data");
-        let (y, yd) = (st.y, st.y_dot);
-        let a = &st.a;
-        let r0 = st.r0;
-        let om = st.omega;
-        let w_sd = om.cross(&st.s_dot);
-        let axis = fs.axis;
-        let a_axis = a * axis;
-        ws.sy.fill(0.0);
-        ws.wy.fill(0.0);
-        ws.yy.fill(0.0);
-        ws.qy.fill(0.0);
-        let mut msum = 0.0;
-        let mut gsum = Vector3::zeros();
-        let mut psum = Matrix3::zeros();
-        let mut asum = Vector3::zeros();
-        let mut tq = Vector3::zeros();
-        let (n2, w3) = (n * n, 3 * n);
-        // F_k y, yᵀF_k y and ẏᵀF_k ẏ once per station (the 3D section points share F).
-        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
-        for k in 0..w.len() {
-            let wk = w[k];
-            let x = &rows[k * w3..(k + 1) * w3];
-            let st_k = fs.station[k];
-            if st_k != last {
-                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
-                mat_vec(f, y, &mut fs.fy);
-                yfy = dot(y, &fs.fy);
-                c = 0.0;
-                for i in 0..n {
-                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
-                }
-                last = st_k;
-            }
-            for r in 0..3 {
-                for j in 0..n {
-                    fs.xhat[r * n + j] = x[r * n + j] - axis[r] * fs.fy[j];
-                }
-            }
-            let mut xy = Vector3::zeros();
-            let mut xhyd = Vector3::zeros();
-            for r in 0..3 {
-                xy[r] = dot(&x[r * n..(r + 1) * n], y);
-                xhyd[r] = dot(&fs.xhat[r * n..(r + 1) * n], yd);
-            }
-            let rb = pos[k] + xy - axis * (0.5 * yfy);
-            let r = r0 + a * rb;
-            let axyd = a * xhyd;
-            let acc = w_sd + om.cross(&om.cross(&r)) + 2.0 * om.cross(&axyd) - a_axis * c;
-            msum += wk;
-            gsum += wk * r;
-            psum += (wk * r) * r.transpose();
-            asum += wk * acc;
-            tq += wk * r.cross(&acc);
-            let wr = wk * r;
-            let wacc = wk * acc;
-            for j in 0..n {
-                let v = a * Vector3::new(fs.xhat[j], fs.xhat[n + j], fs.xhat[2 * n + j]);
-                for i in 0..3 {
-                    ws.ax[i * n + j] = v[i];
-                    ws.sy[i * n + j] += wk * v[i];
-                }
-                let rv = wr.cross(&v);
-                for i in 0..3 {
-                    ws.wy[i * n + j] += rv[i];
-                }
-                ws.qy[j] += wacc.dot(&v);
-            }
-            for i in 0..n {
-                let p = [wk * ws.ax[i], wk * ws.ax[n + i], wk * ws.ax[2 * n + i]];
-                for j in i..n {
-                    ws.yy[i * n + j] +=
-                        p[0] * ws.ax[j] + p[1] * ws.ax[n + j] + p[2] * ws.ax[2 * n + j];
-                }
-            }
-        }
-        // Full 3D layout {ṡ; ω; ẏ}; a planar body keeps x, y, θz.
-        let (map, nr): ([Option<usize>; 6], usize) = match dim {
-            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
-            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
-        };
-        let jo = Matrix3::identity() * psum.trace() - psum;
-        let gt = flexmbd_core::skew(&gsum);
-        let mut rig = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                rig[i][j] = if i == j { msum } else { 0.0 };
-                rig[i][j + 3] = -gt[(i, j)];
-                rig[i + 3][j] = gt[(i, j)];
-                rig[i + 3][j + 3] = jo[(i, j)];
-            }
-        }
-        let qr = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
-        for (i, mi) in map.iter().enumerate() {
-            let Some(oi) = *mi else { continue };
-            for (j, mj) in map.iter().enumerate() {
-                if let Some(oj) = *mj {
-                    m_out[(oi, oj)] = rig[i][j];
-                }
-            }
-            q_out[oi] = qr[i];
-            for jm in 0..n {
-                let v = if i < 3 {
-                    ws.sy[i * n + jm]
-                } else {
-                    ws.wy[(i - 3) * n + jm]
-                };
-                m_out[(oi, nr + jm)] = v;
-                m_out[(nr + jm, oi)] = v;
-            }
-        }
-        write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
-    }
-
-    /// Planar natural coordinates {r0, u, y} (docs/methods.md §2.5) with FS0 kinematics, route
-    /// (a): `B_k = [I₂  r̄_k1 I + r̄_k2 E  A X̂_k]`, `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`,
-    /// with `A = [u  E u]` (not necessarily orthonormal) and the deformed r̄_k.
-    pub(crate) fn natural_bmatrix_fs_2d<SM, SQ>(
-        &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
-        let n = self.n;
-        let fs = self
-            .fs
-            .as_ref()
-            .expect("natural_bmatrix_fs_2d without FS0 data");
-        let (y, yd) = (st.y, st.y_dot);
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
-        let e2 = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
-        let axis = fs.axis.xy();
-        let a_axis = a * axis;
-        let crate::Workspace {
-            u: xh,
-            gy: fy,
-            ax,
-            sy,
-            wy,
-            yy,
-            qy,
-            ..
-        } = &mut nws.0;
-        sy.fill(0.0);
-        wy.fill(0.0);
-        yy.fill(0.0);
-        qy.fill(0.0);
-        let mut msum = 0.0;
-        let mut rsum = Vector2::zeros();
-        let mut psum = 0.0;
-        let mut asum = Vector2::zeros();
-        let mut qu = Vector2::zeros();
-        let (n2, w3) = (n * n, 3 * n);
-        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
-        for k in 0..self.w.len() {
-            let wk = self.w[k];
-            let x = &self.rows[k * w3..(k + 1) * w3];
-            let (x0, x1) = (&x[..n], &x[n..2 * n]);
-            let st_k = fs.station[k];
-            if st_k != last {
-                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
-                mat_vec(f, y, &mut fy[..n]);
-                yfy = dot(y, &fy[..n]);
-                c = 0.0;
-                for i in 0..n {
-                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
-                }
-                last = st_k;
-            }
-            for j in 0..n {
-                xh[j] = x0[j] - axis.x * fy[j];
-                xh[n + j] = x1[j] - axis.y * fy[j];
-            }
-            let (xh0, xh1) = (&xh[..n], &xh[n..2 * n]);
-            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y)) - axis * (0.5 * yfy);
-            let acc = 2.0 * (ad * Vector2::new(dot(xh0, yd), dot(xh1, yd))) - a_axis * c;
-            msum += wk;
-            rsum += wk * rb;
-            psum += wk * rb.norm_squared();
-            asum += wk * acc;
-            // (r̄1 I + r̄2 E)ᵀ a = r̄1 a − r̄2 E a.
-            qu += wk * (rb.x * acc - rb.y * e2(acc));
-            for j in 0..n {
-                let v = a * Vector2::new(xh0[j], xh1[j]);
-                ax[j] = v.x;
-                ax[n + j] = v.y;
-                sy[j] += wk * v.x;
-                sy[n + j] += wk * v.y;
-                let uy = rb.x * v - rb.y * e2(v);
-                wy[j] += wk * uy.x;
-                wy[n + j] += wk * uy.y;
-                qy[j] += wk * acc.dot(&v);
-            }
-            for i in 0..n {
-                let (p0, p1) = (wk * ax[i], wk * ax[n + i]);
-                for j in i..n {
-                    yy[i * n + j] += p0 * ax[j] + p1 * ax[n + j];
-                }
-            }
-        }
-        let sums = BMatrixSums2 {
-            m: msum,
-            mr: rsum,
-            p: psum,
-            a: asum,
-            qu,
-        };
-        write_bmatrix_natural_2d(m_out, q_out, n, &sums, sy, wy, yy, qy);
-    }
-
-    /// Spatial natural coordinates {r0, u, v, w, y} (docs/methods.md §2.5) with FS0 kinematics,
-    /// route (a): `B_k = [I  r̄_k1 I  r̄_k2 I  r̄_k3 I  A X̂_k]`,
-    /// `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ − A ē₁ (ẏᵀF_k ẏ)`, with `A = [u v w]` (not necessarily
-    /// orthonormal) and the deformed r̄_k. The reference for the shape-integral route.
-    pub(crate) fn natural_bmatrix_fs_3d<SM, SQ>(
-        &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
-        let n = self.n;
-        let fs = self
-            .fs
-            .as_ref()
-            .expect("natural_bmatrix_fs_3d without FS0 data");
-        let (y, yd) = (st.y, st.y_dot);
-        let (a, ad) = (&st.a, &st.a_dot);
-        let axis = fs.axis;
-        let a_axis = a * axis;
-        let crate::Workspace {
-            u: xh,
-            gy: fy,
-            ax,
-            sy,
-            l,
-            yy,
-            qy,
-            ..
-        } = &mut nws.0;
-        sy.fill(0.0);
-        l.fill(0.0);
-        yy.fill(0.0);
-        qy.fill(0.0);
-        let mut msum = 0.0;
-        let mut rsum = Vector3::zeros();
-        let mut psum = Matrix3::zeros();
-        let mut asum = Vector3::zeros();
-        let mut arsum = Matrix3::zeros(); // column b: Σ w r̄_b a_k
-        let (n2, w3) = (n * n, 3 * n);
-        let (mut last, mut yfy, mut c) = (usize::MAX, 0.0, 0.0);
-        for k in 0..self.w.len() {
-            let wk = self.w[k];
-            let x = &self.rows[k * w3..(k + 1) * w3];
-            let st_k = fs.station[k];
-            if st_k != last {
-                let f = &fs.cloud[st_k * n2..(st_k + 1) * n2];
-                mat_vec(f, y, &mut fy[..n]);
-                yfy = dot(y, &fy[..n]);
-                c = 0.0;
-                for i in 0..n {
-                    c += yd[i] * dot(&f[i * n..(i + 1) * n], yd);
-                }
-                last = st_k;
-            }
-            for r in 0..3 {
-                for j in 0..n {
-                    xh[r * n + j] = x[r * n + j] - axis[r] * fy[j];
-                }
-            }
-            let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
-            let rb =
-                self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y)) - axis * (0.5 * yfy);
-            let xhyd = Vector3::new(
-                dot(&xh[..n], yd),
-                dot(&xh[n..2 * n], yd),
-                dot(&xh[2 * n..3 * n], yd),
-            );
-            let acc = 2.0 * (ad * xhyd) - a_axis * c;
-            msum += wk;
-            rsum += wk * rb;
-            psum += (wk * rb) * rb.transpose();
-            asum += wk * acc;
-            arsum += (wk * acc) * rb.transpose();
-            let (ax0, rest) = ax.split_at_mut(n);
-            let (ax1, ax2) = rest.split_at_mut(n);
-            for j in 0..n {
-                let v = a * Vector3::new(xh[j], xh[n + j], xh[2 * n + j]);
-                ax0[j] = v.x;
-                ax1[j] = v.y;
-                ax2[j] = v.z;
-                for cc in 0..3 {
-                    sy[cc * n + j] += wk * v[cc];
-                    for b in 0..3 {
-                        l[3 * n * b + cc * n + j] += wk * rb[b] * v[cc];
-                    }
-                }
-                qy[j] += wk * acc.dot(&v);
-            }
-            for (i, row) in yy.chunks_exact_mut(n).enumerate() {
-                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
-                for (((o, b0), b1), b2) in row.iter_mut().zip(&*ax0).zip(&*ax1).zip(&*ax2) {
-                    *o += p0 * b0 + p1 * b1 + p2 * b2;
-                }
-            }
-        }
-        let sums = BMatrixSums3 {
-            m: msum,
-            mr: rsum,
-            p: psum,
-            a: asum,
-            ar: arsum,
-        };
-        write_bmatrix_natural_3d(m_out, q_out, n, &sums, sy, l, yy, qy);
     }
 }

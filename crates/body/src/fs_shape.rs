@@ -71,14 +71,18 @@
 //! for the FS0 contractions (V = Q·y on i ≤ j only, F being symmetric), plus the linear §2.3
 //! terms; nothing depends on the cloud size. The contractions run with n as a compile-time
 //! constant for n = 4 and n = 8 (the spin-up beams), generic loops otherwise.
+//!
+//! This module computes the hatted moments ([`ShapeMoments`] with their axial terms, and the
+//! planar rows of the natural set) and the FS0 parts of the modal block. The kernels that read
+//! them are the linear ones of `shape.rs` and `natural.rs`, which branch only where FS0 adds a
+//! term, so each formula above that FS0 shares with §2.3–§2.5 is written once.
 
-use crate::foreshortening::mat_vec;
-use crate::{
-    BodyState, FlexibleBody, NaturalState, NaturalWorkspace, Workspace, dot,
-    write_natural_rigid_block_3d,
-};
+use crate::foreshortening::{Foreshortening, mat_vec};
+use crate::natural::PlanarMoments;
+use crate::shape::{AxialMoments, ShapeMoments};
+use crate::{FlexibleBody, Workspace, dot};
 use flexmbd_core::Dim;
-use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector2, Vector3};
 
 /// The precomputed FS0 shape integrals of one body (see the module doc).
 #[derive(Clone, Debug, Default)]
@@ -188,8 +192,8 @@ pub(crate) struct FsScratch {
     ry: Vec<f64>,
     cf: Vec<f64>,
     tmp: Vec<f64>,
-    /// n² scratch (natural-set M_yy).
-    tmp_nn: Vec<f64>,
+    /// M̂_yy of the natural set (n²).
+    pub(crate) modal_mass: Vec<f64>,
     /// Sized for a foreshortened body.
     live: bool,
 }
@@ -216,94 +220,31 @@ impl FsScratch {
             ry: vec![0.0; n],
             cf: vec![0.0; n],
             tmp: vec![0.0; n],
-            tmp_nn: vec![0.0; n * n],
+            modal_mass: vec![0.0; n * n],
             live: true,
         }
     }
-}
 
-/// The fixed-size FS0 moments at (y, ẏ) (body components); Ŝ, L̂ and the contractions are
-/// left in the workspace.
-struct Moments {
-    mb: Vector3<f64>,
-    p: Matrix3<f64>,
-    c0: f64,
-    c1: Vector3<f64>,
-}
-
-impl FlexibleBody {
-    /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
-    /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
-    fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
-        // The loops run over rows of n entries; with n a compile-time constant for the common
-        // mode counts the compiler unrolls them and drops the bounds checks.
-        match self.n {
-            4 => self.fs_moments_n::<4>(y, yd, ws),
-            8 => self.fs_moments_n::<8>(y, yd, ws),
-            _ => self.fs_moments_n::<0>(y, yd, ws),
-        }
-    }
-
-    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
-    fn fs_moments_n<const N: usize>(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> Moments {
-        let n = if N == 0 { self.n } else { N };
-        debug_assert_eq!(n, self.n);
-        let (y, yd) = (&y[..n], &yd[..n]);
+    /// 𝔽 and 𝔽ᵃ contracted (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0): leaves 𝔽y,
+    /// 𝔽ẏ, 𝔽ᵃy here and returns `yᵀ𝔽y`, `c₀ = ẏᵀ𝔽ẏ`, `yᵀ𝔽ᵃy` and `ẏᵀ𝔽ᵃẏ`.
+    #[inline(always)]
+    fn contract_f<const N: usize>(
+        &mut self,
+        fs: &Foreshortening,
+        y: &[f64],
+        yd: &[f64],
+    ) -> (f64, f64, Vector3<f64>, Vector3<f64>) {
+        let n = if N == 0 { y.len() } else { N };
         let n2 = n * n;
-        let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
         let ints = &fs.ints;
-        let e = fs.axis;
-        let Workspace {
-            u, l, sy, fs: sc, ..
-        } = ws;
-        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
-        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
-        let na = if self.dim == Dim::Planar { 2 } else { 3 };
-        for c in 0..na {
-            for b in 0..na {
-                let blk = &self.sab[(3 * c + b) * n2..(3 * c + b + 1) * n2];
-                let dst = &mut u[(3 * c + b) * n..(3 * c + b + 1) * n];
-                for (uu, row) in dst.iter_mut().zip(blk.chunks_exact(n)) {
-                    *uu = dot(row, y);
-                }
-            }
-        }
-        if na == 2 {
-            l[2 * n..3 * n].fill(0.0);
-            l[5 * n..9 * n].fill(0.0);
-        }
-        for b in 0..na {
-            for c in 0..na {
-                let dst = (3 * b + c) * n;
-                let src = (3 * c + b) * n;
-                for j in 0..n {
-                    l[dst + j] = self.sa[dst + j] + u[src + j];
-                }
-            }
-        }
-        let mut mb = self.m_u;
-        for c in 0..na {
-            mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
-        }
-        let mut p = self.p_u;
-        for c in 0..na {
-            for b in c..na {
-                let v = self.p_u[(c, b)]
-                    + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                    + dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                p[(c, b)] = v;
-                p[(b, c)] = v;
-            }
-        }
-        // 𝔽 and 𝔽ᵃ (zero 𝔽ᵃ skipped: a centre-line cloud has 𝔽² = 𝔽³ = 0).
-        mat_vec(&fs.wf, y, &mut sc.fy);
-        mat_vec(&fs.wf, yd, &mut sc.fyd);
-        let phibar = dot(y, &sc.fy);
-        let c0 = dot(yd, &sc.fyd);
+        mat_vec(&fs.wf, y, &mut self.fy);
+        mat_vec(&fs.wf, yd, &mut self.fyd);
+        let phibar = dot(y, &self.fy);
+        let c0 = dot(yd, &self.fyd);
         let mut q = Vector3::zeros();
         let mut c1 = Vector3::zeros();
         for a in 0..3 {
-            let fay = &mut sc.fay[a * n..(a + 1) * n];
+            let fay = &mut self.fay[a * n..(a + 1) * n];
             if !ints.fa_live[a] {
                 fay.fill(0.0);
                 continue;
@@ -311,19 +252,33 @@ impl FlexibleBody {
             let fa = &ints.fa[a * n2..(a + 1) * n2];
             mat_vec(fa, y, fay);
             q[a] = dot(y, fay);
-            mat_vec(fa, yd, &mut sc.tmp);
-            c1[a] = dot(yd, &sc.tmp);
+            mat_vec(fa, yd, &mut self.tmp);
+            c1[a] = dot(yd, &self.tmp);
         }
-        // Tᵃ: Kᵃ, Kᵈᵃ, Kᵃ y, Kᵃᵀ y, zᵃ.
+        (phibar, c0, q, c1)
+    }
+
+    /// Tᵃ contracted: Kᵃ, Kᵈᵃ, Kᵃ y, Kᵃᵀ y, zᵃ here; adds `yᵀKᵃy` to `q` and `zᵃ·y` to `c1`.
+    #[inline(always)]
+    fn contract_t<const N: usize>(
+        &mut self,
+        ints: &FsIntegrals,
+        y: &[f64],
+        yd: &[f64],
+        q: &mut Vector3<f64>,
+        c1: &mut Vector3<f64>,
+    ) {
+        let n = if N == 0 { y.len() } else { N };
+        let n2 = n * n;
         for a in 0..3 {
             let (kt, kd) = (
-                &mut sc.kt[a * n2..(a + 1) * n2],
-                &mut sc.kd[a * n2..(a + 1) * n2],
+                &mut self.kt[a * n2..(a + 1) * n2],
+                &mut self.kd[a * n2..(a + 1) * n2],
             );
             let (ky, kty, z) = (
-                &mut sc.ky[a * n..(a + 1) * n],
-                &mut sc.kty[a * n..(a + 1) * n],
-                &mut sc.z[a * n..(a + 1) * n],
+                &mut self.ky[a * n..(a + 1) * n],
+                &mut self.kty[a * n..(a + 1) * n],
+                &mut self.z[a * n..(a + 1) * n],
             );
             kt.fill(0.0);
             kd.fill(0.0);
@@ -355,7 +310,18 @@ impl FlexibleBody {
             q[a] += dot(y, ky);
             c1[a] += dot(y, z);
         }
-        // Q: V, R, N, Σ w c f.
+    }
+
+    /// Q contracted: V, R, N and Σ w c_k f_k here; returns `yᵀR y` and `ẏᵀR ẏ`.
+    #[inline(always)]
+    fn contract_q<const N: usize>(
+        &mut self,
+        ints: &FsIntegrals,
+        y: &[f64],
+        yd: &[f64],
+    ) -> (f64, f64) {
+        let n = if N == 0 { y.len() } else { N };
+        let n2 = n * n;
         let n3 = n2 * n;
         // V_{ijl} = V_{jil} (F_k symmetric): form i ≤ j, copy the other half.
         for i in 0..n {
@@ -363,24 +329,24 @@ impl FlexibleBody {
                 let ij = (i * n + j) * n;
                 for lidx in 0..n {
                     let o = ij + lidx;
-                    sc.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
+                    self.v[o] = dot(&ints.q[o * n..(o + 1) * n], y);
                 }
                 if j > i {
                     let ji = (j * n + i) * n;
-                    sc.v.copy_within(ij..ij + n, ji);
+                    self.v.copy_within(ij..ij + n, ji);
                 }
             }
         }
         for ij in 0..n2 {
-            sc.r[ij] = dot(&sc.v[ij * n..(ij + 1) * n], y);
+            self.r[ij] = dot(&self.v[ij * n..(ij + 1) * n], y);
         }
-        sc.nm.fill(0.0);
-        sc.cf.fill(0.0);
+        self.nm.fill(0.0);
+        self.cf.fill(0.0);
         for i in 0..n {
             for (lidx, &yl) in y.iter().enumerate() {
                 // N_ij += V[i][l][j] y_l
-                let src = &sc.v[(i * n + lidx) * n..(i * n + lidx + 1) * n];
-                let dst = &mut sc.nm[i * n..(i + 1) * n];
+                let src = &self.v[(i * n + lidx) * n..(i * n + lidx + 1) * n];
+                let dst = &mut self.nm[i * n..(i + 1) * n];
                 for (o, vv) in dst.iter_mut().zip(src) {
                     *o += yl * vv;
                 }
@@ -391,25 +357,28 @@ impl FlexibleBody {
                 // Σ w c f: cf_i += V[l][m][i] ẏ_l ẏ_m
                 let c = ydl * ydm;
                 let lm = lidx * n + m;
-                for (o, vv) in sc.cf.iter_mut().zip(&sc.v[lm * n..(lm + 1) * n]) {
+                for (o, vv) in self.cf.iter_mut().zip(&self.v[lm * n..(lm + 1) * n]) {
                     *o += c * vv;
                 }
             }
         }
-        debug_assert_eq!(sc.v.len(), n3);
-        mat_vec(&sc.r, y, &mut sc.ry);
-        let psi = dot(y, &sc.ry);
-        mat_vec(&sc.r, yd, &mut sc.tmp);
-        let cphi = dot(yd, &sc.tmp);
+        debug_assert_eq!(self.v.len(), n3);
+        mat_vec(&self.r, y, &mut self.ry);
+        let psi = dot(y, &self.ry);
+        mat_vec(&self.r, yd, &mut self.tmp);
+        let cphi = dot(yd, &self.tmp);
 
-        // Moments.
-        let mbh = mb - e * (0.5 * phibar);
-        let ph =
-            p - 0.5 * (e * q.transpose() + q * e.transpose()) + (0.25 * psi) * (e * e.transpose());
-        let c1 = c1 - e * (0.5 * cphi);
+        (psi, cphi)
+    }
+
+    /// The hatted rows: Ŝ (rows a at a n) into `sy` from S, and the FS0 part of L̂ added to
+    /// `l` ((L̂_b)_a at (3b + a) n), along the axis `e`.
+    #[inline(always)]
+    fn hat_rows<const N: usize>(&self, e: &Vector3<f64>, s: &[f64], sy: &mut [f64], l: &mut [f64]) {
+        let n = if N == 0 { self.fy.len() } else { N };
         for a in 0..3 {
             for j in 0..n {
-                sy[a * n + j] = self.s[a * n + j] - e[a] * sc.fy[j];
+                sy[a * n + j] = s[a * n + j] - e[a] * self.fy[j];
             }
         }
         for b in 0..3 {
@@ -420,23 +389,74 @@ impl FlexibleBody {
                 }
                 let dst = &mut l[(3 * b + a) * n..(3 * b + a + 1) * n];
                 for j in 0..n {
-                    dst[j] += -ea * (sc.fay[b * n + j] + sc.kty[b * n + j])
-                        - 0.5 * eb * sc.ky[a * n + j]
-                        + 0.5 * ea * eb * sc.ry[j];
+                    dst[j] += -ea * (self.fay[b * n + j] + self.kty[b * n + j])
+                        - 0.5 * eb * self.ky[a * n + j]
+                        + 0.5 * ea * eb * self.ry[j];
                 }
             }
         }
-        Moments {
+    }
+}
+
+impl FlexibleBody {
+    /// The FS0 moments (module doc): returns m̄, P, c₀, c₁ and leaves Ŝ (rows a at a n) in
+    /// `ws.sy`, L̂ ((L̂_b)_a at (3b + a) n) in `ws.l`, and Kᵃ, N, zᵃ, Σ w c_k f_k in `ws.fs`.
+    pub(crate) fn fs_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
+        // The loops run over rows of n entries; with n a compile-time constant for the common
+        // mode counts the compiler unrolls them and drops the bounds checks.
+        match self.n {
+            4 => self.fs_moments_n::<4>(y, yd, ws),
+            8 => self.fs_moments_n::<8>(y, yd, ws),
+            _ => self.fs_moments_n::<0>(y, yd, ws),
+        }
+    }
+
+    /// [`fs_moments`](Self::fs_moments) for `N = n` modes (`N = 0`: any n).
+    fn fs_moments_n<const N: usize>(
+        &self,
+        y: &[f64],
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) -> ShapeMoments {
+        let n = if N == 0 { self.n } else { N };
+        debug_assert_eq!(n, self.n);
+        let (y, yd) = (&y[..n], &yd[..n]);
+        let fs = self.fs.as_ref().expect("fs_moments without FS0 data");
+        let e = fs.axis;
+        let Workspace {
+            u, l, sy, fs: sc, ..
+        } = ws;
+        // Linear part (§2.3): u^{ab} = Sᵃᵇ y, (L_b)_a = Sᵇ_a + u^{ab}, m̄, P. A planar body
+        // has no z rows: only a, b < 2 are formed, the z entries of L are zero.
+        let na = if self.dim == Dim::Planar { 2 } else { 3 };
+        let (mb, p) = self.linear_moments::<N>(y, na, u, l);
+        let (phibar, c0, mut q, mut c1) = sc.contract_f::<N>(fs, y, yd);
+        sc.contract_t::<N>(&fs.ints, y, yd, &mut q, &mut c1);
+        let (psi, cphi) = sc.contract_q::<N>(&fs.ints, y, yd);
+
+        // Moments.
+        let mbh = mb - e * (0.5 * phibar);
+        let ph =
+            p - 0.5 * (e * q.transpose() + q * e.transpose()) + (0.25 * psi) * (e * e.transpose());
+        let c1 = c1 - e * (0.5 * cphi);
+        sc.hat_rows::<N>(&e, &self.s, sy, l);
+        ShapeMoments {
             mb: mbh,
             p: ph,
-            c0,
-            c1,
+            axial: Some(AxialMoments { axis: e, c0, c1 }),
         }
     }
 
     /// `out[i][j] = base[i][j] − (K_g + K_gᵀ)_ij + s N_ij` with `K_g = Σ_a g_a Kᵃ`
     /// (i.e. Σ_ab C_ab Ŝᵃᵇ for a symmetric C, g = C e, s = eᵀC e; upper triangle mirrored).
-    fn fs_yy(&self, ws: &Workspace, g: &Vector3<f64>, s: f64, base: &[f64], out: &mut [f64]) {
+    pub(crate) fn fs_yy(
+        &self,
+        ws: &Workspace,
+        g: &Vector3<f64>,
+        s: f64,
+        base: &[f64],
+        out: &mut [f64],
+    ) {
         let n = self.n;
         let n2 = n * n;
         let sc = &ws.fs;
@@ -496,7 +516,7 @@ impl FlexibleBody {
     }
 
     /// `Σ w c_k X̂_kᵀ g = Σ_a g_a zᵃ − (e·g) Σ w c_k f_k`, added to `out`.
-    fn fs_add_c_term(&self, ws: &Workspace, g: &Vector3<f64>, out: &mut [f64]) {
+    pub(crate) fn fs_add_c_term(&self, ws: &Workspace, g: &Vector3<f64>, out: &mut [f64]) {
         let n = self.n;
         let e = self.fs.as_ref().map_or(Vector3::zeros(), |f| f.axis);
         let sc = &ws.fs;
@@ -506,134 +526,29 @@ impl FlexibleBody {
         }
     }
 
-    /// Relative set {ṡ, ω, ẏ}, FS0, shape-integral route (both dimensions: the 3D algebra, a
-    /// planar body keeps x, y, θz).
-    pub(crate) fn shape_fs<SM, SQ>(
+    /// `G̑ ẏ = Σ_ab ω̃_ab Ŝᵃᵇ ẏ = G(ω̄) ẏ − K_{ω̄×e} ẏ + K_{ω̄×e}ᵀ ẏ` into `out` (n; a planar body:
+    /// G_3 only).
+    pub(crate) fn fs_gyroscopic(
         &self,
-        st: &BodyState<'_>,
-        ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        wb: &Vector3<f64>,
+        e: &Vector3<f64>,
+        yd: &[f64],
+        ws: &Workspace,
+        out: &mut [f64],
+    ) {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let a = &st.a;
-        let r0 = st.r0;
-        let e = self.fs.as_ref().expect("shape_fs without FS0 data").axis;
-        let wb = a.tr_mul(&st.omega);
-        let v0b = a.tr_mul(&st.r0_dot());
-        let ab = wb.cross(&v0b);
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let mut s_yd = Vector3::zeros();
-        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L̂_b)_c · ẏ
+        out.fill(0.0);
         for c in 0..3 {
-            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
-            for b in 0..3 {
-                lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+            if wb[c] == 0.0 {
+                continue;
+            }
+            let gc = &self.g[c * n * n..(c + 1) * n * n];
+            for (o, row) in out.iter_mut().zip(gc.chunks_exact(n)) {
+                *o += wb[c] * dot(row, yd);
             }
         }
-        let h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
-        let io = Matrix3::identity() * p.trace() - p;
-        let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd) - e * mo.c0) - self.mass * ab;
-        let w_yd = wb * h_yd - lam.tr_mul(&wb);
-        let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd - mo.c1.cross(&e)) - mb.cross(&ab);
-        // Global blocks (§2.4 steps 2–3).
-        let am = a * mb;
-        let lever = self.mass * r0 + am;
-        let pg = a * p * a.transpose()
-            + self.mass * r0 * r0.transpose()
-            + r0 * am.transpose()
-            + am * r0.transpose();
-        let jo = Matrix3::identity() * pg.trace() - pg;
-        let qtg = a * qt;
-        let qrg = r0.cross(&qtg) + a * qr;
-        let lt = flexmbd_core::skew(&lever);
-        let mut rig = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                rig[i][j] = if i == j { self.mass } else { 0.0 };
-                rig[i][j + 3] = -lt[(i, j)];
-                rig[i + 3][j] = lt[(i, j)];
-                rig[i + 3][j + 3] = jo[(i, j)];
-            }
-        }
-        let qrig = [qtg.x, qtg.y, qtg.z, qrg.x, qrg.y, qrg.z];
-        // Modal rows: q_y = −(Σ (ω̃ω̃)_ab (L̂_b)_a + 2 Ĝẏ) + Σ w c X̂ᵀe − Ŝᵀā.
-        let ww = wb.norm_squared();
-        let om = wb * wb.transpose() - Matrix3::identity() * ww;
-        {
-            // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ (a planar body: G_3 only).
-            let qy = &mut ws.qy;
-            qy.fill(0.0);
-            for c in 0..3 {
-                if wb[c] == 0.0 {
-                    continue;
-                }
-                let gc = &self.g[c * n * n..(c + 1) * n * n];
-                for (o, row) in qy.iter_mut().zip(gc.chunks_exact(n)) {
-                    *o += wb[c] * dot(row, yd);
-                }
-            }
-        }
-        let h = wb.cross(&e);
-        let mut qy = std::mem::take(&mut ws.qy);
-        self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, &mut qy);
-        for j in 0..n {
-            let mut t = 0.0;
-            for c in 0..3 {
-                for b in 0..3 {
-                    t += om[(c, b)] * ws.l[(3 * b + c) * n + j];
-                }
-            }
-            let sta = ws.sy[j] * ab.x + ws.sy[n + j] * ab.y + ws.sy[2 * n + j] * ab.z;
-            qy[j] = -(t + 2.0 * qy[j]) - sta;
-        }
-        self.fs_add_c_term(ws, &e, &mut qy);
-        let mut yy = std::mem::take(&mut ws.yy);
-        self.fs_yy(ws, &e, 1.0, &self.m_yy, &mut yy);
-        // Ŝ and Ĉ columns in global components.
-        let (map, nr): ([Option<usize>; 6], usize) = match self.dim {
-            Dim::Spatial => ([Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)], 6),
-            Dim::Planar => ([Some(0), Some(1), None, None, None, Some(2)], 3),
-        };
-        let lrow = |b: usize, c: usize, j: usize| ws.l[(3 * b + c) * n + j];
-        for j in 0..n {
-            let sj = Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
-            let cj = Vector3::new(
-                lrow(1, 2, j) - lrow(2, 1, j),
-                lrow(2, 0, j) - lrow(0, 2, j),
-                lrow(0, 1, j) - lrow(1, 0, j),
-            );
-            let asj = a * sj;
-            let wyj = r0.cross(&asj) + a * cj;
-            for (i, mi) in map.iter().enumerate() {
-                let Some(oi) = *mi else { continue };
-                let v = if i < 3 { asj[i] } else { wyj[i - 3] };
-                m_out[(oi, nr + j)] = v;
-                m_out[(nr + j, oi)] = v;
-            }
-        }
-        for (i, mi) in map.iter().enumerate() {
-            let Some(oi) = *mi else { continue };
-            for (j, mj) in map.iter().enumerate() {
-                if let Some(oj) = *mj {
-                    m_out[(oi, oj)] = rig[i][j];
-                }
-            }
-            q_out[oi] = qrig[i];
-        }
-        for i in 0..n {
-            q_out[nr + i] = qy[i];
-            for j in 0..n {
-                m_out[(nr + i, nr + j)] = yy[i * n + j];
-            }
-        }
-        ws.qy = qy;
-        ws.yy = yy;
+        let h = wb.cross(e);
+        self.fs_sab_vec(ws, &h, &(-h), 0.0, yd, out);
     }
 
     /// Σ_ab D_ab Sᵃᵇ x (the linear part), skipping zero D entries, into `out`.
@@ -654,193 +569,92 @@ impl FlexibleBody {
         }
     }
 
-    /// Spatial natural coordinates {r0, u, v, w, y}, FS0, shape-integral route.
-    pub(crate) fn natural_shape_fs_3d<SM, SQ>(
+    /// The modal terms of the spatial natural set for FS0 (module doc), `M_yy = Σ_ab (e_a·e_b)
+    /// Ŝᵃᵇ` into `ws.fs.modal_mass` and `Q_y = −2 Σ_ab (e_a·ė_b) Ŝᵃᵇ ẏ + Σ w c_k X̂_kᵀ (AᵀA e)` into
+    /// `ws.qy`, from `gram = AᵀA` and `cdot = AᵀȦ`.
+    pub(crate) fn natural_modal_terms_fs_3d(
         &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        yd: &[f64],
+        gram: &Matrix3<f64>,
+        cdot: &Matrix3<f64>,
+        ws: &mut Workspace,
+    ) {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let (a, ad) = (&st.a, &st.a_dot);
         let e = self
             .fs
             .as_ref()
-            .expect("natural_shape_fs_3d without FS0")
+            .expect("FS0 modal terms without FS0 data")
             .axis;
-        let ws = &mut nws.0;
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let m = self.mass;
-        write_natural_rigid_block_3d(m_out, m, &mb, &p);
-        let ae = a * e;
-        let mut s_yd = Vector3::zeros();
-        for c in 0..3 {
-            s_yd[c] = dot(&ws.sy[c * n..(c + 1) * n], yd);
-        }
-        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
-        for i in 0..3 {
-            q_out[i] = q0[i];
-        }
-        for b in 0..3 {
-            let lby = Vector3::new(
-                dot(&ws.l[(3 * b) * n..(3 * b + 1) * n], yd),
-                dot(&ws.l[(3 * b + 1) * n..(3 * b + 2) * n], yd),
-                dot(&ws.l[(3 * b + 2) * n..(3 * b + 3) * n], yd),
-            );
-            let qb = -2.0 * (ad * lby) + ae * mo.c1[b];
-            for i in 0..3 {
-                q_out[3 + 3 * b + i] = qb[i];
-            }
-        }
-        if n == 0 {
-            return;
-        }
-        let o = 12;
-        for j in 0..n {
-            let asj = a * Vector3::new(ws.sy[j], ws.sy[n + j], ws.sy[2 * n + j]);
-            for i in 0..3 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-            }
-            for b in 0..3 {
-                let lbj = Vector3::new(
-                    ws.l[(3 * b) * n + j],
-                    ws.l[(3 * b + 1) * n + j],
-                    ws.l[(3 * b + 2) * n + j],
-                );
-                let alj = a * lbj;
-                for i in 0..3 {
-                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
-                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
-                }
-            }
-        }
-        let gram = a.tr_mul(a);
-        let cdot = a.tr_mul(ad);
-        // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.ax-free scratch (ws.yy), then FS0 terms.
+        // M_yy = Σ gram_ab Ŝᵃᵇ: linear part into ws.yy, then FS0 terms.
         let mut base = std::mem::take(&mut ws.yy);
         for i in 0..n {
             for j in i..n {
-                let mut v = 0.0;
-                for aa in 0..3 {
-                    for bb in 0..3 {
-                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
-                    }
-                }
+                let v = self.gram_modal_mass(gram, i, j);
                 base[i * n + j] = v;
                 base[j * n + i] = v;
             }
         }
         let g = gram * e;
-        let mut yy = std::mem::take(&mut ws.fs.tmp_nn);
+        let mut yy = std::mem::take(&mut ws.fs.modal_mass);
         self.fs_yy(ws, &g, e.dot(&g), &base, &mut yy);
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(o + i, o + j)] = yy[i * n + j];
-            }
-        }
-        ws.fs.tmp_nn = yy;
-        ws.yy = base;
         // Q_y = −2 Σ cdot_ab Ŝᵃᵇ ẏ + Σ w c X̂ᵀ (gram e).
         let mut qy = std::mem::take(&mut ws.qy);
-        self.sab_vec(&cdot, yd, &mut qy);
+        self.sab_vec(cdot, yd, &mut qy);
         let (h, k) = (cdot * e, cdot.transpose() * e);
         self.fs_sab_vec(ws, &h, &k, e.dot(&h), yd, &mut qy);
         for v in qy.iter_mut() {
             *v *= -2.0;
         }
         self.fs_add_c_term(ws, &g, &mut qy);
-        for i in 0..n {
-            q_out[o + i] = qy[i];
-        }
+        ws.fs.modal_mass = yy;
+        ws.yy = base;
         ws.qy = qy;
     }
 
-    /// Planar natural coordinates {r0, u, y}, FS0, shape-integral route.
-    pub(crate) fn natural_shape_fs_2d<SM, SQ>(
+    /// The planar natural-set moments of an FS0 body (the 3D algebra's planar rows; Ŝ in
+    /// `ws.sy`, L̂ at (3b + a) n in `ws.l`).
+    pub(crate) fn planar_fs_moments(
         &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        y: &[f64],
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) -> PlanarMoments {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
+        let mo = self.fs_moments(y, yd, ws);
+        let lb = |b: usize, c: usize| &ws.l[(3 * b + c) * n..(3 * b + c + 1) * n];
+        PlanarMoments {
+            mb: mo.mb.xy(),
+            trace: mo.p[(0, 0)] + mo.p[(1, 1)],
+            s_yd: Vector2::new(dot(&ws.sy[..n], yd), dot(&ws.sy[n..2 * n], yd)),
+            l1_yd: Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd)),
+            l2_yd: Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd)),
+            l2_row: 3,
+            axial: mo.axial,
+        }
+    }
+
+    /// The modal terms of the planar natural set for FS0 (module doc): `Σ_a Ŝᵃᵃ` into `ws.yy`
+    /// (the caller scales it by |u|²) and `Q_y = −2 Σ_ab (AᵀȦ)_ab Ŝᵃᵇ ẏ + |u|² Σ w c_k X̂_kᵀ e`
+    /// into `ws.qy`.
+    pub(crate) fn natural_modal_terms_fs_2d(
+        &self,
+        u: &Vector2<f64>,
+        ud: &Vector2<f64>,
+        yd: &[f64],
+        ws: &mut Workspace,
+    ) {
         let e3 = self
             .fs
             .as_ref()
-            .expect("natural_shape_fs_2d without FS0")
+            .expect("FS0 modal terms without FS0 data")
             .axis;
-        let e = e3.xy();
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
         let rot = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
-        let ws = &mut nws.0;
-        let mo = self.fs_moments(y, yd, ws);
-        let (mb, p) = (mo.mb, mo.p);
-        let m = self.mass;
-        m_out[(0, 0)] = m;
-        m_out[(1, 1)] = m;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
-        let ptr = p[(0, 0)] + p[(1, 1)];
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
-            }
-        }
-        let s_yd = Vector2::new(dot(&ws.sy[..n], yd), dot(&ws.sy[n..2 * n], yd));
-        let lb = |b: usize, c: usize| &ws.l[(3 * b + c) * n..(3 * b + c + 1) * n];
-        let l1y = Vector2::new(dot(lb(0, 0), yd), dot(lb(0, 1), yd));
-        let l2y = Vector2::new(dot(lb(1, 0), yd), dot(lb(1, 1), yd));
-        let ae = a * e;
-        let q0 = -2.0 * (ad * s_yd) + ae * mo.c0;
-        let qu = -2.0 * (ad * l1y - rot(ad * l2y)) + ae * mo.c1.x - rot(ae) * mo.c1.y;
-        q_out[0] = q0.x;
-        q_out[1] = q0.y;
-        q_out[2] = qu.x;
-        q_out[3] = qu.y;
-        if n == 0 {
-            return;
-        }
-        let o = 4;
-        for j in 0..n {
-            let asj = a * Vector2::new(ws.sy[j], ws.sy[n + j]);
-            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
-            let l2 = Vector2::new(ws.l[3 * n + j], ws.l[4 * n + j]);
-            let uy = a * l1 - rot(a * l2);
-            for i in 0..2 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-                m_out[(2 + i, o + j)] = uy[i];
-                m_out[(o + j, 2 + i)] = uy[i];
-            }
-        }
         let uu = u.norm_squared();
         let mut yy = std::mem::take(&mut ws.yy);
         self.fs_yy(ws, &e3, 1.0, &self.m_yy, &mut yy);
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(o + i, o + j)] = uu * yy[i * n + j];
-            }
-        }
         ws.yy = yy;
         // (AᵀȦ) in 3D indices: [[u·u̇, u·E u̇, 0], [−u·E u̇, u·u̇, 0], [0, 0, 0]].
-        let (c11, c12) = (u.dot(&ud), u.dot(&rot(ud)));
+        let (c11, c12) = (u.dot(ud), u.dot(&rot(*ud)));
         let d = Matrix3::new(c11, c12, 0.0, -c12, c11, 0.0, 0.0, 0.0, 0.0);
         let mut qy = std::mem::take(&mut ws.qy);
         self.sab_vec(&d, yd, &mut qy);
@@ -850,9 +664,6 @@ impl FlexibleBody {
             *v *= -2.0;
         }
         self.fs_add_c_term(ws, &(e3 * uu), &mut qy);
-        for i in 0..n {
-            q_out[o + i] = qy[i];
-        }
         ws.qy = qy;
     }
 }

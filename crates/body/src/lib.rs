@@ -38,14 +38,27 @@
 //! 2D (§0 reduction rule): a planar body lives in z = 0, `A` is a rotation about z,
 //! ω = ω_z e_z, and the planar set keeps the x, y, θ_z rows and columns of the 3D
 //! formulas. It is implemented as its own lean path (see `docs/body.md` for why).
+//!
+//! A foreshortened body (FS0, docs/methods.md §6.3) is not a separate set of kernels: route (a) is
+//! the same B-matrix kernel compiled for the foreshortened point kinematics (`kinematics.rs`:
+//! `r̄_k` shortened along the beam axis, `X̂_k` for `X_k`, a velocity-product term in `Ḃ_k`),
+//! and route (b) the same shape-integral kernel fed the hatted moments of `fs_shape.rs`. An
+//! FS0 planar body runs the spatial kernels and keeps their x, y, θz rows and columns.
+//!
+//! Scratch is held one way: every kernel takes `&self` and a `&mut Workspace`, the body's own
+//! for the relative set and the caller's [`NaturalWorkspace`] for natural coordinates.
 
 mod bmatrix;
+mod construction;
 pub mod elastic;
 mod foreshortening;
 mod fs_shape;
+mod kinematics;
+mod layout;
 mod natural;
 mod natural_points;
 mod shape;
+mod state;
 
 pub use elastic::{ElasticModel, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
@@ -53,9 +66,15 @@ pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;
 pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
 
-use nalgebra::{
-    DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3,
+use construction::{PackedIntegrals, check_reduced};
+use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};
+pub(crate) use layout::{
+    relative_layout, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
+    write_relative_couplings, write_relative_rigid,
 };
+pub use state::BodyState;
+
+use nalgebra::{DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// Which route evaluates the inertia terms (docs/methods.md §2.2 / §2.3).
@@ -67,80 +86,11 @@ pub enum InertiaMethod {
     ShapeIntegrals,
 }
 
-/// The state of one body in the relative set (plain data).
-///
-/// * `r0`: global position of the body-frame origin O;
-/// * `a`: rotation matrix, columns = body axes in global components;
-/// * `omega`: global angular velocity ω (2D: `(0, 0, ω_z)`);
-/// * `s_dot`: ṡ, the velocity of the body point that coincides with the global
-///   origin: `ṡ = ṙ0 + r0 × ω`, equivalently `ṙ0 = ṡ − r̃0 ω`;
-/// * `y`, `y_dot`: modal coordinates and their rates (length n).
-///
-/// In 2D the z components of `r0`, `omega.xy`, `s_dot` must be zero and `a` a
-/// rotation about z ([`BodyState::planar`] builds one).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyState<'a> {
-    /// Global position of the frame origin O (m).
-    pub r0: Vector3<f64>,
-    /// Orientation A (columns = body axes, global components).
-    pub a: Matrix3<f64>,
-    /// Global angular velocity ω (rad/s).
-    pub omega: Vector3<f64>,
-    /// ṡ = ṙ0 + r0 × ω (m/s).
-    pub s_dot: Vector3<f64>,
-    /// Modal coordinates y.
-    pub y: &'a [f64],
-    /// Modal rates ẏ.
-    pub y_dot: &'a [f64],
-}
-
-impl<'a> BodyState<'a> {
-    /// Build from the velocity of the frame origin: `ṡ = ṙ0 + r0 × ω`.
-    pub fn from_origin_velocity(
-        r0: Vector3<f64>,
-        a: Matrix3<f64>,
-        omega: Vector3<f64>,
-        r0_dot: Vector3<f64>,
-        y: &'a [f64],
-        y_dot: &'a [f64],
-    ) -> Self {
-        Self {
-            r0,
-            a,
-            omega,
-            s_dot: r0_dot + r0.cross(&omega),
-            y,
-            y_dot,
-        }
-    }
-
-    /// A planar state: origin (x, y), angle θ about z, ṡ = (ṡx, ṡy), ω_z.
-    pub fn planar(
-        r0: Vector2<f64>,
-        theta: f64,
-        s_dot: Vector2<f64>,
-        omega_z: f64,
-        y: &'a [f64],
-        y_dot: &'a [f64],
-    ) -> Self {
-        let (s, c) = theta.sin_cos();
-        Self {
-            r0: Vector3::new(r0.x, r0.y, 0.0),
-            a: Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
-            omega: Vector3::new(0.0, 0.0, omega_z),
-            s_dot: Vector3::new(s_dot.x, s_dot.y, 0.0),
-            y,
-            y_dot,
-        }
-    }
-
-    /// Velocity of the frame origin, `ṙ0 = ṡ − r0 × ω`.
-    pub fn r0_dot(&self) -> Vector3<f64> {
-        self.s_dot - self.r0.cross(&self.omega)
-    }
-}
-
 /// Scratch storage sized once at construction (no allocation per evaluation).
+///
+/// Held one way: every inertia kernel takes `&self` and a `&mut Workspace`. The relative set
+/// uses the body's own (lent out of the body for the call), the natural set the caller's
+/// [`NaturalWorkspace`]; nothing else holds scratch.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Workspace {
     /// 9n: u^{ab} = S^{ab} y (3D), or [M_yy y; G_3 y; G_3 ẏ] (2D, 3n).
@@ -163,6 +113,8 @@ pub(crate) struct Workspace {
     pub(crate) c: Vec<f64>,
     /// FS0 shape-integral scratch (empty without FS0 data).
     pub(crate) fs: fs_shape::FsScratch,
+    /// FS0 cloud-point scratch of route (a) (empty without FS0 data).
+    pub(crate) points: PointScratch,
 }
 
 impl Workspace {
@@ -178,6 +130,7 @@ impl Workspace {
             qy: vec![0.0; n],
             c: vec![0.0; 3 * n],
             fs: fs_shape::FsScratch::default(),
+            points: PointScratch::default(),
         }
     }
 
@@ -186,6 +139,7 @@ impl Workspace {
         let mut w = Self::new(n);
         if fs0 {
             w.fs = fs_shape::FsScratch::new(n);
+            w.points = PointScratch::new(n);
         }
         w
     }
@@ -222,27 +176,11 @@ pub struct FlexibleBody {
     k_ff: DMatrix<f64>,
     c_ff: DMatrix<f64>,
     elastic: Box<dyn ElasticModel>,
-    pub(crate) ws: Workspace,
+    /// The workspace of the relative set, boxed so that lending it to a kernel moves a
+    /// pointer (`None` only while [`inertia`](Self::inertia) runs).
+    workspace: Option<Box<Workspace>>,
     /// FS0 data (docs/methods.md §6.3), when the body is foreshortened.
     pub(crate) fs: Option<foreshortening::Foreshortening>,
-}
-
-fn check_shape(field: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), InvalidValue> {
-    if m.shape() != (r, c) {
-        return Err(InvalidValue::new(
-            field,
-            format!("{}x{}", m.nrows(), m.ncols()),
-            format!("must be {r}x{c}"),
-        ));
-    }
-    if !m.iter().all(|v| v.is_finite()) {
-        return Err(InvalidValue::new(
-            field,
-            "non-finite entry",
-            "must be finite",
-        ));
-    }
-    Ok(())
 }
 
 impl FlexibleBody {
@@ -251,139 +189,17 @@ impl FlexibleBody {
     /// linear elastic model. Refuses inconsistent sizes, negative or non-finite
     /// weights, and (2D) a cloud that leaves the plane z = 0.
     pub fn new(reduced: &ReducedBody) -> Result<Self, InvalidValue> {
+        check_reduced(reduced)?;
         let cloud = &reduced.cloud;
         let n = cloud.n_modes;
-        if reduced.n_modes() != n {
-            return Err(InvalidValue::new(
-                "cloud.n_modes",
-                n,
-                format!("must equal the mode inventory's {}", reduced.n_modes()),
-            ));
-        }
-        if cloud.positions.len() != cloud.weights.len() {
-            return Err(InvalidValue::new(
-                "cloud.positions",
-                cloud.positions.len(),
-                format!("must have one entry per weight ({})", cloud.weights.len()),
-            ));
-        }
-        if cloud.mode_rows.len() != 3 * n * cloud.len() {
-            return Err(InvalidValue::new(
-                "cloud.mode_rows",
-                cloud.mode_rows.len(),
-                format!("must hold 3 n N_p = {} entries", 3 * n * cloud.len()),
-            ));
-        }
-        for (k, w) in cloud.weights.iter().enumerate() {
-            if !(w.is_finite() && *w >= 0.0) {
-                return Err(InvalidValue::new(
-                    format!("cloud.weights[{k}]"),
-                    w,
-                    "must be finite and >= 0",
-                ));
-            }
-        }
-        for (k, p) in cloud.positions.iter().enumerate() {
-            if !p.iter().all(|v| v.is_finite()) {
-                return Err(InvalidValue::new(
-                    format!("cloud.positions[{k}]"),
-                    format!("{p:?}"),
-                    "must be finite",
-                ));
-            }
-            if reduced.dim == Dim::Planar && p.z != 0.0 {
-                return Err(InvalidValue::new(
-                    format!("cloud.positions[{k}].z"),
-                    p.z,
-                    "a planar body lives in z = 0",
-                ));
-            }
-        }
-        if let Some(v) = cloud.mode_rows.iter().find(|v| !v.is_finite()) {
-            return Err(InvalidValue::new("cloud.mode_rows", v, "must be finite"));
-        }
-        if reduced.dim == Dim::Planar {
-            for k in 0..cloud.len() {
-                let zr = &cloud.rows(k)[2 * n..3 * n];
-                if let Some(v) = zr.iter().find(|v| **v != 0.0) {
-                    return Err(InvalidValue::new(
-                        format!("cloud.mode_rows[{k}].z"),
-                        v,
-                        "a planar body has zero z mode rows",
-                    ));
-                }
-            }
-        }
-        check_shape("k_ff", &reduced.k_ff, n, n)?;
-        check_shape("c_ff", &reduced.c_ff, n, n)?;
         let si = &reduced.shape_integrals;
-        crate_require_positive("shape_integrals.mass", si.mass)?;
-        check_shape("shape_integrals.s", &si.s, 3, n)?;
-        for a in 0..3 {
-            check_shape(&format!("shape_integrals.s_a[{a}]"), &si.s_a[a], 3, n)?;
-            for b in 0..3 {
-                check_shape(
-                    &format!("shape_integrals.s_ab[{a}][{b}]"),
-                    &si.s_ab[a][b],
-                    n,
-                    n,
-                )?;
-            }
-        }
-
-        let mut s = vec![0.0; 3 * n];
-        let mut sa = vec![0.0; 9 * n];
-        let mut sab = vec![0.0; 9 * n * n];
-        for a in 0..3 {
-            for j in 0..n {
-                s[a * n + j] = si.s[(a, j)];
-            }
-        }
-        for b in 0..3 {
-            for a in 0..3 {
-                for j in 0..n {
-                    sa[(3 * b + a) * n + j] = si.s_a[b][(a, j)];
-                }
-            }
-        }
-        for a in 0..3 {
-            for b in 0..3 {
-                let off = (3 * a + b) * n * n;
-                for i in 0..n {
-                    for j in 0..n {
-                        sab[off + i * n + j] = si.s_ab[a][b][(i, j)];
-                    }
-                }
-            }
-        }
-        // G_1 = S³² − S²³, G_2 = S¹³ − S³¹, G_3 = S²¹ − S¹² (0-based pairs).
-        let pairs = [(2, 1, 1, 2), (0, 2, 2, 0), (1, 0, 0, 1)];
-        let mut g = vec![0.0; 3 * n * n];
-        for (c, &(a1, b1, a2, b2)) in pairs.iter().enumerate() {
-            for i in 0..n {
-                for j in 0..n {
-                    g[c * n * n + i * n + j] = si.s_ab[a1][b1][(i, j)] - si.s_ab[a2][b2][(i, j)];
-                }
-            }
-        }
-        let n_axes = if reduced.dim == Dim::Planar { 2 } else { 3 };
-        let mut m_yy = vec![0.0; n * n];
-        for a in 0..n_axes {
-            for i in 0..n {
-                for j in 0..n {
-                    m_yy[i * n + j] += si.s_ab[a][a][(i, j)];
-                }
-            }
-        }
-        // Symmetrize exactly (round-off of the cloud sums).
-        for i in 0..n {
-            for j in 0..i {
-                let v = 0.5 * (m_yy[i * n + j] + m_yy[j * n + i]);
-                m_yy[i * n + j] = v;
-                m_yy[j * n + i] = v;
-            }
-        }
-
+        let PackedIntegrals {
+            s,
+            sa,
+            sab,
+            g,
+            m_yy,
+        } = PackedIntegrals::new(si, n, reduced.dim);
         let fs = match &reduced.foreshortening {
             Some(d) => Some(foreshortening::Foreshortening::new(
                 d,
@@ -415,7 +231,10 @@ impl FlexibleBody {
             k_ff: reduced.k_ff.clone(),
             c_ff: reduced.c_ff.clone(),
             elastic: Box::new(LinearElastic::from_reduced(reduced)),
-            ws: Workspace::for_body(n, reduced.foreshortening.is_some()),
+            workspace: Some(Box::new(Workspace::for_body(
+                n,
+                reduced.foreshortening.is_some(),
+            ))),
         })
     }
 
@@ -506,22 +325,27 @@ impl FlexibleBody {
             self.n,
             "inertia: y_dot must have n entries"
         );
-        if self.fs.is_some() {
-            return match method {
-                InertiaMethod::BMatrix => self.bmatrix_fs(state, m_out, qv_out),
-                InertiaMethod::ShapeIntegrals => {
-                    let mut ws = std::mem::take(&mut self.ws);
-                    self.shape_fs(state, &mut ws, m_out, qv_out);
-                    self.ws = ws;
-                }
-            };
+        let mut workspace = self.workspace.take().expect("inertia: workspace lent out");
+        let ws = workspace.as_mut();
+        // Linear spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body
+        // keeps their x, y, θz rows); linear planar bodies the lean planar ones.
+        match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
+                self.shape_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, _, _) => self.shape_3d(state, ws, m_out, qv_out),
+            (InertiaMethod::BMatrix, Dim::Planar, false) => {
+                self.bmatrix_2d(state, ws, m_out, qv_out)
+            }
+            (InertiaMethod::BMatrix, _, false) => self.bmatrix_3d(state, Linear, ws, m_out, qv_out),
+            (InertiaMethod::BMatrix, _, true) => {
+                let mut scratch = std::mem::take(&mut ws.points);
+                let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
+                self.bmatrix_3d(state, points, ws, m_out, qv_out);
+                ws.points = scratch;
+            }
         }
-        match (self.dim, method) {
-            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => self.shape_3d(state, m_out, qv_out),
-            (Dim::Planar, InertiaMethod::ShapeIntegrals) => self.shape_2d(state, m_out, qv_out),
-            (Dim::Spatial, InertiaMethod::BMatrix) => self.bmatrix_3d(state, m_out, qv_out),
-            (Dim::Planar, InertiaMethod::BMatrix) => self.bmatrix_2d(state, m_out, qv_out),
-        }
+        self.workspace = Some(workspace);
     }
 
     /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (docs/methods.md §2.4 step 2), written
@@ -627,35 +451,43 @@ impl FlexibleBody {
             self.fs.is_none(),
             "inertia_natural: workspace made before set_foreshortening (make it after)"
         );
-        if self.fs.is_some() {
-            return match (self.dim, method) {
-                (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
-                    self.natural_shape_fs_3d(state, ws, m_out, qv_out)
-                }
-                (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
-                    self.natural_shape_fs_2d(state, ws, m_out, qv_out)
-                }
-                (Dim::Spatial, InertiaMethod::BMatrix) => {
-                    self.natural_bmatrix_fs_3d(state, ws, m_out, qv_out)
-                }
-                (Dim::Planar, InertiaMethod::BMatrix) => {
-                    self.natural_bmatrix_fs_2d(state, ws, m_out, qv_out)
-                }
-            };
-        }
-        match (self.dim, method) {
-            (Dim::Spatial, InertiaMethod::ShapeIntegrals) => {
+        match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Spatial, _) => {
                 self.natural_shape_3d(state, ws, m_out, qv_out)
             }
-            (Dim::Planar, InertiaMethod::ShapeIntegrals) => {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, _) => {
                 self.natural_shape_2d(state, ws, m_out, qv_out)
             }
-            (Dim::Spatial, InertiaMethod::BMatrix) => {
-                self.natural_bmatrix_3d(state, ws, m_out, qv_out)
+            (InertiaMethod::BMatrix, _, false) => {
+                self.natural_bmatrix(state, Linear, &mut ws.0, m_out, qv_out)
             }
-            (Dim::Planar, InertiaMethod::BMatrix) => {
-                self.natural_bmatrix_2d(state, ws, m_out, qv_out)
+            (InertiaMethod::BMatrix, _, true) => {
+                let ws = &mut ws.0;
+                let mut scratch = std::mem::take(&mut ws.points);
+                let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
+                self.natural_bmatrix(state, points, ws, m_out, qv_out);
+                ws.points = scratch;
             }
+        }
+    }
+
+    /// Route (a) in natural coordinates of this body's dimension for the cloud-point
+    /// kinematics `points`.
+    fn natural_bmatrix<K, SM, SQ>(
+        &self,
+        state: &NaturalState<'_>,
+        points: K,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        qv_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        K: PointKinematics,
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        match self.dim {
+            Dim::Spatial => self.natural_bmatrix_3d(state, points, ws, m_out, qv_out),
+            Dim::Planar => self.natural_bmatrix_2d(state, points, ws, m_out, qv_out),
         }
     }
 
@@ -779,64 +611,6 @@ impl FlexibleBody {
         }
         // FS0: Σ w X̂_kᵀ Aᵀ g adds −(Σ w F_k) y (ē₁ · Aᵀ g).
         self.add_fs_gravity(state.y, &gb, &mut out[nr..]);
-    }
-}
-
-fn crate_require_positive(field: &str, v: f64) -> Result<f64, InvalidValue> {
-    flexmbd_core::require_positive(field, v)
-}
-
-/// The modal part of a route-(a) result: `Q[o + j] = −qy[j]` and the symmetric n × n block
-/// of M at (o, o) from the upper triangle of `yy` (row-major), which the B-matrix loops
-/// accumulate one triangle of.
-#[inline]
-pub(crate) fn write_modal_block<SM, SQ>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    o: usize,
-    n: usize,
-    yy: &[f64],
-    qy: &[f64],
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-    SQ: StorageMut<f64, Dyn, U1>,
-{
-    for i in 0..n {
-        q_out[o + i] = -qy[i];
-        for j in i..n {
-            let v = yy[i * n + j];
-            m_out[(o + i, o + j)] = v;
-            m_out[(o + j, o + i)] = v;
-        }
-    }
-}
-
-/// The rigid 12 × 12 block of a spatial natural-coordinate mass matrix over (r0, u, v, w)
-/// (docs/methods.md §3.2): every 3 × 3 block is a scalar times I₃, the scalars being
-/// [[m, m̄ᵀ], [m̄, P]] with the first moment m̄ and second moment P of the (deformed) body.
-#[inline]
-pub(crate) fn write_natural_rigid_block_3d<SM>(
-    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    m: f64,
-    mb: &Vector3<f64>,
-    p: &Matrix3<f64>,
-) where
-    SM: StorageMut<f64, Dyn, Dyn>,
-{
-    for bi in 0..4 {
-        for bj in 0..4 {
-            let v = match (bi, bj) {
-                (0, 0) => m,
-                (0, b) => mb[b - 1],
-                (a, 0) => mb[a - 1],
-                (a, b) => p[(a - 1, b - 1)],
-            };
-            for i in 0..3 {
-                for j in 0..3 {
-                    m_out[(3 * bi + i, 3 * bj + j)] = if i == j { v } else { 0.0 };
-                }
-            }
-        }
     }
 }
 

@@ -14,9 +14,15 @@
 //! `M_yy = |u|² (S¹¹ + S²²)`, `Q_v = −2 {Ȧ S ẏ; (Ȧ L_1 − E Ȧ L_2) ẏ; Σ_ab (AᵀȦ)_ab Sᵃᵇ ẏ}`
 //! with `Ȧ = [u̇  E u̇]`, and `Σ_ab (AᵀȦ)_ab Sᵃᵇ = (u·u̇)(S¹¹ + S²²) − (u·E u̇) G_3`.
 //!
-//! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block.
+//! Route (a) accumulates `Σ w_k B_kᵀ B_k` and `−Σ w_k B_kᵀ (2 Ȧ X_k ẏ)` block by block, generic
+//! over the cloud-point kinematics (`kinematics.rs`): for FS0 (methods.md §6.3) `X̂_k` replaces
+//! `X_k`, `r̄_k` carries the axial shortening and `Ḃ_k q̇` gains `−A ē₁ (ẏᵀF_k ẏ)`.
 
-use crate::{FlexibleBody, Workspace, dot, write_modal_block, write_natural_rigid_block_3d};
+use crate::kinematics::PointKinematics;
+use crate::shape::AxialMoments;
+use crate::{
+    FlexibleBody, Workspace, dot, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
+};
 use flexmbd_fe::NodeModes;
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -123,12 +129,81 @@ impl BodyPoint {
     }
 }
 
+/// The frame of a planar natural state: `u`, `u̇`, `A = [u  E u]` and `Ȧ = [u̇  E u̇]`.
+#[inline(always)]
+fn planar_frame(st: &NaturalState<'_>) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
+    let u = st.a.column(0).xy();
+    let ud = st.a_dot.column(0).xy();
+    let a = Matrix2::new(u.x, -u.y, u.y, u.x);
+    let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
+    (u, ud, a, ad)
+}
+
+/// The moments the planar natural-set kernel reads (§2.5 2D; FS0: hatted, §6.3).
+pub(crate) struct PlanarMoments {
+    /// m̄_1, m̄_2.
+    pub(crate) mb: Vector2<f64>,
+    /// P_11 + P_22.
+    pub(crate) trace: f64,
+    /// S ẏ (planar rows).
+    pub(crate) s_yd: Vector2<f64>,
+    /// L_1 ẏ and L_2 ẏ (planar rows).
+    pub(crate) l1_yd: Vector2<f64>,
+    pub(crate) l2_yd: Vector2<f64>,
+    /// Where the rows of L_2 start in `ws.l`, in units of n (linear 2, FS0 3).
+    pub(crate) l2_row: usize,
+    /// The velocity-product moments of a foreshortened body.
+    pub(crate) axial: Option<AxialMoments>,
+}
+
+/// The rigid 4 × 4 block of a planar natural-coordinate mass matrix over (r0, u):
+/// `[[m I, m̄_1 I + m̄_2 E], [(m̄_1 I + m̄_2 E)ᵀ, (P_11 + P_22) I]]`.
+#[inline(always)]
+fn write_natural_rigid_block_2d<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    m: f64,
+    mb: &Vector2<f64>,
+    trace: f64,
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    m_out[(0, 0)] = m;
+    m_out[(1, 1)] = m;
+    m_out[(0, 1)] = 0.0;
+    m_out[(1, 0)] = 0.0;
+    // m̄_1 I + m̄_2 E = [[m̄1, −m̄2], [m̄2, m̄1]].
+    let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
+    for i in 0..2 {
+        for j in 0..2 {
+            m_out[(i, 2 + j)] = r0u[(i, j)];
+            m_out[(2 + j, i)] = r0u[(i, j)];
+            m_out[(2 + i, 2 + j)] = if i == j { trace } else { 0.0 };
+        }
+    }
+}
+
 #[inline(always)]
 fn e2(v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-v.y, v.x)
 }
 
 impl FlexibleBody {
+    /// `Σ_ab G_ab Sᵃᵇ_ij` for the Gram matrix `G_ab = e_a·e_b` (the modal mass of the natural
+    /// set, §2.5).
+    #[inline(always)]
+    pub(crate) fn gram_modal_mass(&self, gram: &Matrix3<f64>, i: usize, j: usize) -> f64 {
+        let n = self.n;
+        let mut v = 0.0;
+        for aa in 0..3 {
+            for bb in 0..3 {
+                v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
+            }
+        }
+        v
+    }
+
+    /// Route (b) in spatial natural coordinates (module doc), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs` and the velocity-product terms `A e c₀`, `A e c₁,b`).
     pub(crate) fn natural_shape_3d<SM, SQ>(
         &self,
         st: &NaturalState<'_>,
@@ -143,54 +218,37 @@ impl FlexibleBody {
         let (y, yd) = (st.y, st.y_dot);
         let (a, ad) = (&st.a, &st.a_dot);
         let ws = &mut nws.0;
-        let mut mb = self.m_u;
+        let moments = self.shape_moments(y, yd, ws);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
         let mut s_yd = Vector3::zeros();
         for c in 0..3 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
+            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
         }
-        let mut p = self.p_u;
-        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
-        if n > 0 {
-            for (row, u) in self.sab.chunks_exact(n).zip(ws.u.iter_mut()) {
-                *u = dot(row, y);
-            }
-            for b in 0..3 {
-                for c in 0..3 {
-                    let dst = (3 * b + c) * n;
-                    let src = (3 * c + b) * n;
-                    let (l, sa, u) = (
-                        &mut ws.l[dst..dst + n],
-                        &self.sa[dst..dst + n],
-                        &ws.u[src..src + n],
-                    );
-                    for j in 0..n {
-                        l[j] = sa[j] + u[j];
-                    }
-                    lam[(b, c)] = dot(l, yd);
-                }
-            }
-            for c in 0..3 {
-                for b in c..3 {
-                    let v = self.p_u[(c, b)]
-                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                        + dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                    p[(c, b)] = v;
-                    p[(b, c)] = v;
-                }
-            }
+        write_natural_rigid_block_3d(m_out, self.mass, &moments.mb, &moments.p);
+        let axial = moments.axial.as_ref().map(|ax| (a * ax.axis, ax));
+        let mut q0 = -2.0 * (ad * s_yd);
+        if let Some((ae, ax)) = &axial {
+            q0 += ae * ax.c0;
         }
-        let m = self.mass;
-        write_natural_rigid_block_3d(m_out, m, &mb, &p);
-        let q0 = -2.0 * (ad * s_yd);
         for i in 0..3 {
             q_out[i] = q0[i];
         }
         for b in 0..3 {
-            // L_b ẏ = (lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]).
-            let lby = Vector3::new(lam[(b, 0)], lam[(b, 1)], lam[(b, 2)]);
-            let qb = -2.0 * (ad * lby);
+            // L_b ẏ.
+            let mut lby = Vector3::zeros();
+            if n > 0 {
+                for c in 0..3 {
+                    lby[c] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+                }
+            }
+            let mut qb = -2.0 * (ad * lby);
+            if let Some((ae, ax)) = &axial {
+                qb += ae * ax.c1[b];
+            }
             for i in 0..3 {
                 q_out[3 + 3 * b + i] = qb[i];
             }
@@ -198,30 +256,14 @@ impl FlexibleBody {
         if n == 0 {
             return;
         }
-        let o = 12;
         let gram = a.tr_mul(a); // e_a · e_b
         let cdot = a.tr_mul(ad); // e_a · ė_b
-        // A S and A L_b columns.
-        for j in 0..n {
-            let sj = Vector3::new(self.s[j], self.s[n + j], self.s[2 * n + j]);
-            let asj = a * sj;
-            for i in 0..3 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-            }
-            for b in 0..3 {
-                let l = &ws.l;
-                let lbj = Vector3::new(
-                    l[(3 * b) * n + j],
-                    l[(3 * b + 1) * n + j],
-                    l[(3 * b + 2) * n + j],
-                );
-                let alj = a * lbj;
-                for i in 0..3 {
-                    m_out[(3 + 3 * b + i, o + j)] = alj[i];
-                    m_out[(o + j, 3 + 3 * b + i)] = alj[i];
-                }
-            }
+        write_natural_couplings_3d(m_out, a, n, s_rows, &ws.l);
+        let o = 12;
+        if axial.is_some() {
+            self.natural_modal_terms_fs_3d(yd, &gram, &cdot, ws);
+            write_modal_rows(m_out, q_out, o, &ws.fs.modal_mass, &ws.qy);
+            return;
         }
         // M_yy = Σ_ab (e_a·e_b) Sᵃᵇ (upper triangle, mirrored; Sᵇᵃ = Sᵃᵇᵀ);
         // Q_y = −2 Σ_ab (e_a·ė_b) Sᵃᵇ ẏ.
@@ -238,12 +280,7 @@ impl FlexibleBody {
         }
         for i in 0..n {
             for j in i..n {
-                let mut v = 0.0;
-                for aa in 0..3 {
-                    for bb in 0..3 {
-                        v += gram[(aa, bb)] * self.sab[(3 * aa + bb) * n * n + i * n + j];
-                    }
-                }
+                let v = self.gram_modal_mass(&gram, i, j);
                 m_out[(o + i, o + j)] = v;
                 m_out[(o + j, o + i)] = v;
             }
@@ -251,23 +288,11 @@ impl FlexibleBody {
         }
     }
 
-    pub(crate) fn natural_shape_2d<SM, SQ>(
-        &self,
-        st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+    /// The planar moments of a linear body (§2.3 in the planar rows), with the rows of L in
+    /// `ws.l`: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n.
+    #[inline(always)]
+    fn planar_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> PlanarMoments {
         let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
-        let m = self.mass;
         let mut mb = self.m_u.xy();
         let mut s_yd = Vector2::zeros();
         for c in 0..2 {
@@ -276,8 +301,6 @@ impl FlexibleBody {
             s_yd[c] = dot(sr, yd);
         }
         let mut ptr = self.p_u[(0, 0)] + self.p_u[(1, 1)];
-        // l rows: (L_1)_1, (L_1)_2, (L_2)_1, (L_2)_2 at 0, n, 2n, 3n (ws.l).
-        let ws = &mut nws.0;
         let mut lam = Matrix2::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         if n > 0 {
             for b in 0..2 {
@@ -296,59 +319,20 @@ impl FlexibleBody {
                     + dot(&ws.l[(2 * c + c) * n..(2 * c + c + 1) * n], y);
             }
         }
-        // Rigid 4 × 4 part.
-        m_out[(0, 0)] = m;
-        m_out[(1, 1)] = m;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        // m̄_1 I + m̄_2 E = [[m̄1, −m̄2], [m̄2, m̄1]].
-        let r0u = Matrix2::new(mb.x, -mb.y, mb.y, mb.x);
-        for i in 0..2 {
-            for j in 0..2 {
-                m_out[(i, 2 + j)] = r0u[(i, j)];
-                m_out[(2 + j, i)] = r0u[(i, j)];
-                m_out[(2 + i, 2 + j)] = if i == j { ptr } else { 0.0 };
-            }
-        }
-        let q0 = -2.0 * (ad * s_yd);
-        let l1y = Vector2::new(lam[(0, 0)], lam[(0, 1)]);
-        let l2y = Vector2::new(lam[(1, 0)], lam[(1, 1)]);
-        let qu = -2.0 * (ad * l1y - e2(ad * l2y));
-        q_out[0] = q0.x;
-        q_out[1] = q0.y;
-        q_out[2] = qu.x;
-        q_out[3] = qu.y;
-        if n == 0 {
-            return;
-        }
-        let o = 4;
-        let uu = u.norm_squared();
-        let u_ud = u.dot(&ud);
-        let u_eud = u.dot(&e2(ud));
-        let g3 = &self.g[2 * n * n..3 * n * n];
-        for j in 0..n {
-            let asj = a * Vector2::new(self.s[j], self.s[n + j]);
-            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
-            let l2 = Vector2::new(ws.l[2 * n + j], ws.l[3 * n + j]);
-            let uy = a * l1 - e2(a * l2);
-            for i in 0..2 {
-                m_out[(i, o + j)] = asj[i];
-                m_out[(o + j, i)] = asj[i];
-                m_out[(2 + i, o + j)] = uy[i];
-                m_out[(o + j, 2 + i)] = uy[i];
-            }
-            let row_m = &self.m_yy[j * n..(j + 1) * n];
-            let row_g = &g3[j * n..(j + 1) * n];
-            q_out[o + j] = -2.0 * (u_ud * dot(row_m, yd) - u_eud * dot(row_g, yd));
-            for i in j..n {
-                let v = uu * self.m_yy[j * n + i];
-                m_out[(o + j, o + i)] = v;
-                m_out[(o + i, o + j)] = v;
-            }
+        PlanarMoments {
+            mb,
+            trace: ptr,
+            s_yd,
+            l1_yd: Vector2::new(lam[(0, 0)], lam[(0, 1)]),
+            l2_yd: Vector2::new(lam[(1, 0)], lam[(1, 1)]),
+            l2_row: 2,
+            axial: None,
         }
     }
 
-    pub(crate) fn natural_bmatrix_3d<SM, SQ>(
+    /// Route (b) in planar natural coordinates (module doc), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs` and the velocity-product terms `A e c₀`, `(c₁,1 I − c₁,2 E) A e`).
+    pub(crate) fn natural_shape_2d<SM, SQ>(
         &self,
         st: &NaturalState<'_>,
         nws: &mut NaturalWorkspace,
@@ -359,10 +343,94 @@ impl FlexibleBody {
         SQ: StorageMut<f64, Dyn, U1>,
     {
         let n = self.n;
+        let (u, ud, a, ad) = planar_frame(st);
+        let ws = &mut nws.0;
+        let moments = match self.fs {
+            None => self.planar_moments(st.y, st.y_dot, ws),
+            Some(_) => self.planar_fs_moments(st.y, st.y_dot, ws),
+        };
+        write_natural_rigid_block_2d(m_out, self.mass, &moments.mb, moments.trace);
+        let mut q0 = -2.0 * (ad * moments.s_yd);
+        let mut qu = -2.0 * (ad * moments.l1_yd - e2(ad * moments.l2_yd));
+        if let Some(ax) = &moments.axial {
+            let ae = a * ax.axis.xy();
+            q0 += ae * ax.c0;
+            qu += ae * ax.c1.x;
+            qu -= e2(ae) * ax.c1.y;
+        }
+        q_out[0] = q0.x;
+        q_out[1] = q0.y;
+        q_out[2] = qu.x;
+        q_out[3] = qu.y;
+        if n == 0 {
+            return;
+        }
+        let o = 4;
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
+        let l2 = moments.l2_row * n;
+        for j in 0..n {
+            let asj = a * Vector2::new(s_rows[j], s_rows[n + j]);
+            let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
+            let l2 = Vector2::new(ws.l[l2 + j], ws.l[l2 + n + j]);
+            let uy = a * l1 - e2(a * l2);
+            for i in 0..2 {
+                m_out[(i, o + j)] = asj[i];
+                m_out[(o + j, i)] = asj[i];
+                m_out[(2 + i, o + j)] = uy[i];
+                m_out[(o + j, 2 + i)] = uy[i];
+            }
+        }
+        let uu = u.norm_squared();
+        if moments.axial.is_some() {
+            self.natural_modal_terms_fs_2d(&u, &ud, st.y_dot, ws);
+            for i in 0..n {
+                for j in 0..n {
+                    m_out[(o + i, o + j)] = uu * ws.yy[i * n + j];
+                }
+                q_out[o + i] = ws.qy[i];
+            }
+            return;
+        }
+        // M_yy = |u|² (S¹¹ + S²²), Q_y = −2 ((u·u̇)(S¹¹ + S²²) − (u·E u̇) G_3) ẏ.
+        let u_ud = u.dot(&ud);
+        let u_eud = u.dot(&e2(ud));
+        let g3 = &self.g[2 * n * n..3 * n * n];
+        for j in 0..n {
+            let row_m = &self.m_yy[j * n..(j + 1) * n];
+            let row_g = &g3[j * n..(j + 1) * n];
+            q_out[o + j] = -2.0 * (u_ud * dot(row_m, st.y_dot) - u_eud * dot(row_g, st.y_dot));
+            for i in j..n {
+                let v = uu * self.m_yy[j * n + i];
+                m_out[(o + j, o + i)] = v;
+                m_out[(o + i, o + j)] = v;
+            }
+        }
+    }
+
+    /// Route (a) in spatial natural coordinates {r0, u, v, w, y} for the cloud-point
+    /// kinematics `points` (module doc, with `X̂_k` for `X_k` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ + A b_k`).
+    pub(crate) fn natural_bmatrix_3d<K, SM, SQ>(
+        &self,
+        st: &NaturalState<'_>,
+        mut points: K,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        K: PointKinematics,
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
         let (a, ad) = (&st.a, &st.a_dot);
-        let ws = &mut nws.0;
-        // Accumulators: sy (A X), l (r̄_b A X for b = 0..3, at 3 n b), yy, qy.
+        let axis = points.axis();
+        let a_axis = a * axis;
+        // Accumulators: sy (A X̂), l (r̄_b A X̂ for b = 0..3, at 3 n b), yy, qy.
         ws.sy.fill(0.0);
         ws.l.fill(0.0);
         ws.yy.fill(0.0);
@@ -376,9 +444,16 @@ impl FlexibleBody {
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
+            points.at(k, x);
+            let xh = points.velocity_rows(x);
             let (x0, x1, x2) = (&x[..n], &x[n..2 * n], &x[2 * n..]);
-            let rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
-            let acc = 2.0 * (ad * Vector3::new(dot(x0, yd), dot(x1, yd), dot(x2, yd)));
+            let (xh0, xh1, xh2) = (&xh[..n], &xh[n..2 * n], &xh[2 * n..3 * n]);
+            let mut rb = self.pos[k] + Vector3::new(dot(x0, y), dot(x1, y), dot(x2, y));
+            let mut acc = 2.0 * (ad * Vector3::new(dot(xh0, yd), dot(xh1, yd), dot(xh2, yd)));
+            if let Some(s) = points.axial() {
+                rb -= axis * s.shortening;
+                acc -= a_axis * s.velocity_product;
+            }
             msum += wk;
             rsum += wk * rb;
             psum += (wk * rb) * rb.transpose();
@@ -390,7 +465,7 @@ impl FlexibleBody {
             let (ax0, rest) = ws.ax.split_at_mut(n);
             let (ax1, ax2) = rest.split_at_mut(n);
             for j in 0..n {
-                let v = a * Vector3::new(x0[j], x1[j], x2[j]);
+                let v = a * Vector3::new(xh0[j], xh1[j], xh2[j]);
                 ax0[j] = v.x;
                 ax1[j] = v.y;
                 ax2[j] = v.z;
@@ -419,23 +494,25 @@ impl FlexibleBody {
         write_bmatrix_natural_3d(m_out, q_out, n, &sums, &ws.sy, &ws.l, &ws.yy, &ws.qy);
     }
 
-    pub(crate) fn natural_bmatrix_2d<SM, SQ>(
+    /// Route (a) in planar natural coordinates {r0, u, y} for the cloud-point kinematics
+    /// `points` (module doc, with `X̂_k` for `X_k` and `Ḃ_k q̇ = 2 Ȧ X̂_k ẏ + A b_k`).
+    pub(crate) fn natural_bmatrix_2d<K, SM, SQ>(
         &self,
         st: &NaturalState<'_>,
-        nws: &mut NaturalWorkspace,
+        mut points: K,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
+        K: PointKinematics,
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
-        let u = st.a.column(0).xy();
-        let ud = st.a_dot.column(0).xy();
-        let a = Matrix2::new(u.x, -u.y, u.y, u.x);
-        let ad = Matrix2::new(ud.x, -ud.y, ud.y, ud.x);
-        let ws = &mut nws.0;
+        let (_, _, a, ad) = planar_frame(st);
+        let axis = points.axis().xy();
+        let a_axis = a * axis;
         ws.sy.fill(0.0);
         ws.wy.fill(0.0);
         ws.yy.fill(0.0);
@@ -449,9 +526,16 @@ impl FlexibleBody {
         for k in 0..self.w.len() {
             let wk = self.w[k];
             let x = &self.rows[k * w3..(k + 1) * w3];
+            points.at(k, x);
+            let xh = points.velocity_rows(x);
             let (x0, x1) = (&x[..n], &x[n..2 * n]);
-            let rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
-            let acc = 2.0 * (ad * Vector2::new(dot(x0, yd), dot(x1, yd)));
+            let (xh0, xh1) = (&xh[..n], &xh[n..2 * n]);
+            let mut rb = self.pos[k].xy() + Vector2::new(dot(x0, y), dot(x1, y));
+            let mut acc = 2.0 * (ad * Vector2::new(dot(xh0, yd), dot(xh1, yd)));
+            if let Some(s) = points.axial() {
+                rb -= axis * s.shortening;
+                acc -= a_axis * s.velocity_product;
+            }
             msum += wk;
             rsum += wk * rb;
             psum += wk * rb.norm_squared();
@@ -460,7 +544,7 @@ impl FlexibleBody {
             qu += wk * (rb.x * acc - rb.y * e2(acc));
             let (ax0, ax1) = ws.ax.split_at_mut(n);
             for j in 0..n {
-                let v = a * Vector2::new(x0[j], x1[j]);
+                let v = a * Vector2::new(xh0[j], xh1[j]);
                 ax0[j] = v.x;
                 ax1[j] = v.y;
                 ws.sy[j] += wk * v.x;
@@ -487,6 +571,40 @@ impl FlexibleBody {
             qu,
         };
         write_bmatrix_natural_2d(m_out, q_out, n, &sums, &ws.sy, &ws.wy, &ws.yy, &ws.qy);
+    }
+}
+
+/// The rigid–modal couplings of a spatial natural-coordinate M, symmetric: `M_r0y = A S` and
+/// `M_eby = A L_b` from the body-frame rows of S (3 × n) and L ((L_b)_a at (3b + a) n).
+#[inline(always)]
+pub(crate) fn write_natural_couplings_3d<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    a: &Matrix3<f64>,
+    n: usize,
+    s: &[f64],
+    l: &[f64],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    let o = 12;
+    for j in 0..n {
+        let asj = a * Vector3::new(s[j], s[n + j], s[2 * n + j]);
+        for i in 0..3 {
+            m_out[(i, o + j)] = asj[i];
+            m_out[(o + j, i)] = asj[i];
+        }
+        for b in 0..3 {
+            let lbj = Vector3::new(
+                l[(3 * b) * n + j],
+                l[(3 * b + 1) * n + j],
+                l[(3 * b + 2) * n + j],
+            );
+            let alj = a * lbj;
+            for i in 0..3 {
+                m_out[(3 + 3 * b + i, o + j)] = alj[i];
+                m_out[(o + j, 3 + 3 * b + i)] = alj[i];
+            }
+        }
     }
 }
 

@@ -15,84 +15,156 @@
 //! `M̄_ωω = J_O = tr(P_g) I − P_g` with `P_g = ∫ r rᵀ dm` about the global origin,
 //! `M̄_ωy = r̃0 A S + A C`.
 
-use crate::{BodyState, FlexibleBody, dot, planar_rotation};
-use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
+use crate::{
+    BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout, write_modal_rows,
+    write_relative_couplings, write_relative_rigid,
+};
+use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+
+/// The rigid blocks of the s form in global components (§2.4 steps 2–3), from the body-frame
+/// moments and forces: `M̄_sω = −g̃` with the first moment `g = m r0 + A m̄` about the global
+/// origin, `M̄_ωω = J_O = tr(P_g) I − P_g`, and `Q̄ = {A q_t; r0 × A q_t + A q_r}`.
+pub(crate) struct GlobalRigid {
+    pub(crate) moment: Vector3<f64>,
+    pub(crate) inertia: Matrix3<f64>,
+    pub(crate) force: [f64; 6],
+}
+
+/// The configuration-dependent moments of a body at (y, ẏ) in body components (§2.3; FS0:
+/// the hatted moments of §6.3), beside the S and L rows the kernels read from the workspace.
+pub(crate) struct ShapeMoments {
+    /// m̄(y).
+    pub(crate) mb: Vector3<f64>,
+    /// P(y) = Σ w r̄ r̄ᵀ.
+    pub(crate) p: Matrix3<f64>,
+    /// The velocity-product moments of a foreshortened body, `None` for a linear one.
+    pub(crate) axial: Option<AxialMoments>,
+}
+
+/// The velocity-product moments of FS0 (§6.3): `c₀ = Σ w c_k`, `c₁ = Σ w c_k r̄_k` with
+/// `c_k = ẏᵀF_k ẏ`, along the beam axis ē₁.
+pub(crate) struct AxialMoments {
+    pub(crate) axis: Vector3<f64>,
+    pub(crate) c0: f64,
+    pub(crate) c1: Vector3<f64>,
+}
+
+/// The motion of the body frame in body components: ω̄ = Aᵀω and the shift term
+/// `ā = ω̄ × v̄0` (`v̄0 = Aᵀṙ0`) of step 3.
+#[inline(always)]
+pub(crate) fn body_frame_motion(st: &BodyState<'_>) -> (Vector3<f64>, Vector3<f64>) {
+    let wb = st.a.tr_mul(&st.omega);
+    let v0b = st.a.tr_mul(&st.r0_dot());
+    (wb, wb.cross(&v0b))
+}
+
+/// The rows of `C_a = Σ_bc ε_abc (L_b)_c` (3 × n into `c`) from L ((L_b)_a at (3b + a) n):
+/// `C_1 = (L_2)_3 − (L_3)_2`, `C_2 = (L_3)_1 − (L_1)_3`, `C_3 = (L_1)_2 − (L_2)_1`.
+#[inline(always)]
+pub(crate) fn c_rows(n: usize, l: &[f64], c: &mut [f64]) {
+    let lrow = |b: usize, a: usize| &l[(3 * b + a) * n..(3 * b + a + 1) * n];
+    for j in 0..n {
+        c[j] = lrow(1, 2)[j] - lrow(2, 1)[j];
+        c[n + j] = lrow(2, 0)[j] - lrow(0, 2)[j];
+        c[2 * n + j] = lrow(0, 1)[j] - lrow(1, 0)[j];
+    }
+}
+
+/// The modal inertia force of the body-frame origin form with the shift term,
+/// `q_y = −(Σ_ab (ω̃ω̃)_ab (L_b)_aᵀ + 2 G ẏ) − Sᵀ ā`, over `q` (n) which holds `G ẏ` on entry;
+/// `s` and `l` are the rows of S and L (3n, 9n).
+#[inline(always)]
+pub(crate) fn modal_inertia_forces(
+    wb: &Vector3<f64>,
+    ab: &Vector3<f64>,
+    s: &[f64],
+    l: &[f64],
+    q: &mut [f64],
+) {
+    let n = q.len();
+    let ww = wb.norm_squared();
+    let om = wb * wb.transpose() - Matrix3::identity() * ww; // (ω̃ω̃)_ab
+    for j in 0..n {
+        let mut t = 0.0;
+        for c in 0..3 {
+            for b in 0..3 {
+                t += om[(c, b)] * l[(3 * b + c) * n + j];
+            }
+        }
+        let sta = s[j] * ab.x + s[n + j] * ab.y + s[2 * n + j] * ab.z;
+        q[j] = -(t + 2.0 * q[j]) - sta;
+    }
+}
 
 impl FlexibleBody {
-    pub(crate) fn shape_3d<SM, SQ>(
-        &mut self,
-        st: &BodyState<'_>,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
-        let n = self.n;
-        let (y, yd) = (st.y, st.y_dot);
-        let a = &st.a;
-        let r0 = st.r0;
-        let wb = a.tr_mul(&st.omega);
-        let v0b = a.tr_mul(&st.r0_dot());
-        let ab = wb.cross(&v0b);
-        let ws = &mut self.ws;
-
-        // m̄(y), S ẏ.
+    /// The linear configuration-dependent moments of §2.3 over the first `axes` body axes
+    /// (3, or 2 for the planar rows): `u^{ab} = Sᵃᵇ y` into `u` and `(L_b)_a = Sᵇ_a + u^{ab}`
+    /// into `l` (at (3b + a) n; the z entries zero when `axes` = 2); returns `m̄(y) = m̄_u + S y`
+    /// and `P_ab = P̄_ab + Sᵃ_b·y + (L_b)_a·y`. `N` = n as a compile-time constant, or 0.
+    #[inline(always)]
+    pub(crate) fn linear_moments<const N: usize>(
+        &self,
+        y: &[f64],
+        axes: usize,
+        u: &mut [f64],
+        l: &mut [f64],
+    ) -> (Vector3<f64>, Matrix3<f64>) {
+        let n = if N == 0 { self.n } else { N };
+        let n2 = n * n;
         let mut mb = self.m_u;
-        let mut s_yd = Vector3::zeros();
-        for c in 0..3 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
+        for c in 0..axes {
+            mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
         }
         let mut p = self.p_u;
-        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
-        let mut h_yd = 0.0;
-        if n > 0 {
-            // u^{ab} = S^{ab} y (9 n-vectors), G_c ẏ (3 n-vectors).
-            for (row, u) in self.sab.chunks_exact(n).zip(ws.u.iter_mut()) {
-                *u = dot(row, y);
-            }
-            for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
-                *g = dot(row, yd);
-            }
-            // (L_b)_a = S^b_a + u^{ab}, stored at (3b + a) n.
-            for b in 0..3 {
-                for c in 0..3 {
-                    let dst = (3 * b + c) * n;
-                    let src = (3 * c + b) * n;
-                    let (l, sa, u) = (
-                        &mut ws.l[dst..dst + n],
-                        &self.sa[dst..dst + n],
-                        &ws.u[src..src + n],
-                    );
-                    for j in 0..n {
-                        l[j] = sa[j] + u[j];
-                    }
-                    lam[(b, c)] = dot(l, yd);
-                }
-            }
-            // P_ab = P̄_ab + S^a_b · y + (L_b)_a · y.
-            for c in 0..3 {
-                for b in c..3 {
-                    let v = self.p_u[(c, b)]
-                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                        + dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                    p[(c, b)] = v;
-                    p[(b, c)] = v;
-                }
-            }
-            h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
+        if n == 0 {
+            return (mb, p);
         }
-        let io = Matrix3::identity() * p.trace() - p;
+        for c in 0..axes {
+            for b in 0..axes {
+                let block = &self.sab[(3 * c + b) * n2..(3 * c + b + 1) * n2];
+                let dst = &mut u[(3 * c + b) * n..(3 * c + b + 1) * n];
+                for (uu, row) in dst.iter_mut().zip(block.chunks_exact(n)) {
+                    *uu = dot(row, y);
+                }
+            }
+        }
+        if axes == 2 {
+            l[2 * n..3 * n].fill(0.0);
+            l[5 * n..9 * n].fill(0.0);
+        }
+        for b in 0..axes {
+            for c in 0..axes {
+                let dst = (3 * b + c) * n;
+                let src = (3 * c + b) * n;
+                for j in 0..n {
+                    l[dst + j] = self.sa[dst + j] + u[src + j];
+                }
+            }
+        }
+        for c in 0..axes {
+            for b in c..axes {
+                let v = self.p_u[(c, b)]
+                    + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
+                    + dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], y);
+                p[(c, b)] = v;
+                p[(b, c)] = v;
+            }
+        }
+        (mb, p)
+    }
 
-        // Body-frame inertia forces including the D-shift term −M̄_body {ā; 0; 0}.
-        let qt = -(wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd)) - self.mass * ab;
-        // W ẏ = ω̄ (h·ẏ) − Σ_b ω̄_b (L_b ẏ).
-        let w_yd = wb * h_yd - lam.tr_mul(&wb);
-        let qr = -(wb.cross(&(io * wb)) + 2.0 * w_yd) - mb.cross(&ab);
-
-        // Global blocks.
+    /// [`GlobalRigid`] from m̄, P and the body-frame forces q_t, q_r at orientation `a` and
+    /// origin `r0`.
+    #[inline(always)]
+    pub(crate) fn global_rigid(
+        &self,
+        a: &Matrix3<f64>,
+        r0: &Vector3<f64>,
+        mb: &Vector3<f64>,
+        p: &Matrix3<f64>,
+        qt: &Vector3<f64>,
+        qr: &Vector3<f64>,
+    ) -> GlobalRigid {
         let am = a * mb;
         let lever = self.mass * r0 + am;
         let pg = a * p * a.transpose()
@@ -102,80 +174,179 @@ impl FlexibleBody {
         let jo = Matrix3::identity() * pg.trace() - pg;
         let qtg = a * qt;
         let qrg = r0.cross(&qtg) + a * qr;
+        GlobalRigid {
+            moment: lever,
+            inertia: jo,
+            force: [qtg.x, qtg.y, qtg.z, qrg.x, qrg.y, qrg.z],
+        }
+    }
 
-        // Fill M̄: rigid 6×6 part.
-        for i in 0..3 {
-            for j in 0..3 {
-                m_out[(i, j)] = if i == j { self.mass } else { 0.0 };
-                m_out[(i + 3, j + 3)] = jo[(i, j)];
-            }
-        }
-        let lt = flexmbd_core::skew(&lever);
-        for i in 0..3 {
-            for j in 0..3 {
-                m_out[(i, j + 3)] = -lt[(i, j)];
-                m_out[(i + 3, j)] = lt[(i, j)];
-            }
-        }
-        for i in 0..3 {
-            q_out[i] = qtg[i];
-            q_out[i + 3] = qrg[i];
-        }
-        if n == 0 {
-            return;
-        }
-
-        // C rows: C_1 = (L_2)_3 − (L_3)_2, C_2 = (L_3)_1 − (L_1)_3, C_3 = (L_1)_2 − (L_2)_1;
-        // h = Σ_a (L_a)_a; q_y.
-        let l = &ws.l;
-        let lrow = |b: usize, c: usize| &l[(3 * b + c) * n..(3 * b + c + 1) * n];
-        let ww = wb.norm_squared();
-        let om = wb * wb.transpose() - Matrix3::identity() * ww; // (ω̃ω̃)_ab
-        let gsum = &mut ws.qy; // G(ω̄) ẏ, then q_y
+    /// The rigid–modal couplings `M̄_sy = A S`, `M̄_ωy = r0 × (A S) + A C` from the body-frame
+    /// rows of S and C (3 × n each), written in the layout of the body's dimension through the
+    /// global rows `translation` and `rotation` (3n each).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn write_shape_couplings<SM>(
+        &self,
+        a: &Matrix3<f64>,
+        r0: &Vector3<f64>,
+        s: &[f64],
+        c: &[f64],
+        translation: &mut [f64],
+        rotation: &mut [f64],
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+    {
+        let n = self.n;
         for j in 0..n {
-            gsum[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
-        }
-        let cc = &mut ws.c;
-        for j in 0..n {
-            cc[j] = lrow(1, 2)[j] - lrow(2, 1)[j];
-            cc[n + j] = lrow(2, 0)[j] - lrow(0, 2)[j];
-            cc[2 * n + j] = lrow(0, 1)[j] - lrow(1, 0)[j];
-        }
-        for j in 0..n {
-            // Σ_ab (ω̃ω̃)_ab (L_b)_a
-            let mut t = 0.0;
-            for c in 0..3 {
-                for b in 0..3 {
-                    t += om[(c, b)] * l[(3 * b + c) * n + j];
-                }
-            }
-            let sta = self.s[j] * ab.x + self.s[n + j] * ab.y + self.s[2 * n + j] * ab.z;
-            gsum[j] = -(t + 2.0 * gsum[j]) - sta;
-        }
-        // A S and A C columns; M̄_sy = A S, M̄_ωy = r0 × (A S) + A C.
-        for j in 0..n {
-            let sj = Vector3::new(self.s[j], self.s[n + j], self.s[2 * n + j]);
-            let cj = Vector3::new(cc[j], cc[n + j], cc[2 * n + j]);
+            let sj = Vector3::new(s[j], s[n + j], s[2 * n + j]);
+            let cj = Vector3::new(c[j], c[n + j], c[2 * n + j]);
             let asj = a * sj;
             let wyj = r0.cross(&asj) + a * cj;
             for i in 0..3 {
-                m_out[(i, 6 + j)] = asj[i];
-                m_out[(6 + j, i)] = asj[i];
-                m_out[(3 + i, 6 + j)] = wyj[i];
-                m_out[(6 + j, 3 + i)] = wyj[i];
+                translation[i * n + j] = asj[i];
+                rotation[i * n + j] = wyj[i];
             }
-            q_out[6 + j] = gsum[j];
         }
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(6 + i, 6 + j)] = self.m_yy[i * n + j];
+        write_relative_couplings(m_out, self.dim, n, translation, rotation);
+    }
+
+    /// The moments of this body at (y, ẏ): linear (§2.3, S and L rows in `self.s`, `ws.l`) or
+    /// foreshortened (§6.3, Ŝ and L̂ rows in `ws.sy`, `ws.l`, contractions in `ws.fs`).
+    #[inline(always)]
+    pub(crate) fn shape_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> ShapeMoments {
+        match self.fs {
+            None => {
+                let (mb, p) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
+                ShapeMoments { mb, p, axial: None }
+            }
+            Some(_) => self.fs_moments(y, yd, ws),
+        }
+    }
+
+    /// Route (b) in the spatial relative set (§2.4 steps 1–3), linear or FS0 (the hatted
+    /// moments of `fs_shape.rs`, and the velocity-product terms `e c₀`, `c₁ × e`,
+    /// `Σ w c_k X̂_kᵀ e`); a planar FS0 body runs it too and keeps x, y, θz.
+    pub(crate) fn shape_3d<SM, SQ>(
+        &self,
+        st: &BodyState<'_>,
+        ws: &mut Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
+        let (y, yd) = (st.y, st.y_dot);
+        let (wb, ab) = body_frame_motion(st);
+        let moments = self.shape_moments(y, yd, ws);
+        let (mb, p) = (moments.mb, moments.p);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
+        let mut s_yd = Vector3::zeros();
+        for c in 0..3 {
+            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
+        }
+        let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
+        let mut h_yd = 0.0;
+        if n > 0 {
+            for b in 0..3 {
+                for c in 0..3 {
+                    lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
+                }
+            }
+            h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
+        }
+        let io = Matrix3::identity() * p.trace() - p;
+
+        // Body-frame inertia forces including the D-shift term −M̄_body {ā; 0; 0}, with
+        // W ẏ = ω̄ (h·ẏ) − Σ_b ω̄_b (L_b ẏ).
+        let translation = wb.cross(&wb.cross(&mb)) + 2.0 * wb.cross(&s_yd);
+        let w_yd = wb * h_yd - lam.tr_mul(&wb);
+        let rotation = wb.cross(&(io * wb)) + 2.0 * w_yd;
+        let (qt, qr) = match &moments.axial {
+            None => (-translation - self.mass * ab, -rotation - mb.cross(&ab)),
+            Some(ax) => (
+                -(translation - ax.axis * ax.c0) - self.mass * ab,
+                -(rotation - ax.c1.cross(&ax.axis)) - mb.cross(&ab),
+            ),
+        };
+        let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
+        write_relative_rigid(
+            m_out,
+            q_out,
+            self.dim,
+            self.mass,
+            &rigid.moment,
+            &rigid.inertia,
+            &rigid.force,
+        );
+        if n == 0 {
+            return;
+        }
+        let mut qy = std::mem::take(&mut ws.qy);
+        let mut yy = std::mem::take(&mut ws.yy);
+        let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
+        c_rows(n, &ws.l, &mut ws.c);
+        let s_rows: &[f64] = if moments.axial.is_some() {
+            &ws.sy
+        } else {
+            &self.s
+        };
+        self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
+        let (_, o) = relative_layout(self.dim);
+        write_modal_rows(m_out, q_out, o, modal_mass.unwrap_or(&yy), &qy);
+        ws.qy = qy;
+        ws.yy = yy;
+    }
+
+    /// The modal rows of the relative set: `q_y = −(Σ_ab (ω̃ω̃)_ab (L_b)_a + 2 G ẏ) − Sᵀā` into
+    /// `qy` (FS0: hatted, `+ Σ w c_k X̂_kᵀ e`), and the modal mass: `None` for the body's
+    /// `M_yy`, or FS0's `M̂_yy` written into `yy`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn shape_modal_terms<'m>(
+        &'m self,
+        wb: &Vector3<f64>,
+        ab: &Vector3<f64>,
+        yd: &[f64],
+        moments: &ShapeMoments,
+        ws: &mut Workspace,
+        qy: &mut [f64],
+        yy: &mut [f64],
+    ) -> Option<&'m [f64]> {
+        let n = self.n;
+        match &moments.axial {
+            None => {
+                // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ.
+                for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
+                    *g = dot(row, yd);
+                }
+                for j in 0..n {
+                    qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
+                }
+                modal_inertia_forces(wb, ab, &self.s, &ws.l, qy);
+                Some(&self.m_yy)
+            }
+            Some(ax) => {
+                self.fs_gyroscopic(wb, &ax.axis, yd, ws, qy);
+                modal_inertia_forces(wb, ab, &ws.sy, &ws.l, qy);
+                self.fs_add_c_term(ws, &ax.axis, qy);
+                self.fs_yy(ws, &ax.axis, 1.0, &self.m_yy, yy);
+                None
             }
         }
     }
 
     pub(crate) fn shape_2d<SM, SQ>(
-        &mut self,
+        &self,
         st: &BodyState<'_>,
+        ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
     ) where
@@ -204,7 +375,6 @@ impl FlexibleBody {
         // C_3 = S¹_2 − S²_1 + G_3 y ; all in O(n²) with three mat-vecs.
         let mut izz = self.p_u[(0, 0)] + self.p_u[(1, 1)];
         let mut h_yd = 0.0;
-        let ws = &mut self.ws;
         let g3 = &self.g[2 * n * n..3 * n * n];
         if n > 0 {
             let (t, rest) = ws.u.split_at_mut(n);
@@ -255,6 +425,27 @@ impl FlexibleBody {
         if n == 0 {
             return;
         }
+        self.write_planar_modal_terms(&a, &r0, w, &ab, ws, m_out, q_out);
+    }
+
+    /// The modal rows and columns of the planar lean path: `M̄_sy = A S`, `M̄_θy = r0 × (A S) + C_3`,
+    /// `M_yy`, and `q_y = ω² h − 2ω G_3 ẏ − Sᵀā`, from h, C_3 and G_3 ẏ in the workspace.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn write_planar_modal_terms<SM, SQ>(
+        &self,
+        a: &Matrix2<f64>,
+        r0: &Vector2<f64>,
+        w: f64,
+        ab: &Vector2<f64>,
+        ws: &Workspace,
+        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
+        let n = self.n;
         let h = &ws.l[..n];
         let c3 = &ws.c[..n];
         let g3yd = &ws.u[2 * n..3 * n];

@@ -1,0 +1,237 @@
+//! Sensors, written once for every formulation over its [`SensorQuery`].
+//!
+//! Each sensor of the scene is resolved once, when a formulation compiles the prepared scene,
+//! into the formulation's handles (a marker, a joint coordinate, a modal coordinate's index),
+//! and read at output instants:
+//!
+//! - `Position`: r_P, or Aᵀ(r_P − r0) in the body frame {r0, A} of `frame`;
+//! - `Velocity`: ṙ_P, or Aᵀṙ_P in the axes of `frame`;
+//! - `JointCoordinate`: the formulation's reading relative to the start; an angle known up to
+//!   whole turns is made continuous by counting turns between readings (a jump over π is a
+//!   turn);
+//! - `Modal`: the modal coordinate y_k;
+//! - `Energy`: the formulation's total mechanical energy.
+//!
+//! A `displacement` sensor reports its value minus the marker's undeformed value
+//! ([`PreparedScene::sensor_offsets`]).
+
+use std::f64::consts::{PI, TAU};
+
+use flexmbd_core::{Dim, InvalidValue, JointReading, SensorQuery};
+use nalgebra::DVector;
+
+use crate::error::ModelError;
+use crate::prepared::{BodyId, JointId, MarkerId, PreparedScene, SensorTarget};
+use crate::scene::Axis;
+
+/// One sensor, resolved into a formulation's handles (`M`: marker, `J`: joint coordinate).
+#[derive(Clone, Debug)]
+enum Reading<M, J> {
+    Position {
+        marker: M,
+        axis: usize,
+        frame: Option<usize>,
+    },
+    Velocity {
+        marker: M,
+        axis: usize,
+        frame: Option<usize>,
+    },
+    JointCoordinate {
+        joint: J,
+        /// The last value reported, and the whole turns counted so far.
+        last: f64,
+        turns: f64,
+    },
+    /// The coordinate index of the mode (`None`: a body without that mode reads 0).
+    Modal(Option<usize>),
+    Energy,
+}
+
+/// The sensors of a scene, compiled for one formulation.
+#[derive(Clone, Debug)]
+pub struct Sensors<M, J> {
+    names: Vec<String>,
+    readings: Vec<Reading<M, J>>,
+    offsets: Vec<f64>,
+}
+
+impl<M, J> Default for Sensors<M, J> {
+    fn default() -> Self {
+        Sensors {
+            names: Vec::new(),
+            readings: Vec::new(),
+            offsets: Vec::new(),
+        }
+    }
+}
+
+/// How a formulation names what the sensors read, given while it compiles a scene.
+pub struct SensorHandles<MarkerOf, JointOf, ModeOf> {
+    /// The formulation's handle of a marker.
+    pub marker: MarkerOf,
+    /// The handle of a joint's coordinate for the sensor named by the first argument, or the
+    /// refusal (a joint whose coordinate this formulation cannot read).
+    pub joint: JointOf,
+    /// The coordinate index of mode `index` of a body (`None` if it has no such mode).
+    pub mode: ModeOf,
+}
+
+impl<M, J> Sensors<M, J> {
+    /// Resolve the prepared scene's sensors into a formulation's handles.
+    pub fn new<MarkerOf, JointOf, ModeOf>(
+        prepared: &PreparedScene,
+        mut handles: SensorHandles<MarkerOf, JointOf, ModeOf>,
+    ) -> Result<Self, ModelError>
+    where
+        MarkerOf: FnMut(MarkerId) -> M,
+        JointOf: FnMut(&str, JointId) -> Result<J, ModelError>,
+        ModeOf: FnMut(BodyId, usize) -> Option<usize>,
+    {
+        let scene = prepared.scene();
+        let mut readings = Vec::with_capacity(scene.sensors.len());
+        for (sensor, target) in scene.sensors.iter().zip(prepared.sensor_targets()) {
+            let axis = |component: Axis| {
+                if scene.dim == Dim::Planar && component == Axis::Z {
+                    return Err(ModelError::Invalid {
+                        file: scene.origin.clone(),
+                        error: InvalidValue::new(
+                            format!("sensors[{}].component", sensor.name),
+                            "Z",
+                            "a planar scene has x and y components only",
+                        ),
+                    });
+                }
+                Ok(component.index())
+            };
+            readings.push(match *target {
+                SensorTarget::Position {
+                    marker,
+                    component,
+                    frame,
+                } => Reading::Position {
+                    marker: (handles.marker)(marker),
+                    axis: axis(component)?,
+                    frame: frame.map(|b| b.0),
+                },
+                SensorTarget::Velocity {
+                    marker,
+                    component,
+                    frame,
+                } => Reading::Velocity {
+                    marker: (handles.marker)(marker),
+                    axis: axis(component)?,
+                    frame: frame.map(|b| b.0),
+                },
+                SensorTarget::JointCoordinate(joint) => Reading::JointCoordinate {
+                    joint: (handles.joint)(&sensor.name, joint)?,
+                    last: 0.0,
+                    turns: 0.0,
+                },
+                SensorTarget::Modal { body, index } => Reading::Modal((handles.mode)(body, index)),
+                SensorTarget::Energy => Reading::Energy,
+            });
+        }
+        Ok(Sensors {
+            names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
+            readings,
+            offsets: prepared.sensor_offsets().to_vec(),
+        })
+    }
+
+    /// The sensors' names, in output order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Read every sensor at (q, q̇) into `out` (one value per name). A formulation with
+    /// recursive kinematics runs its kinematic pass at (q, q̇) first.
+    pub fn read<K>(&mut self, query: &mut K, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64])
+    where
+        K: SensorQuery<Marker = M, JointCoordinate = J>,
+    {
+        for (k, reading) in self.readings.iter_mut().enumerate() {
+            let value = match reading {
+                Reading::Position {
+                    marker,
+                    axis,
+                    frame,
+                } => {
+                    let (p, _) = query.marker_state(marker, q, qd);
+                    match frame {
+                        None => p[*axis],
+                        Some(body) => {
+                            let (r0, a) = query.body_frame(*body, q);
+                            (a.transpose() * (p - r0))[*axis]
+                        }
+                    }
+                }
+                Reading::Velocity {
+                    marker,
+                    axis,
+                    frame,
+                } => {
+                    let (_, v) = query.marker_state(marker, q, qd);
+                    match frame {
+                        None => v[*axis],
+                        Some(body) => (query.body_frame(*body, q).1.transpose() * v)[*axis],
+                    }
+                }
+                Reading::JointCoordinate { joint, last, turns } => {
+                    match query.joint_coordinate(joint, q, qd) {
+                        JointReading::Value(v) => v,
+                        JointReading::Angle(angle) => continuous_angle(angle, last, turns),
+                    }
+                }
+                Reading::Modal(index) => index.map_or(0.0, |i| q[i]),
+                Reading::Energy => query.total_energy(q, qd),
+            };
+            out[k] = value - self.offsets[k];
+        }
+    }
+}
+
+/// The angle `angle` (known up to whole turns) made continuous with the last value reported:
+/// whole turns are added while the jump from `last` exceeds π.
+fn continuous_angle(angle: f64, last: &mut f64, turns: &mut f64) -> f64 {
+    let mut v = angle + *turns * TAU;
+    while v - *last > PI {
+        *turns -= 1.0;
+        v -= TAU;
+    }
+    while v - *last < -PI {
+        *turns += 1.0;
+        v += TAU;
+    }
+    *last = v;
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::continuous_angle;
+    use std::f64::consts::{PI, TAU};
+
+    #[test]
+    fn an_angle_read_modulo_a_turn_is_made_continuous() {
+        let (mut last, mut turns) = (0.0, 0.0);
+        // A joint turning at 1 rad per reading, read in (−π, π].
+        let mut reported = Vec::new();
+        for k in 0..20 {
+            let true_angle = k as f64;
+            let wrapped = (true_angle + PI).rem_euclid(TAU) - PI;
+            reported.push(continuous_angle(wrapped, &mut last, &mut turns));
+        }
+        for (k, v) in reported.iter().enumerate() {
+            assert!((v - k as f64).abs() < 1e-12, "reading {k}: {v}");
+        }
+        assert_eq!(turns, 3.0);
+        // And back: turning the other way removes the turns again.
+        for k in (0..20).rev() {
+            let wrapped = (k as f64 + PI).rem_euclid(TAU) - PI;
+            let v = continuous_angle(wrapped, &mut last, &mut turns);
+            assert!((v - k as f64).abs() < 1e-12, "back, reading {k}: {v}");
+        }
+        assert_eq!(turns, 0.0);
+    }
+}
