@@ -249,3 +249,171 @@ impl MarkerKinematics for Spatial {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_model::{PreparedScene, Scene, Stiffening};
+
+    fn compiled(name: &str, edit: impl FnOnce(&mut Scene)) -> Spatial {
+        let mut scene = Scene::load(format!(
+            "{}/../../models/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap();
+        edit(&mut scene);
+        Spatial::compile(&PreparedScene::new(&scene).unwrap()).unwrap()
+    }
+
+    /// Deterministic pseudo-random numbers in [−1, 1].
+    fn noise(k: usize) -> f64 {
+        ((k as f64 * 12.9898 + 4.1414).sin() * 43758.5453).fract() * 2.0 - 1.0
+    }
+
+    #[test]
+    fn triple_angle_is_the_signed_angle_about_the_axis() {
+        for phi in [0.3f64, 2.0, -1.2, 3.0, -3.0] {
+            let p2 = 2.0 * Vector3::new(phi.cos(), phi.sin(), 0.0);
+            let got = triple_angle(&Vector3::x(), &p2, &Vector3::z());
+            assert!((got - phi).abs() < 1e-14, "{phi}: {got}");
+            let reversed = triple_angle(&Vector3::x(), &p2, &-Vector3::z());
+            assert!((reversed + phi).abs() < 1e-14, "{phi}: {reversed}");
+        }
+    }
+
+    /// A point and a direction on a rigid body turned 90° about z, by hand:
+    /// A = [ŷ −x̂ ẑ], r0 = (1, 2, 3), ṙ0 = (0.5, 0, 0), ω = 2 ẑ (Ȧ = ω̃ A = [−2x̂ −2ŷ 0]).
+    #[test]
+    fn a_rigid_point_is_r0_plus_a_xbar() {
+        let spatial = compiled("double_pendulum_3d.ron", |_| {});
+        let body = &spatial.bodies[1];
+        assert_eq!(body.n_modes, 0);
+        let n = spatial.n_coordinates;
+        let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
+        let o = body.offset;
+        let frame = [1.0, 2.0, 3.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+        let rates = [0.5, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, 0.0];
+        q.rows_mut(o, 12).copy_from_slice(&frame);
+        qd.rows_mut(o, 12).copy_from_slice(&rates);
+        let mut term = Term {
+            body: Some(1),
+            point: true,
+            undeformed: Vector3::new(0.5, 0.25, 0.0),
+            modal_rows: Vec::new(),
+            foreshortening_node: None,
+        };
+        let point = term.eval(&spatial.bodies, &q, &qd);
+        assert_eq!(point.value, Vector3::new(0.75, 2.5, 3.0));
+        assert_eq!(point.rate, Vector3::new(-0.5, -0.5, 0.0));
+        assert_eq!(point.bias, Vector3::zeros());
+        assert_eq!(point.local, term.undeformed);
+        term.point = false;
+        let direction = term.eval(&spatial.bodies, &q, &qd);
+        assert_eq!(direction.value, Vector3::new(-0.25, 0.5, 0.0));
+        assert_eq!(direction.rate, Vector3::new(-1.0, -0.5, 0.0));
+        term.body = None;
+        let ground = term.eval(&spatial.bodies, &q, &qd);
+        assert_eq!(ground.value, term.undeformed);
+        assert_eq!(ground.rate, Vector3::zeros());
+    }
+
+    /// Φ_q rows from `add_jacobian` against central differences of `eval` (x is at most
+    /// quadratic in any one coordinate, so the differences are exact but for rounding), the
+    /// rate against J q̇, the bias against a difference of the rate along q̇, and the
+    /// `MarkerKinematics` columns against `add_jacobian`.
+    fn check_term(spatial: &mut Spatial, term: &Term, label: &str) {
+        let n = spatial.n_coordinates;
+        let q = DVector::from_fn(n, |i, _| spatial.q0[i] + 0.1 * noise(i));
+        let qd = DVector::from_fn(n, |i, _| noise(i + 1000));
+        let zero = DVector::zeros(n);
+        let bodies = &spatial.bodies;
+        let at = term.eval(bodies, &q, &qd);
+        let mut jacobian = DMatrix::zeros(3, n);
+        for k in 0..3 {
+            let mut w = Vector3::zeros();
+            w[k] = 1.0;
+            term.add_jacobian(bodies, &at, &w, &q, &mut jacobian, k);
+        }
+        let h = 1e-6;
+        for i in 0..n {
+            let (mut plus, mut minus) = (q.clone(), q.clone());
+            plus[i] += h;
+            minus[i] -= h;
+            let difference = (term.eval(bodies, &plus, &zero).value
+                - term.eval(bodies, &minus, &zero).value)
+                / (2.0 * h);
+            let column = jacobian.column(i).into_owned();
+            let error = (difference - &column).norm();
+            assert!(
+                error < 1e-7 * (1.0 + column.norm()),
+                "{label}: column {i}: {error:e}"
+            );
+        }
+        let rate_error = (&jacobian * &qd - at.rate).norm();
+        assert!(
+            rate_error < 1e-12 * (1.0 + at.rate.norm()),
+            "{label}: rate {rate_error:e}"
+        );
+        let (plus, minus) = (&q + h * &qd, &q - h * &qd);
+        let difference =
+            (term.eval(bodies, &plus, &qd).rate - term.eval(bodies, &minus, &qd).rate) / (2.0 * h);
+        let bias_error = (difference - at.bias).norm();
+        assert!(
+            bias_error < 1e-7 * (1.0 + at.bias.norm()),
+            "{label}: bias {bias_error:e}"
+        );
+        let mut visited = DMatrix::zeros(3, n);
+        spatial.marker_jacobian(term, &q, &mut |i, column| {
+            visited.column_mut(i).copy_from(&column);
+        });
+        let marker_error = (visited - jacobian).amax();
+        assert!(
+            marker_error < 1e-12,
+            "{label}: MarkerKinematics {marker_error:e}"
+        );
+    }
+
+    fn modal_rows(n: usize) -> Vec<f64> {
+        (0..3 * n).map(|k| 0.1 * noise(k + 500)).collect()
+    }
+
+    #[test]
+    fn flexible_term_jacobian_matches_differences() {
+        let mut spatial = compiled("flexible_pendulum_3d.ron", |_| {});
+        let n_modes = spatial.bodies[0].n_modes;
+        assert!(n_modes > 0);
+        for point in [true, false] {
+            let term = Term {
+                body: Some(0),
+                point,
+                undeformed: Vector3::new(1.0, 0.2, -0.1),
+                modal_rows: modal_rows(n_modes),
+                foreshortening_node: None,
+            };
+            check_term(
+                &mut spatial,
+                &term,
+                if point { "point" } else { "direction" },
+            );
+        }
+    }
+
+    #[test]
+    fn foreshortened_term_jacobian_matches_differences() {
+        let mut spatial = compiled("spin_up_beam_3d.ron", |scene| {
+            scene.solver.stiffening = Stiffening::Foreshortening;
+        });
+        let body = &spatial.bodies[0];
+        assert!(body.body.has_foreshortening());
+        let tip = body.markers[1].node;
+        assert!(tip.is_some());
+        let term = Term {
+            body: Some(0),
+            point: true,
+            undeformed: body.markers[1].position,
+            modal_rows: modal_rows(body.n_modes),
+            foreshortening_node: tip,
+        };
+        check_term(&mut spatial, &term, "FS0 tip");
+    }
+}
