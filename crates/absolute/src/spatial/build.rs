@@ -11,7 +11,7 @@ use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{Body, FormulationKind, MarkerId, ModelError, PreparedScene};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
-use super::constraints::Constraint;
+use super::constraints::{AngleConstraint, Constraint};
 use super::joints::joint_constraints;
 use super::lookup::TermLookup;
 use super::sensors::{CompiledSensor, build_sensors};
@@ -93,13 +93,13 @@ impl Spatial {
         let q0 = self.q0.clone();
         let mut phis = Vec::new();
         for c in &self.constraints {
-            if let Constraint::Angle { p1, p2, a, .. } = c {
+            if let Constraint::Angle(AngleConstraint { p1, p2, a, .. }) = c {
                 phis.push(self.angle(p1, p2, a, &q0, &z));
             }
         }
         let mut it = phis.into_iter();
         for c in &mut self.constraints {
-            if let Constraint::Angle { phi0, .. } = c {
+            if let Constraint::Angle(AngleConstraint { phi0, .. }) = c {
                 *phi0 = it.next().expect("one angle per driver");
             }
         }

@@ -6,7 +6,7 @@
 use flexmbd_model::{Joint, JointKind, ModelError, MotionLaw, Scene, V3};
 use nalgebra::{Matrix3, Vector3};
 
-use super::constraints::Constraint;
+use super::constraints::{AngleConstraint, Constraint, DotConstraint};
 use super::kinematics::Term;
 use super::lookup::TermLookup;
 
@@ -144,13 +144,13 @@ impl<'a> JointBuilder<'a> {
 
     /// `x·z = 0` (1 row).
     fn perpendicular(x: Term, z: Term, constraints: &mut Vec<Constraint>) {
-        constraints.push(Constraint::Dot {
+        constraints.push(Constraint::Dot(DotConstraint {
             x,
             origin: None,
             z,
             c0: 0.0,
             law: None,
-        });
+        }));
     }
 
     /// The equations of the joint and of its driver.
@@ -201,13 +201,13 @@ impl<'a> JointBuilder<'a> {
         Self::perpendicular(self.dir1(&a), self.dir2(&n1), constraints);
         Self::perpendicular(self.dir1(&a), self.dir2(&n2), constraints);
         if let Some(law) = driver {
-            constraints.push(Constraint::Angle {
+            constraints.push(Constraint::Angle(AngleConstraint {
                 p1: self.dir1(&n1),
                 p2: self.dir2(&n1),
                 a: self.dir1(&a),
                 phi0: 0.0,
                 law,
-            });
+            }));
         }
         Ok(())
     }
@@ -244,26 +244,26 @@ impl<'a> JointBuilder<'a> {
         Self::perpendicular(self.dir1(&a), self.dir2(&n1), constraints);
         Self::perpendicular(self.dir1(&a), self.dir2(&n2), constraints);
         for nk in [n1, n2] {
-            constraints.push(Constraint::Dot {
+            constraints.push(Constraint::Dot(DotConstraint {
                 x: self.p2.clone(),
                 origin: Some(self.p1.clone()),
                 z: self.dir1(&nk),
                 c0: self.gap.dot(&nk),
                 law: None,
-            });
+            }));
         }
         let prismatic = matches!(self.joint.kind, JointKind::Prismatic { .. });
         if prismatic {
             Self::perpendicular(self.dir1(&n1), self.dir2(&n2), constraints);
         }
         match (driver, prismatic) {
-            (Some(law), true) => constraints.push(Constraint::Dot {
+            (Some(law), true) => constraints.push(Constraint::Dot(DotConstraint {
                 x: self.p2.clone(),
                 origin: Some(self.p1.clone()),
                 z: self.dir1(&a),
                 c0: self.gap.dot(&a),
                 law: Some(law),
-            }),
+            })),
             (Some(_), false) => {
                 return Err(self.error(
                     "a cylindrical joint cannot be driven (which coordinate?); drive a revolute or a prismatic joint",
