@@ -132,19 +132,19 @@ fn build_bodies(prepared: &PreparedScene, method: InertiaMethod, g: &Vector3<f64
     };
     for (b, prep) in scene.bodies.iter().zip(prepared.bodies()) {
         let body = prep.body.clone();
-        let nm = if prep.flexible { body.n_modes() } else { 0 };
-        debug_assert_eq!(nm, body.n_modes());
+        let n_modes = if prep.flexible { body.n_modes() } else { 0 };
+        debug_assert_eq!(n_modes, body.n_modes());
         let offset = built.q0.len();
         let a0 = b.orientation.matrix();
         built.initial_frames.push((b.origin.vec(), a0));
-        initial_coordinates(b, a0, nm, &mut built.q0, &mut built.qd0);
+        initial_coordinates(b, a0, n_modes, &mut built.q0, &mut built.qd0);
         let markers: Vec<MarkerSite> = b
             .markers
             .iter()
             .zip(&prep.marker_nodes)
             .map(|(m, node)| MarkerSite {
                 position: m.position.vec(),
-                node: if nm > 0 { *node } else { None },
+                node: if n_modes > 0 { *node } else { None },
             })
             .collect();
         let nodes = &prep.reduced.nodes;
@@ -160,8 +160,8 @@ fn build_bodies(prepared: &PreparedScene, method: InertiaMethod, g: &Vector3<f64
                 .map(|site| site.node.map(|k| nodes[k].translation.clone()))
                 .collect(),
         );
-        let spatial_body = if nm > 0 {
-            flexible_body(body, nm, offset, markers)
+        let spatial_body = if n_modes > 0 {
+            flexible_body(body, n_modes, offset, markers)
         } else {
             let states = (
                 &built.q0[offset..offset + 12],
@@ -178,7 +178,7 @@ fn build_bodies(prepared: &PreparedScene, method: InertiaMethod, g: &Vector3<f64
 fn initial_coordinates(
     b: &Body,
     a0: Matrix3<f64>,
-    nm: usize,
+    n_modes: usize,
     q0: &mut Vec<f64>,
     qd0: &mut Vec<f64>,
 ) {
@@ -191,28 +191,28 @@ fn initial_coordinates(
         q0.extend(e.iter());
         qd0.extend(om.cross(&e).iter());
     }
-    q0.extend((0..nm).map(|j| b.initial_modes.get(j).copied().unwrap_or(0.0)));
-    qd0.extend(std::iter::repeat_n(0.0, nm));
+    q0.extend((0..n_modes).map(|j| b.initial_modes.get(j).copied().unwrap_or(0.0)));
+    qd0.extend(std::iter::repeat_n(0.0, n_modes));
 }
 
 /// A flexible body with its scratch sized once.
 fn flexible_body(
     body: flexmbd_body::FlexibleBody,
-    nm: usize,
+    n_modes: usize,
     offset: usize,
     markers: Vec<MarkerSite>,
 ) -> SpatialBody {
     let flexible = FlexibleScratch {
         natural: body.natural_workspace(),
-        gravity: vec![0.0; 12 + nm],
-        elastic: vec![0.0; nm],
-        energy_mass: DMatrix::zeros(12 + nm, 12 + nm),
-        energy_forces: DVector::zeros(12 + nm),
+        gravity: vec![0.0; 12 + n_modes],
+        elastic: vec![0.0; n_modes],
+        energy_mass: DMatrix::zeros(12 + n_modes, 12 + n_modes),
+        energy_forces: DVector::zeros(12 + n_modes),
     };
     SpatialBody {
         body,
         offset,
-        n_modes: nm,
+        n_modes,
         rigid_mass: DMatrix::zeros(0, 0),
         rigid_gravity: DVector::zeros(0),
         markers,

@@ -41,24 +41,27 @@ fn body_dynamics(
     tangents: bool,
     out: &mut SystemTerms,
 ) {
-    let (o, nb) = (b.offset, b.n_modes);
-    let nl = 12 + nb;
+    let (o, n_modes) = (b.offset, b.n_modes);
+    let n_local = 12 + n_modes;
     let Some(f) = b.flexible.as_mut() else {
         out.mass.view_mut((o, o), (12, 12)).copy_from(&b.rigid_mass);
         out.forces.rows_mut(o, 12).copy_from(&b.rigid_gravity);
         return;
     };
-    let (qs, qds) = (&q.as_slice()[o..o + nl], &qd.as_slice()[o..o + nl]);
-    let st = NaturalState::from_coords(Dim::Spatial, qs, qds);
+    let (qs, qds) = (
+        &q.as_slice()[o..o + n_local],
+        &qd.as_slice()[o..o + n_local],
+    );
+    let state = NaturalState::from_coords(Dim::Spatial, qs, qds);
     b.body.inertia_natural(
-        &st,
+        &state,
         method,
         &mut f.natural,
-        &mut out.mass.view_mut((o, o), (nl, nl)),
-        &mut out.forces.rows_mut(o, nl),
+        &mut out.mass.view_mut((o, o), (n_local, n_local)),
+        &mut out.forces.rows_mut(o, n_local),
     );
-    b.body.gravity_natural(&st, g, &mut f.gravity);
-    b.body.elastic_forces(st.y, st.y_dot, &mut f.elastic);
+    b.body.gravity_natural(&state, g, &mut f.gravity);
+    b.body.elastic_forces(state.y, state.y_dot, &mut f.elastic);
     for (i, gv) in f.gravity.iter().enumerate() {
         out.forces[o + i] += gv;
     }
@@ -66,11 +69,21 @@ fn body_dynamics(
         out.forces[o + 12 + j] += e;
     }
     if tangents {
-        let (y, yd) = (st.y, st.y_dot);
+        let (y, yd) = (state.y, state.y_dot);
         let oy = o + 12;
-        b.body
-            .add_elastic_tangents(y, yd, 1.0, 0.0, out.stiffness.view_mut((oy, oy), (nb, nb)));
-        b.body
-            .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((oy, oy), (nb, nb)));
+        b.body.add_elastic_tangents(
+            y,
+            yd,
+            1.0,
+            0.0,
+            out.stiffness.view_mut((oy, oy), (n_modes, n_modes)),
+        );
+        b.body.add_elastic_tangents(
+            y,
+            yd,
+            0.0,
+            1.0,
+            out.damping.view_mut((oy, oy), (n_modes, n_modes)),
+        );
     }
 }

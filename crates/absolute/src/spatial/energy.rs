@@ -13,15 +13,18 @@ impl Spatial {
         let g = self.gravity;
         let mut e = 0.0;
         for b in &mut self.bodies {
-            let (o, nb) = (b.offset, b.n_modes);
-            let nl = 12 + nb;
-            let (qs, qds) = (&q.as_slice()[o..o + nl], &qd.as_slice()[o..o + nl]);
-            let st = NaturalState::from_coords(Dim::Spatial, qs, qds);
+            let (o, n_modes) = (b.offset, b.n_modes);
+            let n_local = 12 + n_modes;
+            let (qs, qds) = (
+                &q.as_slice()[o..o + n_local],
+                &qd.as_slice()[o..o + n_local],
+            );
+            let state = NaturalState::from_coords(Dim::Spatial, qs, qds);
             let m = match b.flexible.as_mut() {
                 None => &b.rigid_mass,
                 Some(f) => {
                     b.body.inertia_natural(
-                        &st,
+                        &state,
                         self.inertia_method,
                         &mut f.natural,
                         &mut f.energy_mass,
@@ -31,14 +34,14 @@ impl Spatial {
                 }
             };
             let mut kin = 0.0;
-            for r in 0..nl {
-                for c in 0..nl {
+            for r in 0..n_local {
+                for c in 0..n_local {
                     kin += qds[r] * m[(r, c)] * qds[c];
                 }
             }
-            e += 0.5 * kin + b.body.natural_potential_energy(&st, &g);
-            if nb > 0 {
-                e += b.body.strain_energy(st.y);
+            e += 0.5 * kin + b.body.natural_potential_energy(&state, &g);
+            if n_modes > 0 {
+                e += b.body.strain_energy(state.y);
             }
         }
         e + self.force_elements.potential_energy(self, q, qd)

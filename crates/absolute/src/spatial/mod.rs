@@ -64,7 +64,6 @@
 //! the tip sensors see the shift).
 //!
 //! **Allocation.** `evaluate` allocates nothing: every workspace is sized at compile time.
-
 //!
 //! **Layout.** `build` compiles the scene (bodies and their coordinates, then `lookup` for
 //! the marker terms, `joints` for the joint and driver equations, `sensors`, the reference
