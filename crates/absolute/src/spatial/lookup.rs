@@ -75,12 +75,12 @@ impl TermLookup<'_> {
             Some(body_index) => {
                 let b = &self.bodies[body_index];
                 let rows = match &self.node_translations[body_index][k] {
-                    Some(xt) => {
-                        let nn = xt.ncols();
-                        let mut rows = vec![0.0; 3 * nn];
+                    Some(translation_modes) => {
+                        let n = translation_modes.ncols();
+                        let mut rows = vec![0.0; 3 * n];
                         for a in 0..3 {
-                            for j in 0..nn {
-                                rows[a * nn + j] = xt[(a, j)];
+                            for j in 0..n {
+                                rows[a * n + j] = translation_modes[(a, j)];
                             }
                         }
                         rows
@@ -112,9 +112,8 @@ impl TermLookup<'_> {
     /// A direction fixed in the marker's body (at its node on a flexible body), given in
     /// ground components at t = 0.
     pub(super) fn direction(&self, body: &str, marker: &str, global: &Vector3<f64>) -> Term {
-        let body_index = self.body(body);
         let g = global.normalize();
-        match body_index {
+        match self.body(body) {
             None => Term {
                 body: None,
                 point: false,
@@ -122,16 +121,20 @@ impl TermLookup<'_> {
                 modal_rows: Vec::new(),
                 foreshortening_node: None,
             },
-            Some(bi) => {
-                let k = self.marker(Some(bi), marker);
-                let abar = self.initial_frames[bi].1.tr_mul(&g);
-                let rows = match &self.node_rotations[bi][k] {
-                    Some(xr) => {
-                        let n = xr.ncols();
+            Some(body_index) => {
+                let k = self.marker(Some(body_index), marker);
+                let local = self.initial_frames[body_index].1.tr_mul(&g);
+                let rows = match &self.node_rotations[body_index][k] {
+                    Some(rotation_modes) => {
+                        let n = rotation_modes.ncols();
                         let mut rows = vec![0.0; 3 * n];
                         for j in 0..n {
-                            let th = Vector3::new(xr[(0, j)], xr[(1, j)], xr[(2, j)]);
-                            let c = th.cross(&abar);
+                            let theta = Vector3::new(
+                                rotation_modes[(0, j)],
+                                rotation_modes[(1, j)],
+                                rotation_modes[(2, j)],
+                            );
+                            let c = theta.cross(&local);
                             for a in 0..3 {
                                 rows[a * n + j] = c[a];
                             }
@@ -141,9 +144,9 @@ impl TermLookup<'_> {
                     None => Vec::new(),
                 };
                 Term {
-                    body: Some(bi),
+                    body: Some(body_index),
                     point: false,
-                    undeformed: abar,
+                    undeformed: local,
                     modal_rows: rows,
                     foreshortening_node: None,
                 }
