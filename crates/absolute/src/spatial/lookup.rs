@@ -1,0 +1,156 @@
+//! Compile-time resolution of names into terms: a marker becomes a point term with its
+//! FE node's translation rows, a joint axis a direction term turning with its node
+//! (docs/methods.md §3.3: `V = X_P` for a point, `V = [X^r_j × ā]_j` for a direction).
+
+use flexmbd_model::{GROUND, Scene};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+use super::SpatialBody;
+use super::kinematics::Term;
+
+/// Names to indices, and the data to build marker terms: the bodies' frames at t = 0 and
+/// the modal rows (translation and rotation, `None` on a rigid body) of every marker's node.
+pub(super) struct TermLookup<'a> {
+    pub(super) scene: &'a Scene,
+    pub(super) bodies: &'a [SpatialBody],
+    /// Origin and rotation of every body at t = 0.
+    pub(super) initial_frames: Vec<(Vector3<f64>, Matrix3<f64>)>,
+    /// `[body][marker]`: the node's rotation modes X^r (3 × n).
+    pub(super) node_rotations: Vec<Vec<Option<DMatrix<f64>>>>,
+    /// `[body][marker]`: the node's translation modes X (3 × n).
+    pub(super) node_translations: Vec<Vec<Option<DMatrix<f64>>>>,
+}
+
+impl TermLookup<'_> {
+    /// The index of a body, `None` for the ground.
+    pub(super) fn body(&self, name: &str) -> Option<usize> {
+        if name == GROUND {
+            None
+        } else {
+            Some(
+                self.scene
+                    .bodies
+                    .iter()
+                    .position(|b| b.name == name)
+                    .expect("validated"),
+            )
+        }
+    }
+
+    /// The index of a marker on a body (or on the ground).
+    pub(super) fn marker(&self, body: Option<usize>, marker: &str) -> usize {
+        match body {
+            None => self.scene.ground.iter().position(|m| m.name == marker),
+            Some(body_index) => self.scene.bodies[body_index]
+                .markers
+                .iter()
+                .position(|m| m.name == marker),
+        }
+        .expect("validated")
+    }
+
+    /// The global position of a term at t = 0 (undeformed).
+    pub(super) fn position0(&self, t: &Term) -> Vector3<f64> {
+        match t.body {
+            None => t.undeformed,
+            Some(body_index) => {
+                let (o, a) = self.initial_frames[body_index];
+                o + a * t.undeformed
+            }
+        }
+    }
+
+    /// The point term of marker `marker_index` of a body (or of the ground), with its node's
+    /// translation rows and, on a foreshortened body, its FS0 node.
+    pub(super) fn point_at(&self, body: Option<usize>, marker_index: usize) -> Term {
+        let k = marker_index;
+        match body {
+            None => Term {
+                body: None,
+                point: true,
+                undeformed: self.scene.ground[k].position.vec(),
+                modal_rows: Vec::new(),
+                foreshortening_node: None,
+            },
+            Some(body_index) => {
+                let b = &self.bodies[body_index];
+                let rows = match &self.node_translations[body_index][k] {
+                    Some(translation_modes) => {
+                        let n = translation_modes.ncols();
+                        let mut rows = vec![0.0; 3 * n];
+                        for a in 0..3 {
+                            for j in 0..n {
+                                rows[a * n + j] = translation_modes[(a, j)];
+                            }
+                        }
+                        rows
+                    }
+                    None => Vec::new(),
+                };
+                let foreshortening_node = if b.body.has_foreshortening() && !rows.is_empty() {
+                    b.markers[k].node
+                } else {
+                    None
+                };
+                Term {
+                    body: Some(body_index),
+                    point: true,
+                    undeformed: b.markers[k].position,
+                    modal_rows: rows,
+                    foreshortening_node,
+                }
+            }
+        }
+    }
+
+    /// The point term of a marker named by body and marker.
+    pub(super) fn point(&self, body: &str, marker: &str) -> Term {
+        let body_index = self.body(body);
+        self.point_at(body_index, self.marker(body_index, marker))
+    }
+
+    /// A direction fixed in the marker's body (at its node on a flexible body), given in
+    /// ground components at t = 0.
+    pub(super) fn direction(&self, body: &str, marker: &str, global: &Vector3<f64>) -> Term {
+        let g = global.normalize();
+        match self.body(body) {
+            None => Term {
+                body: None,
+                point: false,
+                undeformed: g,
+                modal_rows: Vec::new(),
+                foreshortening_node: None,
+            },
+            Some(body_index) => {
+                let k = self.marker(Some(body_index), marker);
+                let local = self.initial_frames[body_index].1.tr_mul(&g);
+                let rows = match &self.node_rotations[body_index][k] {
+                    Some(rotation_modes) => {
+                        let n = rotation_modes.ncols();
+                        let mut rows = vec![0.0; 3 * n];
+                        for j in 0..n {
+                            let theta = Vector3::new(
+                                rotation_modes[(0, j)],
+                                rotation_modes[(1, j)],
+                                rotation_modes[(2, j)],
+                            );
+                            let c = theta.cross(&local);
+                            for a in 0..3 {
+                                rows[a * n + j] = c[a];
+                            }
+                        }
+                        rows
+                    }
+                    None => Vec::new(),
+                };
+                Term {
+                    body: Some(body_index),
+                    point: false,
+                    undeformed: local,
+                    modal_rows: rows,
+                    foreshortening_node: None,
+                }
+            }
+        }
+    }
+}
