@@ -18,48 +18,68 @@ use super::algebra::{cross, e_mat};
 use super::body::{PointSlots, Slot};
 use super::kinematics::{Direction, PlanarMarker};
 
-/// A constraint equation of the planar scene.
+/// A constraint of the planar scene: one equation, or two for a point on a body.
 pub(super) enum Constraint {
-    /// |r_b − r_a|² − L² = 0 between the two points of a rigid body's basis.
-    Distance {
-        a: PointSlots,
-        b: PointSlots,
-        /// L² (m²).
-        length_squared: f64,
-    },
-    /// |u|² − 1 = 0 for a body's own unit vector.
-    UnitVector { u: [Slot; 2] },
-    /// r_P(q) − r_point = 0 for a joint point P of a body not in its basis (2 rows).
-    PointOnBody {
-        marker: PlanarMarker,
-        point: PointSlots,
-    },
-    /// Prismatic: (r_P2 − r_P1) × d₁ = 0 (`along` = None), or its driver
-    /// (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0 (`along` = (s₀, s)).
-    Slide {
-        p1: PlanarMarker,
-        p2: PlanarMarker,
-        d1: Direction,
-        along: Option<(f64, MotionLaw)>,
-    },
-    /// sin(φ − φ₀ − θ(t)) = 0 for the angle φ from d₁ to d₂.
-    Angle {
-        d1: Direction,
-        d2: Direction,
-        /// φ₀: the angle at t = 0 (rad).
-        phi0: f64,
-        law: MotionLaw,
-    },
+    Distance(Distance),
+    UnitVector(UnitVector),
+    PointOnBody(PointOnBody),
+    Slide(Slide),
+    Angle(Angle),
+}
+
+/// |r_b − r_a|² − L² = 0 between the two points of a rigid body's basis.
+pub(super) struct Distance {
+    pub(super) a: PointSlots,
+    pub(super) b: PointSlots,
+    /// L² (m²).
+    pub(super) length_squared: f64,
+}
+
+/// |u|² − 1 = 0 for a body's own unit vector.
+pub(super) struct UnitVector {
+    pub(super) u: [Slot; 2],
+}
+
+/// r_P(q) − r_point = 0 for a joint point P of a body not in its basis (2 rows).
+pub(super) struct PointOnBody {
+    pub(super) marker: PlanarMarker,
+    pub(super) point: PointSlots,
+}
+
+/// Prismatic: (r_P2 − r_P1) × d₁ = 0 (`along` = None), or its driver
+/// (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0 (`along` = (s₀, s)).
+pub(super) struct Slide {
+    pub(super) p1: PlanarMarker,
+    pub(super) p2: PlanarMarker,
+    pub(super) d1: Direction,
+    pub(super) along: Option<(f64, MotionLaw)>,
+}
+
+/// sin(φ − φ₀ − θ(t)) = 0 for the angle φ from d₁ to d₂.
+pub(super) struct Angle {
+    pub(super) d1: Direction,
+    pub(super) d2: Direction,
+    /// φ₀: the angle at t = 0 (rad).
+    pub(super) phi0: f64,
+    pub(super) law: MotionLaw,
 }
 
 impl Constraint {
     /// Number of equations.
     pub(super) fn rows(&self) -> usize {
         match self {
-            Constraint::PointOnBody { .. } => 2,
+            Constraint::PointOnBody(_) => 2,
             _ => 1,
         }
     }
+}
+
+/// What the constraints are evaluated at, and which terms are requested.
+struct Evaluation<'a> {
+    t: f64,
+    q: &'a DVector<f64>,
+    qd: &'a DVector<f64>,
+    req: Request,
 }
 
 impl Planar {
@@ -72,41 +92,74 @@ impl Planar {
         req: Request,
         out: &mut SystemTerms,
     ) {
+        let at = Evaluation { t, q, qd, req };
         let mut row = 0;
         for constraint in &self.constraints {
             match constraint {
-                Constraint::Distance {
-                    a,
-                    b,
-                    length_squared,
-                } => distance(a, b, *length_squared, q, qd, req, out, row),
-                Constraint::UnitVector { u } => unit_vector(u, q, qd, req, out, row),
-                Constraint::PointOnBody { marker, point } => {
-                    self.point_on_body(marker, point, q, qd, req, out, row)
-                }
-                Constraint::Slide { p1, p2, d1, along } => {
-                    self.slide_row(p1, p2, d1, along, t, q, qd, req, out, row)
-                }
-                Constraint::Angle { d1, d2, phi0, law } => {
-                    self.angle_row(d1, d2, *phi0, law, t, q, qd, req, out, row)
-                }
+                Constraint::Distance(c) => c.evaluate(&at, out, row),
+                Constraint::UnitVector(c) => c.evaluate(&at, out, row),
+                Constraint::PointOnBody(c) => c.evaluate(self, &at, out, row),
+                Constraint::Slide(c) => c.evaluate(self, &at, out, row),
+                Constraint::Angle(c) => c.evaluate(self, &at, out, row),
             }
             row += constraint.rows();
         }
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn point_on_body(
-        &self,
-        marker: &PlanarMarker,
-        point: &PointSlots,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-        row: usize,
-    ) {
-        let (r, _, bias) = self.marker_motion(marker, q, qd);
+impl Distance {
+    fn evaluate(&self, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (a, b, q, qd, req) = (&self.a, &self.b, at.q, at.qd, at.req);
+        let pa = Vector2::new(a.x.get(q), a.y.get(q));
+        let pb = Vector2::new(b.x.get(q), b.y.get(q));
+        let d = pb - pa;
+        if req.constraints {
+            out.phi[row] = d.norm_squared() - self.length_squared;
+        }
+        if req.jacobian {
+            for (slot, v) in [
+                (a.x, -2.0 * d.x),
+                (a.y, -2.0 * d.y),
+                (b.x, 2.0 * d.x),
+                (b.y, 2.0 * d.y),
+            ] {
+                if let Slot::Q(i) = slot {
+                    out.phi_q[(row, i)] += v;
+                }
+            }
+        }
+        if req.accel_term {
+            let dd = Vector2::new(b.x.rate(qd) - a.x.rate(qd), b.y.rate(qd) - a.y.rate(qd));
+            out.accel_term[row] = 2.0 * dd.norm_squared();
+        }
+    }
+}
+
+impl UnitVector {
+    fn evaluate(&self, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (u, q, qd, req) = (&self.u, at.q, at.qd, at.req);
+        let v = Vector2::new(u[0].get(q), u[1].get(q));
+        if req.constraints {
+            out.phi[row] = v.norm_squared() - 1.0;
+        }
+        if req.jacobian {
+            for (slot, x) in [(u[0], v.x), (u[1], v.y)] {
+                if let Slot::Q(i) = slot {
+                    out.phi_q[(row, i)] += 2.0 * x;
+                }
+            }
+        }
+        if req.accel_term {
+            let vd = Vector2::new(u[0].rate(qd), u[1].rate(qd));
+            out.accel_term[row] = 2.0 * vd.norm_squared();
+        }
+    }
+}
+
+impl PointOnBody {
+    fn evaluate(&self, planar: &Planar, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (marker, point, q, req) = (&self.marker, &self.point, at.q, at.req);
+        let (r, _, bias) = planar.marker_motion(marker, q, at.qd);
         if req.constraints {
             let target = Vector2::new(point.x.get(q), point.y.get(q));
             out.phi[row] = r.x - target.x;
@@ -114,7 +167,7 @@ impl Planar {
         }
         if req.jacobian {
             let phi_q = &mut out.phi_q;
-            self.marker_columns(marker, q, |i, col| {
+            planar.marker_columns(marker, q, |i, col| {
                 phi_q[(row, i)] += col.x;
                 phi_q[(row + 1, i)] += col.y;
             });
@@ -129,28 +182,18 @@ impl Planar {
             out.accel_term[row + 1] = bias.y;
         }
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn slide_row(
-        &self,
-        p1: &PlanarMarker,
-        p2: &PlanarMarker,
-        d1: &Direction,
-        along: &Option<(f64, MotionLaw)>,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-        row: usize,
-    ) {
-        let (r1, v1, b1) = self.marker_motion(p1, q, qd);
-        let (r2, v2, b2) = self.marker_motion(p2, q, qd);
-        let (d, dd, db) = self.direction(d1, q, qd);
+impl Slide {
+    fn evaluate(&self, planar: &Planar, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (q, qd, req) = (at.q, at.qd, at.req);
+        let (r1, v1, b1) = planar.marker_motion(&self.p1, q, qd);
+        let (r2, v2, b2) = planar.marker_motion(&self.p2, q, qd);
+        let (d, dd, db) = planar.direction(&self.d1, q, qd);
         let (x, xd, xb) = (r2 - r1, v2 - v1, b2 - b1);
         let e = e_mat();
         // Φ = x × d (∂/∂x = −E d, ∂/∂d = E x), or x · d − s₀ − s(t).
-        let (phi, w_x, w_d, phi_t, bias) = match along {
+        let (phi, w_x, w_d, phi_t, bias) = match &self.along {
             None => (
                 cross(&x, &d),
                 -(e * d),
@@ -159,7 +202,7 @@ impl Planar {
                 cross(&xb, &d) + 2.0 * cross(&xd, &dd) + cross(&x, &db),
             ),
             Some((s0, law)) => {
-                let (sv, svd, svdd) = law.eval(t);
+                let (sv, svd, svdd) = law.eval(at.t);
                 (
                     x.dot(&d) - s0 - sv,
                     d,
@@ -174,35 +217,25 @@ impl Planar {
         }
         if req.jacobian {
             let phi_q = &mut out.phi_q;
-            self.marker_columns(p2, q, |i, col| phi_q[(row, i)] += w_x.dot(&col));
-            self.marker_columns(p1, q, |i, col| phi_q[(row, i)] -= w_x.dot(&col));
-            self.add_direction_jacobian(d1, &w_d, q, &mut out.phi_q, row);
+            planar.marker_columns(&self.p2, q, |i, col| phi_q[(row, i)] += w_x.dot(&col));
+            planar.marker_columns(&self.p1, q, |i, col| phi_q[(row, i)] -= w_x.dot(&col));
+            planar.add_direction_jacobian(&self.d1, &w_d, q, &mut out.phi_q, row);
             out.phi_t[row] = phi_t;
         }
         if req.accel_term {
             out.accel_term[row] = bias;
         }
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn angle_row(
-        &self,
-        d1: &Direction,
-        d2: &Direction,
-        phi0: f64,
-        law: &MotionLaw,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-        row: usize,
-    ) {
-        let (th_l, thd, thdd) = law.eval(t);
-        let th = phi0 + th_l;
+impl Angle {
+    fn evaluate(&self, planar: &Planar, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (q, qd, req) = (at.q, at.qd, at.req);
+        let (th_l, thd, thdd) = self.law.eval(at.t);
+        let th = self.phi0 + th_l;
         let (s, c) = th.sin_cos();
-        let (a, ad, a_bias) = self.direction(d1, q, qd);
-        let (bv, bd, b_bias) = self.direction(d2, q, qd);
+        let (a, ad, a_bias) = planar.direction(&self.d1, q, qd);
+        let (bv, bd, b_bias) = planar.direction(&self.d2, q, qd);
         let sigma = cross(&a, &bv);
         let kappa = a.dot(&bv);
         if req.constraints {
@@ -213,8 +246,8 @@ impl Planar {
             let e = e_mat();
             let wa = -(e * bv) * c - bv * s;
             let wb = (e * a) * c - a * s;
-            self.add_direction_jacobian(d1, &wa, q, &mut out.phi_q, row);
-            self.add_direction_jacobian(d2, &wb, q, &mut out.phi_q, row);
+            planar.add_direction_jacobian(&self.d1, &wa, q, &mut out.phi_q, row);
+            planar.add_direction_jacobian(&self.d2, &wb, q, &mut out.phi_q, row);
             out.phi_t[row] = -thd * (sigma * s + kappa * c);
         }
         if req.accel_term {
@@ -228,67 +261,5 @@ impl Planar {
                 - thdd * (sigma * s + kappa * c)
                 - thd * thd * (sigma * c - kappa * s);
         }
-    }
-}
-
-/// |r_b − r_a|² − L² = 0.
-#[allow(clippy::too_many_arguments)]
-fn distance(
-    a: &PointSlots,
-    b: &PointSlots,
-    length_squared: f64,
-    q: &DVector<f64>,
-    qd: &DVector<f64>,
-    req: Request,
-    out: &mut SystemTerms,
-    row: usize,
-) {
-    let pa = Vector2::new(a.x.get(q), a.y.get(q));
-    let pb = Vector2::new(b.x.get(q), b.y.get(q));
-    let d = pb - pa;
-    if req.constraints {
-        out.phi[row] = d.norm_squared() - length_squared;
-    }
-    if req.jacobian {
-        for (slot, v) in [
-            (a.x, -2.0 * d.x),
-            (a.y, -2.0 * d.y),
-            (b.x, 2.0 * d.x),
-            (b.y, 2.0 * d.y),
-        ] {
-            if let Slot::Q(i) = slot {
-                out.phi_q[(row, i)] += v;
-            }
-        }
-    }
-    if req.accel_term {
-        let dd = Vector2::new(b.x.rate(qd) - a.x.rate(qd), b.y.rate(qd) - a.y.rate(qd));
-        out.accel_term[row] = 2.0 * dd.norm_squared();
-    }
-}
-
-/// |u|² − 1 = 0.
-fn unit_vector(
-    u: &[Slot; 2],
-    q: &DVector<f64>,
-    qd: &DVector<f64>,
-    req: Request,
-    out: &mut SystemTerms,
-    row: usize,
-) {
-    let v = Vector2::new(u[0].get(q), u[1].get(q));
-    if req.constraints {
-        out.phi[row] = v.norm_squared() - 1.0;
-    }
-    if req.jacobian {
-        for (slot, x) in [(u[0], v.x), (u[1], v.y)] {
-            if let Slot::Q(i) = slot {
-                out.phi_q[(row, i)] += 2.0 * x;
-            }
-        }
-    }
-    if req.accel_term {
-        let vd = Vector2::new(u[0].rate(qd), u[1].rate(qd));
-        out.accel_term[row] = 2.0 * vd.norm_squared();
     }
 }

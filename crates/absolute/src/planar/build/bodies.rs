@@ -13,7 +13,7 @@ use nalgebra::{Matrix2, Matrix4, Vector2, Vector4};
 
 use super::super::algebra::{c_of, e_mat};
 use super::super::body::{BodyMarker, PlanarBody, PointSlots, Slot};
-use super::super::constraints::Constraint;
+use super::super::constraints::{Constraint, Distance, PointOnBody, UnitVector};
 use super::super::kinematics::PlanarMarker;
 use super::names::{InitialFrame, MarkerTable};
 use super::points::Coordinates;
@@ -109,14 +109,14 @@ impl BodyBuilder<'_> {
                 continue;
             }
             let point = self.points[first + k].expect("joint point");
-            self.constraints.push(Constraint::PointOnBody {
+            self.constraints.push(Constraint::PointOnBody(PointOnBody {
                 marker: PlanarMarker::Body {
                     body: index,
                     rbar: markers[k].position,
                     node: if prep.flexible { markers[k].node } else { None },
                 },
                 point,
-            });
+            }));
         }
         for (k, slot) in basis.slots.iter().enumerate() {
             if let Slot::Q(i) = slot {
@@ -175,11 +175,11 @@ impl BodyBuilder<'_> {
             frame_map: tm,
             velocity: [motion.velocity_of(ra), motion.velocity_of(rb)],
             markers: vec![ka, kb],
-            constraint: Constraint::Distance {
+            constraint: Constraint::Distance(Distance {
                 a: pa,
                 b: pb,
                 length_squared: length * length,
-            },
+            }),
         }
     }
 
@@ -233,7 +233,7 @@ impl BodyBuilder<'_> {
             frame_map: tm,
             velocity: [motion.velocity_of(rbar), motion.angular * e_mat() * u0],
             markers: basis_markers,
-            constraint: Constraint::UnitVector { u: u_slots },
+            constraint: Constraint::UnitVector(UnitVector { u: u_slots }),
         }
     }
 }
@@ -252,7 +252,8 @@ fn two_distinct_points(markers: &[BodyMarker], joint_markers: &[usize]) -> Optio
 }
 
 /// A rigid body's constant terms in basis coordinates: Tᵀ M_f T and Tᵀ Q_g, with
-/// M_f = [[m I, C(m̄)], [C(m̄)ᵀ, (J₁₁ + J₂₂) I]] and Q_g = (m g, C(m̄)ᵀ g).
+/// M_f = [[m I, C(m̄)], [C(m̄)ᵀ, (P̄₁₁ + P̄₂₂) I]] (m̄, P̄ the first and second moments
+/// about the frame origin) and Q_g = (m g, C(m̄)ᵀ g).
 fn rigid_terms(
     body: &FlexibleBody,
     frame_map: &Matrix4<f64>,

@@ -8,7 +8,7 @@ use nalgebra::{DVector, Vector2};
 
 use super::super::Planar;
 use super::super::algebra::e_mat;
-use super::super::constraints::Constraint;
+use super::super::constraints::{Angle, Constraint, Slide};
 use super::super::kinematics::{Direction, PlanarMarker};
 use super::names::body_index;
 
@@ -26,30 +26,30 @@ impl Planar {
             let driver = scene.drivers.iter().find(|d| d.joint == j.name);
             if let JointKind::Prismatic { axis } = &j.kind {
                 let (p1, p2, d1) = self.prismatic_parts(scene, j, axis, q0)?;
-                constraints.push(Constraint::Slide {
+                constraints.push(Constraint::Slide(Slide {
                     p1,
                     p2,
                     d1,
                     along: None,
-                });
+                }));
                 // The relative rotation is locked.
                 let a1 = self.direction_at(scene, &j.body1, &j.marker1);
                 let a2 = self.direction_at(scene, &j.body2, &j.marker2);
                 let phi0 = self.angle(&a1, &a2, q0);
-                constraints.push(Constraint::Angle {
+                constraints.push(Constraint::Angle(Angle {
                     d1: a1,
                     d2: a2,
                     phi0,
                     law: MotionLaw::Locked,
-                });
+                }));
                 if let Some(d) = driver {
                     let s0 = self.slide(&p1, &p2, &d1, q0, &zero);
-                    constraints.push(Constraint::Slide {
+                    constraints.push(Constraint::Slide(Slide {
                         p1,
                         p2,
                         d1,
                         along: Some((s0, d.law.clone())),
-                    });
+                    }));
                 }
                 continue;
             }
@@ -62,7 +62,7 @@ impl Planar {
                 let d1 = self.direction_at(scene, &j.body1, &j.marker1);
                 let d2 = self.direction_at(scene, &j.body2, &j.marker2);
                 let phi0 = self.angle(&d1, &d2, q0);
-                constraints.push(Constraint::Angle { d1, d2, phi0, law });
+                constraints.push(Constraint::Angle(Angle { d1, d2, phi0, law }));
             }
         }
         Ok(constraints)
