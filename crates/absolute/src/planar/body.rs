@@ -166,3 +166,18 @@ impl PlanarBody {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slots_read_coordinates_or_fixed_values() {
+        let q = DVector::from_vec(vec![1.5, -2.0]);
+        let qd = DVector::from_vec(vec![0.25, 4.0]);
+        assert_eq!(Slot::Q(1).get(&q), -2.0);
+        assert_eq!(Slot::Q(1).rate(&qd), 4.0);
+        assert_eq!(Slot::Fixed(7.0).get(&q), 7.0);
+        assert_eq!(Slot::Fixed(7.0).rate(&qd), 0.0);
+    }
+}

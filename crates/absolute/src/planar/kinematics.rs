@@ -231,3 +231,145 @@ impl Planar {
         (r2 - r1).dot(&d)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planar::tests::{compiled, model};
+
+    /// The slider-crank with a flexible crank and rod, at a state off the constraints:
+    /// (planar, q, q̇).
+    fn slider_crank() -> (Planar, DVector<f64>, DVector<f64>) {
+        let mut scene = model("slider_crank.ron");
+        scene.bodies[0].flexible = true;
+        let planar = compiled(&scene);
+        let n = planar.q0.len();
+        let wobble = |k: usize, s: f64| (0.7 * k as f64 + s).sin();
+        let q = DVector::from_fn(n, |k, _| planar.q0[k] + 0.05 * wobble(k, 0.3));
+        let qd = DVector::from_fn(n, |k, _| wobble(k, 1.1));
+        (planar, q, qd)
+    }
+
+    /// Markers of every kind: ground, rigid body, flexible body at a node and at the frame.
+    fn markers(planar: &Planar) -> Vec<PlanarMarker> {
+        let ground = PlanarMarker::Ground(Vector2::new(1.3, 0.0));
+        let mut list = vec![ground];
+        for (b, names) in [
+            (0, ["O", "B", "B"]),
+            (1, ["B", "mid", "C"]),
+            (2, ["pin"; 3]),
+        ] {
+            list.extend(names.iter().map(|name| planar.bodies[b].marker(b, name)));
+        }
+        assert!(matches!(list[5], PlanarMarker::Body { node: Some(_), .. }));
+        list
+    }
+
+    /// Directions of every kind: ground, rigid body, flexible body at a node.
+    fn directions(planar: &Planar) -> Vec<Direction> {
+        let abar = Vector2::new(0.6, -0.8);
+        let mut list = vec![Direction {
+            body: None,
+            node: None,
+            abar,
+        }];
+        for (b, k) in [(0, 1), (1, 1), (1, 2), (2, 0)] {
+            list.push(Direction {
+                body: Some(b),
+                node: planar.bodies[b].markers[k].node,
+                abar,
+            });
+        }
+        assert!(list[3].node.is_some());
+        list
+    }
+
+    #[test]
+    fn marker_columns_are_the_jacobian_of_its_position() {
+        let (planar, q, qd) = slider_crank();
+        let h = 1e-6;
+        for marker in markers(&planar) {
+            let mut jacobian = DMatrix::zeros(2, q.len());
+            planar.marker_columns(&marker, &q, |i, col| {
+                jacobian.fixed_view_mut::<2, 1>(0, i).copy_from(&col);
+            });
+            for i in 0..q.len() {
+                let (mut qp, mut qm) = (q.clone(), q.clone());
+                qp[i] += h;
+                qm[i] -= h;
+                let fd = (planar.marker_motion(&marker, &qp, &qd).0
+                    - planar.marker_motion(&marker, &qm, &qd).0)
+                    / (2.0 * h);
+                let col = jacobian.column(i);
+                assert!((col - fd).norm() < 1e-8, "{marker:?} q[{i}]: {col} vs {fd}");
+            }
+            let (_, v, _) = planar.marker_motion(&marker, &q, &qd);
+            assert!((jacobian * &qd - v).norm() < 1e-12, "{marker:?}: ṙ ≠ J q̇");
+        }
+    }
+
+    /// Along q(t) = q + t q̇ (q̈ = 0) the rate is the first derivative and the bias the second.
+    #[test]
+    fn rates_and_biases_are_the_derivatives_along_a_straight_path() {
+        let (planar, q, qd) = slider_crank();
+        let h = 1e-4;
+        let (qp, qm) = (&q + &qd * h, &q - &qd * h);
+        for marker in markers(&planar) {
+            let (r, v, bias) = planar.marker_motion(&marker, &q, &qd);
+            let (rp, rm) = (
+                planar.marker_motion(&marker, &qp, &qd).0,
+                planar.marker_motion(&marker, &qm, &qd).0,
+            );
+            assert!(((rp - rm) / (2.0 * h) - v).norm() < 1e-7, "{marker:?} rate");
+            let second = (rp - 2.0 * r + rm) / (h * h);
+            assert!(
+                (second - bias).norm() < 1e-5,
+                "{marker:?}: {second} vs {bias}"
+            );
+        }
+        for d in directions(&planar) {
+            let (x, xd, bias) = planar.direction(&d, &q, &qd);
+            let (xp, xm) = (
+                planar.direction(&d, &qp, &qd).0,
+                planar.direction(&d, &qm, &qd).0,
+            );
+            assert!(((xp - xm) / (2.0 * h) - xd).norm() < 1e-7, "{d:?} rate");
+            let second = (xp - 2.0 * x + xm) / (h * h);
+            assert!((second - bias).norm() < 1e-5, "{d:?}: {second} vs {bias}");
+        }
+    }
+
+    #[test]
+    fn direction_jacobian_matches_finite_differences() {
+        let (planar, q, qd) = slider_crank();
+        let (w, h) = (Vector2::new(0.3, 1.2), 1e-6);
+        for d in directions(&planar) {
+            let mut row = DMatrix::zeros(1, q.len());
+            planar.add_direction_jacobian(&d, &w, &q, &mut row, 0);
+            for i in 0..q.len() {
+                let (mut qp, mut qm) = (q.clone(), q.clone());
+                qp[i] += h;
+                qm[i] -= h;
+                let fd = w
+                    .dot(&(planar.direction(&d, &qp, &qd).0 - planar.direction(&d, &qm, &qd).0))
+                    / (2.0 * h);
+                assert!(
+                    (row[i] - fd).abs() < 1e-8,
+                    "{d:?} q[{i}]: {} vs {fd}",
+                    row[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn frame_rotation_turns_the_body_x_axis() {
+        let (planar, q, qd) = slider_crank();
+        for b in 0..planar.bodies.len() {
+            let (_, u, _, _) = planar.frame(&planar.bodies[b], &q, &qd);
+            let a = planar.frame_rotation(b, &q);
+            assert!((a * Vector2::x() - u / u.norm()).norm() < 1e-15);
+            assert!((a.transpose() * a - Matrix2::identity()).amax() < 1e-15);
+        }
+    }
+}

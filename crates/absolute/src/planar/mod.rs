@@ -173,3 +173,24 @@ impl MarkerKinematics for Planar {
         self.marker_columns(marker, q, |i, c| visit(i, Vector3::new(c.x, c.y, 0.0)));
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use flexmbd_model::{PreparedScene, Scene};
+
+    use super::Planar;
+
+    /// A scene of `models/`.
+    pub(crate) fn model(file: &str) -> Scene {
+        Scene::load(format!(
+            "{}/../../models/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+    }
+
+    /// The compiled planar scene.
+    pub(crate) fn compiled(scene: &Scene) -> Planar {
+        Planar::compile(&PreparedScene::new(scene).unwrap()).unwrap()
+    }
+}

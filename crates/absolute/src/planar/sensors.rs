@@ -223,3 +223,47 @@ impl Planar {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn unwrapping_continues_across_pi() {
+        let mut unwrapper = AngleUnwrapper::default();
+        let readings = [0.0, 3.0, -3.0, -0.5, 2.0, -2.5, 3.1];
+        let mut previous = 0.0;
+        let mut out = Vec::new();
+        for a in readings {
+            let v = unwrapper.unwrap(a);
+            assert!((v - previous).abs() <= PI, "{previous} → {v}");
+            // The reading differs from the angle by whole turns.
+            let turns = (v - a) / std::f64::consts::TAU;
+            assert!((turns - turns.round()).abs() < 1e-12, "{a} → {v}");
+            previous = v;
+            out.push(v);
+        }
+        let tau = std::f64::consts::TAU;
+        let expected = [
+            0.0,
+            3.0,
+            -3.0 + tau,
+            -0.5 + tau,
+            2.0 + tau,
+            -2.5 + 2.0 * tau,
+            3.1 + tau,
+        ];
+        for (v, x) in out.iter().zip(expected) {
+            assert!((v - x).abs() < 1e-12, "{out:?}");
+        }
+    }
+
+    #[test]
+    fn a_planar_sensor_has_no_z() {
+        assert_eq!(planar_axis(Axis::X, "s").unwrap(), 0);
+        assert_eq!(planar_axis(Axis::Y, "s").unwrap(), 1);
+        let e = planar_axis(Axis::Z, "tip_z").unwrap_err().to_string();
+        assert!(e.contains("tip_z") && e.contains("no z"), "{e}");
+    }
+}

@@ -157,22 +157,10 @@ impl BodyBuilder<'_> {
         let pa = self.points[first + ka].expect("joint point");
         let pb = self.points[first + kb].expect("joint point");
         let (ra, rb) = (markers[ka].position, markers[kb].position);
-        let d = rb - ra;
-        let length = d.norm();
-        let phi = d.y.atan2(d.x);
-        // u = R(−φ)(r_j − r_i)/L ; r0 = r_i − C(r̄_i) u.
-        let rot = Matrix2::new(phi.cos(), phi.sin(), -phi.sin(), phi.cos()) / length;
-        let mut tm = Matrix4::zeros();
-        tm.fixed_view_mut::<2, 2>(2, 0).copy_from(&(-rot));
-        tm.fixed_view_mut::<2, 2>(2, 2).copy_from(&rot);
-        let ci = c_of(&ra);
-        let r0_a = Matrix2::identity() + ci * rot;
-        let r0_b = -(ci * rot);
-        tm.fixed_view_mut::<2, 2>(0, 0).copy_from(&r0_a);
-        tm.fixed_view_mut::<2, 2>(0, 2).copy_from(&r0_b);
+        let (frame_map, length) = two_point_frame_map(ra, rb);
         Basis {
             slots: [pa.x, pa.y, pb.x, pb.y],
-            frame_map: tm,
+            frame_map,
             velocity: [motion.velocity_of(ra), motion.velocity_of(rb)],
             markers: vec![ka, kb],
             constraint: Constraint::Distance(Distance {
@@ -226,16 +214,40 @@ impl BodyBuilder<'_> {
         let th = motion.frame.angle;
         let u0 = Vector2::new(th.cos(), th.sin());
         let u_slots = self.coordinates.pair(u0);
-        let mut tm = Matrix4::identity();
-        tm.fixed_view_mut::<2, 2>(0, 2).copy_from(&(-c_of(&rbar)));
         Basis {
             slots: [p.x, p.y, u_slots[0], u_slots[1]],
-            frame_map: tm,
+            frame_map: point_vector_frame_map(rbar),
             velocity: [motion.velocity_of(rbar), motion.angular * e_mat() * u0],
             markers: basis_markers,
             constraint: Constraint::UnitVector(UnitVector { u: u_slots }),
         }
     }
+}
+
+/// T of a bar basis (r_a, r_b) with the points at r̄_a, r̄_b in the body frame, and the
+/// distance L: u = R(−φ)(r_b − r_a)/L, r0 = r_a − C(r̄_a) u, φ the angle of r̄_b − r̄_a.
+fn two_point_frame_map(ra: Vector2<f64>, rb: Vector2<f64>) -> (Matrix4<f64>, f64) {
+    let d = rb - ra;
+    let length = d.norm();
+    let phi = d.y.atan2(d.x);
+    // u = R(−φ)(r_j − r_i)/L ; r0 = r_i − C(r̄_i) u.
+    let rot = Matrix2::new(phi.cos(), phi.sin(), -phi.sin(), phi.cos()) / length;
+    let mut tm = Matrix4::zeros();
+    tm.fixed_view_mut::<2, 2>(2, 0).copy_from(&(-rot));
+    tm.fixed_view_mut::<2, 2>(2, 2).copy_from(&rot);
+    let ci = c_of(&ra);
+    let r0_a = Matrix2::identity() + ci * rot;
+    let r0_b = -(ci * rot);
+    tm.fixed_view_mut::<2, 2>(0, 0).copy_from(&r0_a);
+    tm.fixed_view_mut::<2, 2>(0, 2).copy_from(&r0_b);
+    (tm, length)
+}
+
+/// T of a point-and-vector basis (r_P, u) with the point at r̄_P: r0 = r_P − C(r̄_P) u.
+fn point_vector_frame_map(rbar: Vector2<f64>) -> Matrix4<f64> {
+    let mut tm = Matrix4::identity();
+    tm.fixed_view_mut::<2, 2>(0, 2).copy_from(&(-c_of(&rbar)));
+    tm
 }
 
 /// The first two joint points of a body (in marker order) that are distinct.
@@ -277,4 +289,104 @@ fn rigid_terms(
     qf.fixed_rows_mut::<2>(2).copy_from(&(cm.transpose() * g));
     let q_const = t.transpose() * qf;
     (m_const, q_const)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_core::Dim;
+    use flexmbd_fe::ReducedBody;
+    use nalgebra::{Matrix3, Vector3};
+
+    fn marker(x: f64, y: f64) -> BodyMarker {
+        BodyMarker {
+            name: String::new(),
+            position: Vector2::new(x, y),
+            node: None,
+        }
+    }
+
+    /// A body at angle θ with origin o: its markers' ground positions.
+    fn place(o: Vector2<f64>, th: f64, rbar: Vector2<f64>) -> Vector2<f64> {
+        o + Matrix2::new(th.cos(), -th.sin(), th.sin(), th.cos()) * rbar
+    }
+
+    #[test]
+    fn two_point_map_gives_the_frame() {
+        let (ra, rb) = (Vector2::new(0.2, -0.1), Vector2::new(1.1, 0.4));
+        let (o, th) = (Vector2::new(0.5, 2.0), 0.7);
+        let (t, length) = two_point_frame_map(ra, rb);
+        assert!((length - (rb - ra).norm()).abs() < 1e-15);
+        let (pa, pb) = (place(o, th, ra), place(o, th, rb));
+        let f = t * Vector4::new(pa.x, pa.y, pb.x, pb.y);
+        assert!((f.fixed_rows::<2>(0) - o).norm() < 1e-14, "r0 {f}");
+        let u = Vector2::new(th.cos(), th.sin());
+        assert!((f.fixed_rows::<2>(2) - u).norm() < 1e-14, "u {f}");
+    }
+
+    #[test]
+    fn point_vector_map_gives_the_frame() {
+        let rbar = Vector2::new(0.3, -0.2);
+        let (o, th) = (Vector2::new(-1.0, 0.5), -2.1);
+        let p = place(o, th, rbar);
+        let u = Vector2::new(th.cos(), th.sin());
+        let f = point_vector_frame_map(rbar) * Vector4::new(p.x, p.y, u.x, u.y);
+        assert!((f.fixed_rows::<2>(0) - o).norm() < 1e-14, "r0 {f}");
+        assert!((f.fixed_rows::<2>(2) - u).norm() == 0.0, "u {f}");
+    }
+
+    /// docs/methods.md §3.1: a uniform bar on its two end points has the mass matrix
+    /// m/3, m/6, m/3 (times I), and its weight splits evenly between the points.
+    #[test]
+    fn uniform_bar_mass_matrix_is_the_classical_one() {
+        let (m, l) = (2.0, 1.5);
+        let reduced = ReducedBody::rigid(
+            Dim::Planar,
+            m,
+            Vector3::new(l / 2.0, 0.0, 0.0),
+            Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, m * l * l / 12.0)),
+        )
+        .unwrap();
+        let body = FlexibleBody::new(&reduced).unwrap();
+        let (t, _) = two_point_frame_map(Vector2::zeros(), Vector2::new(l, 0.0));
+        let g = Vector2::new(0.0, -9.81);
+        let (mass, forces) = rigid_terms(&body, &t, g);
+        let i2 = Matrix2::<f64>::identity();
+        let expected = [[m / 3.0, m / 6.0], [m / 6.0, m / 3.0]];
+        for (r, row) in expected.iter().enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                let block = mass.fixed_view::<2, 2>(2 * r, 2 * c);
+                assert!(
+                    (block - i2 * *v).amax() < 1e-12,
+                    "block ({r}, {c}): {block}"
+                );
+            }
+        }
+        let half_weight = Vector4::new(0.0, -9.81 * m / 2.0, 0.0, -9.81 * m / 2.0);
+        assert!((forces - half_weight).amax() < 1e-12, "{forces}");
+    }
+
+    #[test]
+    fn two_distinct_points_skips_coincident_ones() {
+        let markers = [marker(0.0, 0.0), marker(0.0, 0.0), marker(1.0, 0.0)];
+        assert_eq!(two_distinct_points(&markers, &[0, 1, 2]), Some((0, 2)));
+        assert_eq!(two_distinct_points(&markers, &[0, 1]), None);
+        assert_eq!(two_distinct_points(&markers, &[2]), None);
+    }
+
+    #[test]
+    fn initial_motion_is_rigid() {
+        let frame = InitialFrame {
+            origin: Vector2::zeros(),
+            angle: std::f64::consts::FRAC_PI_2,
+        };
+        let motion = InitialMotion {
+            frame,
+            linear: Vector2::new(1.0, 0.0),
+            angular: 2.0,
+        };
+        // r̄ = (1, 0) is at (0, 1): ω × r = 2 (−1, 0).
+        let v = motion.velocity_of(Vector2::new(1.0, 0.0));
+        assert!((v - Vector2::new(-1.0, 0.0)).norm() < 1e-15, "{v}");
+    }
 }

@@ -179,3 +179,68 @@ fn check_coincidence(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn union_find_groups_under_the_smallest_member() {
+        let mut groups = UnionFind::new(6);
+        groups.union(4, 2);
+        groups.union(5, 4);
+        groups.union(1, 3);
+        assert_eq!(groups.find(5), 2);
+        assert_eq!(groups.find(4), 2);
+        assert_eq!(groups.find(3), 1);
+        assert_eq!(groups.find(0), 0);
+        groups.union(3, 5);
+        for i in 1..6 {
+            assert_eq!(groups.find(i), 1, "{i}");
+        }
+        // Path compression: every member now points at the root.
+        assert!(groups.0[1..].iter().all(|&r| r == 1), "{:?}", groups.0);
+    }
+
+    #[test]
+    fn coordinates_are_allocated_in_order() {
+        let mut c = Coordinates::default();
+        let p = c.point(Vector2::new(1.0, 2.0));
+        assert_eq!((p.x, p.y), (Slot::Q(0), Slot::Q(1)));
+        assert_eq!(c.pair(Vector2::new(3.0, 4.0)), [Slot::Q(2), Slot::Q(3)]);
+        assert_eq!(c.len(), 4);
+        assert_eq!(c.initial, [1.0, 2.0, 3.0, 4.0]);
+    }
+
+    /// The slider-crank: O is on the ground (fixed), B and C are shared by two bodies, the
+    /// prismatic joint's markers and the other markers are no points.
+    #[test]
+    fn slider_crank_shares_its_revolute_points() {
+        let scene = crate::planar::tests::model("slider_crank.ron");
+        let table = MarkerTable::new(&scene);
+        let mut coordinates = Coordinates::default();
+        let points = shared_points(&scene, &table, &mut coordinates).unwrap();
+        let at = |body: &str, marker: &str| points[table.global_index(&scene, body, marker)];
+        let o = at("crank", "O").unwrap();
+        assert_eq!((o.x, o.y), (Slot::Fixed(0.0), Slot::Fixed(0.0)));
+        let (b, c) = (at("crank", "B").unwrap(), at("slider", "pin").unwrap());
+        assert_eq!((b.x, b.y), (Slot::Q(0), Slot::Q(1)));
+        assert_eq!((c.x, c.y), (Slot::Q(2), Slot::Q(3)));
+        assert_eq!(at("rod", "B").map(|p| p.x), Some(Slot::Q(0)));
+        assert_eq!(at("rod", "C").map(|p| p.x), Some(Slot::Q(2)));
+        assert!(at("rod", "mid").is_none() && at("ground", "rail").is_none());
+        assert_eq!(coordinates.initial, [0.3, 0.0, 1.3, 0.0]);
+    }
+
+    #[test]
+    fn joined_markers_must_coincide() {
+        let mut scene = crate::planar::tests::model("slider_crank.ron");
+        scene.bodies[2].origin.0[1] = 0.01;
+        let table = MarkerTable::new(&scene);
+        let e = shared_points(&scene, &table, &mut Coordinates::default())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("slider.pin") && e.contains("coincide"), "{e}");
+    }
+}
