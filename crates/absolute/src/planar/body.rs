@@ -1,6 +1,8 @@
 //! A body of the planar scene: its basis x_b = (a, b) slot by slot (a coordinate or a fixed
 //! value), the constant map T to its frame, its markers and the local point r̄_P + X_P y.
 
+use std::ops::Range;
+
 use flexmbd_body::FlexibleBody;
 use nalgebra::{DVector, Matrix4, Vector2, Vector4};
 
@@ -74,6 +76,11 @@ pub(crate) struct PlanarBody {
 }
 
 impl PlanarBody {
+    /// The modal coordinates' indices in q.
+    pub(super) fn modes(&self) -> Range<usize> {
+        self.first_mode..self.first_mode + self.n_modes
+    }
+
     /// The basis x_b at q.
     #[inline]
     pub(super) fn basis(&self, q: &DVector<f64>) -> Vector4<f64> {
@@ -154,8 +161,7 @@ impl PlanarBody {
                     pd.y += ty[j] * ydj;
                 }
                 // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
-                let modes = self.first_mode..self.first_mode + self.n_modes;
-                let (y, yd) = (&q.as_slice()[modes.clone()], &qd.as_slice()[modes]);
+                let (y, yd) = (&q.as_slice()[self.modes()], &qd.as_slice()[self.modes()]);
                 if let Some(sh) = self.body.node_foreshortening(node, y, yd) {
                     p += sh.position.xy();
                     pd += sh.velocity.xy();

@@ -76,22 +76,22 @@ impl Planar {
         out: &mut SystemTerms,
     ) {
         let n_local = 4 + self.bodies[body_index].n_modes;
-        let (r0, u, r0d, ud) = self.frame(&self.bodies[body_index], q, qd);
+        let frame = self.frame(&self.bodies[body_index], q, qd);
         let b = &mut self.bodies[body_index];
+        let modes = b.modes();
         let ws = b
             .flexible_workspace
             .as_mut()
             .expect("flexible body has a workspace");
-        let (o, nb) = (b.first_mode, b.n_modes);
         ws.evaluate(
             &b.body,
             self.inertia_method,
-            r0,
-            u,
-            r0d,
-            ud,
-            &q.as_slice()[o..o + nb],
-            &qd.as_slice()[o..o + nb],
+            frame.r0,
+            frame.u,
+            frame.r0_rate,
+            frame.u_rate,
+            &q.as_slice()[modes.clone()],
+            &qd.as_slice()[modes],
             self.gravity,
             &b.frame_map,
         );
@@ -102,12 +102,22 @@ impl Planar {
         self.scatter(body_index, n_local, out);
         if tangents {
             let b = &self.bodies[body_index];
-            let (o, nb) = (b.first_mode, b.n_modes);
-            let (y, yd) = (&q.as_slice()[o..o + nb], &qd.as_slice()[o..o + nb]);
-            b.body
-                .add_elastic_tangents(y, yd, 1.0, 0.0, out.stiffness.view_mut((o, o), (nb, nb)));
-            b.body
-                .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (nb, nb)));
+            let (y, yd) = (&q.as_slice()[b.modes()], &qd.as_slice()[b.modes()]);
+            let (first, n) = (b.first_mode, b.n_modes);
+            b.body.add_elastic_tangents(
+                y,
+                yd,
+                1.0,
+                0.0,
+                out.stiffness.view_mut((first, first), (n, n)),
+            );
+            b.body.add_elastic_tangents(
+                y,
+                yd,
+                0.0,
+                1.0,
+                out.damping.view_mut((first, first), (n, n)),
+            );
         }
     }
 }

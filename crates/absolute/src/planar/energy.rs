@@ -13,7 +13,8 @@ impl Planar {
         for body_index in 0..self.bodies.len() {
             let b = &self.bodies[body_index];
             let n_local = 4 + b.n_modes;
-            let (r0, u, r0d, ud) = self.frame(b, q, qd);
+            let frame = self.frame(b, q, qd);
+            let (r0, u) = (frame.r0, frame.u);
             let xd = b.basis_rate(qd);
             if b.n_modes == 0 {
                 e += 0.5 * xd.dot(&(b.rigid_mass * xd));
@@ -25,16 +26,15 @@ impl Planar {
                 continue;
             }
             let b = &mut self.bodies[body_index];
+            let (y, yd) = (&q.as_slice()[b.modes()], &qd.as_slice()[b.modes()]);
             let ws = b.flexible_workspace.as_mut().expect("workspace");
-            let (o, nb) = (b.first_mode, b.n_modes);
-            let (y, yd) = (&q.as_slice()[o..o + nb], &qd.as_slice()[o..o + nb]);
             ws.evaluate(
                 &b.body,
                 self.inertia_method,
                 r0,
                 u,
-                r0d,
-                ud,
+                frame.r0_rate,
+                frame.u_rate,
                 y,
                 yd,
                 self.gravity,

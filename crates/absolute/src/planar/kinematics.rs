@@ -29,6 +29,16 @@ pub enum PlanarMarker {
     },
 }
 
+/// A body frame's origin r0 and unit vector u (A = [u  E u]), and their rates (ground
+/// components).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrameState {
+    pub(super) r0: Vector2<f64>,
+    pub(super) u: Vector2<f64>,
+    pub(super) r0_rate: Vector2<f64>,
+    pub(super) u_rate: Vector2<f64>,
+}
+
 /// A body-fixed direction d = A (I + θ_node E) ā = C(ā)(I + θ_node E) u: the body-frame
 /// direction ā, turned with the frame and, at a flexible node, by the node rotation.
 #[derive(Clone, Copy, Debug)]
@@ -42,29 +52,29 @@ pub(super) struct Direction {
 }
 
 impl Planar {
-    /// Coordinates of the body's frame (r0, u) and their rates.
+    /// The body's frame (r0, u) = T x_b and its rate T ẋ_b.
     pub(super) fn frame(
         &self,
         body: &PlanarBody,
         q: &DVector<f64>,
         qd: &DVector<f64>,
-    ) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+    ) -> FrameState {
         let x = body.basis(q);
         let xd = body.basis_rate(qd);
         let f = body.frame_map * x;
         let fd = body.frame_map * xd;
-        (
-            Vector2::new(f[0], f[1]),
-            Vector2::new(f[2], f[3]),
-            Vector2::new(fd[0], fd[1]),
-            Vector2::new(fd[2], fd[3]),
-        )
+        FrameState {
+            r0: Vector2::new(f[0], f[1]),
+            u: Vector2::new(f[2], f[3]),
+            r0_rate: Vector2::new(fd[0], fd[1]),
+            u_rate: Vector2::new(fd[2], fd[3]),
+        }
     }
 
     /// The rotation A = [u  E u] of a body's frame, with u normalised.
     pub(super) fn frame_rotation(&self, body_index: usize, q: &DVector<f64>) -> Matrix2<f64> {
         let z = DVector::zeros(q.len());
-        let (_, u, _, _) = self.frame(&self.bodies[body_index], q, &z);
+        let u = self.frame(&self.bodies[body_index], q, &z).u;
         let u = u / u.norm();
         Matrix2::new(u.x, -u.y, u.y, u.x)
     }
@@ -81,7 +91,7 @@ impl Planar {
             None => (d.abar, Vector2::zeros(), Vector2::zeros()),
             Some(body_index) => {
                 let b = &self.bodies[body_index];
-                let (_, u, _, ud) = self.frame(b, q, qd);
+                let FrameState { u, u_rate: ud, .. } = self.frame(b, q, qd);
                 // (I + θE) u, then C(ā) (commutes with E).
                 let (x, xd, xb) = match d.node {
                     None => (u, ud, Vector2::zeros()),
@@ -165,7 +175,8 @@ impl Planar {
             PlanarMarker::Ground(p) => (p, Vector2::zeros(), Vector2::zeros()),
             PlanarMarker::Body { body, rbar, node } => {
                 let b = &self.bodies[body];
-                let (r0, u, r0d, ud) = self.frame(b, q, qd);
+                let frame = self.frame(b, q, qd);
+                let (r0, u, r0d, ud) = (frame.r0, frame.u, frame.r0_rate, frame.u_rate);
                 let (p, pd) = b.local_point(rbar, node, q, qd);
                 let (cp, cpd) = (c_of(&p), c_of(&pd));
                 (r0 + cp * u, r0d + cp * ud + cpd * u, 2.0 * (cpd * ud))
@@ -366,7 +377,7 @@ mod tests {
     fn frame_rotation_turns_the_body_x_axis() {
         let (planar, q, qd) = slider_crank();
         for b in 0..planar.bodies.len() {
-            let (_, u, _, _) = planar.frame(&planar.bodies[b], &q, &qd);
+            let u = planar.frame(&planar.bodies[b], &q, &qd).u;
             let a = planar.frame_rotation(b, &q);
             assert!((a * Vector2::x() - u / u.norm()).norm() < 1e-15);
             assert!((a.transpose() * a - Matrix2::identity()).amax() < 1e-15);

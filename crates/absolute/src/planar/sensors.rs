@@ -177,7 +177,7 @@ impl Planar {
                         None => p[*axis],
                         Some(fb) => {
                             let z = DVector::zeros(q.len());
-                            let (r0, _, _, _) = self.frame(&self.bodies[*fb], q, &z);
+                            let r0 = self.frame(&self.bodies[*fb], q, &z).r0;
                             (self.frame_rotation(*fb, q).transpose() * (p - r0))[*axis]
                         }
                     }
