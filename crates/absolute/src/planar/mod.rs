@@ -1,16 +1,16 @@
 //! The planar natural-coordinate formulation (docs/methods.md §3, thesis ch. 2).
 //!
 //! **Coordinates.** Basic points are shared by the bodies they join: every group of
-//! markers connected by revolute joints is one point, fixed when it touches the ground
-//! and two coordinates otherwise. Each body is described by a basis x_b = (a, b) of two
-//! 2-vectors taken from the coordinates (or the fixed points):
+//! markers connected by revolute or rigid (bracket) joints is one point, fixed when it
+//! touches the ground and two coordinates otherwise. Each body is described by a basis
+//! x_b = (a, b) of two 2-vectors taken from the coordinates (or the fixed points):
 //!
-//! - a rigid body with two or more joint points uses its first two points (i, j), with
-//!   the constant-distance constraint |r_j − r_i|² = L² (the classical natural-coordinate
-//!   bar);
-//! - a rigid body with one joint point, and every flexible body, uses a point (the joint
-//!   point at the frame's reference node, or its own origin) and its own unit vector u
-//!   along the body x axis, with |u|² = 1;
+//! - a rigid body with two distinct joint points uses the first two (i, j), with the
+//!   constant-distance constraint |r_j − r_i|² = L² (the classical natural-coordinate bar);
+//! - any other rigid body, and every flexible body, uses a point and its own unit vector u
+//!   along the body x axis, with |u|² = 1; the point is its joint point at the frame's
+//!   reference node (flexible beams), else its first joint point, else a point of its own
+//!   at the reference node or the frame origin;
 //! - a flexible body adds its modal coordinates y.
 //!
 //! The body frame (r0, u), A = [u  E u], is a constant linear map of the basis,
@@ -21,8 +21,8 @@
 //! **Constraints.** Joint points of a body that are not in its basis are tied to it by
 //! r0 + A (r̄_P + X_P y) − r_point = 0 (linear for rigid bodies, bilinear for flexible
 //! ones, docs/methods.md §3.3). Angle drivers and brackets use Φ = σ cos θ − κ sin θ
-//! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ (docs/methods.md §3.2), never singular at
-//! its root. A body-fixed direction is d = A (I + θ_P E) ā (θ_P the node rotation at a
+//! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ and θ = φ₀ + θ(t) (φ₀ the angle at t = 0,
+//! θ ≡ 0 for a bracket; docs/methods.md §3.2), never singular at its root. A body-fixed direction is d = A (I + θ_P E) ā (θ_P the node rotation at a
 //! flexible node, docs/methods.md §3.3).
 //!
 //! **Prismatic joints.** The markers are not shared points: the marker P2 of body 2 slides

@@ -1,6 +1,6 @@
 //! Compiling a prepared planar scene, step by step: the marker table, the shared points,
-//! the bodies and their bases, the joints and drivers, the force elements, the sensors and
-//! the constant rigid terms.
+//! the bodies and their bases (with the initial velocities), the joints and drivers, the
+//! force elements, the sensors and the constant rigid terms.
 
 pub(super) mod names;
 
@@ -43,10 +43,7 @@ impl Planar {
             .map(|(index, (b, prep))| builder.body(index, b, prep))
             .collect();
         let n = coordinates.len();
-        let mut qd0 = DVector::zeros(n);
-        for (i, v) in initial_rates {
-            qd0[i] = v;
-        }
+        let qd0 = initial_velocities(n, &initial_rates);
         let q0 = DVector::from_vec(coordinates.initial);
         let mut planar = Planar {
             n_coordinates: n,
@@ -121,4 +118,14 @@ impl Planar {
         self.rigid_mass = rigid.mass;
         self.rigid_forces = rigid.forces;
     }
+}
+
+/// q̇0: the rigid initial motion of each body on its basis coordinates, zero elsewhere (the
+/// modal rates).
+fn initial_velocities(n: usize, rates: &[(usize, f64)]) -> DVector<f64> {
+    let mut qd0 = DVector::zeros(n);
+    for &(i, v) in rates {
+        qd0[i] = v;
+    }
+    qd0
 }
