@@ -21,7 +21,17 @@ use names::MarkerTable;
 use points::Coordinates;
 
 impl Planar {
-    /// Compile a planar scene.
+    /// Compile a prepared planar scene.
+    ///
+    /// Coordinates come in order of allocation: the shared points, then body by body its
+    /// own point and unit vector (when its basis has them) and its modal coordinates.
+    /// Constraint rows: body by body its basis constraint and its other joint points, then
+    /// the joints and drivers in joint order.
+    ///
+    /// Refused ([`ModelError::Unsupported`] or [`ModelError::Invalid`]): joint kinds other
+    /// than revolute, prismatic, rigid and free; joined markers that do not coincide at
+    /// t = 0; a prismatic axis that is zero or leaves the x–y plane; a sensor's z component;
+    /// and what the shared force elements refuse.
     pub fn compile(prepared: &PreparedScene) -> Result<Planar, ModelError> {
         let scene = prepared.scene();
         debug_assert_eq!(scene.solver.formulation, FormulationKind::Absolute);
