@@ -1,0 +1,150 @@
+//! Joints and drivers as constraints (docs/methods.md §3.2, planar joints): revolutes share
+//! their point (no equation here); a rigid joint (bracket) adds the angle lock θ ≡ 0; a
+//! driven revolute the angle driver θ(t); a prismatic joint the slide (r_P2 − r_P1) × d₁ = 0,
+//! the angle lock and, when driven, (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0.
+
+use flexmbd_model::{Joint, JointKind, ModelError, MotionLaw, Scene, V3};
+use nalgebra::{DVector, Vector2};
+
+use super::super::Planar;
+use super::super::algebra::e_mat;
+use super::super::constraints::{Angle, Constraint, Slide};
+use super::super::kinematics::{Direction, PlanarMarker};
+use super::names::body_index;
+
+impl Planar {
+    /// The constraints of the joints and drivers, in joint order (angles measured from their
+    /// value at q0).
+    pub(super) fn joint_constraints(
+        &self,
+        scene: &Scene,
+        q0: &DVector<f64>,
+    ) -> Result<Vec<Constraint>, ModelError> {
+        let zero = DVector::zeros(self.n_coordinates);
+        let mut constraints = Vec::new();
+        for j in &scene.joints {
+            let driver = scene.drivers.iter().find(|d| d.joint == j.name);
+            if let JointKind::Prismatic { axis } = &j.kind {
+                let (p1, p2, d1) = self.prismatic_parts(scene, j, axis, q0)?;
+                constraints.push(Constraint::Slide(Slide {
+                    p1,
+                    p2,
+                    d1,
+                    along: None,
+                }));
+                // The relative rotation is locked.
+                let a1 = self.direction_at(scene, &j.body1, &j.marker1);
+                let a2 = self.direction_at(scene, &j.body2, &j.marker2);
+                let phi0 = self.angle(&a1, &a2, q0);
+                constraints.push(Constraint::Angle(Angle {
+                    d1: a1,
+                    d2: a2,
+                    phi0,
+                    law: MotionLaw::Locked,
+                }));
+                if let Some(d) = driver {
+                    let s0 = self.slide(&p1, &p2, &d1, q0, &zero);
+                    constraints.push(Constraint::Slide(Slide {
+                        p1,
+                        p2,
+                        d1,
+                        along: Some((s0, d.law.clone())),
+                    }));
+                }
+                continue;
+            }
+            let law = match (&j.kind, driver) {
+                (JointKind::Rigid, _) => Some(MotionLaw::Locked),
+                (_, Some(d)) => Some(d.law.clone()),
+                _ => None,
+            };
+            if let Some(law) = law {
+                let d1 = self.direction_at(scene, &j.body1, &j.marker1);
+                let d2 = self.direction_at(scene, &j.body2, &j.marker2);
+                let phi0 = self.angle(&d1, &d2, q0);
+                constraints.push(Constraint::Angle(Angle { d1, d2, phi0, law }));
+            }
+        }
+        Ok(constraints)
+    }
+
+    /// The x axis of a body's frame, turned at the marker's node on a flexible body (the
+    /// ground x axis for the ground).
+    pub(in super::super) fn direction_at(
+        &self,
+        scene: &Scene,
+        body: &str,
+        marker: &str,
+    ) -> Direction {
+        match body_index(scene, body) {
+            None => Direction {
+                body: None,
+                node: None,
+                abar: Vector2::new(1.0, 0.0),
+            },
+            Some(b) => {
+                let k = scene.bodies[b]
+                    .markers
+                    .iter()
+                    .position(|m| m.name == marker)
+                    .expect("validated");
+                Direction {
+                    body: Some(b),
+                    node: if self.bodies[b].n_modes > 0 {
+                        self.bodies[b].markers[k].node
+                    } else {
+                        None
+                    },
+                    abar: Vector2::new(1.0, 0.0),
+                }
+            }
+        }
+    }
+
+    /// A marker by body and marker name.
+    fn marker_at(&self, scene: &Scene, body: &str, marker: &str) -> PlanarMarker {
+        match body_index(scene, body) {
+            None => {
+                let m = scene
+                    .ground
+                    .iter()
+                    .find(|m| m.name == marker)
+                    .expect("validated");
+                PlanarMarker::Ground(Vector2::new(m.position.0[0], m.position.0[1]))
+            }
+            Some(b) => self.bodies[b].marker(b, marker),
+        }
+    }
+
+    /// Markers and sliding direction of a prismatic joint: d₁ is fixed in body 1 (at its
+    /// marker's node on a flexible body) and equals the unit axis at q0.
+    pub(in super::super) fn prismatic_parts(
+        &self,
+        scene: &Scene,
+        j: &Joint,
+        axis: &V3,
+        q0: &DVector<f64>,
+    ) -> Result<(PlanarMarker, PlanarMarker, Direction), ModelError> {
+        let a = Vector2::new(axis.0[0], axis.0[1]);
+        let norm = a.norm();
+        if !norm.is_finite() || norm <= 1e-12 || axis.0[2].abs() > 1e-9 * norm {
+            return Err(ModelError::Invalid {
+                file: scene.origin.to_string(),
+                error: flexmbd_core::InvalidValue::new(
+                    format!("joints[{}].kind.Prismatic.axis", j.name),
+                    format!("{:?}", axis.0),
+                    "a planar sliding axis must be a non-zero vector in the x–y plane",
+                ),
+            });
+        }
+        let a = a / a.norm();
+        let p1 = self.marker_at(scene, &j.body1, &j.marker1);
+        let p2 = self.marker_at(scene, &j.body2, &j.marker2);
+        let mut d1 = self.direction_at(scene, &j.body1, &j.marker1);
+        // C(ā) d_x(q0) = a  ⇒  ā = (a · d_x, a · E d_x) / |d_x|².
+        let (dx, _, _) = self.direction(&d1, q0, &DVector::zeros(q0.len()));
+        let edx = e_mat() * dx;
+        d1.abar = Vector2::new(a.dot(&dx), a.dot(&edx)) / dx.norm_squared();
+        Ok((p1, p2, d1))
+    }
+}

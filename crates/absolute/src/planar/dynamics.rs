@@ -1,0 +1,123 @@
+//! Mass matrix and forces of the planar scene (docs/methods.md §2.5–§2.6, §3.1).
+//!
+//! A body's natural-set terms are projected on its basis with the constant T:
+//! M_b = Tᵀ M_f T, Q_b = Tᵀ Q_f. Rigid bodies' terms are constant and assembled once at
+//! compile time; flexible bodies' are evaluated each call (`flex::Flex2`) with their elastic
+//! tangents; the spring–dampers add theirs through the shared force elements.
+
+use flexmbd_core::SystemTerms;
+use nalgebra::DVector;
+
+use super::Planar;
+use super::body::Slot;
+
+impl Planar {
+    /// Scatter a body's local terms (basis order, then modes), the first `n_local` rows and
+    /// columns of `local_mass` and `local_forces`, into the system.
+    pub(super) fn scatter(&mut self, body_index: usize, n_local: usize, out: &mut SystemTerms) {
+        let b = &self.bodies[body_index];
+        for k in 0..4 {
+            self.local_to_global[k] = match b.slots[k] {
+                Slot::Q(i) => Some(i),
+                Slot::Fixed(_) => None,
+            };
+        }
+        for j in 0..b.n_modes {
+            self.local_to_global[4 + j] = Some(b.first_mode + j);
+        }
+        for c in 0..n_local {
+            let Some(qc) = self.local_to_global[c] else {
+                continue;
+            };
+            out.forces[qc] += self.local_forces[c];
+            for r in 0..n_local {
+                if let Some(qr) = self.local_to_global[r] {
+                    out.mass[(qr, qc)] += self.local_mass[(r, c)];
+                }
+            }
+        }
+    }
+
+    /// M and Q (and, with `tangents`, K and C) at (q, q̇).
+    pub(super) fn dynamics(
+        &mut self,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        tangents: bool,
+        out: &mut SystemTerms,
+    ) {
+        // Rigid bodies: their constant M and gravity, assembled once at compile time.
+        out.mass
+            .as_mut_slice()
+            .copy_from_slice(self.rigid_mass.as_slice());
+        out.forces
+            .as_mut_slice()
+            .copy_from_slice(self.rigid_forces.as_slice());
+        for body_index in 0..self.bodies.len() {
+            if self.bodies[body_index].n_modes == 0 {
+                continue;
+            }
+            self.flexible_body_terms(body_index, q, qd, tangents, out);
+        }
+        if !self.force_elements.is_empty() {
+            let mut force_elements = std::mem::take(&mut self.force_elements);
+            force_elements.add_forces(self, q, qd, tangents, out);
+            self.force_elements = force_elements;
+        }
+    }
+
+    /// A flexible body's M_b and Q_b scattered into the system, and its elastic tangents.
+    fn flexible_body_terms(
+        &mut self,
+        body_index: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        tangents: bool,
+        out: &mut SystemTerms,
+    ) {
+        let n_local = 4 + self.bodies[body_index].n_modes;
+        let frame = self.frame(&self.bodies[body_index], q, qd);
+        let b = &mut self.bodies[body_index];
+        let modes = b.modes();
+        let ws = b
+            .flexible_workspace
+            .as_mut()
+            .expect("flexible body has a workspace");
+        ws.evaluate(
+            &b.body,
+            self.inertia_method,
+            frame.r0,
+            frame.u,
+            frame.r0_rate,
+            frame.u_rate,
+            &q.as_slice()[modes.clone()],
+            &qd.as_slice()[modes],
+            self.gravity,
+            &b.frame_map,
+        );
+        self.local_mass
+            .view_mut((0, 0), (n_local, n_local))
+            .copy_from(&ws.m_b);
+        self.local_forces.rows_mut(0, n_local).copy_from(&ws.q_b);
+        self.scatter(body_index, n_local, out);
+        if tangents {
+            let b = &self.bodies[body_index];
+            let (y, yd) = (&q.as_slice()[b.modes()], &qd.as_slice()[b.modes()]);
+            let (first, n) = (b.first_mode, b.n_modes);
+            b.body.add_elastic_tangents(
+                y,
+                yd,
+                1.0,
+                0.0,
+                out.stiffness.view_mut((first, first), (n, n)),
+            );
+            b.body.add_elastic_tangents(
+                y,
+                yd,
+                0.0,
+                1.0,
+                out.damping.view_mut((first, first), (n, n)),
+            );
+        }
+    }
+}

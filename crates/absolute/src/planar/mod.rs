@@ -1,0 +1,196 @@
+//! The planar natural-coordinate formulation (docs/methods.md §3, thesis ch. 2).
+//!
+//! **Coordinates.** Basic points are shared by the bodies they join: every group of
+//! markers connected by revolute or rigid (bracket) joints is one point, fixed when it
+//! touches the ground and two coordinates otherwise. Each body is described by a basis
+//! x_b = (a, b) of two 2-vectors taken from the coordinates (or the fixed points):
+//!
+//! - a rigid body with two distinct joint points uses the first two (i, j), with the
+//!   constant-distance constraint |r_j − r_i|² = L² (the classical natural-coordinate bar);
+//! - any other rigid body, and every flexible body, uses a point and its own unit vector u
+//!   along the body x axis, with |u|² = 1; the point is its joint point at the frame's
+//!   reference node (flexible beams), else its first joint point, else a point of its own
+//!   at the reference node or the frame origin;
+//! - a flexible body adds its modal coordinates y.
+//!
+//! The body frame (r0, u), A = [u  E u], is a constant linear map of the basis,
+//! f = T x_b (two points: u = R(−φ)(r_j − r_i)/L, r0 = r_i − (r̄_i1 I + r̄_i2 E) u), so the
+//! body's natural-set mass matrix and forces (docs/methods.md §2.5–§2.6) are projected with
+//! the constant T: M_b = Tᵀ M_f T, Q_b = Tᵀ Q_f, and no velocity terms arise from T.
+//!
+//! **Constraints.** Joint points of a body that are not in its basis are tied to it by
+//! r0 + A (r̄_P + X_P y) − r_point = 0 (linear for rigid bodies, bilinear for flexible
+//! ones, docs/methods.md §3.3). Angle drivers and brackets use Φ = σ cos θ − κ sin θ
+//! = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ and θ = φ₀ + θ(t) (φ₀ the angle at t = 0,
+//! θ ≡ 0 for a bracket; docs/methods.md §3.2), never singular at its root. A body-fixed direction is d = A (I + θ_P E) ā (θ_P the node rotation at a
+//! flexible node, docs/methods.md §3.3).
+//!
+//! **Prismatic joints.** The markers are not shared points: the marker P2 of body 2 slides
+//! along the axis d₁ fixed in body 1 through its marker P1, (r_P2 − r_P1) × d₁ = 0, and the
+//! relative rotation is locked by the angle constraint with θ ≡ 0. A driver adds
+//! (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0; the joint-coordinate sensor reports
+//! (r_P2 − r_P1) · d₁ − s₀.
+//!
+//! **Spring–dampers** between two markers add Q −= Jᵀ f n with J = ∂(r_P2 − r_P1)/∂q and
+//! f = k (l − l₀) + c l̇, and their (state-dependent) tangents to K and C; they are the
+//! shared `flexmbd_model::force_elements` over `impl MarkerKinematics for Planar`.
+//!
+//! **Layout.** `build` compiles the scene (marker table and names, shared points, bodies and
+//! their bases, joints and drivers, force elements, sensors, constant rigid terms); `body`
+//! holds a body's basis and local points; `kinematics` frames, markers and directions;
+//! `dynamics` the mass matrix and forces; `constraints` Φ, Φ_q, Φ_t and the bias; `sensors`
+//! and `energy` what is read out.
+
+mod algebra;
+mod body;
+mod build;
+mod constraints;
+mod dynamics;
+mod energy;
+mod kinematics;
+mod sensors;
+
+use flexmbd_body::InertiaMethod;
+use flexmbd_core::{MarkerKinematics, Request, SystemTerms};
+use flexmbd_model::force_elements::ForceElements;
+use nalgebra::{DMatrix, DVector, Vector2, Vector3};
+
+pub(crate) use algebra::c_of;
+pub use kinematics::PlanarMarker;
+
+use body::PlanarBody;
+use constraints::Constraint;
+use sensors::PlanarSensor;
+
+/// The compiled planar scene.
+pub struct Planar {
+    /// Number of coordinates n.
+    n_coordinates: usize,
+    /// Number of constraint equations m.
+    n_constraints: usize,
+    /// Gravity (m/s², ground components).
+    gravity: Vector2<f64>,
+    bodies: Vec<PlanarBody>,
+    /// The constraints in row order.
+    constraints: Vec<Constraint>,
+    force_elements: ForceElements<PlanarMarker>,
+    /// Σ over rigid bodies of Tᵀ M_f T, scattered (constant).
+    rigid_mass: DMatrix<f64>,
+    /// Σ over rigid bodies of Tᵀ Q_gravity, scattered (constant).
+    rigid_forces: DVector<f64>,
+    /// Ground markers' positions (m).
+    ground_markers: Vec<Vector2<f64>>,
+    /// Initial coordinates and rates.
+    q0: DVector<f64>,
+    qd0: DVector<f64>,
+    /// Specified coordinates (none).
+    specified: Vec<usize>,
+    sensor_names: Vec<String>,
+    sensors: Vec<PlanarSensor>,
+    inertia_method: InertiaMethod,
+    /// Scratch for one body's local dense terms (basis order, then modes), sized for the
+    /// largest body.
+    local_mass: DMatrix<f64>,
+    local_forces: DVector<f64>,
+    /// Coordinate of each local row (`None`: a fixed basis value).
+    local_to_global: Vec<Option<usize>>,
+}
+
+impl flexmbd_core::Formulation for Planar {
+    fn n_coordinates(&self) -> usize {
+        self.n_coordinates
+    }
+    fn n_constraints(&self) -> usize {
+        self.n_constraints
+    }
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        q.copy_from(&self.q0);
+        qd.copy_from(&self.qd0);
+    }
+    fn specified_coordinates(&self) -> &[usize] {
+        &self.specified
+    }
+    fn evaluate(
+        &mut self,
+        t: f64,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        if req.dynamics {
+            self.dynamics(q, qd, req.tangents, out);
+        }
+        if req.constraints || req.jacobian || req.accel_term {
+            self.constraints(t, q, qd, req, out);
+        }
+    }
+    fn constant_mass(&self) -> bool {
+        // Natural coordinates: a rigid body's mass matrix is constant.
+        self.bodies.iter().all(|b| b.n_modes == 0)
+    }
+    fn constant_tangents(&self) -> bool {
+        // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
+        // tangents turn with the spring's direction.
+        self.force_elements.is_empty()
+            && self
+                .bodies
+                .iter()
+                .all(|b| b.body.elastic_model().is_linear())
+    }
+    fn symmetric_tangent(&self) -> bool {
+        self.bodies
+            .iter()
+            .all(|b| b.body.elastic_model().is_symmetric())
+    }
+    fn sensor_names(&self) -> &[String] {
+        &self.sensor_names
+    }
+    fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+        self.read_sensors(q, qd, out);
+    }
+}
+
+impl MarkerKinematics for Planar {
+    type Marker = PlanarMarker;
+
+    fn marker_state(
+        &self,
+        marker: &PlanarMarker,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (r, v, _) = self.marker_motion(marker, q, qd);
+        (Vector3::new(r.x, r.y, 0.0), Vector3::new(v.x, v.y, 0.0))
+    }
+
+    fn marker_jacobian(
+        &mut self,
+        marker: &PlanarMarker,
+        q: &DVector<f64>,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    ) {
+        self.marker_columns(marker, q, |i, c| visit(i, Vector3::new(c.x, c.y, 0.0)));
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use flexmbd_model::{PreparedScene, Scene};
+
+    use super::Planar;
+
+    /// A scene of `models/`.
+    pub(crate) fn model(file: &str) -> Scene {
+        Scene::load(format!(
+            "{}/../../models/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+    }
+
+    /// The compiled planar scene.
+    pub(crate) fn compiled(scene: &Scene) -> Planar {
+        Planar::compile(&PreparedScene::new(scene).unwrap()).unwrap()
+    }
+}
