@@ -47,7 +47,15 @@
 //! `initial_modes`); ż(0) by the kinetic-energy-weighted least-squares fit of the
 //! scene's body velocities, M ż = Σ R_kᵀ M̄_k Z*_k. The integrator makes both consistent.
 
+mod build;
+mod constraints;
+mod cut_joints;
+mod dynamics;
+mod initial_state;
+mod inspection;
+mod kinematics;
 mod marker_kinematics;
+mod sensors;
 mod system;
 pub mod topology;
 

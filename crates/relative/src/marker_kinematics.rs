@@ -11,7 +11,7 @@ use flexmbd_core::MarkerKinematics;
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use crate::Relative;
-use crate::system::point_at;
+use crate::kinematics::point_at;
 use crate::topology::Side;
 
 /// Scratch of one marker Jacobian, sized once: ∂r_P/∂w (3 × n_w) and ∂r_P/∂z (3 × n_z).

@@ -1,0 +1,290 @@
+//! The kinematic pass (docs/methods.md §4.5 steps 1–3).
+
+use flexmbd_body::BodyState;
+use nalgebra::{DVector, Matrix3, Rotation3, Unit, Vector3, Vector6};
+
+use crate::system::Relative;
+use crate::topology::{ElemKind, FrameKind, Side};
+
+pub(crate) fn angle_of(a: &Matrix3<f64>) -> f64 {
+    a[(1, 0)].atan2(a[(0, 0)])
+}
+
+impl Relative {
+    /// §4.5 steps 1–3: positions, velocities Z^r and velocity-product accelerations D of
+    /// every frame, root → leaves; twists v_e of the elementary joints. Sets `last_z`,
+    /// `last_zd` and the caches of [`update_positions`](Self::update_positions) and
+    /// [`update_velocities`](Self::update_velocities).
+    pub(crate) fn kinematics(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
+        self.last_z.copy_from(z);
+        self.last_zd.copy_from(zd);
+        self.positions();
+        self.pos_ok = true;
+        self.velocities();
+        self.vel_zd.copy_from(zd);
+        self.vel_ok = true;
+    }
+
+    /// Positions (and twists) at z unless they are already those of `last_z`; invalidates
+    /// the velocities when z changed.
+    pub(crate) fn update_positions(&mut self, z: &DVector<f64>) {
+        if self.pos_ok && self.last_z.as_slice() == z.as_slice() {
+            return;
+        }
+        self.last_z.copy_from(z);
+        self.positions();
+        self.pos_ok = true;
+        self.vel_ok = false;
+    }
+
+    /// Velocities and D at `last_zd` unless already done at these positions and rates.
+    pub(crate) fn update_velocities(&mut self) {
+        if self.vel_ok && self.vel_zd.as_slice() == self.last_zd.as_slice() {
+            return;
+        }
+        self.vel_zd.copy_from(&self.last_zd);
+        self.velocities();
+        self.vel_ok = true;
+    }
+
+    /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
+    /// on positions only), root → leaves.
+    #[inline(never)]
+    pub(crate) fn positions(&mut self) {
+        let z = self.last_z.as_slice();
+        for f in 0..self.topo.frames.len() {
+            let (rp, ap) = match self.topo.frames[f].parent {
+                None => (Vector3::zeros(), Matrix3::identity()),
+                Some(p) => (self.fr_r[p], self.fr_a[p]),
+            };
+            match &self.topo.frames[f].kind {
+                FrameKind::Fixed { offset, rot } => {
+                    if self.planar_frames {
+                        // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
+                        // are exact zeros.
+                        let mut r = rp;
+                        r.x += ap[(0, 0)] * offset.x + ap[(0, 1)] * offset.y;
+                        r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
+                        r.z += offset.z;
+                        self.fr_r[f] = r;
+                        if !self.fixed_identity[f] {
+                            let mut a = ap;
+                            for i in 0..2 {
+                                let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
+                                a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
+                                a[(i, 1)] = p0 * rot[(0, 1)] + p1 * rot[(1, 1)];
+                            }
+                            self.fr_a[f] = a;
+                        } else {
+                            self.fr_a[f] = ap;
+                        }
+                    } else {
+                        self.fr_r[f] = rp + ap * offset;
+                        self.fr_a[f] = if self.fixed_identity[f] { ap } else { ap * rot };
+                    }
+                }
+                FrameKind::Elem(e) => {
+                    let e = *e;
+                    let el = &self.topo.elems[e];
+                    let mut val = 0.0;
+                    for &(c, k) in &self.elem_rate[e] {
+                        val += k * z[c];
+                    }
+                    let a = ap * el.axis;
+                    let mut v = Vector6::zeros();
+                    match el.kind {
+                        ElemKind::Revolute => {
+                            // b = {p × a; a}.
+                            v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
+                            v.fixed_rows_mut::<3>(3).copy_from(&a);
+                            self.fr_r[f] = rp;
+                            if el.axis == Vector3::z() {
+                                // A_p R_z(val), R_z as `from_axis_angle` forms it for ā = z.
+                                let (sn, cs) = val.sin_cos();
+                                let mut a_new = ap;
+                                for i in 0..3 {
+                                    let (c0, c1) = (ap[(i, 0)], ap[(i, 1)]);
+                                    a_new[(i, 0)] = c0 * cs + c1 * sn;
+                                    a_new[(i, 1)] = c1 * cs - c0 * sn;
+                                }
+                                self.fr_a[f] = a_new;
+                            } else {
+                                self.fr_a[f] = ap
+                                    * Rotation3::from_axis_angle(
+                                        &Unit::new_unchecked(el.axis),
+                                        val,
+                                    )
+                                    .matrix();
+                            }
+                        }
+                        ElemKind::Prismatic => {
+                            // b = {a; 0}.
+                            v.fixed_rows_mut::<3>(0).copy_from(&a);
+                            self.fr_r[f] = rp + a * val;
+                            self.fr_a[f] = ap;
+                        }
+                    }
+                    self.ev[e] = v;
+                }
+            }
+        }
+    }
+
+    /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
+    #[inline(never)]
+    pub(crate) fn velocities(&mut self) {
+        let zd = self.last_zd.as_slice();
+        // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
+        // has its parent's Z and D.
+        for e in 0..self.topo.elems.len() {
+            let el = &self.topo.elems[e];
+            let f = el.frame;
+            let (zp, dp) = match self.el_parent[e] {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(pe) => {
+                    let pf = self.topo.elems[pe].frame;
+                    (self.fr_z[pf], self.fr_d[pf])
+                }
+            };
+            let mut rate = 0.0;
+            for &(c, k) in &self.elem_rate[e] {
+                rate += k * zd[c];
+            }
+            let v = self.ev[e];
+            let w_f = zp.fixed_rows::<3>(3).into_owned();
+            let mut d = dp;
+            match el.kind {
+                ElemKind::Revolute => {
+                    // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
+                    let a = v.fixed_rows::<3>(3).into_owned();
+                    let wxa = w_f.cross(&a);
+                    let rp = self.fr_r[f];
+                    let s_f = zp.fixed_rows::<3>(0).into_owned();
+                    let p_dot = s_f + w_f.cross(&rp);
+                    let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
+                    for i in 0..3 {
+                        d[i] += ds[i];
+                        d[3 + i] += wxa[i] * rate;
+                    }
+                }
+                ElemKind::Prismatic => {
+                    // d = {(ω_f × a) ė; 0}.
+                    let a = v.fixed_rows::<3>(0).into_owned();
+                    let wxa = w_f.cross(&a);
+                    for i in 0..3 {
+                        d[i] += wxa[i] * rate;
+                    }
+                }
+            }
+            self.fr_z[f] = zp + v * rate;
+            self.fr_d[f] = d;
+        }
+        for b in &self.bodies {
+            let (z, d) = match self.paths[b.frame].last() {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(&e) => {
+                    let ef = self.topo.elems[e].frame;
+                    (self.fr_z[ef], self.fr_d[ef])
+                }
+            };
+            self.fr_z[b.frame] = z;
+            self.fr_d[b.frame] = d;
+        }
+    }
+
+    pub(crate) fn body_state<'a>(
+        &self,
+        k: usize,
+        z: &'a DVector<f64>,
+        zd: &'a DVector<f64>,
+    ) -> BodyState<'a> {
+        let b = &self.bodies[k];
+        let f = b.frame;
+        let zr = self.fr_z[f];
+        BodyState {
+            r0: self.fr_r[f],
+            a: self.fr_a[f],
+            omega: zr.fixed_rows::<3>(3).into_owned(),
+            s_dot: zr.fixed_rows::<3>(0).into_owned(),
+            y: &z.as_slice()[b.y_off..b.y_off + b.n],
+            y_dot: &zd.as_slice()[b.y_off..b.y_off + b.n],
+        }
+    }
+}
+
+/// Global position and velocity of a marker: r = r0 + A (r̄ + X^t y), ṙ = ṡ + ω × r + A X^t ẏ.
+pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
+    let Some(k) = s.body else {
+        return (s.rbar, Vector3::zeros());
+    };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (r0, a, zr) = (rel.fr_r[f], rel.fr_a[f], rel.fr_z[f]);
+    let mut pl = s.rbar;
+    let mut vl = Vector3::zeros();
+    if let Some(node) = s.node {
+        for m in 0..b.n {
+            let (y, yd) = (rel.last_z[b.y_off + m], rel.last_zd[b.y_off + m]);
+            for i in 0..3 {
+                pl[i] += b.rows.t(node, i, m) * y;
+                vl[i] += b.rows.t(node, i, m) * yd;
+            }
+        }
+        // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+        let ys = b.y_off..b.y_off + b.n;
+        let (y, yd) = (
+            &rel.last_z.as_slice()[ys.clone()],
+            &rel.last_zd.as_slice()[ys],
+        );
+        if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
+            pl += sh.position;
+            vl += sh.velocity;
+        }
+    }
+    let p = r0 + a * pl;
+    let sd = zr.fixed_rows::<3>(0).into_owned();
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    (p, sd + w.cross(&p) + a * vl)
+}
+
+/// A direction fixed at a marker, d = A (d̄ + θ̄ × d̄) with θ̄ = X^r y, and its rate.
+pub(crate) fn dir_at(
+    rel: &Relative,
+    s: &Side,
+    dbar: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let Some(k) = s.body else {
+        return (*dbar, Vector3::zeros());
+    };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (a, zr) = (rel.fr_a[f], rel.fr_z[f]);
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
+    if let Some(node) = s.node {
+        for m in 0..b.n {
+            let (y, yd) = (rel.last_z[b.y_off + m], rel.last_zd[b.y_off + m]);
+            for i in 0..3 {
+                th[i] += b.rows.r(node, i, m) * y;
+                thd[i] += b.rows.r(node, i, m) * yd;
+            }
+        }
+    }
+    let d = a * (dbar + th.cross(dbar));
+    (d, w.cross(&d) + a * thd.cross(dbar))
+}
+
+/// 2D: angle of a marker's direction, θ = angle(A) + X^r_z y, and its rate.
+pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
+    let Some(k) = s.body else { return (0.0, 0.0) };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (mut th, mut thd) = (angle_of(&rel.fr_a[f]), rel.fr_z[f][5]);
+    if let Some(node) = s.node {
+        for m in 0..b.n {
+            th += b.rows.r(node, 2, m) * rel.last_z[b.y_off + m];
+            thd += b.rows.r(node, 2, m) * rel.last_zd[b.y_off + m];
+        }
+    }
+    (th, thd)
+}
