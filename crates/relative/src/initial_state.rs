@@ -11,6 +11,16 @@ use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 use crate::system::Relative;
 
 impl Relative {
+    /// z(0): the joints at their t = 0 placement (z = 0), the modes as given.
+    pub(crate) fn initial_coordinates(&mut self, scene: &Scene) {
+        for (k, b) in scene.bodies.iter().enumerate() {
+            let (o, n) = (self.bodies[k].first_mode, self.bodies[k].n_modes);
+            for m in 0..n {
+                self.q0[o + m] = b.initial_modes.get(m).copied().unwrap_or(0.0);
+            }
+        }
+    }
+
     /// ż(0): the kinetic-energy-weighted least-squares fit of the scene's body velocities,
     /// M ż = Σ_k R_kᵀ M̄_k Z*_k (exact when the given velocities are consistent).
     pub(crate) fn initial_velocities(&mut self, scene: &Scene) {
@@ -29,14 +39,14 @@ impl Relative {
             self.kinematics(&q0, &e);
             for k in 0..nb {
                 let bk = &self.bodies[k];
-                let nc = self.nr + bk.n;
-                let z = self.fr_z[bk.frame];
+                let nc = self.rigid_size + bk.n_modes;
+                let z = self.frame_velocity[bk.frame];
                 let mut col = DVector::zeros(nc);
-                for i in 0..self.nr {
-                    col[i] = z[self.rmap[i]];
+                for i in 0..self.rigid_size {
+                    col[i] = z[self.rigid_entries[i]];
                 }
-                for mm in 0..bk.n {
-                    col[self.nr + mm] = e[bk.y_off + mm];
+                for mm in 0..bk.n_modes {
+                    col[self.rigid_size + mm] = e[bk.first_mode + mm];
                 }
                 cols[k].push(col);
             }
@@ -44,10 +54,10 @@ impl Relative {
         self.kinematics(&q0, &zero);
         for k in 0..nb {
             let f = self.bodies[k].frame;
-            let (r0, a) = (self.fr_r[f], self.fr_a[f]);
+            let (r0, a) = (self.frame_position[f], self.frame_rotation[f]);
             let bk = &mut self.bodies[k];
-            let y: Vec<f64> = q0.as_slice()[bk.y_off..bk.y_off + bk.n].to_vec();
-            let yd = vec![0.0; bk.n];
+            let y: Vec<f64> = q0.as_slice()[bk.first_mode..bk.first_mode + bk.n_modes].to_vec();
+            let yd = vec![0.0; bk.n_modes];
             let state = BodyState {
                 r0,
                 a,
@@ -57,7 +67,7 @@ impl Relative {
                 y_dot: &yd,
             };
             bk.body
-                .inertia(&state, self.method, &mut bk.m_bar, &mut bk.q_bar);
+                .inertia(&state, self.inertia_method, &mut bk.m_bar, &mut bk.q_bar);
             let v = &scene.bodies[k].velocity;
             let mut w = v.angular.vec();
             let mut lin = v.linear.vec();
@@ -69,10 +79,10 @@ impl Relative {
             let mut target6 = Vector6::zeros();
             target6.fixed_rows_mut::<3>(0).copy_from(&s_dot);
             target6.fixed_rows_mut::<3>(3).copy_from(&w);
-            let nc = self.nr + bk.n;
+            let nc = self.rigid_size + bk.n_modes;
             let mut target = DVector::zeros(nc);
-            for i in 0..self.nr {
-                target[i] = target6[self.rmap[i]];
+            for i in 0..self.rigid_size {
+                target[i] = target6[self.rigid_entries[i]];
             }
             let mt = &bk.m_bar * &target;
             for c in 0..n {

@@ -1,5 +1,7 @@
-//! Inspection: the total mechanical energy (the `Energy` sensor) and the public inspectors
-//! for tests and tools.
+//! Inspection: the total mechanical energy (the `Energy` sensor),
+//! E = ½ Σ_k Z_kᵀ M̄_k Z_k − Σ_k g·(m_k r0_k + A_k m̄_k(y)) + Σ_k U_k(y) + the spring
+//! potentials, and the public inspectors for tests and tools (they allocate; they are not
+//! on the per-step path).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -11,17 +13,19 @@ impl Relative {
         let mut e = 0.0;
         for k in 0..self.bodies.len() {
             let state = self.body_state(k, z, zd);
-            let method = self.method;
-            let (nr, rmap, g) = (self.nr, self.rmap, self.gravity);
-            let zr = self.fr_z[self.bodies[k].frame];
+            let inertia_method = self.inertia_method;
+            let (rigid_size, rigid_entries, g) =
+                (self.rigid_size, self.rigid_entries, self.gravity);
+            let zr = self.frame_velocity[self.bodies[k].frame];
             let b = &mut self.bodies[k];
-            b.body.inertia(&state, method, &mut b.m_bar, &mut b.q_bar);
-            let nc = nr + b.n;
+            b.body
+                .inertia(&state, inertia_method, &mut b.m_bar, &mut b.q_bar);
+            let nc = rigid_size + b.n_modes;
             let v = |i: usize| {
-                if i < nr {
-                    zr[rmap[i]]
+                if i < rigid_size {
+                    zr[rigid_entries[i]]
                 } else {
-                    state.y_dot[i - nr]
+                    state.y_dot[i - rigid_size]
                 }
             };
             let mut kin = 0.0;
@@ -40,7 +44,7 @@ impl Relative {
 
     /// Names of the coordinates z (joint coordinates, then `body.y<m>`).
     pub fn coordinate_names(&self) -> &[String] {
-        &self.z_names
+        &self.coordinate_names
     }
 }
 
@@ -52,11 +56,11 @@ impl Relative {
     }
     /// Rigid velocity entries per body: 3 (2D: ṡx, ṡy, ωz) or 6 (3D: ṡ, ω).
     pub fn rigid_size(&self) -> usize {
-        self.nr
+        self.rigid_size
     }
     /// First modal coordinate of body k in z, and its number of modes.
     pub fn body_modes(&self, k: usize) -> (usize, usize) {
-        (self.bodies[k].y_off, self.bodies[k].n)
+        (self.bodies[k].first_mode, self.bodies[k].n_modes)
     }
     /// Body k's velocity Z_k = {ṡ; ω; ẏ} and its velocity-product acceleration
     /// {D_k; 0} = (Ṙ ż)_k at (z, ż), in the body-term order of `flexmbd-body`.
@@ -70,16 +74,16 @@ impl Relative {
         self.last_zd.copy_from(zd);
         self.kinematics(z, zd);
         let b = &self.bodies[k];
-        let (zr, d) = (self.fr_z[b.frame], self.fr_d[b.frame]);
-        let nc = self.nr + b.n;
+        let (zr, d) = (self.frame_velocity[b.frame], self.frame_bias[b.frame]);
+        let nc = self.rigid_size + b.n_modes;
         let mut v = DVector::zeros(nc);
         let mut dv = DVector::zeros(nc);
-        for i in 0..self.nr {
-            v[i] = zr[self.rmap[i]];
-            dv[i] = d[self.rmap[i]];
+        for i in 0..self.rigid_size {
+            v[i] = zr[self.rigid_entries[i]];
+            dv[i] = d[self.rigid_entries[i]];
         }
-        for m in 0..b.n {
-            v[self.nr + m] = zd[b.y_off + m];
+        for m in 0..b.n_modes {
+            v[self.rigid_size + m] = zd[b.first_mode + m];
         }
         (v, dv)
     }

@@ -1,6 +1,8 @@
 //! The scene's sensors in the relative formulation: their resolution to markers, tree
 //! coordinates and modal coordinates at compile time, and their evaluation after one
-//! kinematics pass.
+//! kinematics pass (positions and velocities of markers, optionally in a body's frame; 2D
+//! joint angles unwrapped across turns; slider displacements from their t = 0 value; tree
+//! and modal coordinates; the total energy of [`Relative::total_energy`]).
 
 use flexmbd_core::Dim;
 use flexmbd_model::{JointKind, ModelError, Scene, SensorKind};
@@ -10,7 +12,7 @@ use crate::kinematics::{angle_at, angle_of, dir_at, point_at};
 use crate::system::{Relative, unsupported};
 use crate::topology::{BodyInfo, Side, side_of};
 
-pub(crate) enum SensorRt {
+pub(crate) enum CompiledSensor {
     Position {
         side: Side,
         axis: usize,
@@ -69,7 +71,7 @@ impl Relative {
                     marker,
                     component,
                     frame,
-                } => SensorRt::Position {
+                } => CompiledSensor::Position {
                     side: side_of(scene, infos, body, marker),
                     axis: axis(*component, &s.name)?,
                     frame: frame.as_deref().and_then(body_index),
@@ -79,7 +81,7 @@ impl Relative {
                     marker,
                     component,
                     frame,
-                } => SensorRt::Velocity {
+                } => CompiledSensor::Velocity {
                     side: side_of(scene, infos, body, marker),
                     axis: axis(*component, &s.name)?,
                     frame: frame.as_deref().and_then(body_index),
@@ -94,8 +96,8 @@ impl Relative {
                     let si = side_of(scene, infos, &j.body1, &j.marker1);
                     let sj = side_of(scene, infos, &j.body2, &j.marker2);
                     let a0 = |s: &Side| s.body.map_or(Matrix3::identity(), |b| infos[b].a0);
-                    match (self.dim, &j.kind, &self.topo.tree[ji]) {
-                        (Dim::Planar, JointKind::Revolute { .. }, _) => SensorRt::Angle2 {
+                    match (self.dim, &j.kind, &self.topology.tree[ji]) {
+                        (Dim::Planar, JointKind::Revolute { .. }, _) => CompiledSensor::Angle2 {
                             i: si,
                             j: sj,
                             psi0: angle_of(&a0(&sj)) - angle_of(&a0(&si)),
@@ -104,14 +106,14 @@ impl Relative {
                         },
                         (_, JointKind::Prismatic { axis }, None) => {
                             let nbar = a0(&si).transpose() * axis.vec().normalize();
-                            SensorRt::Slide {
+                            CompiledSensor::Slide {
                                 i: si,
                                 nbar,
                                 j: sj,
                                 d0: 0.0,
                             }
                         }
-                        (_, _, Some(tj)) if !tj.coords.is_empty() => SensorRt::Coord {
+                        (_, _, Some(tj)) if !tj.coords.is_empty() => CompiledSensor::Coord {
                             z: tj.coords[0],
                             sign: if tj.reversed { -1.0 } else { 1.0 },
                         },
@@ -126,9 +128,9 @@ impl Relative {
                 SensorKind::Modal { body, index } => {
                     let bi = body_index(body).expect("validated");
                     let b = &self.bodies[bi];
-                    SensorRt::Modal((*index < b.n).then_some(b.y_off + index))
+                    CompiledSensor::Modal((*index < b.n_modes).then_some(b.first_mode + index))
                 }
-                SensorKind::Energy => SensorRt::Energy,
+                SensorKind::Energy => CompiledSensor::Energy,
             };
             sensors.push(sensor);
         }
@@ -138,7 +140,7 @@ impl Relative {
         self.last_zd.copy_from(&qd0);
         self.kinematics(&q0, &qd0);
         for s in &mut sensors {
-            if let SensorRt::Slide { i, nbar, j, d0 } = s {
+            if let CompiledSensor::Slide { i, nbar, j, d0 } = s {
                 let (n, _) = dir_at(self, i, nbar);
                 let (pi, _) = point_at(self, i);
                 let (pj, _) = point_at(self, j);
@@ -159,31 +161,31 @@ impl Relative {
             let frame_of = |rel: &Relative, fb: Option<usize>| {
                 fb.map(|b| {
                     let f = rel.bodies[b].frame;
-                    (rel.fr_r[f], rel.fr_a[f])
+                    (rel.frame_position[f], rel.frame_rotation[f])
                 })
             };
             out[k] = match &self.sensors[k] {
-                SensorRt::Position { side, axis, frame } => {
+                CompiledSensor::Position { side, axis, frame } => {
                     let (p, _) = point_at(self, side);
                     match frame_of(self, *frame) {
                         None => p[*axis],
                         Some((r0, a)) => (a.transpose() * (p - r0))[*axis],
                     }
                 }
-                SensorRt::Velocity { side, axis, frame } => {
+                CompiledSensor::Velocity { side, axis, frame } => {
                     let (_, v) = point_at(self, side);
                     match frame_of(self, *frame) {
                         None => v[*axis],
                         Some((_, a)) => (a.transpose() * v)[*axis],
                     }
                 }
-                SensorRt::Angle2 { i, j, psi0, .. } => {
+                CompiledSensor::Angle2 { i, j, psi0, .. } => {
                     let (ti, _) = angle_at(self, i);
                     let (tj, _) = angle_at(self, j);
                     let raw = tj - ti - psi0;
                     let d = Vector2::new(raw.cos(), raw.sin());
                     let a = d.y.atan2(d.x);
-                    let SensorRt::Angle2 { last, turns, .. } = &mut self.sensors[k] else {
+                    let CompiledSensor::Angle2 { last, turns, .. } = &mut self.sensors[k] else {
                         unreachable!()
                     };
                     let tau = std::f64::consts::TAU;
@@ -199,15 +201,15 @@ impl Relative {
                     *last = v;
                     v
                 }
-                SensorRt::Coord { z, sign } => sign * q[*z],
-                SensorRt::Slide { i, nbar, j, d0 } => {
+                CompiledSensor::Coord { z, sign } => sign * q[*z],
+                CompiledSensor::Slide { i, nbar, j, d0 } => {
                     let (n, _) = dir_at(self, i, nbar);
                     let (pi, _) = point_at(self, i);
                     let (pj, _) = point_at(self, j);
                     n.dot(&(pj - pi)) - d0
                 }
-                SensorRt::Modal(idx) => idx.map_or(0.0, |i| q[i]),
-                SensorRt::Energy => self.energy(q, qd),
+                CompiledSensor::Modal(idx) => idx.map_or(0.0, |i| q[i]),
+                CompiledSensor::Energy => self.energy(q, qd),
             };
         }
     }

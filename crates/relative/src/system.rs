@@ -19,94 +19,105 @@ use flexmbd_model::ModelError;
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
-use crate::constraints::Con;
+use crate::constraints::Constraint;
 use crate::marker_kinematics::MarkerJacobian;
-use crate::sensors::SensorRt;
+use crate::sensors::CompiledSensor;
 use crate::topology::{NodeRows, Side, Topology};
 
 /// One body at run time.
-pub(crate) struct BodyRt {
+pub(crate) struct RunTimeBody {
     pub(crate) body: FlexibleBody,
+    /// Its frame in the augmented tree.
     pub(crate) frame: usize,
     /// Number of modal coordinates.
-    pub(crate) n: usize,
+    pub(crate) n_modes: usize,
     /// Index of the first modal coordinate in z (and in w).
-    pub(crate) y_off: usize,
-    pub(crate) rows: NodeRows,
-    /// M̄_k, Q̄_k in the s form (nr + n).
+    pub(crate) first_mode: usize,
+    /// Its mode rows at its FE nodes (for markers at nodes).
+    pub(crate) node_rows: NodeRows,
+    /// M̄_k, Q̄_k in the s form (rigid_size + n_modes).
     pub(crate) m_bar: DMatrix<f64>,
     pub(crate) q_bar: DVector<f64>,
-    pub(crate) grav: Vec<f64>,
-    pub(crate) elastic: Vec<f64>,
+    /// Scratch: the generalized gravity forces (rigid_size + n_modes).
+    pub(crate) gravity_forces: Vec<f64>,
+    /// Scratch: the elastic forces on the modes (n_modes).
+    pub(crate) elastic_forces: Vec<f64>,
 }
 
 /// The semi-recursive relative-coordinate formulation of one scene.
 pub struct Relative {
     pub(crate) dim: Dim,
-    /// Number of rigid velocity entries per body (3 or 6) and their places in a 6-vector.
-    pub(crate) nr: usize,
-    pub(crate) rmap: [usize; 6],
-    pub(crate) method: InertiaMethod,
+    /// Number of rigid velocity entries per body (3 or 6) and their places in a 6-vector
+    /// (`rigid_entries[..rigid_size]`: x, y, θz in 2D).
+    pub(crate) rigid_size: usize,
+    pub(crate) rigid_entries: [usize; 6],
+    pub(crate) inertia_method: InertiaMethod,
+    /// Gravity (m/s², ground components; z = 0 in 2D).
     pub(crate) gravity: Vector3<f64>,
     pub(crate) n_z: usize,
     pub(crate) n_w: usize,
-    pub(crate) n_con: usize,
-    pub(crate) topo: Topology,
-    pub(crate) bodies: Vec<BodyRt>,
+    pub(crate) n_constraints: usize,
+    pub(crate) topology: Topology,
+    pub(crate) bodies: Vec<RunTimeBody>,
     /// w index of each elementary joint.
     pub(crate) elem_w: Vec<usize>,
     /// Elementary joints on the path root → frame (inclusive), per frame.
     pub(crate) paths: Vec<Vec<usize>>,
-    /// w → z: (z index, coefficient).
+    /// The rows of L (w = L ż): per w entry, (z index, coefficient).
     pub(crate) l_rows: Vec<Vec<(usize, f64)>>,
     /// M = Lᵀ M_w L over the structural non-zeros of M_w outside its z × z block (which
     /// the pass writes into M directly): (index in M, index in M_w, coefficient),
     /// column-major indices.
     pub(crate) mass_map: Vec<(usize, usize, f64)>,
     /// Scratch of the largest body size (P_k).
-    pub(crate) p_buf: Vec<f64>,
-    /// Elementary-joint value coefficients, resolved to z.
+    pub(crate) p_scratch: Vec<f64>,
+    /// Per elementary joint: its value (and rate) as a combination of z, (z index, coefficient).
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
-    pub(crate) cons: Vec<Con>,
+    /// The cut-joint and driver constraints, in the order of their rows in Φ.
+    pub(crate) constraints: Vec<Constraint>,
     // Workspace.
-    pub(crate) fr_r: Vec<Vector3<f64>>,
-    pub(crate) fr_a: Vec<Matrix3<f64>>,
-    pub(crate) fr_z: Vec<Vector6<f64>>,
-    pub(crate) fr_d: Vec<Vector6<f64>>,
+    /// Per frame (§4.5 steps 1–3): position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and
+    /// velocity-product acceleration D_F.
+    pub(crate) frame_position: Vec<Vector3<f64>>,
+    pub(crate) frame_rotation: Vec<Matrix3<f64>>,
+    pub(crate) frame_velocity: Vec<Vector6<f64>>,
+    pub(crate) frame_bias: Vec<Vector6<f64>>,
     /// Per body: its rigid block of M̄_k and its P_k in the 6-layout (step 4).
-    pub(crate) body_m: Vec<Matrix6<f64>>,
+    pub(crate) body_mass: Vec<Matrix6<f64>>,
     pub(crate) body_p: Vec<Vector6<f64>>,
     /// Per elementary joint: 𝕄 and ℙ of the subtree its frame carries (step 5). Fixed
     /// frames only relabel the same global quantities, so the accumulation runs over the
     /// tree of elementary joints: an elementary joint's children, and the bodies whose
     /// nearest elementary joint towards the root it is.
-    pub(crate) el_m: Vec<Matrix6<f64>>,
-    pub(crate) el_p: Vec<Vector6<f64>>,
-    pub(crate) el_children: Vec<Vec<usize>>,
+    pub(crate) subtree_mass: Vec<Matrix6<f64>>,
+    pub(crate) subtree_p: Vec<Vector6<f64>>,
+    pub(crate) elem_children: Vec<Vec<usize>>,
     /// Per elementary joint: its nearest elementary joint towards the root (frames in
     /// between are fixed: the same Z and D).
-    pub(crate) el_parent: Vec<Option<usize>>,
-    pub(crate) el_bodies: Vec<Vec<usize>>,
-    pub(crate) ev: Vec<Vector6<f64>>,
+    pub(crate) elem_parent: Vec<Option<usize>>,
+    pub(crate) elem_bodies: Vec<Vec<usize>>,
+    /// Per elementary joint: its twist v_e (depends on positions only).
+    pub(crate) elem_twist: Vec<Vector6<f64>>,
     pub(crate) m_w: DMatrix<f64>,
     pub(crate) q_w: DVector<f64>,
     pub(crate) phi_w: DMatrix<f64>,
     // Initial state and outputs.
     pub(crate) q0: DVector<f64>,
     pub(crate) qd0: DVector<f64>,
-    pub(crate) held: Vec<usize>,
+    /// Coordinates the integrator holds (none).
+    pub(crate) specified: Vec<usize>,
     pub(crate) sensor_names: Vec<String>,
-    pub(crate) sensors: Vec<SensorRt>,
+    pub(crate) sensors: Vec<CompiledSensor>,
     /// Names of the coordinates.
-    pub(crate) z_names: Vec<String>,
+    pub(crate) coordinate_names: Vec<String>,
     /// z and ż of the last kinematics pass.
     pub(crate) last_z: DVector<f64>,
     pub(crate) last_zd: DVector<f64>,
-    /// The frame positions and twists are those of `last_z`.
-    pub(crate) pos_ok: bool,
-    /// The frame velocities and D are those of `last_z` and `vel_zd`.
-    pub(crate) vel_ok: bool,
-    pub(crate) vel_zd: DVector<f64>,
+    /// The frame positions and elementary-joint twists are those of `last_z`.
+    pub(crate) positions_current: bool,
+    /// The frame velocities and D are those of `last_z` and `velocities_zd`.
+    pub(crate) velocities_current: bool,
+    pub(crate) velocities_zd: DVector<f64>,
     /// Per frame: a `Fixed` frame whose rotation is exactly I.
     pub(crate) fixed_identity: Vec<bool>,
     /// Planar scene whose every rotation is about z (fixed rotations and revolute axes):
@@ -114,13 +125,14 @@ pub struct Relative {
     /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
     pub(crate) planar_frames: bool,
     /// The current constraint pass writes Φ_w (a Jacobian was requested).
-    pub(crate) jac: bool,
+    pub(crate) write_jacobian: bool,
     /// Spring–dampers and their Jacobian scratch.
     pub(crate) force_elements: ForceElements<Side>,
     /// Scratch of one marker's Jacobian (the force elements' query).
     pub(crate) marker_jacobian: MarkerJacobian,
 }
 
+/// A scene this formulation cannot run.
 pub(crate) fn unsupported(s: String) -> ModelError {
     ModelError::Unsupported(s)
 }
@@ -130,14 +142,14 @@ impl flexmbd_core::Formulation for Relative {
         self.n_z
     }
     fn n_constraints(&self) -> usize {
-        self.n_con
+        self.n_constraints
     }
     fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
         q.copy_from(&self.q0);
         qd.copy_from(&self.qd0);
     }
     fn specified_coordinates(&self) -> &[usize] {
-        &self.held
+        &self.specified
     }
     fn symmetric_tangent(&self) -> bool {
         self.bodies
@@ -171,7 +183,7 @@ impl flexmbd_core::Formulation for Relative {
             self.dynamics(q, qd, req.tangents, out);
         }
         if req.constraints || req.jacobian || req.accel_term {
-            self.constraints(t, req, out);
+            self.constraint_terms(t, req, out);
         }
     }
     fn sensor_names(&self) -> &[String] {

@@ -31,6 +31,7 @@
 //! body the tree does not reach is refused.
 
 use flexmbd_core::Dim;
+use flexmbd_fe::NodeModes;
 use flexmbd_model::{GROUND, JointKind, ModelError, Scene};
 use nalgebra::{Matrix3, Vector3};
 
@@ -110,6 +111,23 @@ pub(crate) struct NodeRows {
 }
 
 impl NodeRows {
+    /// The rows of `n` modes at every node (X^t, then X^r, row-major).
+    pub(crate) fn new(nodes: &[NodeModes], n: usize) -> NodeRows {
+        let rows = nodes
+            .iter()
+            .map(|nd| {
+                let mut v = Vec::with_capacity(6 * n);
+                for a in 0..3 {
+                    v.extend((0..n).map(|m| nd.translation[(a, m)]));
+                }
+                for a in 0..3 {
+                    v.extend((0..n).map(|m| nd.rotation[(a, m)]));
+                }
+                v
+            })
+            .collect();
+        NodeRows { n, rows }
+    }
     pub(crate) fn t(&self, node: usize, a: usize, m: usize) -> f64 {
         self.rows[node][a * self.n + m]
     }
