@@ -438,3 +438,56 @@ fn planar_frames(topology: &Topology) -> bool {
         .iter()
         .all(|e| e.kind == ElemKind::Prismatic || e.axis == Vector3::z())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn w_layout_puts_joint_coordinates_and_modes_first_then_node_joints() {
+        // Elementary joints: 0 = node joint (rate 0.5 y), 1 = joint coordinate 0,
+        // 2 = node joint (rate −y), 3 = joint coordinate 1; z = (q0, q1, y).
+        let elem_rate = vec![
+            vec![(2, 0.5)],
+            vec![(0, 1.0)],
+            vec![(2, -1.0)],
+            vec![(1, 1.0)],
+        ];
+        let (elem_w, l_rows) = w_layout(&[1, 3], &elem_rate, 3);
+        assert_eq!(elem_w, [3, 0, 4, 1]);
+        assert_eq!(
+            l_rows,
+            [
+                vec![(0, 1.0)],
+                vec![(1, 1.0)],
+                vec![(2, 1.0)],
+                vec![(2, 0.5)],
+                vec![(2, -1.0)],
+            ]
+        );
+    }
+
+    #[test]
+    fn frame_paths_collect_the_elementary_joints_from_the_root() {
+        let fixed = |parent| Frame {
+            parent,
+            kind: FrameKind::Fixed {
+                offset: Vector3::zeros(),
+                rot: Matrix3::identity(),
+            },
+        };
+        let elem = |parent, e| Frame {
+            parent,
+            kind: FrameKind::Elem(e),
+        };
+        let frames = [
+            fixed(None),
+            elem(Some(0), 0),
+            fixed(Some(1)),
+            elem(Some(2), 1),
+            elem(Some(1), 2),
+        ];
+        let paths = frame_paths(&frames);
+        assert_eq!(paths, [vec![], vec![0], vec![0], vec![0, 1], vec![0, 2]]);
+    }
+}

@@ -265,3 +265,43 @@ pub(crate) fn driver_constraints(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn perpendiculars_complete_an_orthonormal_right_handed_triple() {
+        let axes = [
+            Vector3::x(),
+            Vector3::y(),
+            Vector3::z(),
+            -Vector3::x(),
+            Vector3::new(0.95, 0.1, -0.3).normalize(),
+            Vector3::new(0.2, -0.7, 0.4).normalize(),
+        ];
+        for a in axes {
+            let (n1, n2) = perpendiculars(&a);
+            for (u, v, what) in [(a, n1, "a·n1"), (a, n2, "a·n2"), (n1, n2, "n1·n2")] {
+                assert!(
+                    u.dot(&v).abs() < 1e-15,
+                    "{what} = {} for a = {a:?}",
+                    u.dot(&v)
+                );
+            }
+            assert!((n1.norm() - 1.0).abs() < 1e-15, "|n1| = {}", n1.norm());
+            assert!((n2.norm() - 1.0).abs() < 1e-15, "|n2| = {}", n2.norm());
+            let handedness = a.cross(&n1) - n2;
+            assert!(handedness.norm() < 1e-15, "a × n1 − n2 = {handedness:?}");
+        }
+    }
+
+    #[test]
+    fn perpendiculars_use_y_as_the_helper_only_near_x() {
+        // The helper is x unless a is near x, then y, so n1 = a × helper never vanishes.
+        let (n1, _) = perpendiculars(&Vector3::x());
+        assert_eq!(n1, Vector3::z());
+        let (n1, _) = perpendiculars(&Vector3::z());
+        assert_eq!(n1, Vector3::y());
+    }
+}

@@ -243,3 +243,37 @@ impl Relative {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fold_w_to_z_adds_l_transpose_times_v() {
+        // z = (z0, z1); w = (z0, z1, node joint e = 2 z0 − 0.5 z1).
+        let l_rows = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 2.0), (1, -0.5)]];
+        let v = [1.0, 10.0, 100.0];
+        let mut out = [0.25, -0.25];
+        fold_w_to_z(&l_rows, &v, &mut out);
+        assert_eq!(out, [0.25 + 1.0 + 200.0, -0.25 + 10.0 - 50.0]);
+    }
+
+    #[test]
+    fn twist_dot_planar_uses_x_y_theta_z_only() {
+        let a = Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+        let b = Vector6::new(0.5, -1.0, 7.0, 8.0, 9.0, 2.0);
+        assert_eq!(twist_dot(true, &a, &b), 0.5 - 2.0 + 12.0);
+        assert_eq!(twist_dot(false, &a, &b), a.dot(&b));
+    }
+
+    #[test]
+    fn put_writes_the_z_block_into_m_and_the_rest_into_m_w() {
+        let mut mass = vec![0.0; 4];
+        let mut m_w = DMatrix::zeros(3, 3);
+        put(&mut mass, &mut m_w, 2, 1, 0, 5.0);
+        put(&mut mass, &mut m_w, 2, 2, 1, 7.0);
+        assert_eq!(mass, [0.0, 5.0, 0.0, 0.0]);
+        assert_eq!(m_w[(2, 1)], 7.0);
+        assert_eq!(m_w[(1, 0)], 0.0);
+    }
+}

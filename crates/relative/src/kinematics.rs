@@ -308,3 +308,28 @@ pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
     }
     (th, thd)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angle_of_recovers_the_angle_of_a_rotation_about_z() {
+        for th in [0.0, 0.3, -1.2, 2.5, -3.0, std::f64::consts::FRAC_PI_2] {
+            let a = *Rotation3::from_axis_angle(&Vector3::z_axis(), th).matrix();
+            let got = angle_of(&a);
+            assert!((got - th).abs() < 1e-15, "θ = {th}: angle_of gives {got}");
+        }
+    }
+
+    #[test]
+    fn angle_of_wraps_to_minus_pi_pi() {
+        let a = *Rotation3::from_axis_angle(&Vector3::z_axis(), 4.0).matrix();
+        let got = angle_of(&a);
+        let expected = 4.0 - std::f64::consts::TAU;
+        assert!(
+            (got - expected).abs() < 1e-14,
+            "angle_of(R_z(4)) = {got}, expected {expected}"
+        );
+    }
+}

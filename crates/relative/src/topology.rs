@@ -592,3 +592,43 @@ impl Topology {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::DMatrix;
+
+    use super::*;
+
+    #[test]
+    fn node_rows_keep_translation_then_rotation_rows() {
+        // Two modes at one node: X^t[a, m] = 10 a + m, X^r[a, m] = −(10 a + m) − 1.
+        let translation = DMatrix::from_fn(3, 2, |a, m| (10 * a + m) as f64);
+        let rotation = DMatrix::from_fn(3, 2, |a, m| -((10 * a + m) as f64) - 1.0);
+        let node = NodeModes {
+            position: Vector3::zeros(),
+            translation,
+            rotation,
+        };
+        let rows = NodeRows::new(&[node], 2);
+        for a in 0..3 {
+            for m in 0..2 {
+                assert_eq!(rows.t(0, a, m), (10 * a + m) as f64);
+                assert_eq!(rows.r(0, a, m), -((10 * a + m) as f64) - 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn node_rows_nonzero_drops_entries_below_the_relative_threshold() {
+        let node = NodeModes {
+            position: Vector3::zeros(),
+            translation: DMatrix::from_row_slice(3, 2, &[1.0, 1e-14, 0.0, 2.0, 0.0, 0.0]),
+            rotation: DMatrix::from_row_slice(3, 2, &[0.0, 0.0, 0.0, 0.0, -3.0, 1e-13]),
+        };
+        let rows = NodeRows::new(&[node], 2);
+        assert_eq!(rows.nonzero(0, 0, false), [(0, 1.0)]);
+        assert_eq!(rows.nonzero(0, 1, false), [(1, 2.0)]);
+        assert_eq!(rows.nonzero(0, 2, false), []);
+        assert_eq!(rows.nonzero(0, 2, true), [(0, -3.0)]);
+    }
+}
