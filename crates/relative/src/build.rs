@@ -61,21 +61,7 @@ impl Relative {
             Dim::Planar => (3, [0, 1, 5, 0, 0, 0]),
             Dim::Spatial => (6, [0, 1, 2, 3, 4, 5]),
         };
-        let mut bodies = Vec::new();
-        for (k, (info, body)) in infos.iter().zip(flex).enumerate() {
-            let nc = rigid_size + info.n_modes;
-            bodies.push(RunTimeBody {
-                body,
-                frame: topology.body_frame[k],
-                n_modes: info.n_modes,
-                first_mode: first_mode[k],
-                node_rows: info.rows.clone(),
-                m_bar: DMatrix::zeros(nc, nc),
-                q_bar: DVector::zeros(nc),
-                gravity_forces: vec![0.0; nc],
-                elastic_forces: vec![0.0; info.n_modes],
-            });
-        }
+        let bodies = run_time_bodies(infos, flex, &topology.body_frame, &first_mode, rigid_size);
         let coordinate_names = names_of_coordinates(topology.n_joint, infos);
         let n_constraints = constraints.iter().map(|c| c.rows(dim)).sum();
         let nf = topology.frames.len();
@@ -218,6 +204,32 @@ impl Relative {
         }
         map
     }
+}
+
+/// The run-time bodies with their body terms sized (rigid_size + n_modes).
+fn run_time_bodies(
+    infos: &[BodyInfo],
+    flex: Vec<FlexibleBody>,
+    body_frame: &[usize],
+    first_mode: &[usize],
+    rigid_size: usize,
+) -> Vec<RunTimeBody> {
+    let mut bodies = Vec::new();
+    for (k, (info, body)) in infos.iter().zip(flex).enumerate() {
+        let nc = rigid_size + info.n_modes;
+        bodies.push(RunTimeBody {
+            body,
+            frame: body_frame[k],
+            n_modes: info.n_modes,
+            first_mode: first_mode[k],
+            node_rows: info.rows.clone(),
+            m_bar: DMatrix::zeros(nc, nc),
+            q_bar: DVector::zeros(nc),
+            gravity_forces: vec![0.0; nc],
+            elastic_forces: vec![0.0; info.n_modes],
+        });
+    }
+    bodies
 }
 
 /// Every body's compile-time data (placement at t = 0, markers, node rows) and its run-time

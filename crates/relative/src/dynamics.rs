@@ -200,8 +200,8 @@ impl Relative {
         }
     }
 
-    /// Steps 6–7 for the elementary joints: M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e for a on the path
-    /// of e, and Q_w[e] = v_eᵀ ℙ_{F(e)}.
+    /// Steps 6–7 for the elementary joints: `M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e` for a on the path
+    /// of e, and `Q_w[e] = v_eᵀ ℙ_{F(e)}`.
     fn elem_rows(&mut self, mass: &mut [f64]) {
         let nz = self.n_z;
         let planar = self.rigid_size == 3;

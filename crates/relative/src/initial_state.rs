@@ -1,7 +1,8 @@
 //! The initial state: z(0) from the placements (joint coordinates 0, modes from
 //! `initial_modes`) and ż(0) by the kinetic-energy-weighted least-squares fit of the scene's
-//! body velocities, M ż = Σ_k R_kᵀ M̄_k Z*_k (docs/methods.md §4.4). The integrator makes both
-//! consistent with the constraints.
+//! body velocities, M ż = Σ_k R_kᵀ M̄_k Z*_k, with the columns of R_k from velocity passes
+//! at ż = e_c (docs/methods.md §4.6). The integrator makes both consistent with the
+//! constraints (§5.4).
 
 use flexmbd_body::BodyState;
 use flexmbd_core::Dim;
