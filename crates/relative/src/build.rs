@@ -222,7 +222,7 @@ fn run_time_bodies(
             frame: body_frame[k],
             n_modes: info.n_modes,
             first_mode: first_mode[k],
-            node_rows: info.rows.clone(),
+            node_rows: info.node_rows.clone(),
             m_bar: DMatrix::zeros(nc, nc),
             q_bar: DVector::zeros(nc),
             gravity_forces: vec![0.0; nc],
@@ -248,7 +248,7 @@ fn body_infos(prepared: &PreparedScene) -> Result<(Vec<BodyInfo>, Vec<FlexibleBo
                 b.name
             )));
         }
-        let rows = if n > 0 {
+        let node_rows = if n > 0 {
             NodeRows::new(&prep.reduced.nodes, n)
         } else {
             NodeRows {
@@ -282,7 +282,7 @@ fn body_infos(prepared: &PreparedScene) -> Result<(Vec<BodyInfo>, Vec<FlexibleBo
             center_of_mass: body.center_of_mass(),
             omega0: b.velocity.angular.vec(),
             markers,
-            rows,
+            node_rows,
         });
         flex.push(body);
     }
@@ -477,6 +477,74 @@ mod tests {
                 vec![(2, -1.0)],
             ]
         );
+    }
+
+    /// A body (frame 2) on a revolute (elementary joint 0, frame 1) from the ground, with a
+    /// node joint (elementary joint 1, frame 3) carrying a second body (frame 4) through a
+    /// fixed frame (5 is its body frame).
+    fn two_body_topology() -> Topology {
+        let fixed = |parent| Frame {
+            parent,
+            kind: FrameKind::Fixed {
+                offset: Vector3::new(1.0, 0.0, 0.0),
+                rot: Matrix3::identity(),
+            },
+        };
+        let elem = |parent, e| Frame {
+            parent,
+            kind: FrameKind::Elem(e),
+        };
+        let revolute = |frame, axis| crate::topology::Elem {
+            kind: ElemKind::Revolute,
+            axis,
+            frame,
+            rate: Vec::new(),
+        };
+        Topology {
+            frames: vec![
+                fixed(None),
+                elem(Some(0), 0),
+                fixed(Some(1)),
+                elem(Some(2), 1),
+                fixed(Some(3)),
+                fixed(Some(4)),
+            ],
+            elems: vec![revolute(1, Vector3::z()), revolute(3, Vector3::z())],
+            body_frame: vec![2, 5],
+            n_joint: 1,
+            tree: Vec::new(),
+            cuts: Vec::new(),
+            coord_elem: vec![0],
+        }
+    }
+
+    #[test]
+    fn elem_tree_links_elementary_joints_across_fixed_frames() {
+        let topology = two_body_topology();
+        let paths = frame_paths(&topology.frames);
+        let tree = ElemTree::new(&topology, &paths, &topology.body_frame);
+        assert_eq!(tree.parent, [None, Some(0)]);
+        assert_eq!(tree.children, [vec![1], vec![]]);
+        assert_eq!(tree.bodies, [vec![0], vec![1]]);
+    }
+
+    #[test]
+    fn planar_frames_needs_every_rotation_about_z() {
+        let mut topology = two_body_topology();
+        assert!(planar_frames(&topology));
+        assert_eq!(
+            fixed_identity(&topology),
+            [true, false, true, false, true, true]
+        );
+        topology.elems[1].axis = Vector3::x();
+        assert!(!planar_frames(&topology));
+        let mut topology = two_body_topology();
+        topology.frames[4].kind = FrameKind::Fixed {
+            offset: Vector3::zeros(),
+            rot: *nalgebra::Rotation3::from_axis_angle(&Vector3::y_axis(), 0.1).matrix(),
+        };
+        assert!(!planar_frames(&topology));
+        assert!(!fixed_identity(&topology)[4]);
     }
 
     #[test]

@@ -202,7 +202,7 @@ pub(crate) struct BodyInfo {
     /// Initial angular velocity guess (ground components).
     pub(crate) omega0: Vector3<f64>,
     pub(crate) markers: Vec<Side>,
-    pub(crate) rows: NodeRows,
+    pub(crate) node_rows: NodeRows,
 }
 
 /// Resolve a (body, marker) name pair.
@@ -350,7 +350,7 @@ impl Topology {
         if let (Some(pb), Some(node)) = (ps.body, ps.node)
             && bodies[pb].flexible
         {
-            let rows = &bodies[pb].rows;
+            let rows = &bodies[pb].node_rows;
             for a in 0..dim.n_trans() {
                 let nz = rows.nonzero(node, a, false);
                 if !nz.is_empty() {
@@ -546,11 +546,11 @@ fn can_carry_frame(scene: &Scene, bodies: &[BodyInfo], ji: usize, child_is_body2
     let Some(node) = side.node else { return false };
     let nt = dim.n_trans();
     let rot = transmits_rotation(dim, &j.kind);
-    (0..nt).all(|a| info.rows.nonzero(node, a, false).is_empty())
+    (0..nt).all(|a| info.node_rows.nonzero(node, a, false).is_empty())
         && (!rot
             || match dim {
-                Dim::Planar => info.rows.nonzero(node, 2, true).is_empty(),
-                Dim::Spatial => (0..3).all(|a| info.rows.nonzero(node, a, true).is_empty()),
+                Dim::Planar => info.node_rows.nonzero(node, 2, true).is_empty(),
+                Dim::Spatial => (0..3).all(|a| info.node_rows.nonzero(node, a, true).is_empty()),
             })
 }
 
