@@ -87,43 +87,7 @@ impl Relative {
                     frame: frame.as_deref().and_then(body_index),
                 },
                 SensorKind::JointCoordinate { joint } => {
-                    let ji = scene
-                        .joints
-                        .iter()
-                        .position(|j| &j.name == joint)
-                        .expect("validated");
-                    let j = &scene.joints[ji];
-                    let si = side_of(scene, infos, &j.body1, &j.marker1);
-                    let sj = side_of(scene, infos, &j.body2, &j.marker2);
-                    let a0 = |s: &Side| s.body.map_or(Matrix3::identity(), |b| infos[b].a0);
-                    match (self.dim, &j.kind, &self.topology.tree[ji]) {
-                        (Dim::Planar, JointKind::Revolute { .. }, _) => CompiledSensor::Angle2 {
-                            i: si,
-                            j: sj,
-                            psi0: angle_of(&a0(&sj)) - angle_of(&a0(&si)),
-                            last: 0.0,
-                            turns: 0.0,
-                        },
-                        (_, JointKind::Prismatic { axis }, None) => {
-                            let nbar = a0(&si).transpose() * axis.vec().normalize();
-                            CompiledSensor::Slide {
-                                i: si,
-                                nbar,
-                                j: sj,
-                                d0: 0.0,
-                            }
-                        }
-                        (_, _, Some(tj)) if !tj.coords.is_empty() => CompiledSensor::Coord {
-                            z: tj.coords[0],
-                            sign: if tj.reversed { -1.0 } else { 1.0 },
-                        },
-                        _ => {
-                            return Err(unsupported(format!(
-                                "sensor `{}`: the coordinate of joint `{joint}` ({:?}) is not available in the relative formulation",
-                                s.name, j.kind
-                            )));
-                        }
-                    }
+                    self.joint_coordinate_sensor(scene, infos, &s.name, joint)?
                 }
                 SensorKind::Modal { body, index } => {
                     let bi = body_index(body).expect("validated");
@@ -149,6 +113,54 @@ impl Relative {
         }
         self.sensors = sensors;
         Ok(())
+    }
+
+    /// The coordinate of a joint: a planar revolute's angle between its markers, a cut
+    /// prismatic's slide, or a tree joint's first coordinate.
+    fn joint_coordinate_sensor(
+        &self,
+        scene: &Scene,
+        infos: &[BodyInfo],
+        sensor: &str,
+        joint: &str,
+    ) -> Result<CompiledSensor, ModelError> {
+        let ji = scene
+            .joints
+            .iter()
+            .position(|j| j.name == joint)
+            .expect("validated");
+        let j = &scene.joints[ji];
+        let si = side_of(scene, infos, &j.body1, &j.marker1);
+        let sj = side_of(scene, infos, &j.body2, &j.marker2);
+        let a0 = |s: &Side| s.body.map_or(Matrix3::identity(), |b| infos[b].a0);
+        Ok(match (self.dim, &j.kind, &self.topology.tree[ji]) {
+            (Dim::Planar, JointKind::Revolute { .. }, _) => CompiledSensor::Angle2 {
+                i: si,
+                j: sj,
+                psi0: angle_of(&a0(&sj)) - angle_of(&a0(&si)),
+                last: 0.0,
+                turns: 0.0,
+            },
+            (_, JointKind::Prismatic { axis }, None) => {
+                let nbar = a0(&si).transpose() * axis.vec().normalize();
+                CompiledSensor::Slide {
+                    i: si,
+                    nbar,
+                    j: sj,
+                    d0: 0.0,
+                }
+            }
+            (_, _, Some(tj)) if !tj.coords.is_empty() => CompiledSensor::Coord {
+                z: tj.coords[0],
+                sign: if tj.reversed { -1.0 } else { 1.0 },
+            },
+            _ => {
+                return Err(unsupported(format!(
+                    "sensor `{}`: the coordinate of joint `{joint}` ({:?}) is not available in the relative formulation",
+                    sensor, j.kind
+                )));
+            }
+        })
     }
 
     /// The sensors' values at (q, q̇) into `out` (one kinematics pass; the energy sensor
