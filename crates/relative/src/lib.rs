@@ -47,7 +47,20 @@
 //! `initial_modes`); ż(0) by the kinetic-energy-weighted least-squares fit of the
 //! scene's body velocities, M ż = Σ R_kᵀ M̄_k Z*_k. The integrator makes both consistent.
 
+// Compiling a scene: `build` (in named steps), `cut_joints` (the constraints of the cut
+// joints and drivers), `initial_state`, on `topology` (the augmented tree). The pass:
+// `system` (the storage and the `Formulation` pass), `kinematics` (§4.5 steps 1–3),
+// `dynamics` (steps 4–7), `constraints` (§4.6), `marker_kinematics` (the force elements'
+// query). Outputs: `sensors`, `inspection`.
+mod build;
+mod constraints;
+mod cut_joints;
+mod dynamics;
+mod initial_state;
+mod inspection;
+mod kinematics;
 mod marker_kinematics;
+mod sensors;
 mod system;
 pub mod topology;
 

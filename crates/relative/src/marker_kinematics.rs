@@ -11,7 +11,7 @@ use flexmbd_core::MarkerKinematics;
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use crate::Relative;
-use crate::system::point_at;
+use crate::kinematics::point_at;
 use crate::topology::Side;
 
 /// Scratch of one marker Jacobian, sized once: ∂r_P/∂w (3 × n_w) and ∂r_P/∂z (3 × n_z).
@@ -78,23 +78,23 @@ impl Relative {
         let b = &self.bodies[k];
         let f = b.frame;
         for &a in &self.paths[f] {
-            let ev = &self.ev[a];
-            let u = ev.fixed_rows::<3>(0) + ev.fixed_rows::<3>(3).cross(p);
+            let elem_twist = &self.elem_twist[a];
+            let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
             let wa = self.elem_w[a];
             for r in 0..3 {
                 jw[(r, wa)] += sign * u[r];
             }
         }
         if let Some(node) = s.node {
-            let a = self.fr_a[f];
-            for m in 0..b.n {
+            let a = self.frame_rotation[f];
+            for m in 0..b.n_modes {
                 let col = a * Vector3::new(
-                    b.rows.t(node, 0, m),
-                    b.rows.t(node, 1, m),
-                    b.rows.t(node, 2, m),
+                    b.node_rows.t(node, 0, m),
+                    b.node_rows.t(node, 1, m),
+                    b.node_rows.t(node, 2, m),
                 );
                 for r in 0..3 {
-                    jw[(r, b.y_off + m)] += sign * col[r];
+                    jw[(r, b.first_mode + m)] += sign * col[r];
                 }
             }
         }

@@ -31,6 +31,7 @@
 //! body the tree does not reach is refused.
 
 use flexmbd_core::Dim;
+use flexmbd_fe::NodeModes;
 use flexmbd_model::{GROUND, JointKind, ModelError, Scene};
 use nalgebra::{Matrix3, Vector3};
 
@@ -110,6 +111,23 @@ pub(crate) struct NodeRows {
 }
 
 impl NodeRows {
+    /// The rows of `n` modes at every node (X^t, then X^r, row-major).
+    pub(crate) fn new(nodes: &[NodeModes], n: usize) -> NodeRows {
+        let rows = nodes
+            .iter()
+            .map(|nd| {
+                let mut v = Vec::with_capacity(6 * n);
+                for a in 0..3 {
+                    v.extend((0..n).map(|m| nd.translation[(a, m)]));
+                }
+                for a in 0..3 {
+                    v.extend((0..n).map(|m| nd.rotation[(a, m)]));
+                }
+                v
+            })
+            .collect();
+        NodeRows { n, rows }
+    }
     pub(crate) fn t(&self, node: usize, a: usize, m: usize) -> f64 {
         self.rows[node][a * self.n + m]
     }
@@ -184,7 +202,7 @@ pub(crate) struct BodyInfo {
     /// Initial angular velocity guess (ground components).
     pub(crate) omega0: Vector3<f64>,
     pub(crate) markers: Vec<Side>,
-    pub(crate) rows: NodeRows,
+    pub(crate) node_rows: NodeRows,
 }
 
 /// Resolve a (body, marker) name pair.
@@ -220,115 +238,11 @@ impl Topology {
     pub(crate) fn build(scene: &Scene, bodies: &[BodyInfo]) -> Result<Topology, ModelError> {
         let dim = scene.dim;
         let nb = bodies.len();
-        let body_of = |name: &str| -> Option<usize> {
-            if name == GROUND {
-                None
-            } else {
-                scene.bodies.iter().position(|b| b.name == name)
-            }
-        };
-        let ends: Vec<(Option<usize>, Option<usize>)> = scene
-            .joints
-            .iter()
-            .map(|j| (body_of(&j.body1), body_of(&j.body2)))
-            .collect();
-        // Can `child`'s frame be carried by joint j at its marker?
-        let valid_child = |ji: usize, child_is_body2: bool| -> bool {
-            let j = &scene.joints[ji];
-            let (cb, cm) = if child_is_body2 {
-                (&j.body2, &j.marker2)
-            } else {
-                (&j.body1, &j.marker1)
-            };
-            let side = side_of(scene, bodies, cb, cm);
-            let Some(b) = side.body else { return false };
-            let info = &bodies[b];
-            if !info.flexible {
-                return true;
-            }
-            let Some(node) = side.node else { return false };
-            let nt = dim.n_trans();
-            let rot = transmits_rotation(dim, &j.kind);
-            (0..nt).all(|a| info.rows.nonzero(node, a, false).is_empty())
-                && (!rot
-                    || match dim {
-                        Dim::Planar => info.rows.nonzero(node, 2, true).is_empty(),
-                        Dim::Spatial => (0..3).all(|a| info.rows.nonzero(node, a, true).is_empty()),
-                    })
-        };
-        let mut in_tree = vec![false; nb];
-        let mut used = vec![false; scene.joints.len()];
-        // (joint, reversed) in the order bodies join the tree.
-        let mut order: Vec<(usize, bool)> = Vec::new();
-        loop {
-            // Candidate joints: one end in the tree (or ground), the other not.
-            let mut best: Vec<Option<(bool, bool, usize, bool)>> = vec![None; nb];
-            for (ji, &(b1, b2)) in ends.iter().enumerate() {
-                if used[ji] {
-                    continue;
-                }
-                let reached = |b: Option<usize>| b.is_none_or(|b| in_tree[b]);
-                let (child, reversed) = match (reached(b1), reached(b2)) {
-                    (true, false) => (b2.expect("not ground"), false),
-                    (false, true) => (b1.expect("not ground"), true),
-                    _ => continue,
-                };
-                let valid = valid_child(ji, !reversed);
-                let has_dof = !matches!(scene.joints[ji].kind, JointKind::Rigid);
-                let key = (valid, has_dof, ji, reversed);
-                let better = match best[child] {
-                    None => true,
-                    Some((v, d, _, _)) => (valid, has_dof) > (v, d),
-                };
-                if better {
-                    best[child] = Some(key);
-                }
-            }
-            let mut added = false;
-            for (child, b) in best.iter().enumerate() {
-                let Some((valid, _, ji, reversed)) = *b else {
-                    continue;
-                };
-                if !valid {
-                    continue;
-                }
-                in_tree[child] = true;
-                used[ji] = true;
-                order.push((ji, reversed));
-                added = true;
-            }
-            if !added {
-                // Flexible bodies reachable only through markers that cannot carry their frame.
-                if let Some((child, Some((_, _, ji, _)))) =
-                    best.iter().enumerate().find(|(_, b)| b.is_some())
-                {
-                    return Err(ModelError::Unsupported(format!(
-                        "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent at the frame's reference node (e.g. `frame: Clamped(node: ..)` at that marker's node)",
-                        scene.origin, bodies[child].name, scene.joints[*ji].name
-                    )));
-                }
-                break;
-            }
-        }
-        let mut floating = Vec::new();
-        for b in 0..nb {
-            if in_tree[b] {
-                continue;
-            }
-            let has_joint = ends.iter().any(|&(b1, b2)| b1 == Some(b) || b2 == Some(b));
-            if has_joint {
-                let lonely: Vec<&str> = (0..nb)
-                    .filter(|&k| !in_tree[k])
-                    .map(|k| bodies[k].name.as_str())
-                    .collect();
-                return Err(ModelError::Unsupported(format!(
-                    "{}: bodies {lonely:?} do not reach the ground through joints; the relative formulation needs every jointed body connected to the ground: join the group's base body to the ground with a `Free` joint to make it a floating base (a body with no joints at all is one already)",
-                    scene.origin
-                )));
-            }
-            floating.push(b);
-        }
-
+        let SpanningTree {
+            order,
+            used,
+            floating,
+        } = spanning_tree(scene, bodies)?;
         let mut t = Topology {
             frames: Vec::new(),
             elems: Vec::new(),
@@ -421,6 +335,144 @@ impl Topology {
         self.body_frame[b] = bf;
     }
 
+    /// The node frame of a flexible parent at the parent marker's node (§4.3): prismatics
+    /// along the parent's body axes with values X^t_{P,a} y, then, when the joint turns the
+    /// node frame (`turns`), revolutes about the node axes with values X^r_{P,a} y; only the
+    /// non-zero rows. Returns the last frame (`f` for a rigid parent).
+    fn node_elems(
+        &mut self,
+        dim: Dim,
+        bodies: &[BodyInfo],
+        ps: &Side,
+        mut f: usize,
+        turns: bool,
+    ) -> usize {
+        if let (Some(pb), Some(node)) = (ps.body, ps.node)
+            && bodies[pb].flexible
+        {
+            let rows = &bodies[pb].node_rows;
+            for a in 0..dim.n_trans() {
+                let nz = rows.nonzero(node, a, false);
+                if !nz.is_empty() {
+                    let rate = nz
+                        .iter()
+                        .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
+                        .collect();
+                    f = self.push_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), rate);
+                }
+            }
+            if turns {
+                let axes: &[usize] = match dim {
+                    Dim::Planar => &[2],
+                    Dim::Spatial => &[0, 1, 2],
+                };
+                for &a in axes {
+                    let nz = rows.nonzero(node, a, true);
+                    if !nz.is_empty() {
+                        let rate = nz
+                            .iter()
+                            .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
+                            .collect();
+                        f = self.push_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), rate);
+                    }
+                }
+            }
+        }
+        f
+    }
+
+    /// The elementary joints of tree joint `ji` (run from `ps` to `cs`, `reversed` when
+    /// that is body2 → body1) after frame `f`, their coordinates pushed to `coords`.
+    /// Returns the last frame.
+    fn joint_elems(
+        &mut self,
+        scene: &Scene,
+        bodies: &[BodyInfo],
+        (ji, reversed): (usize, bool),
+        (ps, cs): (&Side, &Side),
+        mut f: usize,
+        coords: &mut Vec<usize>,
+    ) -> Result<usize, ModelError> {
+        let dim = scene.dim;
+        let j = &scene.joints[ji];
+        let child = cs.body.expect("a tree child is a body");
+        let a_parent0 = ps.body.map_or(Matrix3::identity(), |b| bodies[b].a0);
+        let local = |v: Vector3<f64>| a_parent0.transpose() * v;
+        let what = format!("joint `{}`", j.name);
+        match (&j.kind, dim) {
+            (JointKind::Revolute { .. }, Dim::Planar) => {
+                f = self.joint_elem(Some(f), ElemKind::Revolute, Vector3::z(), coords);
+            }
+            (JointKind::Revolute { axis }, Dim::Spatial) => {
+                let axis = axis.ok_or_else(|| {
+                    ModelError::Unsupported(format!("{what}: a 3D revolute joint needs an axis"))
+                })?;
+                let a = unit(local(axis.vec()), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a, coords);
+            }
+            (JointKind::Prismatic { axis }, _) => {
+                let mut v = axis.vec();
+                if dim == Dim::Planar {
+                    v.z = 0.0;
+                }
+                let a = unit(local(v), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, coords);
+            }
+            (JointKind::Cylindrical { axis }, Dim::Spatial) => {
+                let a = unit(local(axis.vec()), &what)?;
+                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, coords);
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a, coords);
+            }
+            (JointKind::Universal { axis1, axis2 }, Dim::Spatial) => {
+                // The first rotation is about the arm fixed in the tree parent.
+                let (p_arm, c_arm) = if reversed {
+                    (axis2, axis1)
+                } else {
+                    (axis1, axis2)
+                };
+                let a1 = unit(local(p_arm.vec()), &what)?;
+                let a2 = unit(local(c_arm.vec()), &what)?;
+                if a1.dot(&a2).abs() > 1e-6 {
+                    return Err(ModelError::Unsupported(format!(
+                        "{what}: the universal joint's arms must be perpendicular"
+                    )));
+                }
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a1, coords);
+                f = self.joint_elem(Some(f), ElemKind::Revolute, a2, coords);
+            }
+            (JointKind::Spherical, Dim::Spatial) => {
+                // Three intrinsic rotations (§4.2); the middle angle is singular at ±π/2, so
+                // the middle axis is the P0 axis about which the child turns slowest at
+                // t = 0 (relative angular velocity of the scene's guess), ties going to the
+                // axis best aligned with the line from the joint to the child's centre of
+                // mass (a bar's twist, small in practice; the prototype's y, x′, z″).
+                let info = &bodies[child];
+                let joint_point = info.r0 + info.a0 * cs.rbar;
+                let lever = local(info.r0 + info.a0 * info.center_of_mass - joint_point);
+                let lever = lever / lever.norm().max(1e-300);
+                let w_parent = ps.body.map_or(Vector3::zeros(), |b| bodies[b].omega0);
+                let w_rel = local(info.omega0 - w_parent);
+                let w_scale = w_rel.norm().max(1e-300);
+                let score = |a: usize| w_rel[a].abs() / w_scale + 1e-3 * (1.0 - lever[a].abs());
+                let mid = (0..3)
+                    .min_by(|&a, &b| score(a).total_cmp(&score(b)))
+                    .expect("three axes");
+                for a in [(mid + 1) % 3, mid, (mid + 2) % 3] {
+                    f = self.joint_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), coords);
+                }
+            }
+            (JointKind::Rigid, _) => {}
+            // A floating base, in the ground marker's axes (as a body without joints).
+            (JointKind::Free, _) => f = self.free_elems(dim, f, coords),
+            (k, d) => {
+                return Err(ModelError::Unsupported(format!(
+                    "{what}: {k:?} is not a {d} joint"
+                )));
+            }
+        }
+        Ok(f)
+    }
+
     fn add_tree_joint(
         &mut self,
         scene: &Scene,
@@ -447,118 +499,17 @@ impl Topology {
             },
         );
         // Static modes (and any other non-zero node rows) of a flexible parent, §4.3.
-        if let (Some(pb), Some(node)) = (ps.body, ps.node)
-            && bodies[pb].flexible
-        {
-            let rows = &bodies[pb].rows;
-            for a in 0..dim.n_trans() {
-                let nz = rows.nonzero(node, a, false);
-                if !nz.is_empty() {
-                    let rate = nz
-                        .iter()
-                        .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
-                        .collect();
-                    f = self.push_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), rate);
-                }
-            }
-            let driven = scene.drivers.iter().any(|d| d.joint == j.name);
-            if transmits_rotation(dim, &j.kind) || driven {
-                let axes: &[usize] = match dim {
-                    Dim::Planar => &[2],
-                    Dim::Spatial => &[0, 1, 2],
-                };
-                for &a in axes {
-                    let nz = rows.nonzero(node, a, true);
-                    if !nz.is_empty() {
-                        let rate = nz
-                            .iter()
-                            .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
-                            .collect();
-                        f = self.push_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), rate);
-                    }
-                }
-            }
-        }
+        let driven = scene.drivers.iter().any(|d| d.joint == j.name);
+        f = self.node_elems(
+            dim,
+            bodies,
+            &ps,
+            f,
+            transmits_rotation(dim, &j.kind) || driven,
+        );
         // The joint's elementary joints, axes in P0 components at t = 0.
-        let local = |v: Vector3<f64>| a_parent0.transpose() * v;
-        let what = format!("joint `{}`", j.name);
         let mut coords = Vec::new();
-        match (&j.kind, dim) {
-            (JointKind::Revolute { .. }, Dim::Planar) => {
-                f = self.joint_elem(Some(f), ElemKind::Revolute, Vector3::z(), &mut coords);
-            }
-            (JointKind::Revolute { axis }, Dim::Spatial) => {
-                let axis = axis.ok_or_else(|| {
-                    ModelError::Unsupported(format!("{what}: a 3D revolute joint needs an axis"))
-                })?;
-                let a = unit(local(axis.vec()), &what)?;
-                f = self.joint_elem(Some(f), ElemKind::Revolute, a, &mut coords);
-            }
-            (JointKind::Prismatic { axis }, _) => {
-                let mut v = axis.vec();
-                if dim == Dim::Planar {
-                    v.z = 0.0;
-                }
-                let a = unit(local(v), &what)?;
-                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, &mut coords);
-            }
-            (JointKind::Cylindrical { axis }, Dim::Spatial) => {
-                let a = unit(local(axis.vec()), &what)?;
-                f = self.joint_elem(Some(f), ElemKind::Prismatic, a, &mut coords);
-                f = self.joint_elem(Some(f), ElemKind::Revolute, a, &mut coords);
-            }
-            (JointKind::Universal { axis1, axis2 }, Dim::Spatial) => {
-                // The first rotation is about the arm fixed in the tree parent.
-                let (p_arm, c_arm) = if reversed {
-                    (axis2, axis1)
-                } else {
-                    (axis1, axis2)
-                };
-                let a1 = unit(local(p_arm.vec()), &what)?;
-                let a2 = unit(local(c_arm.vec()), &what)?;
-                if a1.dot(&a2).abs() > 1e-6 {
-                    return Err(ModelError::Unsupported(format!(
-                        "{what}: the universal joint's arms must be perpendicular"
-                    )));
-                }
-                f = self.joint_elem(Some(f), ElemKind::Revolute, a1, &mut coords);
-                f = self.joint_elem(Some(f), ElemKind::Revolute, a2, &mut coords);
-            }
-            (JointKind::Spherical, Dim::Spatial) => {
-                // Three intrinsic rotations (§4.2); the middle angle is singular at ±π/2, so
-                // the middle axis is the P0 axis about which the child turns slowest at
-                // t = 0 (relative angular velocity of the scene's guess), ties going to the
-                // axis best aligned with the line from the joint to the child's centre of
-                // mass (a bar's twist, small in practice; the prototype's y, x′, z″).
-                let info = &bodies[child];
-                let joint_point = info.r0 + info.a0 * cs.rbar;
-                let lever = local(info.r0 + info.a0 * info.center_of_mass - joint_point);
-                let lever = lever / lever.norm().max(1e-300);
-                let w_parent = ps.body.map_or(Vector3::zeros(), |b| bodies[b].omega0);
-                let w_rel = local(info.omega0 - w_parent);
-                let w_scale = w_rel.norm().max(1e-300);
-                let score = |a: usize| w_rel[a].abs() / w_scale + 1e-3 * (1.0 - lever[a].abs());
-                let mid = (0..3)
-                    .min_by(|&a, &b| score(a).total_cmp(&score(b)))
-                    .expect("three axes");
-                for a in [(mid + 1) % 3, mid, (mid + 2) % 3] {
-                    f = self.joint_elem(
-                        Some(f),
-                        ElemKind::Revolute,
-                        Vector3::ith(a, 1.0),
-                        &mut coords,
-                    );
-                }
-            }
-            (JointKind::Rigid, _) => {}
-            // A floating base, in the ground marker's axes (as a body without joints).
-            (JointKind::Free, _) => f = self.free_elems(dim, f, &mut coords),
-            (k, d) => {
-                return Err(ModelError::Unsupported(format!(
-                    "{what}: {k:?} is not a {d} joint"
-                )));
-            }
-        }
+        f = self.joint_elems(scene, bodies, (ji, reversed), (&ps, &cs), f, &mut coords)?;
         // The child's frame: A_j = A_J C, r_j = r_J − A_j r̄_Q.
         let info = &bodies[child];
         let c = a_parent0.transpose() * info.a0;
@@ -572,5 +523,178 @@ impl Topology {
         self.body_frame[child] = bf;
         self.tree[ji] = Some(TreeJoint { coords, reversed });
         Ok(())
+    }
+}
+
+/// Can joint `ji` carry its child's frame at the child's marker (`child_is_body2`: the
+/// child is the joint's body2)? Always for a rigid child; for a flexible one, at a node
+/// where every mode row the joint transmits is zero.
+fn can_carry_frame(scene: &Scene, bodies: &[BodyInfo], ji: usize, child_is_body2: bool) -> bool {
+    let dim = scene.dim;
+    let j = &scene.joints[ji];
+    let (cb, cm) = if child_is_body2 {
+        (&j.body2, &j.marker2)
+    } else {
+        (&j.body1, &j.marker1)
+    };
+    let side = side_of(scene, bodies, cb, cm);
+    let Some(b) = side.body else { return false };
+    let info = &bodies[b];
+    if !info.flexible {
+        return true;
+    }
+    let Some(node) = side.node else { return false };
+    let nt = dim.n_trans();
+    let rot = transmits_rotation(dim, &j.kind);
+    (0..nt).all(|a| info.node_rows.nonzero(node, a, false).is_empty())
+        && (!rot
+            || match dim {
+                Dim::Planar => info.node_rows.nonzero(node, 2, true).is_empty(),
+                Dim::Spatial => (0..3).all(|a| info.node_rows.nonzero(node, a, true).is_empty()),
+            })
+}
+
+/// The spanning tree chosen breadth-first from the ground (see the module doc).
+struct SpanningTree {
+    /// (joint, reversed) in the order bodies join the tree.
+    order: Vec<(usize, bool)>,
+    /// Per joint: in the tree (the others are cut).
+    used: Vec<bool>,
+    /// Bodies without joints (floating bases).
+    floating: Vec<usize>,
+}
+
+/// Choose the spanning tree: layer by layer from the ground, each body through its best
+/// joint to the bodies already in the tree.
+fn spanning_tree(scene: &Scene, bodies: &[BodyInfo]) -> Result<SpanningTree, ModelError> {
+    let nb = bodies.len();
+    let body_of = |name: &str| -> Option<usize> {
+        if name == GROUND {
+            None
+        } else {
+            scene.bodies.iter().position(|b| b.name == name)
+        }
+    };
+    let ends: Vec<(Option<usize>, Option<usize>)> = scene
+        .joints
+        .iter()
+        .map(|j| (body_of(&j.body1), body_of(&j.body2)))
+        .collect();
+    let mut in_tree = vec![false; nb];
+    let mut used = vec![false; scene.joints.len()];
+    // (joint, reversed) in the order bodies join the tree.
+    let mut order: Vec<(usize, bool)> = Vec::new();
+    loop {
+        // Candidate joints: one end in the tree (or ground), the other not.
+        let mut best: Vec<Option<(bool, bool, usize, bool)>> = vec![None; nb];
+        for (ji, &(b1, b2)) in ends.iter().enumerate() {
+            if used[ji] {
+                continue;
+            }
+            let reached = |b: Option<usize>| b.is_none_or(|b| in_tree[b]);
+            let (child, reversed) = match (reached(b1), reached(b2)) {
+                (true, false) => (b2.expect("not ground"), false),
+                (false, true) => (b1.expect("not ground"), true),
+                _ => continue,
+            };
+            let valid = can_carry_frame(scene, bodies, ji, !reversed);
+            let has_dof = !matches!(scene.joints[ji].kind, JointKind::Rigid);
+            let key = (valid, has_dof, ji, reversed);
+            let better = match best[child] {
+                None => true,
+                Some((v, d, _, _)) => (valid, has_dof) > (v, d),
+            };
+            if better {
+                best[child] = Some(key);
+            }
+        }
+        let mut added = false;
+        for (child, b) in best.iter().enumerate() {
+            let Some((valid, _, ji, reversed)) = *b else {
+                continue;
+            };
+            if !valid {
+                continue;
+            }
+            in_tree[child] = true;
+            used[ji] = true;
+            order.push((ji, reversed));
+            added = true;
+        }
+        if !added {
+            // Flexible bodies reachable only through markers that cannot carry their frame.
+            if let Some((child, Some((_, _, ji, _)))) =
+                best.iter().enumerate().find(|(_, b)| b.is_some())
+            {
+                return Err(ModelError::Unsupported(format!(
+                    "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent at the frame's reference node (e.g. `frame: Clamped(node: ..)` at that marker's node)",
+                    scene.origin, bodies[child].name, scene.joints[*ji].name
+                )));
+            }
+            break;
+        }
+    }
+    let mut floating = Vec::new();
+    for b in 0..nb {
+        if in_tree[b] {
+            continue;
+        }
+        let has_joint = ends.iter().any(|&(b1, b2)| b1 == Some(b) || b2 == Some(b));
+        if has_joint {
+            let lonely: Vec<&str> = (0..nb)
+                .filter(|&k| !in_tree[k])
+                .map(|k| bodies[k].name.as_str())
+                .collect();
+            return Err(ModelError::Unsupported(format!(
+                "{}: bodies {lonely:?} do not reach the ground through joints; the relative formulation needs every jointed body connected to the ground: join the group's base body to the ground with a `Free` joint to make it a floating base (a body with no joints at all is one already)",
+                scene.origin
+            )));
+        }
+        floating.push(b);
+    }
+    Ok(SpanningTree {
+        order,
+        used,
+        floating,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::DMatrix;
+
+    use super::*;
+
+    #[test]
+    fn node_rows_keep_translation_then_rotation_rows() {
+        // Two modes at one node: X^t[a, m] = 10 a + m, X^r[a, m] = −(10 a + m) − 1.
+        let translation = DMatrix::from_fn(3, 2, |a, m| (10 * a + m) as f64);
+        let rotation = DMatrix::from_fn(3, 2, |a, m| -((10 * a + m) as f64) - 1.0);
+        let node = NodeModes {
+            position: Vector3::zeros(),
+            translation,
+            rotation,
+        };
+        let rows = NodeRows::new(&[node], 2);
+        for a in 0..3 {
+            for m in 0..2 {
+                assert_eq!(rows.t(0, a, m), (10 * a + m) as f64);
+                assert_eq!(rows.r(0, a, m), -((10 * a + m) as f64) - 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn node_rows_nonzero_drops_entries_below_the_relative_threshold() {
+        let node = NodeModes {
+            position: Vector3::zeros(),
+            translation: DMatrix::from_row_slice(3, 2, &[1.0, 1e-14, 0.0, 2.0, 0.0, 0.0]),
+            rotation: DMatrix::from_row_slice(3, 2, &[0.0, 0.0, 0.0, 0.0, -3.0, 1e-13]),
+        };
+        let rows = NodeRows::new(&[node], 2);
+        assert_eq!(rows.nonzero(0, 0, false), [(0, 1.0)]);
+        assert_eq!(rows.nonzero(0, 1, false), [(1, 2.0)]);
+        assert_eq!(rows.nonzero(0, 2, false), []);
+        assert_eq!(rows.nonzero(0, 2, true), [(0, -3.0)]);
     }
 }

@@ -1,0 +1,279 @@
+//! The dynamic terms M and Q (docs/methods.md §4.5 steps 4–7; the tangents of §4.6).
+//!
+//! Step 4: the body terms M̄_k, Q̄_k in the s form from `flexmbd-body` (inertia by either
+//! [`flexmbd_body::InertiaMethod`], gravity, elastic forces) and P_k = Q̄_k − M̄_k {D_k; 0}.
+//! Step 5: 𝕄_F, ℙ_F accumulated leaves → root over the tree of elementary joints. Steps 6–7:
+//!
+//! ```text
+//! M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e        (a on the path of e)
+//! M_w[a, m] = v_aᵀ (M̄^ry_k)_{:,m}       (a moves body k, m a mode of k)
+//! M_w[m, m'] = (M̄^yy_k)_{mm'},  Q_w[e] = v_eᵀ ℙ_{F(e)},  Q_w[m] = (P^y_k)_m
+//! M = Lᵀ M_w L,  Q = Lᵀ Q_w
+//! ```
+//!
+//! so M = Rᵀ M̄ R and Q = Rᵀ (Q̄ − M̄ Ṙ ż). Tangents (§4.6): K ≈ blockdiag K_ff,
+//! C ≈ blockdiag C_ff on the modal coordinates. The spring–dampers add their forces and
+//! tangents last (`flexmbd_model::force_elements`).
+//!
+//! M_w and Q_w need no clearing: every pass writes the same set of their entries (the others
+//! stay at their compile-time zeros). M_w[i, j] goes straight into M when both are z indices
+//! (L = [I; L_node]), into M_w otherwise, whose structural non-zeros are then added to M
+//! through the compile-time mass map. A planar scene only has the x, y, θz entries of twists,
+//! 𝕄 and ℙ (the others are exact zeros), so the products run on those three.
+
+use flexmbd_core::SystemTerms;
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+use crate::system::Relative;
+
+/// Writes M_w[i, j] = v into M (column-major, n_z × n_z) when i and j are z indices, into
+/// `m_w` otherwise.
+fn put(mass: &mut [f64], m_w: &mut DMatrix<f64>, n_z: usize, i: usize, j: usize, v: f64) {
+    if i < n_z && j < n_z {
+        mass[i + j * n_z] = v;
+    } else {
+        m_w[(i, j)] = v;
+    }
+}
+
+/// aᵀ b of two 6-vectors, on the x, y, θz entries only for a planar scene.
+fn twist_dot(planar: bool, a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
+    if planar {
+        a[0] * b[0] + a[1] * b[1] + a[5] * b[5]
+    } else {
+        a.dot(b)
+    }
+}
+
+/// out += Lᵀ v for a w-vector v, L given by its rows (z index, coefficient).
+pub(crate) fn fold_w_to_z(l_rows: &[Vec<(usize, f64)>], v: &[f64], out: &mut [f64]) {
+    for (w, lw) in l_rows.iter().enumerate() {
+        let qv = v[w];
+        for &(c, a) in lw {
+            out[c] += a * qv;
+        }
+    }
+}
+
+impl Relative {
+    /// §4.5 step 4: M̄_k and Q̄_k (inertia, gravity, elastic) of every body, at the
+    /// state of the last kinematics pass.
+    pub(crate) fn evaluate_bodies(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
+        for k in 0..self.bodies.len() {
+            let state = self.body_state(k, z, zd);
+            let g = self.gravity;
+            let inertia_method = self.inertia_method;
+            let b = &mut self.bodies[k];
+            b.body
+                .inertia(&state, inertia_method, &mut b.m_bar, &mut b.q_bar);
+            b.body.gravity_forces(&state, &g, &mut b.gravity_forces);
+            for (q, gv) in b.q_bar.iter_mut().zip(&b.gravity_forces) {
+                *q += gv;
+            }
+            if b.n_modes > 0 {
+                b.body
+                    .elastic_forces(state.y, state.y_dot, &mut b.elastic_forces);
+                for m in 0..b.n_modes {
+                    b.q_bar[self.rigid_size + m] += b.elastic_forces[m];
+                }
+            }
+        }
+    }
+
+    /// §4.5 steps 4–7: M and Q into `out` (which comes cleared), with the modal tangents
+    /// when asked.
+    #[inline(never)]
+    pub(crate) fn dynamics(
+        &mut self,
+        z: &DVector<f64>,
+        zd: &DVector<f64>,
+        tangents: bool,
+        out: &mut SystemTerms,
+    ) {
+        self.evaluate_bodies(z, zd);
+        let mass = out.mass.as_mut_slice();
+        self.body_rows(mass);
+        self.accumulate_subtrees();
+        self.elem_rows(mass);
+        // M = Lᵀ M_w L, Q = Lᵀ Q_w. The z × z block was written into `out` directly; the
+        // node-joint rows and columns of M_w (only its structural non-zeros) are added
+        // through L.
+        let mw = self.m_w.as_slice();
+        for &(d, src, k) in &self.mass_map {
+            mass[d] += k * mw[src];
+        }
+        fold_w_to_z(&self.l_rows, self.q_w.as_slice(), out.forces.as_mut_slice());
+        if tangents {
+            self.add_modal_tangents(z, zd, out);
+        }
+        if !self.force_elements.is_empty() {
+            let mut force_elements = std::mem::take(&mut self.force_elements);
+            force_elements.add_forces(self, z, zd, tangents, out);
+            self.force_elements = force_elements;
+        }
+    }
+
+    /// Step 4: P_k = Q̄_k − M̄_k {D_k; 0}, the bodies' rigid blocks and P_k in the 6-layout,
+    /// and the modal rows of M_w and Q_w.
+    fn body_rows(&mut self, mass: &mut [f64]) {
+        let rigid_size = self.rigid_size;
+        let rigid_entries = self.rigid_entries;
+        let nz = self.n_z;
+        let planar = rigid_size == 3;
+        for k in 0..self.bodies.len() {
+            let b = &self.bodies[k];
+            let f = b.frame;
+            let d = self.frame_bias[f];
+            let nc = rigid_size + b.n_modes;
+            let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+            // P = Q̄ − M̄[:, rigid] D, column by column (the same operation order per row).
+            let mb = b.m_bar.as_slice();
+            let p = &mut self.p_scratch[..nc];
+            p.copy_from_slice(b.q_bar.as_slice());
+            for c in 0..rigid_size {
+                let dc = d[rigid_entries[c]];
+                for (pr, m) in p.iter_mut().zip(&mb[c * nc..(c + 1) * nc]) {
+                    *pr -= m * dc;
+                }
+                for r in 0..rigid_size {
+                    mm[(rigid_entries[r], rigid_entries[c])] = mb[c * nc + r];
+                }
+            }
+            for r in 0..rigid_size {
+                pp[rigid_entries[r]] = p[r];
+            }
+            self.q_w.as_mut_slice()[b.first_mode..b.first_mode + b.n_modes]
+                .copy_from_slice(&p[rigid_size..]);
+            for m in 0..b.n_modes {
+                let wm = b.first_mode + m;
+                let col = &mb[(rigid_size + m) * nc..(rigid_size + m + 1) * nc];
+                let mut u = Vector6::zeros();
+                for r in 0..rigid_size {
+                    u[rigid_entries[r]] = col[r];
+                }
+                for &a in &self.paths[f] {
+                    let val = twist_dot(planar, &self.elem_twist[a], &u);
+                    let wa = self.elem_w[a];
+                    put(mass, &mut self.m_w, nz, wa, wm, val);
+                    put(mass, &mut self.m_w, nz, wm, wa, val);
+                }
+                // M̄_yy (modes are z coordinates): column m of the block, row m2.
+                for m2 in 0..b.n_modes {
+                    mass[b.first_mode + m2 + wm * nz] = col[rigid_size + m2];
+                }
+            }
+        }
+    }
+
+    /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
+    /// elementary joints (a child's index is larger than its parent's).
+    fn accumulate_subtrees(&mut self) {
+        let rigid_entries = self.rigid_entries;
+        let planar = self.rigid_size == 3;
+        for e in (0..self.topology.elems.len()).rev() {
+            let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
+            let parts = self.elem_bodies[e]
+                .iter()
+                .map(|&k| (&self.body_mass[k], &self.body_p[k]))
+                .chain(
+                    self.elem_children[e]
+                        .iter()
+                        .map(|&c| (&self.subtree_mass[c], &self.subtree_p[c])),
+                );
+            if planar {
+                for (bm, bp) in parts {
+                    for &c in &rigid_entries[..3] {
+                        pv[c] += bp[c];
+                        for &r in &rigid_entries[..3] {
+                            m[(r, c)] += bm[(r, c)];
+                        }
+                    }
+                }
+            } else {
+                for (bm, bp) in parts {
+                    m += bm;
+                    pv += bp;
+                }
+            }
+            self.subtree_mass[e] = m;
+            self.subtree_p[e] = pv;
+        }
+    }
+
+    /// Steps 6–7 for the elementary joints: `M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e` for a on the path
+    /// of e, and `Q_w[e] = v_eᵀ ℙ_{F(e)}`.
+    fn elem_rows(&mut self, mass: &mut [f64]) {
+        let nz = self.n_z;
+        let planar = self.rigid_size == 3;
+        for e in 0..self.topology.elems.len() {
+            let f = self.topology.elems[e].frame;
+            let (me, ve) = (&self.subtree_mass[e], &self.elem_twist[e]);
+            let ke = if planar {
+                let mut ke = Vector6::zeros();
+                for r in [0, 1, 5] {
+                    ke[r] = me[(r, 0)] * ve[0] + me[(r, 1)] * ve[1] + me[(r, 5)] * ve[5];
+                }
+                ke
+            } else {
+                me * ve
+            };
+            let we = self.elem_w[e];
+            for &a in &self.paths[f] {
+                let val = twist_dot(planar, &self.elem_twist[a], &ke);
+                let wa = self.elem_w[a];
+                put(mass, &mut self.m_w, nz, wa, we, val);
+                put(mass, &mut self.m_w, nz, we, wa, val);
+            }
+            self.q_w[we] = twist_dot(planar, &self.elem_twist[e], &self.subtree_p[e]);
+        }
+    }
+
+    /// §4.6: K ≈ blockdiag K_ff, C ≈ blockdiag C_ff on the modal coordinates.
+    fn add_modal_tangents(&self, z: &DVector<f64>, zd: &DVector<f64>, out: &mut SystemTerms) {
+        for b in &self.bodies {
+            if b.n_modes == 0 {
+                continue;
+            }
+            let (o, n) = (b.first_mode, b.n_modes);
+            let (y, yd) = (&z.as_slice()[o..o + n], &zd.as_slice()[o..o + n]);
+            b.body
+                .add_elastic_tangents(y, yd, 1.0, 0.0, out.stiffness.view_mut((o, o), (n, n)));
+            b.body
+                .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (n, n)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fold_w_to_z_adds_l_transpose_times_v() {
+        // z = (z0, z1); w = (z0, z1, node joint e = 2 z0 − 0.5 z1).
+        let l_rows = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 2.0), (1, -0.5)]];
+        let v = [1.0, 10.0, 100.0];
+        let mut out = [0.25, -0.25];
+        fold_w_to_z(&l_rows, &v, &mut out);
+        assert_eq!(out, [0.25 + 1.0 + 200.0, -0.25 + 10.0 - 50.0]);
+    }
+
+    #[test]
+    fn twist_dot_planar_uses_x_y_theta_z_only() {
+        let a = Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+        let b = Vector6::new(0.5, -1.0, 7.0, 8.0, 9.0, 2.0);
+        assert_eq!(twist_dot(true, &a, &b), 0.5 - 2.0 + 12.0);
+        assert_eq!(twist_dot(false, &a, &b), a.dot(&b));
+    }
+
+    #[test]
+    fn put_writes_the_z_block_into_m_and_the_rest_into_m_w() {
+        let mut mass = vec![0.0; 4];
+        let mut m_w = DMatrix::zeros(3, 3);
+        put(&mut mass, &mut m_w, 2, 1, 0, 5.0);
+        put(&mut mass, &mut m_w, 2, 2, 1, 7.0);
+        assert_eq!(mass, [0.0, 5.0, 0.0, 0.0]);
+        assert_eq!(m_w[(2, 1)], 7.0);
+        assert_eq!(m_w[(1, 0)], 0.0);
+    }
+}

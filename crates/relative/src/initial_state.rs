@@ -1,0 +1,103 @@
+//! The initial state: z(0) from the placements (joint coordinates 0, modes from
+//! `initial_modes`) and ż(0) by the kinetic-energy-weighted least-squares fit of the scene's
+//! body velocities, M ż = Σ_k R_kᵀ M̄_k Z*_k, with the columns of R_k from velocity passes
+//! at ż = e_c (docs/methods.md §4.6). The integrator makes both consistent with the
+//! constraints (§5.4).
+
+use flexmbd_body::BodyState;
+use flexmbd_core::Dim;
+use flexmbd_model::Scene;
+use nalgebra::{DMatrix, DVector, Vector3, Vector6};
+
+use crate::system::Relative;
+
+impl Relative {
+    /// z(0): the joints at their t = 0 placement (z = 0), the modes as given.
+    pub(crate) fn initial_coordinates(&mut self, scene: &Scene) {
+        for (k, b) in scene.bodies.iter().enumerate() {
+            let (o, n) = (self.bodies[k].first_mode, self.bodies[k].n_modes);
+            for m in 0..n {
+                self.q0[o + m] = b.initial_modes.get(m).copied().unwrap_or(0.0);
+            }
+        }
+    }
+
+    /// ż(0): the kinetic-energy-weighted least-squares fit of the scene's body velocities,
+    /// M ż = Σ_k R_kᵀ M̄_k Z*_k (exact when the given velocities are consistent).
+    pub(crate) fn initial_velocities(&mut self, scene: &Scene) {
+        let n = self.n_z;
+        let q0 = self.q0.clone();
+        let zero = DVector::zeros(n);
+        self.kinematics(&q0, &zero);
+        let mut m = DMatrix::zeros(n, n);
+        let mut b = DVector::zeros(n);
+        // Columns of R: velocity pass with ż = e_c.
+        let nb = self.bodies.len();
+        let mut cols: Vec<Vec<DVector<f64>>> = vec![Vec::new(); nb];
+        for c in 0..n {
+            let mut e = DVector::zeros(n);
+            e[c] = 1.0;
+            self.kinematics(&q0, &e);
+            for k in 0..nb {
+                let bk = &self.bodies[k];
+                let nc = self.rigid_size + bk.n_modes;
+                let z = self.frame_velocity[bk.frame];
+                let mut col = DVector::zeros(nc);
+                for i in 0..self.rigid_size {
+                    col[i] = z[self.rigid_entries[i]];
+                }
+                for mm in 0..bk.n_modes {
+                    col[self.rigid_size + mm] = e[bk.first_mode + mm];
+                }
+                cols[k].push(col);
+            }
+        }
+        self.kinematics(&q0, &zero);
+        for k in 0..nb {
+            let f = self.bodies[k].frame;
+            let (r0, a) = (self.frame_position[f], self.frame_rotation[f]);
+            let bk = &mut self.bodies[k];
+            let y: Vec<f64> = q0.as_slice()[bk.first_mode..bk.first_mode + bk.n_modes].to_vec();
+            let yd = vec![0.0; bk.n_modes];
+            let state = BodyState {
+                r0,
+                a,
+                omega: Vector3::zeros(),
+                s_dot: Vector3::zeros(),
+                y: &y,
+                y_dot: &yd,
+            };
+            bk.body
+                .inertia(&state, self.inertia_method, &mut bk.m_bar, &mut bk.q_bar);
+            let v = &scene.bodies[k].velocity;
+            let mut w = v.angular.vec();
+            let mut lin = v.linear.vec();
+            if self.dim == Dim::Planar {
+                w = Vector3::new(0.0, 0.0, w.z);
+                lin.z = 0.0;
+            }
+            let s_dot = lin + r0.cross(&w);
+            let mut target6 = Vector6::zeros();
+            target6.fixed_rows_mut::<3>(0).copy_from(&s_dot);
+            target6.fixed_rows_mut::<3>(3).copy_from(&w);
+            let nc = self.rigid_size + bk.n_modes;
+            let mut target = DVector::zeros(nc);
+            for i in 0..self.rigid_size {
+                target[i] = target6[self.rigid_entries[i]];
+            }
+            let mt = &bk.m_bar * &target;
+            for c in 0..n {
+                let mc = &bk.m_bar * &cols[k][c];
+                b[c] += cols[k][c].dot(&mt);
+                for d in 0..n {
+                    m[(c, d)] += cols[k][d].dot(&mc);
+                }
+            }
+        }
+        let svd = m.svd(true, true);
+        let max_sv: f64 = svd.singular_values.max();
+        if let Ok(x) = svd.solve(&b, 1e-12 * max_sv.max(1e-300)) {
+            self.qd0.copy_from(&x);
+        }
+    }
+}

@@ -1,0 +1,335 @@
+//! The kinematic pass (docs/methods.md §4.5 steps 1–3) and the marker kinematics built on it.
+//!
+//! Root → leaves along the augmented tree, a fixed frame carries its parent's frame by a
+//! constant offset and rotation, and an elementary joint e of value e = L_e z moves its frame
+//! by its twist v_e (§4.2):
+//!
+//! ```text
+//! Z^r_next = Z^r_f + v_e ė,  D_next = D_f + d_e
+//! revolute about a through p:  v = {p × a; a},  d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}
+//! prismatic along a:           v = {a; 0},      d = {(ω_f × a) ė; 0}
+//! ```
+//!
+//! Positions and twists depend on z only and are recomputed only when z changed; Z and D
+//! only when z or ż changed. A marker's position, velocity and direction follow from its
+//! body's frame and, at an FE node, from the node's mode rows X^t, X^r (§4.3):
+//! r = r0 + A (r̄ + X^t y), d = A (d̄ + θ̄ × d̄), θ̄ = X^r y.
+
+use flexmbd_body::BodyState;
+use nalgebra::{DVector, Matrix3, Rotation3, Unit, Vector3, Vector6};
+
+use crate::system::Relative;
+use crate::topology::{ElemKind, FrameKind, Side};
+
+/// The angle of a rotation about z, atan2(A₁₀, A₀₀).
+pub(crate) fn angle_of(a: &Matrix3<f64>) -> f64 {
+    a[(1, 0)].atan2(a[(0, 0)])
+}
+
+impl Relative {
+    /// §4.5 steps 1–3: positions, velocities Z^r and velocity-product accelerations D of
+    /// every frame, root → leaves; twists v_e of the elementary joints. Sets `last_z`,
+    /// `last_zd` and the caches of [`update_positions`](Self::update_positions) and
+    /// [`update_velocities`](Self::update_velocities).
+    pub(crate) fn kinematics(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
+        self.last_z.copy_from(z);
+        self.last_zd.copy_from(zd);
+        self.positions();
+        self.positions_current = true;
+        self.velocities();
+        self.velocities_zd.copy_from(zd);
+        self.velocities_current = true;
+    }
+
+    /// Positions (and twists) at z unless they are already those of `last_z`; invalidates
+    /// the velocities when z changed.
+    pub(crate) fn update_positions(&mut self, z: &DVector<f64>) {
+        if self.positions_current && self.last_z.as_slice() == z.as_slice() {
+            return;
+        }
+        self.last_z.copy_from(z);
+        self.positions();
+        self.positions_current = true;
+        self.velocities_current = false;
+    }
+
+    /// Velocities and D at `last_zd` unless already done at these positions and rates.
+    pub(crate) fn update_velocities(&mut self) {
+        if self.velocities_current && self.velocities_zd.as_slice() == self.last_zd.as_slice() {
+            return;
+        }
+        self.velocities_zd.copy_from(&self.last_zd);
+        self.velocities();
+        self.velocities_current = true;
+    }
+
+    /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
+    /// on positions only), root → leaves.
+    #[inline(never)]
+    pub(crate) fn positions(&mut self) {
+        let z = self.last_z.as_slice();
+        for f in 0..self.topology.frames.len() {
+            let (rp, ap) = match self.topology.frames[f].parent {
+                None => (Vector3::zeros(), Matrix3::identity()),
+                Some(p) => (self.frame_position[p], self.frame_rotation[p]),
+            };
+            match &self.topology.frames[f].kind {
+                FrameKind::Fixed { offset, rot } => {
+                    if self.planar_frames {
+                        // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
+                        // are exact zeros.
+                        let mut r = rp;
+                        r.x += ap[(0, 0)] * offset.x + ap[(0, 1)] * offset.y;
+                        r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
+                        r.z += offset.z;
+                        self.frame_position[f] = r;
+                        if !self.fixed_identity[f] {
+                            let mut a = ap;
+                            for i in 0..2 {
+                                let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
+                                a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
+                                a[(i, 1)] = p0 * rot[(0, 1)] + p1 * rot[(1, 1)];
+                            }
+                            self.frame_rotation[f] = a;
+                        } else {
+                            self.frame_rotation[f] = ap;
+                        }
+                    } else {
+                        self.frame_position[f] = rp + ap * offset;
+                        self.frame_rotation[f] = if self.fixed_identity[f] { ap } else { ap * rot };
+                    }
+                }
+                FrameKind::Elem(e) => {
+                    let e = *e;
+                    let el = &self.topology.elems[e];
+                    let mut val = 0.0;
+                    for &(c, k) in &self.elem_rate[e] {
+                        val += k * z[c];
+                    }
+                    let a = ap * el.axis;
+                    let mut v = Vector6::zeros();
+                    match el.kind {
+                        ElemKind::Revolute => {
+                            // b = {p × a; a}.
+                            v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
+                            v.fixed_rows_mut::<3>(3).copy_from(&a);
+                            self.frame_position[f] = rp;
+                            if el.axis == Vector3::z() {
+                                // A_p R_z(val), R_z as `from_axis_angle` forms it for ā = z.
+                                let (sn, cs) = val.sin_cos();
+                                let mut a_new = ap;
+                                for i in 0..3 {
+                                    let (c0, c1) = (ap[(i, 0)], ap[(i, 1)]);
+                                    a_new[(i, 0)] = c0 * cs + c1 * sn;
+                                    a_new[(i, 1)] = c1 * cs - c0 * sn;
+                                }
+                                self.frame_rotation[f] = a_new;
+                            } else {
+                                self.frame_rotation[f] = ap
+                                    * Rotation3::from_axis_angle(
+                                        &Unit::new_unchecked(el.axis),
+                                        val,
+                                    )
+                                    .matrix();
+                            }
+                        }
+                        ElemKind::Prismatic => {
+                            // b = {a; 0}.
+                            v.fixed_rows_mut::<3>(0).copy_from(&a);
+                            self.frame_position[f] = rp + a * val;
+                            self.frame_rotation[f] = ap;
+                        }
+                    }
+                    self.elem_twist[e] = v;
+                }
+            }
+        }
+    }
+
+    /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
+    #[inline(never)]
+    pub(crate) fn velocities(&mut self) {
+        let zd = self.last_zd.as_slice();
+        // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
+        // has its parent's Z and D.
+        for e in 0..self.topology.elems.len() {
+            let el = &self.topology.elems[e];
+            let f = el.frame;
+            let (zp, dp) = match self.elem_parent[e] {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(pe) => {
+                    let pf = self.topology.elems[pe].frame;
+                    (self.frame_velocity[pf], self.frame_bias[pf])
+                }
+            };
+            let mut rate = 0.0;
+            for &(c, k) in &self.elem_rate[e] {
+                rate += k * zd[c];
+            }
+            let v = self.elem_twist[e];
+            let w_f = zp.fixed_rows::<3>(3).into_owned();
+            let mut d = dp;
+            match el.kind {
+                ElemKind::Revolute => {
+                    // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
+                    let a = v.fixed_rows::<3>(3).into_owned();
+                    let wxa = w_f.cross(&a);
+                    let rp = self.frame_position[f];
+                    let s_f = zp.fixed_rows::<3>(0).into_owned();
+                    let p_dot = s_f + w_f.cross(&rp);
+                    let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
+                    for i in 0..3 {
+                        d[i] += ds[i];
+                        d[3 + i] += wxa[i] * rate;
+                    }
+                }
+                ElemKind::Prismatic => {
+                    // d = {(ω_f × a) ė; 0}.
+                    let a = v.fixed_rows::<3>(0).into_owned();
+                    let wxa = w_f.cross(&a);
+                    for i in 0..3 {
+                        d[i] += wxa[i] * rate;
+                    }
+                }
+            }
+            self.frame_velocity[f] = zp + v * rate;
+            self.frame_bias[f] = d;
+        }
+        for b in &self.bodies {
+            let (z, d) = match self.paths[b.frame].last() {
+                None => (Vector6::zeros(), Vector6::zeros()),
+                Some(&e) => {
+                    let ef = self.topology.elems[e].frame;
+                    (self.frame_velocity[ef], self.frame_bias[ef])
+                }
+            };
+            self.frame_velocity[b.frame] = z;
+            self.frame_bias[b.frame] = d;
+        }
+    }
+
+    pub(crate) fn body_state<'a>(
+        &self,
+        k: usize,
+        z: &'a DVector<f64>,
+        zd: &'a DVector<f64>,
+    ) -> BodyState<'a> {
+        let b = &self.bodies[k];
+        let f = b.frame;
+        let zr = self.frame_velocity[f];
+        BodyState {
+            r0: self.frame_position[f],
+            a: self.frame_rotation[f],
+            omega: zr.fixed_rows::<3>(3).into_owned(),
+            s_dot: zr.fixed_rows::<3>(0).into_owned(),
+            y: &z.as_slice()[b.first_mode..b.first_mode + b.n_modes],
+            y_dot: &zd.as_slice()[b.first_mode..b.first_mode + b.n_modes],
+        }
+    }
+}
+
+/// Global position and velocity of a marker: r = r0 + A (r̄ + X^t y), ṙ = ṡ + ω × r + A X^t ẏ.
+pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
+    let Some(k) = s.body else {
+        return (s.rbar, Vector3::zeros());
+    };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (r0, a, zr) = (
+        rel.frame_position[f],
+        rel.frame_rotation[f],
+        rel.frame_velocity[f],
+    );
+    let mut pl = s.rbar;
+    let mut vl = Vector3::zeros();
+    if let Some(node) = s.node {
+        for m in 0..b.n_modes {
+            let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
+            for i in 0..3 {
+                pl[i] += b.node_rows.t(node, i, m) * y;
+                vl[i] += b.node_rows.t(node, i, m) * yd;
+            }
+        }
+        // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
+        let ys = b.first_mode..b.first_mode + b.n_modes;
+        let (y, yd) = (
+            &rel.last_z.as_slice()[ys.clone()],
+            &rel.last_zd.as_slice()[ys],
+        );
+        if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
+            pl += sh.position;
+            vl += sh.velocity;
+        }
+    }
+    let p = r0 + a * pl;
+    let sd = zr.fixed_rows::<3>(0).into_owned();
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    (p, sd + w.cross(&p) + a * vl)
+}
+
+/// A direction fixed at a marker, d = A (d̄ + θ̄ × d̄) with θ̄ = X^r y, and its rate.
+pub(crate) fn dir_at(
+    rel: &Relative,
+    s: &Side,
+    dbar: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let Some(k) = s.body else {
+        return (*dbar, Vector3::zeros());
+    };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (a, zr) = (rel.frame_rotation[f], rel.frame_velocity[f]);
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
+    if let Some(node) = s.node {
+        for m in 0..b.n_modes {
+            let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
+            for i in 0..3 {
+                th[i] += b.node_rows.r(node, i, m) * y;
+                thd[i] += b.node_rows.r(node, i, m) * yd;
+            }
+        }
+    }
+    let d = a * (dbar + th.cross(dbar));
+    (d, w.cross(&d) + a * thd.cross(dbar))
+}
+
+/// 2D: angle of a marker's direction, θ = angle(A) + X^r_z y, and its rate.
+pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
+    let Some(k) = s.body else { return (0.0, 0.0) };
+    let b = &rel.bodies[k];
+    let f = b.frame;
+    let (mut th, mut thd) = (angle_of(&rel.frame_rotation[f]), rel.frame_velocity[f][5]);
+    if let Some(node) = s.node {
+        for m in 0..b.n_modes {
+            th += b.node_rows.r(node, 2, m) * rel.last_z[b.first_mode + m];
+            thd += b.node_rows.r(node, 2, m) * rel.last_zd[b.first_mode + m];
+        }
+    }
+    (th, thd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angle_of_recovers_the_angle_of_a_rotation_about_z() {
+        for th in [0.0, 0.3, -1.2, 2.5, -3.0, std::f64::consts::FRAC_PI_2] {
+            let a = *Rotation3::from_axis_angle(&Vector3::z_axis(), th).matrix();
+            let got = angle_of(&a);
+            assert!((got - th).abs() < 1e-15, "θ = {th}: angle_of gives {got}");
+        }
+    }
+
+    #[test]
+    fn angle_of_wraps_to_minus_pi_pi() {
+        let a = *Rotation3::from_axis_angle(&Vector3::z_axis(), 4.0).matrix();
+        let got = angle_of(&a);
+        let expected = 4.0 - std::f64::consts::TAU;
+        assert!(
+            (got - expected).abs() < 1e-14,
+            "angle_of(R_z(4)) = {got}, expected {expected}"
+        );
+    }
+}
