@@ -13,7 +13,7 @@
 //! A formulation whose kinematics are recursive (the relative one) answers from its last
 //! kinematic pass, which must be at (q, q̇): it calls the elements after that pass.
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, Matrix3, Vector3};
 
 /// Marker positions, velocities and Jacobian columns of a formulation.
 pub trait MarkerKinematics {
@@ -36,4 +36,34 @@ pub trait MarkerKinematics {
         q: &DVector<f64>,
         visit: &mut dyn FnMut(usize, Vector3<f64>),
     );
+}
+
+/// What the sensors written once (`flexmbd_model::sensors`) need beyond the markers.
+pub trait SensorQuery: MarkerKinematics {
+    /// The formulation's handle of a joint coordinate (resolved when the scene is compiled).
+    type JointCoordinate;
+
+    /// Origin r0 (m) and rotation A (columns: body axes, ground components) of a body's frame
+    /// at q, the body named by its index in the prepared scene. Planar: z = 0, A about z.
+    fn body_frame(&self, body: usize, q: &DVector<f64>) -> (Vector3<f64>, Matrix3<f64>);
+
+    /// A joint coordinate at (q, q̇), relative to its value at the start.
+    fn joint_coordinate(
+        &self,
+        joint: &Self::JointCoordinate,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> JointReading;
+
+    /// Total mechanical energy at (q, q̇) (J): kinetic, gravity, elastic, force elements.
+    fn total_energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64;
+}
+
+/// A joint coordinate as a formulation reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JointReading {
+    /// An angle known up to whole turns (rad); the sensor counts the turns.
+    Angle(f64),
+    /// A distance or an angle already continuous in time (m or rad).
+    Value(f64),
 }

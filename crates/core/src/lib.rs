@@ -10,7 +10,7 @@ pub mod formulation;
 pub mod kinematics;
 
 pub use formulation::{Formulation, Request, SystemTerms};
-pub use kinematics::MarkerKinematics;
+pub use kinematics::{JointReading, MarkerKinematics, SensorQuery};
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};

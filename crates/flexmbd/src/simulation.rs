@@ -15,7 +15,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::Formulation;
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, Checkpoint as IntegratorCheckpoint, StartFrom, StaticSettings, Stats,
     solve_static,
@@ -23,7 +23,6 @@ use flexmbd_integrators::{
 use flexmbd_model::{
     FormulationKind, InitialState, ModelError, PreparedScene, Scene, Solver, Stiffening,
 };
-use nalgebra::DVector;
 use serde::Serialize;
 
 use crate::Error;
@@ -118,65 +117,10 @@ fn build_formulation(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> 
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
     let prepared = PreparedScene::new(scene)?;
-    let inner: Box<dyn Formulation> = match scene.solver.formulation {
+    Ok(match scene.solver.formulation {
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
-    };
-    let offsets = prepared.sensor_offsets().to_vec();
-    if offsets.iter().all(|&o| o == 0.0) {
-        return Ok(inner);
-    }
-    Ok(Box::new(Displacements { inner, offsets }))
-}
-
-/// A formulation whose `displacement` sensors report the position minus the undeformed
-/// position (`Scene::sensor_offsets`), the same way for every formulation.
-struct Displacements {
-    inner: Box<dyn Formulation>,
-    offsets: Vec<f64>,
-}
-
-impl Formulation for Displacements {
-    fn n_coordinates(&self) -> usize {
-        self.inner.n_coordinates()
-    }
-    fn n_constraints(&self) -> usize {
-        self.inner.n_constraints()
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        self.inner.initial_guess(q, qd)
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        self.inner.specified_coordinates()
-    }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        self.inner.evaluate(t, q, qd, req, out)
-    }
-    fn constant_tangents(&self) -> bool {
-        self.inner.constant_tangents()
-    }
-    fn constant_mass(&self) -> bool {
-        self.inner.constant_mass()
-    }
-    fn symmetric_tangent(&self) -> bool {
-        self.inner.symmetric_tangent()
-    }
-    fn sensor_names(&self) -> &[String] {
-        self.inner.sensor_names()
-    }
-    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.inner.sensors(t, q, qd, out);
-        for (v, o) in out.iter_mut().zip(&self.offsets) {
-            *v -= o;
-        }
-    }
+    })
 }
 
 fn names(scene: &Scene) -> (String, String, String) {

@@ -13,6 +13,7 @@ pub mod load;
 pub mod prepared;
 pub mod rewrite;
 pub mod scene;
+pub mod sensors;
 
 pub use bodies::PreparedBody;
 pub use error::ModelError;

@@ -32,7 +32,7 @@ impl Relative {
         rel.initial_coordinates(scene);
         rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene);
-        rel.build_sensors(scene, &infos)?;
+        rel.sensors = rel.build_sensors(prepared, &infos)?;
         rel.build_force_elements(prepared, &infos)?;
         Ok(rel)
     }
@@ -111,8 +111,7 @@ impl Relative {
             q0: DVector::zeros(n_z),
             qd0: DVector::zeros(n_z),
             specified: Vec::new(),
-            sensor_names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
-            sensors: Vec::new(),
+            sensors: Default::default(),
             coordinate_names,
             last_z: DVector::zeros(n_z),
             last_zd: DVector::zeros(n_z),

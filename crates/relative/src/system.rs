@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::constraints::Constraint;
 use crate::marker_kinematics::MarkerJacobian;
-use crate::sensors::CompiledSensor;
+use crate::sensors::RelativeSensors;
 use crate::topology::{NodeRows, Side, Topology};
 
 /// One body at run time.
@@ -106,8 +106,7 @@ pub struct Relative {
     pub(crate) qd0: DVector<f64>,
     /// Coordinates the integrator holds (none).
     pub(crate) specified: Vec<usize>,
-    pub(crate) sensor_names: Vec<String>,
-    pub(crate) sensors: Vec<CompiledSensor>,
+    pub(crate) sensors: RelativeSensors,
     /// Names of the coordinates.
     pub(crate) coordinate_names: Vec<String>,
     /// z and ż of the last kinematics pass.
@@ -187,7 +186,7 @@ impl flexmbd_core::Formulation for Relative {
         }
     }
     fn sensor_names(&self) -> &[String] {
-        &self.sensor_names
+        self.sensors.names()
     }
     fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
         self.read_sensors(q, qd, out);

@@ -71,14 +71,6 @@ impl Planar {
         }
     }
 
-    /// The rotation A = [u  E u] of a body's frame, with u normalised.
-    pub(super) fn frame_rotation(&self, body_index: usize, q: &DVector<f64>) -> Matrix2<f64> {
-        let z = DVector::zeros(q.len());
-        let u = self.frame(&self.bodies[body_index], q, &z).u;
-        let u = u / u.norm();
-        Matrix2::new(u.x, -u.y, u.y, u.x)
-    }
-
     /// A direction d (ground components), its rate and its bias (second derivative at
     /// q̈ = 0).
     pub(super) fn direction(
@@ -113,9 +105,8 @@ impl Planar {
 
     /// The angle from d₁ to d₂ at q, atan2(d₁ × d₂, d₁ · d₂).
     pub(super) fn angle(&self, d1: &Direction, d2: &Direction, q: &DVector<f64>) -> f64 {
-        let z = DVector::zeros(q.len());
-        let (a, _, _) = self.direction(d1, q, &z);
-        let (b, _, _) = self.direction(d2, q, &z);
+        let (a, _, _) = self.direction(d1, q, &self.zero_rates);
+        let (b, _, _) = self.direction(d2, q, &self.zero_rates);
         cross(&a, &b).atan2(a.dot(&b))
     }
 
@@ -247,6 +238,7 @@ impl Planar {
 mod tests {
     use super::*;
     use crate::planar::tests::{compiled, model};
+    use nalgebra::{Matrix3, Vector3};
 
     /// The slider-crank with a flexible crank and rod, at a state off the constraints:
     /// (planar, q, q̇).
@@ -378,9 +370,10 @@ mod tests {
         let (planar, q, qd) = slider_crank();
         for b in 0..planar.bodies.len() {
             let u = planar.frame(&planar.bodies[b], &q, &qd).u;
-            let a = planar.frame_rotation(b, &q);
-            assert!((a * Vector2::x() - u / u.norm()).norm() < 1e-15);
-            assert!((a.transpose() * a - Matrix2::identity()).amax() < 1e-15);
+            let (_, a) = flexmbd_core::SensorQuery::body_frame(&planar, b, &q);
+            let ex = Vector3::new(u.x, u.y, 0.0) / u.norm();
+            assert!((a * Vector3::x() - ex).norm() < 1e-15);
+            assert!((a.transpose() * a - Matrix3::identity()).amax() < 1e-15);
         }
     }
 }

@@ -60,7 +60,8 @@ pub use kinematics::PlanarMarker;
 
 use body::PlanarBody;
 use constraints::Constraint;
-use sensors::PlanarSensor;
+pub use sensors::PlanarJointCoordinate;
+use sensors::PlanarSensors;
 
 /// The compiled planar scene.
 pub struct Planar {
@@ -78,15 +79,14 @@ pub struct Planar {
     rigid_mass: DMatrix<f64>,
     /// Σ over rigid bodies of Tᵀ Q_gravity, scattered (constant).
     rigid_forces: DVector<f64>,
-    /// Ground markers' positions (m).
-    ground_markers: Vec<Vector2<f64>>,
     /// Initial coordinates and rates.
     q0: DVector<f64>,
     qd0: DVector<f64>,
     /// Specified coordinates (none).
     specified: Vec<usize>,
-    sensor_names: Vec<String>,
-    sensors: Vec<PlanarSensor>,
+    sensors: PlanarSensors,
+    /// Zero rates (n), to evaluate positions alone.
+    zero_rates: DVector<f64>,
     inertia_method: InertiaMethod,
     /// Scratch for one body's local dense terms (basis order, then modes), sized for the
     /// largest body.
@@ -144,10 +144,12 @@ impl flexmbd_core::Formulation for Planar {
             .all(|b| b.body.elastic_model().is_symmetric())
     }
     fn sensor_names(&self) -> &[String] {
-        &self.sensor_names
+        self.sensors.names()
     }
     fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.read_sensors(q, qd, out);
+        let mut sensors = std::mem::take(&mut self.sensors);
+        sensors.read(self, q, qd, out);
+        self.sensors = sensors;
     }
 }
 

@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use super::constraints::{AngleConstraint, Constraint};
 use super::joints::joint_constraints;
 use super::lookup::TermLookup;
-use super::sensors::{CompiledSensor, build_sensors};
+use super::sensors::sensor_terms;
 use super::{FlexibleScratch, MarkerSite, Spatial, SpatialBody};
 
 /// The bodies, their coordinates at t = 0 and the data the term lookup needs.
@@ -57,7 +57,7 @@ impl Spatial {
             .collect();
         joint_constraints(&lookup, &mut constraints)?;
         let m = constraints.iter().map(Constraint::rows).sum();
-        let sensors = build_sensors(&lookup)?;
+        let sensor_terms = sensor_terms(&lookup, prepared)?;
         drop(lookup);
         let mut spatial = Spatial {
             n_coordinates: n,
@@ -68,13 +68,13 @@ impl Spatial {
             q0: DVector::from_vec(built.q0),
             qd0: DVector::from_vec(built.qd0),
             specified: Vec::new(),
-            sensor_names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
-            sensors,
+            sensors: Default::default(),
             inertia_method: method,
             force_elements: ForceElements::default(),
             zero_rates: DVector::zeros(n),
         };
         spatial.set_reference_angles();
+        spatial.sensors = spatial.build_sensors(prepared, sensor_terms)?;
         let (q0, qd0) = (spatial.q0.clone(), spatial.qd0.clone());
         spatial.force_elements = ForceElements::new(
             prepared,
@@ -87,7 +87,7 @@ impl Spatial {
         Ok(spatial)
     }
 
-    /// The reference angles φ0 of the angle drivers and sensors: their angles at t = 0.
+    /// The reference angles φ0 of the angle drivers: their angles at t = 0.
     fn set_reference_angles(&mut self) {
         let z = DVector::zeros(self.n_coordinates);
         let q0 = self.q0.clone();
@@ -101,18 +101,6 @@ impl Spatial {
         for c in &mut self.constraints {
             if let Constraint::Angle(AngleConstraint { phi0, .. }) = c {
                 *phi0 = it.next().expect("one angle per driver");
-            }
-        }
-        let mut phis = Vec::new();
-        for s in &self.sensors {
-            if let CompiledSensor::Angle { p1, p2, a, .. } = s {
-                phis.push(self.angle(p1, p2, a, &q0, &z));
-            }
-        }
-        let mut it = phis.into_iter();
-        for s in &mut self.sensors {
-            if let CompiledSensor::Angle { phi0, .. } = s {
-                *phi0 = it.next().expect("one angle per sensor");
             }
         }
     }

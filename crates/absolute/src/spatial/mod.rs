@@ -88,7 +88,8 @@ use nalgebra::{DMatrix, DVector, Vector3};
 pub use kinematics::Term;
 
 use constraints::Constraint;
-use sensors::CompiledSensor;
+pub use sensors::SpatialJointCoordinate;
+use sensors::SpatialSensors;
 
 /// Scratch of one flexible body, sized once.
 struct FlexibleScratch {
@@ -140,8 +141,7 @@ pub struct Spatial {
     qd0: DVector<f64>,
     /// Specified coordinates (none).
     specified: Vec<usize>,
-    sensor_names: Vec<String>,
-    sensors: Vec<CompiledSensor>,
+    sensors: SpatialSensors,
     inertia_method: InertiaMethod,
     force_elements: ForceElements<Term>,
     /// Zero rates (n), to evaluate a term's position alone.
@@ -192,9 +192,11 @@ impl flexmbd_core::Formulation for Spatial {
             .all(|b| b.body.elastic_model().is_symmetric())
     }
     fn sensor_names(&self) -> &[String] {
-        &self.sensor_names
+        self.sensors.names()
     }
     fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.evaluate_sensors(q, qd, out);
+        let mut sensors = std::mem::take(&mut self.sensors);
+        sensors.read(self, q, qd, out);
+        self.sensors = sensors;
     }
 }

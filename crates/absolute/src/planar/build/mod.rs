@@ -64,16 +64,11 @@ impl Planar {
             force_elements: ForceElements::default(),
             rigid_mass: DMatrix::zeros(0, 0),
             rigid_forces: DVector::zeros(0),
-            ground_markers: scene
-                .ground
-                .iter()
-                .map(|m| Vector2::new(m.position.0[0], m.position.0[1]))
-                .collect(),
             q0: q0.clone(),
             qd0,
             specified: Vec::new(),
-            sensor_names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
-            sensors: Vec::new(),
+            sensors: Default::default(),
+            zero_rates: DVector::zeros(n),
             inertia_method: scene.solver.inertia,
             local_mass: DMatrix::zeros(0, 0),
             local_forces: DVector::zeros(0),
@@ -94,17 +89,24 @@ impl Planar {
         prepared: &PreparedScene,
         q0: &DVector<f64>,
     ) -> Result<ForceElements<PlanarMarker>, ModelError> {
-        let marker_of_id = |id: MarkerId| -> PlanarMarker {
-            match id.body {
-                None => {
-                    let p = prepared.marker_position(id);
-                    PlanarMarker::Ground(Vector2::new(p.x, p.y))
-                }
-                Some(BodyId(b)) => self.bodies[b].marker_by_index(b, id.index),
+        let marker_of_id = |id: MarkerId| self.marker_of(prepared, id);
+        let zero = &self.zero_rates;
+        ForceElements::new(prepared, marker_of_id, self, q0, zero, self.n_coordinates)
+    }
+
+    /// The formulation's handle of a marker.
+    pub(in super::super) fn marker_of(
+        &self,
+        prepared: &PreparedScene,
+        id: MarkerId,
+    ) -> PlanarMarker {
+        match id.body {
+            None => {
+                let p = prepared.marker_position(id);
+                PlanarMarker::Ground(Vector2::new(p.x, p.y))
             }
-        };
-        let zero = DVector::zeros(self.n_coordinates);
-        ForceElements::new(prepared, marker_of_id, self, q0, &zero, self.n_coordinates)
+            Some(BodyId(b)) => self.bodies[b].marker_by_index(b, id.index),
+        }
     }
 
     /// Size the per-body scratch and assemble the rigid bodies' constant Tᵀ M_f T and
