@@ -109,14 +109,20 @@ fn a_failed_step_keeps_the_last_good_state() {
     assert_eq!(summary.message.as_deref(), Some(typed.to_string().as_str()));
 }
 
-/// `step` allocates nothing (after a few steps have sized everything), nor does
-/// `read_sensors` of the rigid four-bar. (The planar absolute formulation's body-frame and
-/// energy sensors of the flexible pendulum still allocate, 3 per reading, in
-/// `flexmbd_absolute`; the facade adds none.)
+/// Neither `step` (after a few steps have sized everything) nor `read_sensors` allocates,
+/// in either formulation (the flexible pendulum reads body-frame positions and the energy).
 #[test]
 fn steps_do_not_allocate() {
-    for name in ["double_four_bar.ron", "flexible_pendulum.ron"] {
-        let mut sim = Simulation::new(&model(name)).unwrap();
+    for (name, form) in [
+        ("double_four_bar.ron", FormulationKind::Absolute),
+        ("flexible_pendulum.ron", FormulationKind::Absolute),
+        ("flexible_pendulum.ron", FormulationKind::Relative),
+        ("flexible_pendulum_3d.ron", FormulationKind::Absolute),
+        ("flexible_pendulum_3d.ron", FormulationKind::Relative),
+    ] {
+        let mut scene = model(name);
+        scene.solver.formulation = form;
+        let mut sim = Simulation::new(&scene).unwrap();
         let mut values = vec![0.0; sim.sensor_names().len()];
         for _ in 0..3 {
             sim.step().unwrap();
@@ -126,12 +132,13 @@ fn steps_do_not_allocate() {
             sim.step().unwrap();
         }
         let made = flexmbd_test_support::allocations() - before;
-        assert_eq!(made, 0, "{name}: {made} allocations in 20 steps");
-        if name == "double_four_bar.ron" {
-            let before = flexmbd_test_support::allocations();
-            sim.read_sensors(&mut values);
-            let made = flexmbd_test_support::allocations() - before;
-            assert_eq!(made, 0, "{name}: {made} allocations in read_sensors");
-        }
+        assert_eq!(made, 0, "{name} ({form:?}): {made} allocations in 20 steps");
+        let before = flexmbd_test_support::allocations();
+        sim.read_sensors(&mut values);
+        let made = flexmbd_test_support::allocations() - before;
+        assert_eq!(
+            made, 0,
+            "{name} ({form:?}): {made} allocations in read_sensors"
+        );
     }
 }
