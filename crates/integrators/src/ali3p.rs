@@ -676,10 +676,9 @@ impl Ali3p {
     /// so x ← x* + f_q⁻¹(−c Φ_qᵀ r) with r = Φ_q x* + b (b = Φ_t for velocities, the
     /// acceleration term c for accelerations). The solve's round-off is about cond(f_q) · ε
     /// relative to what it returns, and cond(f_q) ≈ 10⁹ on the flexible four-bar (the penalty
-    /// against the lightest modal inertia): solving for the whole x put ~10⁻⁸ of noise into
-    /// the velocities every step, which accumulated over the steps (relative and absolute runs
-    /// drifted apart as the step shrank, issue 5); solving for the small increment puts it on
-    /// the increment (measured: 4·10⁻⁹ → 2·10⁻¹⁴ after one step of h = 31 µs).
+    /// against the lightest modal inertia): solving for the whole x would put that noise into
+    /// the velocities every step, to accumulate over the steps; solving for the small
+    /// increment puts it on the increment (figures in `docs/design.md`, "The integrator").
     fn project_increment(&mut self, accelerations: bool, c: f64) {
         let (x, b) = if accelerations {
             (&self.qdd, &self.terms.accel_term)
