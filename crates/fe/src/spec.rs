@@ -340,8 +340,25 @@ impl BeamBodySpec {
         self.validate_inner().map_err(FeError::Invalid)
     }
 
+    /// The checks of [`BeamBodySpec::validate`], one part of the spec at a time in
+    /// the order of its fields. The order matters: the frame and boundary checks
+    /// use the mesh (node count, node positions) and the orientation check the
+    /// segment directions, which only exist once the geometry has passed.
     fn validate_inner(&self) -> Result<(), InvalidValue> {
-        // Material.
+        self.check_material()?;
+        self.check_section()?;
+        self.check_polyline()?;
+        self.check_elements_per_segment()?;
+        self.check_orientation()?;
+        self.check_frame()?;
+        self.check_boundary()?;
+        self.check_normal_modes()?;
+        self.check_damping()
+    }
+
+    /// E and ρ positive; at most one of ν and G, each in its physical range; a 3D
+    /// beam needs one of them for its torsion stiffness.
+    fn check_material(&self) -> Result<(), InvalidValue> {
         let m = &self.material;
         require_positive("material.young_modulus", m.young_modulus)?;
         require_positive("material.density", m.density)?;
@@ -371,8 +388,11 @@ impl BeamBodySpec {
                 "a 3D beam needs poisson_ratio or shear_modulus (torsion)",
             ));
         }
+        Ok(())
+    }
 
-        // Section.
+    /// Every dimension or section constant positive.
+    fn check_section(&self) -> Result<(), InvalidValue> {
         match self.section {
             Section::Rectangle { width, height } => {
                 require_positive("section.width", width)?;
@@ -393,18 +413,23 @@ impl BeamBodySpec {
                 require_positive("section.torsion_j", torsion_j)?;
             }
         }
+        Ok(())
+    }
 
-        // Geometry.
-        let g = &self.geometry;
-        if g.points.len() < 2 {
+    /// At least two points, each with as many finite components as the dimension
+    /// has translations, and no zero-length segment (its element axes and
+    /// lengths would be undefined).
+    fn check_polyline(&self) -> Result<(), InvalidValue> {
+        let points = &self.geometry.points;
+        if points.len() < 2 {
             return Err(InvalidValue::new(
                 "geometry.points",
-                format!("{} point(s)", g.points.len()),
+                format!("{} point(s)", points.len()),
                 "a polyline needs at least 2 points",
             ));
         }
         let want = self.dim.n_trans();
-        for (i, p) in g.points.iter().enumerate() {
+        for (i, p) in points.iter().enumerate() {
             let field = format!("geometry.points[{i}]");
             if p.len() != want {
                 return Err(InvalidValue::new(
@@ -417,12 +442,12 @@ impl BeamBodySpec {
                 return Err(InvalidValue::new(field, format!("{p:?}"), "must be finite"));
             }
         }
-        for i in 1..g.points.len() {
+        for i in 1..points.len() {
             let len = (self.point(i) - self.point(i - 1)).norm();
             if len.is_nan() || len <= 0.0 {
                 return Err(InvalidValue::new(
                     format!("geometry.points[{i}]"),
-                    format!("{:?} (segment length {len})", g.points[i]),
+                    format!("{:?} (segment length {len})", points[i]),
                     format!(
                         "segment {} has zero length: points[{i}] coincides with points[{}]",
                         i - 1,
@@ -431,90 +456,86 @@ impl BeamBodySpec {
                 ));
             }
         }
-        if g.elements_per_segment == 0 {
+        Ok(())
+    }
+
+    /// Each segment is split into at least one element.
+    fn check_elements_per_segment(&self) -> Result<(), InvalidValue> {
+        if self.geometry.elements_per_segment == 0 {
             return Err(InvalidValue::new(
                 "geometry.elements_per_segment",
                 0,
                 "must be at least 1",
             ));
         }
-        if let Some(k) = g.orientation {
-            let kv = Vector3::from(k);
-            let kval = format!("{k:?}");
-            if !kv.iter().all(|x| x.is_finite()) || kv.norm() == 0.0 {
-                return Err(InvalidValue::new(
-                    "geometry.orientation",
-                    kval,
-                    "must be a finite non-zero vector",
-                ));
+        Ok(())
+    }
+
+    /// The orientation vector k̄, when given, is finite and non-zero; in 2D it is
+    /// +ē₃ (the element axes of a planar beam are fixed), in 3D it is parallel to
+    /// no segment (y_e = k̄ × x_e would vanish).
+    fn check_orientation(&self) -> Result<(), InvalidValue> {
+        let Some(k) = self.geometry.orientation else {
+            return Ok(());
+        };
+        let kv = Vector3::from(k);
+        let kval = format!("{k:?}");
+        if !kv.iter().all(|x| x.is_finite()) || kv.norm() == 0.0 {
+            return Err(InvalidValue::new(
+                "geometry.orientation",
+                kval,
+                "must be a finite non-zero vector",
+            ));
+        }
+        match self.dim {
+            Dim::Planar => {
+                if kv.x != 0.0 || kv.y != 0.0 || kv.z <= 0.0 {
+                    return Err(InvalidValue::new(
+                        "geometry.orientation",
+                        kval,
+                        "in 2D the element axes are fixed by k = +e3; omit it or give [0, 0, 1]",
+                    ));
+                }
             }
-            match self.dim {
-                Dim::Planar => {
-                    if kv.x != 0.0 || kv.y != 0.0 || kv.z <= 0.0 {
+            Dim::Spatial => {
+                for i in 1..self.geometry.points.len() {
+                    let x = (self.point(i) - self.point(i - 1)).normalize();
+                    if kv.normalize().cross(&x).norm() < 1e-9 {
                         return Err(InvalidValue::new(
                             "geometry.orientation",
                             kval,
-                            "in 2D the element axes are fixed by k = +e3; omit it or give [0, 0, 1]",
+                            format!("is parallel to segment {}; element axes undefined", i - 1),
                         ));
-                    }
-                }
-                Dim::Spatial => {
-                    for i in 1..g.points.len() {
-                        let x = (self.point(i) - self.point(i - 1)).normalize();
-                        if kv.normalize().cross(&x).norm() < 1e-9 {
-                            return Err(InvalidValue::new(
-                                "geometry.orientation",
-                                kval,
-                                format!("is parallel to segment {}; element axes undefined", i - 1),
-                            ));
-                        }
                     }
                 }
             }
         }
+        Ok(())
+    }
 
-        // Frame.
+    /// `node` (named `field` in the error) is a node of the mesh.
+    fn check_node(&self, field: &str, node: usize) -> Result<(), InvalidValue> {
         let n_nodes = self.n_nodes();
-        let check_node = |field: &str, node: usize| -> Result<(), InvalidValue> {
-            if node >= n_nodes {
-                Err(InvalidValue::new(
-                    field,
-                    node,
-                    format!("no such node (the mesh has nodes 0..{})", n_nodes - 1),
-                ))
-            } else {
-                Ok(())
-            }
-        };
+        if node >= n_nodes {
+            Err(InvalidValue::new(
+                field,
+                node,
+                format!("no such node (the mesh has nodes 0..{})", n_nodes - 1),
+            ))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The reference conditions name nodes of the mesh and DOFs of its nodes, and
+    /// take no DOF twice.
+    fn check_frame(&self) -> Result<(), InvalidValue> {
         match &self.frame {
-            ReferenceFrame::Clamped { node } => check_node("frame.node", *node)?,
-            ReferenceFrame::Chord { a, b } => {
-                check_node("frame.a", *a)?;
-                check_node("frame.b", *b)?;
-                if a == b {
-                    return Err(InvalidValue::new(
-                        "frame.b",
-                        b,
-                        "the chord needs two different nodes",
-                    ));
-                }
-                if self.dim == Dim::Planar {
-                    let pa = crate::assembly::node_position(self, *a);
-                    let pb = crate::assembly::node_position(self, *b);
-                    let d = pb - pa;
-                    if d.y.abs() > 1e-12 * d.norm() {
-                        return Err(InvalidValue::new(
-                            "frame.b",
-                            b,
-                            "nodes A and B of the chord frame must lie on a line parallel to body x \
-                             (v_B is the body-y DOF of B)",
-                        ));
-                    }
-                }
-            }
+            ReferenceFrame::Clamped { node } => self.check_node("frame.node", *node)?,
+            ReferenceFrame::Chord { a, b } => self.check_chord(*a, *b)?,
             ReferenceFrame::Dofs(d) => {
                 for (k, nd) in d.iter().enumerate() {
-                    check_node(&format!("frame.dofs[{k}].node"), nd.node)?;
+                    self.check_node(&format!("frame.dofs[{k}].node"), nd.node)?;
                     if dof_slot(self.dim, nd.dof).is_none() {
                         return Err(InvalidValue::new(
                             format!("frame.dofs[{k}].dof"),
@@ -534,11 +555,44 @@ impl BeamBodySpec {
                 "repeats a DOF",
             ));
         }
+        Ok(())
+    }
 
-        // Boundary.
+    /// The chord frame's nodes A and B exist and differ; in 2D they lie on a line
+    /// parallel to body x, since the roller at B takes the body-y DOF v_B.
+    fn check_chord(&self, a: usize, b: usize) -> Result<(), InvalidValue> {
+        self.check_node("frame.a", a)?;
+        self.check_node("frame.b", b)?;
+        if a == b {
+            return Err(InvalidValue::new(
+                "frame.b",
+                b,
+                "the chord needs two different nodes",
+            ));
+        }
+        if self.dim == Dim::Planar {
+            let pa = crate::assembly::node_position(self, a);
+            let pb = crate::assembly::node_position(self, b);
+            let d = pb - pa;
+            if d.y.abs() > 1e-12 * d.norm() {
+                return Err(InvalidValue::new(
+                    "frame.b",
+                    b,
+                    "nodes A and B of the chord frame must lie on a line parallel to body x \
+                     (v_B is the body-y DOF of B)",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Each boundary DOF is a DOF of a mesh node, given once, and not a frame DOF
+    /// (every mode vanishes on the frame DOFs, so its static mode would be zero).
+    fn check_boundary(&self) -> Result<(), InvalidValue> {
+        let frame_set: HashSet<NodeDof> = self.frame_dofs().into_iter().collect();
         let mut seen = HashSet::new();
         for (k, nd) in self.boundary.iter().enumerate() {
-            check_node(&format!("boundary[{k}].node"), nd.node)?;
+            self.check_node(&format!("boundary[{k}].node"), nd.node)?;
             if dof_slot(self.dim, nd.dof).is_none() {
                 return Err(InvalidValue::new(
                     format!("boundary[{k}].dof"),
@@ -564,9 +618,12 @@ impl BeamBodySpec {
                 ));
             }
         }
+        Ok(())
+    }
 
-        // Modes.
-        let interior = self.n_fe_dofs() - frame.len() - self.boundary.len();
+    /// No more normal modes than interior DOFs (those neither frame nor boundary).
+    fn check_normal_modes(&self) -> Result<(), InvalidValue> {
+        let interior = self.n_fe_dofs() - self.frame_dofs().len() - self.boundary.len();
         if self.normal_modes > interior {
             return Err(InvalidValue::new(
                 "normal_modes",
@@ -574,8 +631,11 @@ impl BeamBodySpec {
                 format!("the model has only {interior} interior DOFs"),
             ));
         }
+        Ok(())
+    }
 
-        // Damping.
+    /// Damping coefficients non-negative.
+    fn check_damping(&self) -> Result<(), InvalidValue> {
         match self.damping {
             Damping::None => {}
             Damping::StiffnessProportional { a_k } => {
