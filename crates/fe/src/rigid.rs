@@ -59,98 +59,18 @@ impl ReducedBody {
                 "must be finite",
             ));
         }
-        let c = center_of_mass;
-        let (positions, weights, description) = match dim {
-            Dim::Planar => {
-                if c.z != 0.0 {
-                    return Err(InvalidValue::new(
-                        "center_of_mass.z",
-                        c.z,
-                        "a planar body lives in z = 0",
-                    ));
-                }
-                let izz = inertia_about_com[(2, 2)];
-                if !(izz.is_finite() && izz > 0.0) {
-                    return Err(InvalidValue::new(
-                        "inertia_about_com.zz",
-                        izz,
-                        "must be finite and > 0",
-                    ));
-                }
-                let d = (izz / mass).sqrt();
-                let pos = vec![
-                    c + Vector3::new(d, 0.0, 0.0),
-                    c - Vector3::new(d, 0.0, 0.0),
-                    c + Vector3::new(0.0, d, 0.0),
-                    c - Vector3::new(0.0, d, 0.0),
-                ];
-                (
-                    pos,
-                    vec![0.25 * mass; 4],
-                    "rigid body: 4 points at ±√(I_zz/m) along x and y about the centre of mass"
-                        .to_string(),
-                )
-            }
-            Dim::Spatial => {
-                let i = inertia_about_com;
-                let bad = |reason: &str| {
-                    Err(InvalidValue::new(
-                        "inertia_about_com",
-                        fmt_mat(&i),
-                        reason.to_string(),
-                    ))
-                };
-                if !i.iter().all(|v| v.is_finite()) {
-                    return bad("must be finite");
-                }
-                let scale = i.abs().max();
-                if (i - i.transpose()).abs().max() > 1e-12 * scale {
-                    return bad("must be symmetric");
-                }
-                let sym = 0.5 * (i + i.transpose());
-                let eig = SymmetricEigen::new(sym);
-                let min = eig.eigenvalues.min();
-                if min.is_nan() || min <= 0.0 {
-                    return bad("must be positive definite (principal moments > 0)");
-                }
-                let tr = eig.eigenvalues.sum();
-                // Second moment about the centre of mass in the principal axes:
-                // λ_i = ½ tr(I) − I_i, which must be ≥ 0 (triangle inequality).
-                let tol = 1e-12 * tr;
-                let mut lambda = [0.0; 3];
-                for k in 0..3 {
-                    let l = 0.5 * tr - eig.eigenvalues[k];
-                    if l < -tol {
-                        return bad(
-                            "principal moments violate the triangle inequality I1 + I2 >= I3",
-                        );
-                    }
-                    lambda[k] = l.max(0.0);
-                }
-                let mut pos = Vec::with_capacity(6);
-                for k in 0..3 {
-                    let e: Vector3<f64> = eig.eigenvectors.column(k).into_owned();
-                    let d = (3.0 * lambda[k] / mass).sqrt();
-                    pos.push(c + d * e);
-                    pos.push(c - d * e);
-                }
-                (
-                    pos,
-                    vec![mass / 6.0; 6],
-                    "rigid body: 6 points on the principal axes about the centre of mass"
-                        .to_string(),
-                )
-            }
+        let cloud = match dim {
+            Dim::Planar => planar_cloud(mass, center_of_mass, &inertia_about_com)?,
+            Dim::Spatial => spatial_cloud(mass, center_of_mass, &inertia_about_com)?,
         };
-        let cloud = MassCloud {
-            n_modes: 0,
-            positions,
-            weights,
-            mode_rows: Vec::new(),
-            description,
-        };
+        Ok(Self::with_rigid_cloud(dim, cloud))
+    }
+
+    /// The body with no FE model and no modes whose inertia is that of `cloud`:
+    /// the shape integrals are taken from the cloud, every modal matrix is 0 × 0.
+    fn with_rigid_cloud(dim: Dim, cloud: MassCloud) -> ReducedBody {
         let shape_integrals = ShapeIntegrals::from_cloud(&cloud);
-        Ok(ReducedBody {
+        ReducedBody {
             dim,
             inventory: ModeInventory {
                 n_fe_dofs: 0,
@@ -167,8 +87,116 @@ impl ReducedBody {
             nodes: Vec::new(),
             stiffening: StiffeningIntegrals::default(),
             foreshortening: None,
-        })
+        }
     }
+}
+
+/// A cloud of point masses with no mode rows (a rigid body's).
+fn rigid_cloud(positions: Vec<Vector3<f64>>, weights: Vec<f64>, description: &str) -> MassCloud {
+    MassCloud {
+        n_modes: 0,
+        positions,
+        weights,
+        mode_rows: Vec::new(),
+        description: description.to_string(),
+    }
+}
+
+/// 2D: four points `c ± d e_x`, `c ± d e_y` of weight m/4 with `d = √(I_zz / m)`,
+/// after checking that the body lies in z = 0 and that `I_zz` is positive (the
+/// other entries of the tensor do not enter a planar motion).
+fn planar_cloud(
+    mass: f64,
+    c: Vector3<f64>,
+    inertia_about_com: &Matrix3<f64>,
+) -> Result<MassCloud, InvalidValue> {
+    if c.z != 0.0 {
+        return Err(InvalidValue::new(
+            "center_of_mass.z",
+            c.z,
+            "a planar body lives in z = 0",
+        ));
+    }
+    let izz = inertia_about_com[(2, 2)];
+    if !(izz.is_finite() && izz > 0.0) {
+        return Err(InvalidValue::new(
+            "inertia_about_com.zz",
+            izz,
+            "must be finite and > 0",
+        ));
+    }
+    let d = (izz / mass).sqrt();
+    let positions = vec![
+        c + Vector3::new(d, 0.0, 0.0),
+        c - Vector3::new(d, 0.0, 0.0),
+        c + Vector3::new(0.0, d, 0.0),
+        c - Vector3::new(0.0, d, 0.0),
+    ];
+    Ok(rigid_cloud(
+        positions,
+        vec![0.25 * mass; 4],
+        "rigid body: 4 points at ±√(I_zz/m) along x and y about the centre of mass",
+    ))
+}
+
+/// 3D: six points `c ± d_k e_k` of weight m/6 on the principal axes `e_k`, with
+/// `d_k = √(3 λ_k / m)` for the principal second moments `λ_k`.
+fn spatial_cloud(
+    mass: f64,
+    c: Vector3<f64>,
+    inertia_about_com: &Matrix3<f64>,
+) -> Result<MassCloud, InvalidValue> {
+    let (lambda, axes) = principal_second_moments(inertia_about_com)?;
+    let mut positions = Vec::with_capacity(6);
+    for k in 0..3 {
+        let e: Vector3<f64> = axes.column(k).into_owned();
+        let d = (3.0 * lambda[k] / mass).sqrt();
+        positions.push(c + d * e);
+        positions.push(c - d * e);
+    }
+    Ok(rigid_cloud(
+        positions,
+        vec![mass / 6.0; 6],
+        "rigid body: 6 points on the principal axes about the centre of mass",
+    ))
+}
+
+/// The principal second moments `λ_k = ½ tr(I) − I_k` about the centre of mass
+/// and the principal axes (columns) of an inertia tensor `I`, refused unless
+/// `I` is finite, symmetric and positive definite with `λ_k ≥ 0` (the triangle
+/// inequality `I_1 + I_2 ≥ I_3`; a round-off negative `λ_k` is taken as 0).
+fn principal_second_moments(i: &Matrix3<f64>) -> Result<([f64; 3], Matrix3<f64>), InvalidValue> {
+    let bad = |reason: &str| {
+        Err(InvalidValue::new(
+            "inertia_about_com",
+            fmt_mat(i),
+            reason.to_string(),
+        ))
+    };
+    if !i.iter().all(|v| v.is_finite()) {
+        return bad("must be finite");
+    }
+    let scale = i.abs().max();
+    if (i - i.transpose()).abs().max() > 1e-12 * scale {
+        return bad("must be symmetric");
+    }
+    let sym = 0.5 * (i + i.transpose());
+    let eig = SymmetricEigen::new(sym);
+    let min = eig.eigenvalues.min();
+    if min.is_nan() || min <= 0.0 {
+        return bad("must be positive definite (principal moments > 0)");
+    }
+    let tr = eig.eigenvalues.sum();
+    let tol = 1e-12 * tr;
+    let mut lambda = [0.0; 3];
+    for k in 0..3 {
+        let l = 0.5 * tr - eig.eigenvalues[k];
+        if l < -tol {
+            return bad("principal moments violate the triangle inequality I1 + I2 >= I3");
+        }
+        lambda[k] = l.max(0.0);
+    }
+    Ok((lambda, eig.eigenvectors))
 }
 
 #[cfg(test)]
