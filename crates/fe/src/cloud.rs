@@ -18,7 +18,9 @@ use flexmbd_core::Dim;
 use nalgebra::{DMatrix, Vector3};
 
 use crate::assembly::Mesh;
-use crate::beam::{AXIAL_2D, AXIAL_3D, TORSION_3D, VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite};
+use crate::beam::{
+    AXIAL_2D, AXIAL_3D, BeamProps, TORSION_3D, VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite,
+};
 use crate::reduced::MassCloud;
 
 /// 4-point Gauss–Legendre rule on [−1, 1]: (abscissa, weight).
@@ -36,21 +38,20 @@ pub fn element_local_modes(mesh: &Mesh, e: usize, x: &DMatrix<f64>) -> DMatrix<f
     mesh.transformation(e) * xe
 }
 
-/// Build the mass cloud for the mode matrix `x` (N × n) on `mesh`.
+/// Build the mass cloud for the mode matrix `x` (N × n) on `mesh`: at each of
+/// the 4 Gauss stations of every element, the centre-line point (2D) or the 4
+/// section points (3D), with the station's mode rows rotated into body axes.
 pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
     let n = x.ncols();
     let p = &mesh.props;
-    let mut positions = Vec::new();
-    let mut weights = Vec::new();
-    let mut mode_rows = Vec::new();
-    let a = (2.0 * p.iz / p.area).sqrt();
-    let b = (2.0 * p.iy / p.area).sqrt();
-    let offsets = [
-        Vector3::new(0.0, a, 0.0),
-        Vector3::new(0.0, -a, 0.0),
-        Vector3::new(0.0, 0.0, b),
-        Vector3::new(0.0, 0.0, -b),
-    ];
+    let offsets = section_offsets(p);
+    let mut cloud = MassCloud {
+        n_modes: n,
+        positions: Vec::new(),
+        weights: Vec::new(),
+        mode_rows: Vec::new(),
+        description: String::new(),
+    };
     for (e, el) in mesh.elements.iter().enumerate() {
         let l = el.length;
         let lam_t = el.axes.transpose();
@@ -59,106 +60,120 @@ pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
         for &(t, wg) in GAUSS4.iter() {
             let xi = 0.5 * (1.0 + t);
             let w = p.rho * p.area * 0.5 * l * wg;
-            let (hn, hd) = hermite(xi, l);
-            let lin = [1.0 - xi, xi];
             let pos = r0 + lam_t.column(0) * (xi * l);
-            // Local translation rows (3 × n) and rotation rows (3 × n).
-            let mut tr = DMatrix::zeros(3, n);
-            let mut rot = DMatrix::zeros(3, n);
             match mesh.dim {
                 Dim::Planar => {
-                    for j in 0..n {
-                        tr[(0, j)] = lin[0] * xl[(AXIAL_2D[0], j)] + lin[1] * xl[(AXIAL_2D[1], j)];
-                        tr[(1, j)] = (0..4).map(|q| hn[q] * xl[(VPLANE_2D[q], j)]).sum();
-                    }
+                    let tr = planar_station_rows(&xl, xi, l);
+                    push_point(&mut cloud, pos, w, &(lam_t * &tr));
                 }
                 Dim::Spatial => {
-                    let s = [1.0, -1.0, 1.0, -1.0];
-                    for j in 0..n {
-                        tr[(0, j)] = lin[0] * xl[(AXIAL_3D[0], j)] + lin[1] * xl[(AXIAL_3D[1], j)];
-                        tr[(1, j)] = (0..4).map(|q| hn[q] * xl[(VPLANE_3D[q], j)]).sum();
-                        tr[(2, j)] = (0..4).map(|q| s[q] * hn[q] * xl[(WPLANE_3D[q], j)]).sum();
-                        rot[(0, j)] =
-                            lin[0] * xl[(TORSION_3D[0], j)] + lin[1] * xl[(TORSION_3D[1], j)];
-                        // θy = −w′ with w = Σ s_q N_q (w, θy)_q.
-                        rot[(1, j)] = -(0..4)
-                            .map(|q| s[q] * hd[q] * xl[(WPLANE_3D[q], j)])
-                            .sum::<f64>();
-                        rot[(2, j)] = (0..4).map(|q| hd[q] * xl[(VPLANE_3D[q], j)]).sum();
-                    }
-                }
-            }
-            match mesh.dim {
-                Dim::Planar => {
-                    push_point(
-                        &mut positions,
-                        &mut weights,
-                        &mut mode_rows,
-                        pos,
-                        w,
-                        &(lam_t * &tr),
-                    );
-                }
-                Dim::Spatial => {
+                    let (tr, rot) = spatial_station_rows(&xl, xi, l);
                     for d in &offsets {
-                        // θ × d for every mode column, in element axes.
-                        let mut rows = tr.clone();
-                        for j in 0..n {
-                            let th = Vector3::new(rot[(0, j)], rot[(1, j)], rot[(2, j)]);
-                            let c = th.cross(d);
-                            for r in 0..3 {
-                                rows[(r, j)] += c[r];
-                            }
-                        }
-                        push_point(
-                            &mut positions,
-                            &mut weights,
-                            &mut mode_rows,
-                            pos + lam_t * d,
-                            0.25 * w,
-                            &(lam_t * &rows),
-                        );
+                        let rows = section_point_rows(&tr, &rot, d);
+                        push_point(&mut cloud, pos + lam_t * d, 0.25 * w, &(lam_t * &rows));
                     }
                 }
             }
         }
     }
-    let description = match mesh.dim {
+    cloud.description = cloud_description(mesh, cloud.len());
+    cloud
+}
+
+/// The 3D section points' offsets in element axes, (0, ±a, 0) and (0, 0, ±b)
+/// with a² = 2I_z/A and b² = 2I_y/A: each pair carries the section's second
+/// moment about one element axis, which gives the rotary inertia.
+fn section_offsets(p: &BeamProps) -> [Vector3<f64>; 4] {
+    let a = (2.0 * p.iz / p.area).sqrt();
+    let b = (2.0 * p.iy / p.area).sqrt();
+    [
+        Vector3::new(0.0, a, 0.0),
+        Vector3::new(0.0, -a, 0.0),
+        Vector3::new(0.0, 0.0, b),
+        Vector3::new(0.0, 0.0, -b),
+    ]
+}
+
+/// 2D: the translation rows (3 × n, element axes; z row zero) of the centre
+/// line at ξ = `xi` along an element of length `l`: linear axial u, Hermite
+/// transverse v, interpolated from the element's local mode rows `xl`.
+fn planar_station_rows(xl: &DMatrix<f64>, xi: f64, l: f64) -> DMatrix<f64> {
+    let n = xl.ncols();
+    let (hn, _) = hermite(xi, l);
+    let lin = [1.0 - xi, xi];
+    let mut tr = DMatrix::zeros(3, n);
+    for j in 0..n {
+        tr[(0, j)] = lin[0] * xl[(AXIAL_2D[0], j)] + lin[1] * xl[(AXIAL_2D[1], j)];
+        tr[(1, j)] = (0..4).map(|q| hn[q] * xl[(VPLANE_2D[q], j)]).sum();
+    }
+    tr
+}
+
+/// 3D: the translation rows and the section rotation rows (each 3 × n, element
+/// axes) at ξ = `xi` along an element of length `l`: linear axial u and twist
+/// θx, Hermite v and w, and the bending rotations θz = v′, θy = −w′.
+fn spatial_station_rows(xl: &DMatrix<f64>, xi: f64, l: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let n = xl.ncols();
+    let (hn, hd) = hermite(xi, l);
+    let lin = [1.0 - xi, xi];
+    // The w-plane nodal DOFs are (w, θy) and the nodal slope is w′ = −θy, so the
+    // slope entries of the Hermite interpolation enter with a minus sign.
+    let s = [1.0, -1.0, 1.0, -1.0];
+    let mut tr = DMatrix::zeros(3, n);
+    let mut rot = DMatrix::zeros(3, n);
+    for j in 0..n {
+        tr[(0, j)] = lin[0] * xl[(AXIAL_3D[0], j)] + lin[1] * xl[(AXIAL_3D[1], j)];
+        tr[(1, j)] = (0..4).map(|q| hn[q] * xl[(VPLANE_3D[q], j)]).sum();
+        tr[(2, j)] = (0..4).map(|q| s[q] * hn[q] * xl[(WPLANE_3D[q], j)]).sum();
+        rot[(0, j)] = lin[0] * xl[(TORSION_3D[0], j)] + lin[1] * xl[(TORSION_3D[1], j)];
+        // θy = −w′ with w = Σ s_q N_q (w, θy)_q.
+        rot[(1, j)] = -(0..4)
+            .map(|q| s[q] * hd[q] * xl[(WPLANE_3D[q], j)])
+            .sum::<f64>();
+        rot[(2, j)] = (0..4).map(|q| hd[q] * xl[(VPLANE_3D[q], j)]).sum();
+    }
+    (tr, rot)
+}
+
+/// The mode rows (element axes) of the section point at offset `d` from the
+/// station: its translation `tr` plus θ × d for every mode column.
+fn section_point_rows(tr: &DMatrix<f64>, rot: &DMatrix<f64>, d: &Vector3<f64>) -> DMatrix<f64> {
+    let mut rows = tr.clone();
+    for j in 0..tr.ncols() {
+        let th = Vector3::new(rot[(0, j)], rot[(1, j)], rot[(2, j)]);
+        let c = th.cross(d);
+        for r in 0..3 {
+            rows[(r, j)] += c[r];
+        }
+    }
+    rows
+}
+
+/// What the cloud of `mesh` is, for reports beside cost comparisons.
+fn cloud_description(mesh: &Mesh, n_points: usize) -> String {
+    match mesh.dim {
         Dim::Planar => format!(
             "beam centre line: 4 Gauss stations per element ({} elements, {} points), \
              linear axial + Hermite transverse rows, consistent mass without rotary inertia",
             mesh.elements.len(),
-            weights.len()
+            n_points
         ),
         Dim::Spatial => format!(
             "beam sections: 4 Gauss stations per element, 4 section points each \
              ({} elements, {} points; a^2 = 2 Iz/A, b^2 = 2 Iy/A), Rayleigh mass",
             mesh.elements.len(),
-            weights.len()
+            n_points
         ),
-    };
-    MassCloud {
-        n_modes: n,
-        positions,
-        weights,
-        mode_rows,
-        description,
     }
 }
 
-fn push_point(
-    positions: &mut Vec<Vector3<f64>>,
-    weights: &mut Vec<f64>,
-    mode_rows: &mut Vec<f64>,
-    pos: Vector3<f64>,
-    w: f64,
-    rows: &nalgebra::Matrix3xX<f64>,
-) {
-    positions.push(pos);
-    weights.push(w);
+/// Append one point of weight `w` at `pos` with its body-axes mode rows (3 × n).
+fn push_point(cloud: &mut MassCloud, pos: Vector3<f64>, w: f64, rows: &nalgebra::Matrix3xX<f64>) {
+    cloud.positions.push(pos);
+    cloud.weights.push(w);
     for r in 0..3 {
         for j in 0..rows.ncols() {
-            mode_rows.push(rows[(r, j)]);
+            cloud.mode_rows.push(rows[(r, j)]);
         }
     }
 }
