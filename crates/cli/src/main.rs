@@ -12,12 +12,12 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
-use flexmbd::simulation::{self, History};
+use flexmbd::simulation::{self, History, Summary};
 
 /// Write a history as CSV: the header, then one row per output instant. `{:?}` prints the
 /// shortest representation of an f64 that reads back bit for bit.
@@ -65,61 +65,46 @@ enum Command {
         json: bool,
     },
     /// Run a scene and write its sensor histories.
-    Simulate {
-        /// A scene file (RON), e.g. models/double_four_bar.ron.
-        scene: PathBuf,
-        /// Formulation (default: the scene's).
-        #[arg(long, value_enum)]
-        formulation: Option<FormulationArg>,
-        /// Inertia route of the flexible bodies (default: the scene's).
-        #[arg(long, value_enum)]
-        inertia: Option<InertiaArg>,
-        /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
-        #[arg(long)]
-        stiffening: Option<String>,
-        /// Time step (s).
-        #[arg(long, allow_negative_numbers = true)]
-        step: Option<f64>,
-        /// Simulated time (s).
-        #[arg(long, allow_negative_numbers = true)]
-        duration: Option<f64>,
-        /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
-        #[arg(long = "set", value_name = "PATH=VALUE")]
-        sets: Vec<String>,
-        /// CSV output (default: no CSV).
-        #[arg(long)]
-        output: Option<PathBuf>,
-        /// Print the run summary as one JSON object on stdout.
-        #[arg(long)]
-        json: bool,
-    },
+    Simulate(SimulateArgs),
+}
+
+/// The arguments of `flexmbd simulate`: the scene, the options that override its
+/// solver settings, and where the results go.
+#[derive(Args)]
+struct SimulateArgs {
+    /// A scene file (RON), e.g. models/double_four_bar.ron.
+    scene: PathBuf,
+    /// Formulation (default: the scene's).
+    #[arg(long, value_enum)]
+    formulation: Option<FormulationArg>,
+    /// Inertia route of the flexible bodies (default: the scene's).
+    #[arg(long, value_enum)]
+    inertia: Option<InertiaArg>,
+    /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
+    #[arg(long)]
+    stiffening: Option<String>,
+    /// Time step (s).
+    #[arg(long, allow_negative_numbers = true)]
+    step: Option<f64>,
+    /// Simulated time (s).
+    #[arg(long, allow_negative_numbers = true)]
+    duration: Option<f64>,
+    /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    sets: Vec<String>,
+    /// CSV output (default: no CSV).
+    #[arg(long)]
+    output: Option<PathBuf>,
+    /// Print the run summary as one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Modes { model, json } => modes(&model, json),
-        Command::Simulate {
-            scene,
-            formulation,
-            inertia,
-            stiffening,
-            step,
-            duration,
-            sets,
-            output,
-            json,
-        } => simulate(
-            &scene,
-            formulation,
-            inertia,
-            stiffening,
-            step,
-            duration,
-            &sets,
-            output.as_deref(),
-            json,
-        ),
+        Command::Simulate(args) => simulate(&args),
     };
     match result {
         Ok(code) => code,
@@ -164,20 +149,32 @@ fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
     })
 }
 
-#[allow(clippy::too_many_arguments)]
-fn simulate(
-    path: &Path,
-    formulation: Option<FormulationArg>,
-    inertia: Option<InertiaArg>,
-    stiffening: Option<String>,
-    step: Option<f64>,
-    duration: Option<f64>,
-    sets: &[String],
-    output: Option<&Path>,
-    json: bool,
-) -> CliResult {
-    let mut scene = Scene::load(path).map_err(|e| -> Box<dyn std::error::Error> {
-        // A body model (the input of `flexmbd modes`) given to `simulate`: say so.
+/// `flexmbd simulate`: load the scene, apply the command line to it, run it, write
+/// the CSV and report the summary. Exit code 2 when the run stopped before the end.
+fn simulate(args: &SimulateArgs) -> CliResult {
+    let mut scene = load_scene(&args.scene)?;
+    args.apply_to(&mut scene)?;
+    scene.validate()?;
+    let (summary, history) = run_with_progress_bar(&scene, args.json)?;
+    if let Some(out) = &args.output {
+        write_csv_file(&history, out)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        print_summary(&summary, args.output.as_deref());
+    }
+    Ok(if summary.status == "ok" {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+/// Load the scene at `path`. When it does not load but is a body model (the input
+/// of `flexmbd modes`), say so instead of reporting the scene parser's complaint.
+fn load_scene(path: &Path) -> Result<Scene, Box<dyn std::error::Error>> {
+    Scene::load(path).map_err(|e| -> Box<dyn std::error::Error> {
         let is_body_model = std::fs::read_to_string(path).is_ok_and(|text| {
             BeamBodySpec::from_ron_str(&text, &path.display().to_string()).is_ok()
         });
@@ -191,34 +188,49 @@ fn simulate(
         } else {
             e.into()
         }
-    })?;
-    let sets = sets
-        .iter()
-        .map(|s| parse_set(s))
-        .collect::<Result<Vec<_>, _>>()?;
-    scene.apply_sets(&sets)?;
-    if let Some(f) = formulation {
-        scene.solver.formulation = match f {
-            FormulationArg::Absolute => FormulationKind::Absolute,
-            FormulationArg::Relative => FormulationKind::Relative,
-        };
+    })
+}
+
+impl SimulateArgs {
+    /// Apply the `--set` overrides to `scene`, then the named options, so that
+    /// `--step` and the like win over a `--set` of the same field. Every `--set`
+    /// is parsed before any is applied. The scene is not validated here.
+    fn apply_to(&self, scene: &mut Scene) -> Result<(), Box<dyn std::error::Error>> {
+        let sets = self
+            .sets
+            .iter()
+            .map(|s| parse_set(s))
+            .collect::<Result<Vec<_>, _>>()?;
+        scene.apply_sets(&sets)?;
+        let solver = &mut scene.solver;
+        if let Some(f) = self.formulation {
+            solver.formulation = match f {
+                FormulationArg::Absolute => FormulationKind::Absolute,
+                FormulationArg::Relative => FormulationKind::Relative,
+            };
+        }
+        if let Some(i) = self.inertia {
+            solver.inertia = match i {
+                InertiaArg::BMatrix => InertiaMethod::BMatrix,
+                InertiaArg::ShapeIntegrals => InertiaMethod::ShapeIntegrals,
+            };
+        }
+        if let Some(s) = &self.stiffening {
+            solver.stiffening = parse_stiffening(s)?;
+        }
+        if let Some(h) = self.step {
+            solver.step = h;
+        }
+        if let Some(d) = self.duration {
+            solver.duration = d;
+        }
+        Ok(())
     }
-    if let Some(i) = inertia {
-        scene.solver.inertia = match i {
-            InertiaArg::BMatrix => InertiaMethod::BMatrix,
-            InertiaArg::ShapeIntegrals => InertiaMethod::ShapeIntegrals,
-        };
-    }
-    if let Some(s) = stiffening {
-        scene.solver.stiffening = parse_stiffening(&s)?;
-    }
-    if let Some(h) = step {
-        scene.solver.step = h;
-    }
-    if let Some(d) = duration {
-        scene.solver.duration = d;
-    }
-    scene.validate()?;
+}
+
+/// Run `scene`, showing a progress bar on stderr for a long run (over 2·10⁴ steps)
+/// when stderr is a terminal and the summary is not going to stdout as JSON.
+fn run_with_progress_bar(scene: &Scene, json: bool) -> Result<(Summary, History), flexmbd::Error> {
     let bar = (!json
         && std::io::stderr().is_terminal()
         && scene.solver.duration / scene.solver.step > 2e4)
@@ -232,57 +244,57 @@ fn simulate(
             );
             pb
         });
-    let (summary, history) = simulation::run(&scene, |frac| {
+    let result = simulation::run(scene, |frac| {
         if let Some(pb) = &bar {
             pb.set_position((frac * 1000.0) as u64);
         }
-    })?;
+    });
     if let Some(pb) = bar {
         pb.finish_and_clear();
     }
+    result
+}
+
+/// Write the sensor histories to the CSV file `out`, naming it when it cannot be created.
+fn write_csv_file(history: &History, out: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let file =
+        std::fs::File::create(out).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    write_csv(history, std::io::BufWriter::new(file))?;
+    Ok(())
+}
+
+/// The run summary for a reader, on stderr: outcome and model size, speed, where
+/// the CPU time went, the failure if any, and the CSV written (`output`).
+fn print_summary(summary: &Summary, output: Option<&Path>) {
+    eprintln!(
+        "{}: {} — {} coordinates, {} constraints, {} {} {}",
+        summary.scene,
+        summary.status,
+        summary.n_coordinates,
+        summary.n_constraints,
+        summary.formulation,
+        summary.inertia,
+        summary.stiffening
+    );
+    eprintln!(
+        "  {:.3} s simulated in {:.4} s CPU (real-time factor {:.1}), {} steps, {:.2} Newton iterations per step",
+        summary.simulated_seconds,
+        summary.cpu_seconds,
+        summary.realtime_factor,
+        summary.steps,
+        summary.newton_iterations as f64 / summary.steps.max(1) as f64
+    );
+    eprintln!(
+        "  time split: evaluation {:.4} s, factorisation {:.4} s, projections {:.4} s; preprocessing {:.4} s",
+        summary.time_evaluation,
+        summary.time_factorization,
+        summary.time_projection,
+        summary.preprocessing_seconds
+    );
+    if let (Some(t), Some(m)) = (summary.failed_at, &summary.message) {
+        eprintln!("  failed at t = {t:.6} s: {m}");
+    }
     if let Some(out) = output {
-        let file = std::fs::File::create(out)
-            .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-        write_csv(&history, std::io::BufWriter::new(file))?;
+        eprintln!("  {} rows written to {}", summary.rows, out.display());
     }
-    if json {
-        println!("{}", serde_json::to_string(&summary)?);
-    } else {
-        eprintln!(
-            "{}: {} — {} coordinates, {} constraints, {} {} {}",
-            summary.scene,
-            summary.status,
-            summary.n_coordinates,
-            summary.n_constraints,
-            summary.formulation,
-            summary.inertia,
-            summary.stiffening
-        );
-        eprintln!(
-            "  {:.3} s simulated in {:.4} s CPU (real-time factor {:.1}), {} steps, {:.2} Newton iterations per step",
-            summary.simulated_seconds,
-            summary.cpu_seconds,
-            summary.realtime_factor,
-            summary.steps,
-            summary.newton_iterations as f64 / summary.steps.max(1) as f64
-        );
-        eprintln!(
-            "  time split: evaluation {:.4} s, factorisation {:.4} s, projections {:.4} s; preprocessing {:.4} s",
-            summary.time_evaluation,
-            summary.time_factorization,
-            summary.time_projection,
-            summary.preprocessing_seconds
-        );
-        if let (Some(t), Some(m)) = (summary.failed_at, &summary.message) {
-            eprintln!("  failed at t = {t:.6} s: {m}");
-        }
-        if let Some(out) = output {
-            eprintln!("  {} rows written to {}", summary.rows, out.display());
-        }
-    }
-    Ok(if summary.status == "ok" {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
-    })
 }
