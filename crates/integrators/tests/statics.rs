@@ -4,72 +4,21 @@
 //! held coordinate, the load stepping of a snap-free but strongly non-linear spring, and
 //! the error paths (no equilibrium; a free rigid-body motion).
 
+mod common;
+use common::*;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, StartFrom, StaticError, StaticSettings, solve_static,
 };
 use nalgebra::DVector;
 
-const G: f64 = 9.81;
-
-/// A point mass on a rod of length L from the origin: q = (x, y), Φ = x² + y² − L²
-/// (`copies` times), gravity −y, K = 0.
-struct Pendulum {
-    q0: [f64; 2],
-    copies: usize,
-}
-const MASS: f64 = 2.0;
-const LENGTH: f64 = 1.5;
-
-impl Formulation for Pendulum {
-    fn n_coordinates(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        self.copies
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&self.q0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        if req.dynamics {
-            out.mass[(0, 0)] = MASS;
-            out.mass[(1, 1)] = MASS;
-            out.forces[1] = -MASS * G;
-        }
-        for k in 0..self.copies {
-            if req.constraints {
-                out.phi[k] = q[0] * q[0] + q[1] * q[1] - LENGTH * LENGTH;
-            }
-            if req.jacobian {
-                out.phi_q[(k, 0)] = 2.0 * q[0];
-                out.phi_q[(k, 1)] = 2.0 * q[1];
-            }
-            if req.accel_term {
-                out.accel_term[k] = 2.0 * (qd[0] * qd[0] + qd[1] * qd[1]);
-            }
-        }
-    }
-}
-
 #[test]
 fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     for copies in [1, 2] {
         // 60° off the vertical: the tangent is the constraint curvature alone.
         let mut p = Pendulum {
-            q0: [LENGTH * 1.0f64.sin(), -LENGTH * 1.0f64.cos()],
             copies,
+            ..pendulum(1.0)
         };
         let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
         eprintln!(
@@ -92,8 +41,8 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     // With the formulation's K (zero here) the tangent Φ_qᵀαΦ_q is singular along the circle:
     // the error says so instead of returning garbage.
     let mut p = Pendulum {
-        q0: [LENGTH * 1.0f64.sin(), -LENGTH * 1.0f64.cos()],
         copies: 1,
+        ..pendulum(1.0)
     };
     let e = solve_static(
         &mut p,
@@ -323,8 +272,8 @@ fn a_free_body_is_refused_as_singular() {
 #[test]
 fn alip3_started_at_the_equilibrium_stays_put() {
     let mut p = Pendulum {
-        q0: [LENGTH * 0.3f64.sin(), -LENGTH * 0.3f64.cos()],
         copies: 1,
+        ..pendulum(0.3)
     };
     let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
     let settings = Ali3pSettings::default();
