@@ -5,31 +5,18 @@
 
 mod common;
 use common::*;
-use flexmbd_core::{Formulation, Request, SystemTerms};
-use flexmbd_model::{Force, FormulationKind, Scene};
+use flexmbd_core::{Formulation, SystemTerms};
+use flexmbd_model::{FormulationKind, Scene};
 use nalgebra::DVector;
 
 fn scene() -> Scene {
-    let mut s = model("slider_crank.ron");
-    s.forces.push(Force::SpringDamper {
-        name: "rod_spring".into(),
-        body1: "rod".into(),
-        marker1: "C".into(),
-        body2: "ground".into(),
-        marker2: "O".into(),
-        stiffness: 40.0,
-        damping: 2.0,
-        free_length: Some(1.0),
-    });
+    let mut s = slider_crank_with_rod_spring();
     s.solver.formulation = FormulationKind::Relative;
     s
 }
 
 fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
-    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    t.clear(Request::ALL);
-    f.evaluate(0.0, q, qd, Request::ALL, &mut t);
-    t
+    terms_at(f, 0.0, q, qd)
 }
 
 #[test]

@@ -1,10 +1,11 @@
 //! The scenes and runs the physics tests share (feature `scenes`): the models of `models/`,
-//! the double four-bar with k flexible bars, the ALI3-P settings a scene's solver asks for,
-//! and a run that records the sensors.
+//! the double four-bar with k flexible bars, the slider-crank with a second spring, the ALI3-P
+//! settings a scene's solver asks for, a compiled formulation, a run that records the sensors,
+//! and the difference of two runs' sensor columns.
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::{BodyModel, Inertia, JointKind, PreparedScene, Scene, V3};
+use flexmbd_model::{BodyModel, Force, Inertia, JointKind, ModelError, PreparedScene, Scene, V3};
 
 /// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
 pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
@@ -30,6 +31,28 @@ pub fn four_bar(flexible: usize) -> Scene {
         body.flexible = true;
     }
     scene
+}
+
+/// The slider-crank (`models/slider_crank.ron`) with a second spring–damper, from node C of
+/// the rod to the ground (so the modal columns of the spring Jacobian are exercised).
+pub fn slider_crank_with_rod_spring() -> Scene {
+    let mut s = model("slider_crank.ron");
+    s.forces.push(Force::SpringDamper {
+        name: "rod_spring".into(),
+        body1: "rod".into(),
+        marker1: "C".into(),
+        body2: "ground".into(),
+        marker2: "O".into(),
+        stiffness: 40.0,
+        damping: 2.0,
+        free_length: Some(1.0),
+    });
+    s
+}
+
+/// `scene` prepared and compiled by a formulation's `compile` (panics on an error).
+pub fn compiled<F>(scene: &Scene, compile: fn(&PreparedScene) -> Result<F, ModelError>) -> F {
+    PreparedScene::new(scene).and_then(|p| compile(&p)).unwrap()
 }
 
 /// A planar scene of rigid bars and revolute joints written in 3D: revolute axes along z,
@@ -102,4 +125,39 @@ pub fn run_with<F: Formulation>(
         }
     }
     (rows, phi_max)
+}
+
+/// Run `scene` compiled by a formulation's `compile`: the rows and the largest ‖Φ‖∞ of
+/// [`run_with`].
+pub fn run_compiled<F: Formulation>(
+    scene: &Scene,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+    h: f64,
+    duration: f64,
+    every: usize,
+) -> (Vec<Vec<f64>>, f64) {
+    run_with(&mut compiled(scene, compile), scene, h, duration, every)
+}
+
+/// Column `c` of two runs' sensor rows: (max over time of |a − b|, the range max − min of a).
+pub fn column_difference(a: &[Vec<f64>], b: &[Vec<f64>], c: usize) -> (f64, f64) {
+    let (lo, hi) = a
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
+    let d = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x[c] - y[c]).abs())
+        .fold(0.0, f64::max);
+    (d, hi - lo)
+}
+
+/// The largest [`column_difference`] relative to the range over the columns `cols`.
+pub fn worst_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
+    let mut worst = 0.0f64;
+    for &c in cols {
+        let (d, range) = column_difference(a, b, c);
+        worst = worst.max(d / range);
+    }
+    worst
 }

@@ -24,19 +24,7 @@ fn scene() -> flexmbd_model::Scene {
 
 /// Max over time of |relative − absolute| / range over the columns.
 fn difference(a: &[Vec<f64>], r: &[Vec<f64>]) -> f64 {
-    let mut worst = 0.0f64;
-    for c in COLS {
-        let (lo, hi) = a
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-        let d = a
-            .iter()
-            .zip(r)
-            .map(|(x, y)| (x[c] - y[c]).abs())
-            .fold(0.0, f64::max);
-        worst = worst.max(d / (hi - lo));
-    }
-    worst
+    worst_difference(a, r, &COLS)
 }
 
 #[test]

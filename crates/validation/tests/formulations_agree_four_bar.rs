@@ -33,19 +33,7 @@ fn difference(scene: &Scene, h: f64, duration: f64, cols: &[usize]) -> f64 {
     let every = (0.01 / h).round() as usize;
     let (a, _) = run_absolute(scene, h, duration, every);
     let (r, _) = run_relative(scene, h, duration, every);
-    let mut worst = 0.0f64;
-    for &c in cols {
-        let (lo, hi) = a
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-        let d = a
-            .iter()
-            .zip(&r)
-            .map(|(x, y)| (x[c] - y[c]).abs())
-            .fold(0.0, f64::max);
-        worst = worst.max(d / (hi - lo));
-    }
-    worst
+    worst_difference(&a, &r, cols)
 }
 
 fn convergence(scene: &Scene, duration: f64, cols: &[usize]) -> Vec<f64> {
