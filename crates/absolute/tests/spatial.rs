@@ -9,8 +9,10 @@
 //! - a flexible 3D pendulum: energy conservation, both inertia routes agree;
 //! - bad input gives an error naming the problem.
 
+mod common;
+use common::*;
 use flexmbd_body::InertiaMethod;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::Formulation;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
@@ -28,9 +30,7 @@ struct RunOut {
 }
 
 fn run_with(scene: &Scene, h: f64, duration: f64, tol: f64) -> RunOut {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let settings = Ali3pSettings {
         step: h,
         tol_q: tol,
@@ -118,18 +118,6 @@ fn pair(kind: &str, body_a: &str, driver: Option<&str>) -> Scene {
     s
 }
 
-fn eval(
-    f: &mut flexmbd_absolute::Absolute,
-    t: f64,
-    q: &DVector<f64>,
-    qd: &DVector<f64>,
-) -> SystemTerms {
-    let mut out = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    out.clear(Request::ALL);
-    f.evaluate(t, q, qd, Request::ALL, &mut out);
-    out
-}
-
 fn rank(a: &DMatrix<f64>) -> usize {
     let sv = a.clone().svd(false, false).singular_values;
     let max = sv.max();
@@ -159,9 +147,7 @@ fn move_rigidly(scene: &Scene, q: &mut DVector<f64>) {
 /// Φ_q, Φ_t and c of a scene against differences, at perturbed states; returns the
 /// mobility at the (rigidly moved) initial configuration and the largest errors.
 fn check_derivatives(scene: &Scene, name: &str) -> (usize, f64, f64, f64) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let (mut q0, mut qd0) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q0, &mut qd0);
@@ -369,9 +355,7 @@ fn sensors_are_consistent() {
 #[test]
 fn rigid_double_pendulum_conserves_energy_to_second_order() {
     let scene = model("double_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&scene);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     assert_eq!((n, m), (24, 20));
     let mut drifts = Vec::new();
@@ -416,9 +400,7 @@ fn rigid_double_pendulum_conserves_energy_to_second_order() {
 fn four_bar_in_3d_reproduces_the_planar_run() {
     let planar = model("double_four_bar.ron");
     let spatial = planar_scene_in_3d(&planar);
-    let f = flexmbd_model::PreparedScene::new(&spatial)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&spatial);
     eprintln!(
         "four-bar in 3D: {} coordinates, {} constraints",
         f.n_coordinates(),
@@ -470,9 +452,7 @@ fn four_bar_in_3d_reproduces_the_planar_run() {
 #[test]
 fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
     let mut scene = model("flexible_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&scene);
     assert_eq!((f.n_coordinates(), f.n_constraints()), (18, 9));
     let (h, t) = (1e-3, 3.0);
     let mut runs = Vec::new();
@@ -525,9 +505,7 @@ fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
 #[test]
 fn flexible_tangents_are_the_modal_blocks() {
     let scene = model("flexible_pendulum_3d.ron");
-    let mut f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(&scene);
     let n = f.n_coordinates();
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q, &mut qd);

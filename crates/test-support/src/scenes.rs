@@ -97,6 +97,19 @@ pub fn settings(scene: &Scene, h: f64) -> Ali3pSettings {
     }
 }
 
+/// ALI3-P on `formulation` from t = 0 at step `h`, the other settings default.
+pub fn ali3p_at<F: Formulation>(formulation: &mut F, h: f64) -> Ali3p {
+    Ali3p::new(
+        formulation,
+        0.0,
+        Ali3pSettings {
+            step: h,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 /// Run a compiled formulation for `duration` at step `h`: the sensor rows every `every`
 /// steps (and at t = 0), and the largest ‖Φ‖∞ seen at those instants.
 pub fn run_with<F: Formulation>(

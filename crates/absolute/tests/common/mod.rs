@@ -1,0 +1,49 @@
+//! Shared by the absolute formulation's tests: a scene compiled, all system terms at a
+//! state, the ALI3-P step loop's allocations, and the frequency of a signal.
+#![allow(dead_code, unused_imports)]
+
+use flexmbd_absolute::Absolute;
+use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_integrators::{Ali3p, Ali3pSettings};
+use flexmbd_model::Scene;
+use nalgebra::DVector;
+
+/// `scene` prepared and compiled in natural coordinates (panics on an error).
+pub use flexmbd_test_support::scenes::ali3p_at;
+
+pub fn absolute(scene: &Scene) -> Absolute {
+    flexmbd_test_support::scenes::compiled(scene, flexmbd_absolute::compile)
+}
+
+/// All the system terms of `f` at (t, q, q̇).
+pub fn eval(f: &mut impl Formulation, t: f64, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
+    let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
+    terms.clear(Request::ALL);
+    f.evaluate(t, q, qd, Request::ALL, &mut terms);
+    terms
+}
+
+/// The allocations of `steps` ALI3-P steps (default settings) of `scene`, after a first step.
+pub fn step_loop_allocations(scene: &Scene, steps: usize) -> usize {
+    let mut f = absolute(scene);
+    let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
+    s.step(&mut f).unwrap();
+    flexmbd_test_support::allocations_in(|| {
+        for _ in 0..steps {
+            s.step(&mut f).unwrap();
+        }
+    })
+}
+
+/// Frequency of a signal from its zero crossings (linear interpolation), in Hz.
+pub fn crossing_frequency(t: &[f64], x: &[f64]) -> f64 {
+    let mut crossings = Vec::new();
+    for i in 1..x.len() {
+        if x[i - 1] != 0.0 && x[i - 1].signum() != x[i].signum() {
+            crossings.push(t[i - 1] + (t[i] - t[i - 1]) * x[i - 1] / (x[i - 1] - x[i]));
+        }
+    }
+    assert!(crossings.len() >= 4, "too few crossings");
+    let span = crossings[crossings.len() - 1] - crossings[0];
+    (crossings.len() - 1) as f64 / (2.0 * span)
+}
