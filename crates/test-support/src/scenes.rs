@@ -5,7 +5,9 @@
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::{BodyModel, Force, Inertia, JointKind, ModelError, PreparedScene, Scene, V3};
+use flexmbd_model::{
+    BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
+};
 
 /// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
 pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
@@ -150,6 +152,21 @@ pub fn run_compiled<F: Formulation>(
     every: usize,
 ) -> (Vec<Vec<f64>>, f64) {
     run_with(&mut compiled(scene, compile), scene, h, duration, every)
+}
+
+/// Run `scene` with its formulation set to `kind`, compiled by that formulation's `compile`:
+/// the rows and the largest ‖Φ‖∞ of [`run_with`].
+pub fn run_as<F: Formulation>(
+    scene: &Scene,
+    kind: FormulationKind,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+    h: f64,
+    duration: f64,
+    every: usize,
+) -> (Vec<Vec<f64>>, f64) {
+    let mut s = scene.clone();
+    s.solver.formulation = kind;
+    run_compiled(&s, compile, h, duration, every)
 }
 
 /// Column `c` of two runs' sensor rows: (max over time of |a − b|, the range max − min of a).

@@ -3,6 +3,7 @@
 #![allow(dead_code, unused_imports)]
 
 use flexmbd_absolute::Absolute;
+use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::Scene;
@@ -33,6 +34,18 @@ pub fn step_loop_allocations(scene: &Scene, steps: usize) -> usize {
             s.step(&mut f).unwrap();
         }
     })
+}
+
+/// Both inertia routes of `scene` step without allocating (`steps` steps after the first).
+pub fn assert_steps_allocate_nothing(mut scene: Scene, steps: usize) {
+    for method in [InertiaMethod::ShapeIntegrals, InertiaMethod::BMatrix] {
+        scene.solver.inertia = method;
+        let allocated = step_loop_allocations(&scene, steps);
+        assert_eq!(
+            allocated, 0,
+            "{method:?}: the step loop allocated {allocated} times"
+        );
+    }
 }
 
 /// Frequency of a signal from its zero crossings (linear interpolation), in Hz.

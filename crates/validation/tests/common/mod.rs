@@ -7,9 +7,15 @@ pub use flexmbd_test_support::scenes::*;
 
 /// Run `scene` in the relative formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
 pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let mut s = scene.clone();
-    s.solver.formulation = FormulationKind::Relative;
-    run_compiled(&s, flexmbd_relative::compile, h, duration, every)
+    let relative = FormulationKind::Relative;
+    run_as(
+        scene,
+        relative,
+        flexmbd_relative::compile,
+        h,
+        duration,
+        every,
+    )
 }
 
 /// Run `scene` in the absolute formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
