@@ -61,16 +61,21 @@ fn tangent(m: &dyn ElasticModel, y: &[f64]) -> DMatrix<f64> {
     k
 }
 
+/// The central-difference step of coordinate `j` at `y` (scaled to it) and y ± that step.
+fn perturbed(y: &[f64], j: usize) -> (f64, Vec<f64>, Vec<f64>) {
+    let h = 1e-6 * y[j].abs().max(1e-4);
+    let (mut yp, mut ym) = (y.to_vec(), y.to_vec());
+    yp[j] += h;
+    ym[j] -= h;
+    (h, yp, ym)
+}
+
 /// −∂Q/∂y by central differences, step scaled per coordinate.
 fn fd_tangent(m: &dyn ElasticModel, y: &[f64]) -> DMatrix<f64> {
     let n = y.len();
     let mut k = DMatrix::zeros(n, n);
     for j in 0..n {
-        let h = 1e-6 * y[j].abs().max(1e-4);
-        let mut yp = y.to_vec();
-        let mut ym = y.to_vec();
-        yp[j] += h;
-        ym[j] -= h;
+        let (h, yp, ym) = perturbed(&y, j);
         let (fp, fm) = (forces(m, &yp), forces(m, &ym));
         for i in 0..n {
             k[(i, j)] = -(fp[i] - fm[i]) / (2.0 * h);
@@ -125,11 +130,7 @@ fn fnl2_force_is_minus_energy_gradient_and_tangent_is_hessian() {
             let mut worst: f64 = 0.0;
             let fmax = f.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             for j in 0..n {
-                let h = 1e-6 * y[j].abs().max(1e-4);
-                let mut yp = y.clone();
-                let mut ym = y.clone();
-                yp[j] += h;
-                ym[j] -= h;
+                let (h, yp, ym) = perturbed(&y, j);
                 let g = (m.strain_energy(&yp) - m.strain_energy(&ym)) / (2.0 * h);
                 worst = worst.max((f[j] + g).abs());
             }
