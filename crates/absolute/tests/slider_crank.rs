@@ -217,17 +217,16 @@ fn spring_forces_are_the_gradient_of_the_spring_energy() {
         for k in 0..3 {
             let (q, _) = perturbed(&q0, k);
             let dq = eval(&mut a, 0.0, &q, &z).forces - eval(&mut b, 0.0, &q, &z).forces;
-            let eps = 1e-6;
-            let mut err = 0.0f64;
-            for j in 0..n {
-                let (mut qp, mut qm) = (q.clone(), q.clone());
-                qp[j] += eps;
-                qm[j] -= eps;
-                let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-                    + energy(&mut b, &qm))
-                    / (2.0 * eps);
-                err = err.max((dq[j] + dv).abs());
-            }
+            let err = energy_gradient_error(
+                n,
+                |_| 1e-6,
+                |j| dq[j],
+                |j, e| {
+                    let mut qe = q.clone();
+                    qe[j] += e;
+                    (energy(&mut a, &qe), energy(&mut b, &qe))
+                },
+            );
             eprintln!(
                 "{}: |Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {:.2})",
                 scene.name,

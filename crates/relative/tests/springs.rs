@@ -50,33 +50,27 @@ fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         out[ie]
     };
     let dq = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;
-    let mut err = 0.0f64;
-    for j in 0..n {
-        let eps = if j >= 3 { 1e-7 } else { 1e-6 };
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        qp[j] += eps;
-        qm[j] -= eps;
-        let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-            + energy(&mut b, &qm))
-            / (2.0 * eps);
-        err = err.max((dq[j] + dv).abs());
-    }
+    let err = energy_gradient_error(
+        n,
+        |j| if j >= 3 { 1e-7 } else { 1e-6 },
+        |j| dq[j],
+        |j, e| {
+            let mut qe = q.clone();
+            qe[j] += e;
+            (energy(&mut a, &qe), energy(&mut b, &qe))
+        },
+    );
     eprintln!("|Q_spring + ∂V/∂z| {err:.1e} (|Q_spring| {:.2})", dq.amax());
     // Measured 6.8e-9 (the differences' own error) against |Q_spring| = 12.
     assert!(dq.amax() > 1.0 && err < 1e-8 * dq.amax(), "{err:e}");
     // C = −∂Q/∂ż of the springs (Q is linear in ż).
-    let (ta, tb) = (eval(&mut a, &q, &qd), eval(&mut b, &q, &qd));
-    let mut cerr = 0.0f64;
-    for j in 0..n {
-        let mut qp = qd.clone();
-        qp[j] += 1.0;
-        let (pa, pb) = (eval(&mut a, &q, &qp), eval(&mut b, &q, &qp));
-        for i in 0..n {
-            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
-            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
-            cerr = cerr.max((fd - c).abs());
+    let cerr = damping_error(n, |j| {
+        let mut qdp = qd.clone();
+        if let Some(j) = j {
+            qdp[j] += 1.0;
         }
-    }
+        (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp))
+    });
     eprintln!("|C_spring − (−∂Q/∂ż)| {cerr:.1e}");
     assert!(cerr < 1e-9, "{cerr:e}");
 }

@@ -1,7 +1,8 @@
 //! The scenes and runs the physics tests share (feature `scenes`): the models of `models/`,
 //! the double four-bar with k flexible bars, the slider-crank with a second spring, the ALI3-P
 //! settings a scene's solver asks for, a compiled formulation, a run that records the sensors,
-//! and the difference of two runs' sensor columns.
+//! the difference of two runs' sensor columns, and the checks of spring forces against the
+//! spring energy (Q = −∂V/∂q) and of their damping (C = −∂Q/∂q̇).
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
@@ -190,4 +191,44 @@ pub fn worst_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
         worst = worst.max(d / range);
     }
     worst
+}
+
+/// max over j of |Q_j + ∂V/∂q_j| for the spring forces `q_spring(j)`, with ∂V/∂q_j the central
+/// difference of step `eps(j)` of the spring energy: `energies(j, e)` is the energy with and
+/// without the springs at q + e·e_j, and V the difference of the two.
+pub fn energy_gradient_error(
+    n: usize,
+    eps: impl Fn(usize) -> f64,
+    q_spring: impl Fn(usize) -> f64,
+    mut energies: impl FnMut(usize, f64) -> (f64, f64),
+) -> f64 {
+    let mut err = 0.0f64;
+    for j in 0..n {
+        let eps = eps(j);
+        let (with_p, without_p) = energies(j, eps);
+        let (with_m, without_m) = energies(j, -eps);
+        let dv = (with_p - without_p - with_m + without_m) / (2.0 * eps);
+        err = err.max((q_spring(j) + dv).abs());
+    }
+    err
+}
+
+/// max over i, j of |C_ij − (−∂Q_i/∂q̇_j)| for the springs (Q is linear in q̇, so a unit step
+/// is exact): `terms(None)` are the terms with and without the springs at (q, q̇), `terms(Some(j))`
+/// those at (q, q̇ + e_j); Q and C of the springs are the differences of the two.
+pub fn damping_error(
+    n: usize,
+    mut terms: impl FnMut(Option<usize>) -> (SystemTerms, SystemTerms),
+) -> f64 {
+    let (ta, tb) = terms(None);
+    let mut err = 0.0f64;
+    for j in 0..n {
+        let (pa, pb) = terms(Some(j));
+        for i in 0..n {
+            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
+            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
+            err = err.max((fd - c).abs());
+        }
+    }
+    err
 }

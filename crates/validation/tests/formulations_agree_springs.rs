@@ -196,17 +196,16 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         out[energy_column]
     };
     let q_springs = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;
-    let mut err = 0.0f64;
-    for j in 0..n {
-        let eps = 1e-6;
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        qp[j] += eps;
-        qm[j] -= eps;
-        let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-            + energy(&mut b, &qm))
-            / (2.0 * eps);
-        err = err.max((q_springs[j] + dv).abs());
-    }
+    let err = energy_gradient_error(
+        n,
+        |_| 1e-6,
+        |j| q_springs[j],
+        |j, e| {
+            let mut qe = q.clone();
+            qe[j] += e;
+            (energy(&mut a, &qe), energy(&mut b, &qe))
+        },
+    );
     eprintln!(
         "|Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {:.2})",
         q_springs.amax()
@@ -216,18 +215,13 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         "{err:e}"
     );
     // C = −∂Q/∂q̇ of the springs (Q is linear in q̇).
-    let (ta, tb) = (eval(&mut a, &q, &qd), eval(&mut b, &q, &qd));
-    let mut c_err = 0.0f64;
-    for j in 0..n {
+    let c_err = damping_error(n, |j| {
         let mut qdp = qd.clone();
-        qdp[j] += 1.0;
-        let (pa, pb) = (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp));
-        for i in 0..n {
-            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
-            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
-            c_err = c_err.max((fd - c).abs());
+        if let Some(j) = j {
+            qdp[j] += 1.0;
         }
-    }
+        (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp))
+    });
     eprintln!("|C_spring − (−∂Q/∂q̇)| {c_err:.1e}");
     assert!(c_err < 1e-9, "{c_err:e}");
 }
