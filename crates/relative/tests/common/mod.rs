@@ -9,17 +9,11 @@ use flexmbd_relative::Relative;
 pub use flexmbd_test_support::scenes::*;
 use nalgebra::DVector;
 
-/// Run `scene` in the relative formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
-pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let relative = FormulationKind::Relative;
-    run_as(
-        scene,
-        relative,
-        flexmbd_relative::compile,
-        h,
-        duration,
-        every,
-    )
+/// Run `scene` in the relative formulation: sensor rows every `every` steps for `secs`, largest
+/// ‖Φ‖∞.
+pub fn run_relative(scene: &Scene, h: f64, secs: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
+    let kind = FormulationKind::Relative;
+    run_as(scene, kind, flexmbd_relative::compile, h, secs, every)
 }
 
 /// All the system terms of `f` at (t, z, ż).

@@ -2,20 +2,13 @@
 //! `flexmbd_test_support::scenes`, and a run in each formulation.
 #![allow(dead_code, unused_imports)]
 
-use flexmbd_model::{FormulationKind, Scene};
+use flexmbd_model::{FormulationKind::Relative, Scene};
 pub use flexmbd_test_support::scenes::*;
 
-/// Run `scene` in the relative formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
-pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let relative = FormulationKind::Relative;
-    run_as(
-        scene,
-        relative,
-        flexmbd_relative::compile,
-        h,
-        duration,
-        every,
-    )
+/// Run `scene` in the relative formulation: sensor rows every `every` steps for `secs`, largest
+/// ‖Φ‖∞.
+pub fn run_relative(scene: &Scene, h: f64, secs: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
+    run_as(scene, Relative, flexmbd_relative::compile, h, secs, every)
 }
 
 /// Run `scene` in the absolute formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
