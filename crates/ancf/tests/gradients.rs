@@ -56,6 +56,14 @@ fn forces(c: &mut Cable, q: &DVector<f64>, tangents: bool) -> SystemTerms {
     t
 }
 
+/// q with its coordinate `i` moved by +dx and by −dx.
+fn plus_minus(q: &DVector<f64>, i: usize, dx: f64) -> (DVector<f64>, DVector<f64>) {
+    let (mut qp, mut qm) = (q.clone(), q.clone());
+    qp[i] += dx;
+    qm[i] -= dx;
+    (qp, qm)
+}
+
 #[test]
 fn elastic_force_is_minus_energy_gradient() {
     for dim in [Dim::Planar, Dim::Spatial] {
@@ -65,9 +73,7 @@ fn elastic_force_is_minus_energy_gradient() {
         let mut worst: f64 = 0.0;
         for i in 0..q.len() {
             let dx = 1e-6;
-            let (mut qp, mut qm) = (q.clone(), q.clone());
-            qp[i] += dx;
-            qm[i] -= dx;
+            let (qp, qm) = plus_minus(&q, i, dx);
             let du = (c.elastic(&qp, None, None) - c.elastic(&qm, None, None)) / (2.0 * dx);
             worst = worst.max((qf[i] + du).abs());
         }
@@ -90,9 +96,7 @@ fn tangent_is_minus_force_jacobian() {
         let mut fd = DMatrix::zeros(n, n);
         for j in 0..n {
             let dx = 1e-6;
-            let (mut qp, mut qm) = (q.clone(), q.clone());
-            qp[j] += dx;
-            qm[j] -= dx;
+            let (qp, qm) = plus_minus(&q, j, dx);
             let col = (forces(&mut c, &qp, false).forces - forces(&mut c, &qm, false).forces)
                 / (2.0 * dx);
             fd.column_mut(j).copy_from(&(-col));
