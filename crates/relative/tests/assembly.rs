@@ -32,9 +32,7 @@ fn dense_r(f: &mut Relative, z: &DVector<f64>) -> Vec<DMatrix<f64>> {
 }
 
 fn check_assembly(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..4 {
         let (z, zd) = state(n, k);
@@ -69,9 +67,7 @@ fn check_assembly(scene: &Scene) {
 
 /// Q = −Ṁ ż + ∂T/∂z − ∂V/∂z with T = ½ żᵀ M(z) ż and V the gravity and elastic potential.
 fn check_lagrange(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..3 {
         let (z, zd) = state(n, k + 7);
@@ -85,9 +81,7 @@ fn check_lagrange(scene: &Scene) {
 
 /// Φ_z and c against differences of Φ along z(t) = z + t ż.
 fn check_constraints(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..3 {
         let (z, zd) = state(n, k + 3);
@@ -137,9 +131,7 @@ fn constraint_jacobian_and_bias_match_differences() {
 #[test]
 fn coordinate_counts_of_the_flexible_four_bar() {
     for k in 0..=5 {
-        let f = flexmbd_model::PreparedScene::new(&four_bar(k))
-            .and_then(|p| flexmbd_relative::compile(&p))
-            .unwrap();
+        let f = relative(&four_bar(k));
         eprintln!(
             "{k} flexible bars: {} coordinates, {} constraints",
             f.n_coordinates(),

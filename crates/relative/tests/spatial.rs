@@ -59,9 +59,7 @@ fn eval(f: &mut Relative, z: &DVector<f64>, zd: &DVector<f64>) -> SystemTerms {
 }
 
 fn check_terms(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..3 {
         let (z, zd) = state(n, k);
@@ -122,9 +120,7 @@ fn flexible_pendulum_3d_conserves_energy() {
         (model("flexible_pendulum_3d.ron"), 5e-4),
         (flexible_chain_3d(), 1.25e-4),
     ] {
-        let f = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_relative::compile(&p))
-            .unwrap();
+        let f = relative(&scene);
         let ie = scene
             .sensors
             .iter()

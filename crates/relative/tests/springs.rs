@@ -24,18 +24,10 @@ fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = scene();
     let mut without = with.clone();
     without.forces.clear();
-    let mut a = flexmbd_model::PreparedScene::new(&with)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
-    let mut b = flexmbd_model::PreparedScene::new(&without)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut a = compiled(&with, flexmbd_relative::compile);
+    let mut b = compiled(&without, flexmbd_relative::compile);
     let n = a.n_coordinates();
-    let ie = with
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let ie = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     a.initial_guess(&mut q, &mut qd);
     // A deformed, moved state (joint angles and modal coordinates).

@@ -58,6 +58,15 @@ pub fn compiled<F>(scene: &Scene, compile: fn(&PreparedScene) -> Result<F, Model
     PreparedScene::new(scene).and_then(|p| compile(&p)).unwrap()
 }
 
+/// The column of the sensor `name` in the scene's sensor rows (panics if there is none).
+pub fn sensor_column(scene: &Scene, name: &str) -> usize {
+    scene
+        .sensors
+        .iter()
+        .position(|x| x.name == name)
+        .unwrap_or_else(|| panic!("{}: no sensor {name}", scene.name))
+}
+
 /// A planar scene of rigid bars and revolute joints written in 3D: revolute axes along z,
 /// each body the rigid body with the planar body's mass properties (rod-like: a tiny axial
 /// inertia about body x).

@@ -30,7 +30,7 @@ fn difference(a: &[Vec<f64>], r: &[Vec<f64>]) -> f64 {
 #[test]
 fn floating_platform_with_a_loop_agrees_in_both_formulations() {
     let s = scene();
-    let energy = s.sensors.iter().position(|x| x.name == "energy").unwrap();
+    let energy = sensor_column(&s, "energy");
     let mut d = Vec::new();
     for h in [1e-3_f64, 5e-4, 2.5e-4] {
         let every = (0.01 / h).round() as usize;

@@ -127,17 +127,9 @@ fn projections_do_not_amplify_round_off() {
         }
         let compile = |s: &Scene| -> Box<dyn flexmbd_core::Formulation> {
             if relative {
-                Box::new(
-                    flexmbd_model::PreparedScene::new(s)
-                        .and_then(|p| flexmbd_relative::compile(&p))
-                        .unwrap(),
-                )
+                Box::new(compiled(s, flexmbd_relative::compile))
             } else {
-                Box::new(
-                    flexmbd_model::PreparedScene::new(s)
-                        .and_then(|p| flexmbd_absolute::compile(&p))
-                        .unwrap(),
-                )
+                Box::new(compiled(s, flexmbd_absolute::compile))
             }
         };
         let (mut f1, mut f2) = (compile(&s), compile(&s));

@@ -171,18 +171,10 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = double_pendulum(0.8);
     let mut without = with.clone();
     without.forces.clear();
-    let compile = |s: &Scene| {
-        flexmbd_model::PreparedScene::new(s)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap()
-    };
-    let (mut a, mut b) = (compile(&with), compile(&without));
+    let mut a = compiled(&with, flexmbd_absolute::compile);
+    let mut b = compiled(&without, flexmbd_absolute::compile);
     let n = a.n_coordinates();
-    let energy_column = with
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let energy_column = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     a.initial_guess(&mut q, &mut qd);
     for i in 0..n {
@@ -229,11 +221,7 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
 #[test]
 fn undamped_springs_conserve_energy_in_natural_coordinates_3d() {
     let scene = double_pendulum(0.0);
-    let energy = scene
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let energy = sensor_column(&scene, "energy");
     let drift: Vec<f64> = [2e-3, 1e-3]
         .iter()
         .map(|&h| {

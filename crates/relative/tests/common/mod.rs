@@ -9,6 +9,11 @@ use flexmbd_relative::Relative;
 pub use flexmbd_test_support::scenes::*;
 use nalgebra::DVector;
 
+/// `scene` prepared and compiled in the relative formulation (panics on an error).
+pub fn relative(scene: &Scene) -> Relative {
+    compiled(scene, flexmbd_relative::compile)
+}
+
 /// Run `scene` in the relative formulation: sensor rows every `every` steps for `secs`, largest
 /// ‖Φ‖∞.
 pub fn run_relative(scene: &Scene, h: f64, secs: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
