@@ -134,11 +134,7 @@ fn inertia_routes_give_the_same_pendulum_motion() {
     let mut bm = sh.clone();
     bm.solver.inertia = InertiaMethod::BMatrix;
     let (a, b) = (run(&sh, 1e-3, 5.0), run(&bm, 1e-3, 5.0));
-    let d = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
-        .fold(0.0, f64::max);
+    let d = largest_difference(&a, &b, &[0, 1]);
     eprintln!("pendulum, B-matrix vs shape integrals: max tip difference {d:.2e} m over 5 s");
     // Round-off differences of the two routes (1e-16) grow through the undamped stiff modes
     // (up to 750 Hz) to this level; the tip moves by 2 m.
@@ -149,8 +145,7 @@ fn inertia_routes_give_the_same_pendulum_motion() {
 fn undamped_flexible_pendulum_conserves_energy() {
     let s = model("flexible_pendulum.ron");
     let rows = run(&s, 1e-3, 10.0);
-    let e0 = rows[0][5];
-    let drift = rows.iter().map(|r| (r[5] - e0).abs()).fold(0.0, f64::max);
+    let drift = drift(&rows, 5);
     // Energy scale: the potential energy released from horizontal, m g L / 2.
     let scale = 1.0 * 9.81 * 0.5;
     eprintln!(

@@ -191,20 +191,12 @@ fn coordinate_counts() {
     assert!(f.constant_tangents());
 }
 
-/// The scene with its springs removed (same coordinates).
-fn without_springs(scene: &Scene) -> Scene {
-    let mut s = scene.clone();
-    s.forces.clear();
-    s
-}
-
 /// Spring forces are −∂V/∂q of the spring energy at rest (Q(q, 0) with springs minus
 /// without, against the energy sensor), on rigid and flexible ends.
 #[test]
 fn spring_forces_are_the_gradient_of_the_spring_energy() {
     for scene in [slider_crank(), flexible_rail()] {
-        let mut a = absolute(&scene);
-        let mut b = absolute(&without_springs(&scene));
+        let (mut a, mut b) = with_and_without_forces(&scene, flexmbd_absolute::compile);
         let (q0, _) = initial(&a);
         let n = q0.len();
         let ie = sensor(&scene, scene.sensors.last().unwrap().name.as_str());
@@ -264,8 +256,7 @@ fn spring_tangents_match_finite_differences() {
     }
     damped.bodies[1].flexible = true;
     for (scene, check_k) in [(rigid, true), (damped, false), (flexible_rail(), false)] {
-        let mut a = absolute(&scene);
-        let mut b = absolute(&without_springs(&scene));
+        let (mut a, mut b) = with_and_without_forces(&scene, flexmbd_absolute::compile);
         let (q0, _) = initial(&a);
         let n = q0.len();
         for k in 0..3 {

@@ -78,11 +78,7 @@ fn redundant_closures_run_and_inconsistent_ones_are_refused() {
     assert!(fb.n_constraints() > fa.n_constraints());
     let (a, _) = run_relative(&base, 1e-3, 1.0, 100);
     let (b, _) = run_relative(&redundant, 1e-3, 1.0, 100);
-    let d = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
-        .fold(0.0, f64::max);
+    let d = largest_difference(&a, &b, &[0, 1]);
     eprintln!("redundant closure: max |ΔB0| {d:.1e} m over 1 s");
     assert!(d < 1e-8, "{d:e}");
     // Inconsistent: coupler2's far marker at 5 m, so the loop cannot close in any position

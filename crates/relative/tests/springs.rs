@@ -22,10 +22,7 @@ fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> System
 #[test]
 fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = scene();
-    let mut without = with.clone();
-    without.forces.clear();
-    let mut a = compiled(&with, flexmbd_relative::compile);
-    let mut b = compiled(&without, flexmbd_relative::compile);
+    let (mut a, mut b) = with_and_without_forces(&with, flexmbd_relative::compile);
     let n = a.n_coordinates();
     let ie = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));

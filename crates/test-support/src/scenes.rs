@@ -67,6 +67,17 @@ pub fn sensor_column(scene: &Scene, name: &str) -> usize {
         .unwrap_or_else(|| panic!("{}: no sensor {name}", scene.name))
 }
 
+/// `scene` compiled by `compile` with its force elements and without them (the springs' own
+/// terms are the differences of the two).
+pub fn with_and_without_forces<F>(
+    scene: &Scene,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+) -> (F, F) {
+    let mut without = scene.clone();
+    without.forces.clear();
+    (compiled(scene, compile), compiled(&without, compile))
+}
+
 /// A planar scene of rigid bars and revolute joints written in 3D: revolute axes along z,
 /// each body the rigid body with the planar body's mass properties (rod-like: a tiny axial
 /// inertia about body x).
@@ -240,4 +251,17 @@ pub fn damping_error(
         }
     }
     err
+}
+
+/// The largest |a − b| over time and the columns `cols` of two runs' sensor rows.
+pub fn largest_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
+    cols.iter()
+        .map(|&c| column_difference(a, b, c).0)
+        .fold(0.0, f64::max)
+}
+
+/// The largest |x − x(0)| over time of column `c` of a run's sensor rows (an energy's drift).
+pub fn drift(rows: &[Vec<f64>], c: usize) -> f64 {
+    let x0 = rows[0][c];
+    rows.iter().map(|r| (r[c] - x0).abs()).fold(0.0, f64::max)
 }

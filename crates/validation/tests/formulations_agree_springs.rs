@@ -169,10 +169,7 @@ fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> System
 #[test]
 fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = double_pendulum(0.8);
-    let mut without = with.clone();
-    without.forces.clear();
-    let mut a = compiled(&with, flexmbd_absolute::compile);
-    let mut b = compiled(&without, flexmbd_absolute::compile);
+    let (mut a, mut b) = with_and_without_forces(&with, flexmbd_absolute::compile);
     let n = a.n_coordinates();
     let energy_column = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));

@@ -10,7 +10,9 @@ use flexmbd_model::Scene;
 use nalgebra::DVector;
 
 /// `scene` prepared and compiled in natural coordinates (panics on an error).
-pub use flexmbd_test_support::scenes::{ali3p_at, energy_gradient_error};
+pub use flexmbd_test_support::scenes::{
+    ali3p_at, drift, energy_gradient_error, largest_difference, with_and_without_forces,
+};
 
 pub fn absolute(scene: &Scene) -> Absolute {
     flexmbd_test_support::scenes::compiled(scene, flexmbd_absolute::compile)
