@@ -288,47 +288,37 @@ fn sensors_are_consistent() {
     use flexmbd_model::{Axis, Sensor, SensorKind};
     let mut scene = model("double_pendulum_3d.ron");
     scene.sensors.clear();
+    // link2's tip, component `axis`: its position (velocity when `velocity`) in `frame`.
+    let tip = |name: String, velocity: bool, axis: Axis, frame: Option<&str>| {
+        let (body, marker, component) = ("link2".into(), "tip".into(), axis);
+        let frame = frame.map(String::from);
+        Sensor {
+            name,
+            kind: if velocity {
+                SensorKind::Velocity {
+                    body,
+                    marker,
+                    component,
+                    frame,
+                }
+            } else {
+                SensorKind::Position {
+                    body,
+                    marker,
+                    component,
+                    frame,
+                }
+            },
+            displacement: false,
+        }
+    };
     for (k, axis) in [Axis::X, Axis::Y, Axis::Z].into_iter().enumerate() {
-        scene.sensors.push(Sensor {
-            name: format!("p{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: Some("link1".into()),
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("v{k}"),
-            kind: SensorKind::Velocity {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: None,
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("own{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: Some("link2".into()),
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("g{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: None,
-            },
-            displacement: false,
-        });
+        scene.sensors.extend([
+            tip(format!("p{k}"), false, axis, Some("link1")),
+            tip(format!("v{k}"), true, axis, None),
+            tip(format!("own{k}"), false, axis, Some("link2")),
+            tip(format!("g{k}"), false, axis, None),
+        ]);
     }
     let h = 1e-3;
     let out = run_with(&scene, h, 1.0, 1e-10);
