@@ -528,11 +528,7 @@ fn prismatic_driver_prescribes_the_slide() {
         frequency: 0.5,
         phase: 0.3,
     };
-    let err = rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (r[0] - law.eval(i as f64 * h).0).abs())
-        .fold(0.0, f64::max);
+    let err = law_error(&rows, &law, h);
     eprintln!("driven slide: max |s − s(t)| {err:.1e} m");
     assert!(err < 1e-9, "{err:e}");
 }

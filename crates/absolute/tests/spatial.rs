@@ -208,14 +208,20 @@ const JOINTS: [(&str, &str, usize); 6] = [
     ("rigid", "Rigid", 6),
 ];
 
+/// The scene's mobility is `mobility`, and Φ_q, Φ_t and the bias match their differences to
+/// 1e-8, `phi_t_tol` and 1e-5 (see [`check_derivatives`]).
+fn assert_derivatives(scene: &Scene, label: &str, mobility: usize, phi_t_tol: f64) {
+    let (mob, ej, et, eb) = check_derivatives(scene, label);
+    assert_eq!(mob, mobility, "{label}: mobility");
+    assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
+    assert!(et < phi_t_tol, "{label}: Φ_t error {et:e}");
+    assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+}
+
 #[test]
 fn joint_derivatives_and_mobility_between_rigid_bodies() {
     for (name, kind, mobility) in JOINTS {
-        let (mob, ej, et, eb) = check_derivatives(&pair(kind, RIGID_A, None), name);
-        assert_eq!(mob, mobility, "{name}: mobility");
-        assert!(ej < 1e-8, "{name}: Φ_q error {ej:e}");
-        assert!(et < 1e-8, "{name}: Φ_t error {et:e}");
-        assert!(eb < 1e-5, "{name}: bias error {eb:e}");
+        assert_derivatives(&pair(kind, RIGID_A, None), name, mobility, 1e-8);
     }
 }
 
@@ -224,11 +230,7 @@ fn joint_derivatives_and_mobility_at_a_flexible_node() {
     // The flexible body adds its 7 modal coordinates to the mobility.
     for (name, kind, mobility) in JOINTS {
         let label = format!("{name} at a beam tip");
-        let (mob, ej, et, eb) = check_derivatives(&pair(kind, FLEX_A, None), &label);
-        assert_eq!(mob, mobility + 7, "{label}: mobility");
-        assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
-        assert!(et < 1e-8, "{label}: Φ_t error {et:e}");
-        assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+        assert_derivatives(&pair(kind, FLEX_A, None), &label, mobility + 7, 1e-8);
     }
 }
 
@@ -243,12 +245,8 @@ fn driver_derivatives() {
             (RIGID_A, name.to_string()),
             (FLEX_A, format!("{name}, beam tip")),
         ] {
-            let (mob, ej, et, eb) = check_derivatives(&pair(kind, body, Some(law)), &label);
             let extra = if body == FLEX_A { 7 } else { 0 };
-            assert_eq!(mob, mobility + extra, "{label}: mobility");
-            assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
-            assert!(et < 1e-7, "{label}: Φ_t error {et:e}");
-            assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+            assert_derivatives(&pair(kind, body, Some(law)), &label, mobility + extra, 1e-7);
         }
     }
 }
@@ -270,12 +268,7 @@ fn driven_joints_follow_their_laws() {
         let h = 1e-3;
         let out = run_with(&s, h, 1.0, 1e-10);
         let law = &s.drivers[0].law;
-        let err = out
-            .rows
-            .iter()
-            .enumerate()
-            .map(|(k, r)| (r[0] - law.eval(k as f64 * h).0).abs())
-            .fold(0.0, f64::max);
+        let err = law_error(&out.rows, law, h);
         eprintln!("driven {name}: max |coordinate − law(t)| = {err:.1e}");
         assert!(err < 1e-8, "{name}: {err:e}");
     }

@@ -1,12 +1,13 @@
 //! Shared by the absolute formulation's tests: a scene compiled, all system terms at a
-//! state, the ALI3-P step loop's allocations, and the frequency of a signal.
+//! state, the ALI3-P step loop's allocations, a driven coordinate's error against its law, and
+//! the frequency of a signal.
 #![allow(dead_code, unused_imports)]
 
 use flexmbd_absolute::Absolute;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::Scene;
+use flexmbd_model::{MotionLaw, Scene};
 use nalgebra::DVector;
 
 /// `scene` prepared and compiled in natural coordinates (panics on an error).
@@ -48,6 +49,14 @@ pub fn assert_steps_allocate_nothing(mut scene: Scene, steps: usize) {
             "{method:?}: the step loop allocated {allocated} times"
         );
     }
+}
+
+/// The largest |x − law(t)| of the first sensor column, its rows at t = 0, h, 2h, …
+pub fn law_error(rows: &[Vec<f64>], law: &MotionLaw, h: f64) -> f64 {
+    rows.iter()
+        .enumerate()
+        .map(|(k, r)| (r[0] - law.eval(k as f64 * h).0).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Frequency of a signal from its zero crossings (linear interpolation), in Hz.
