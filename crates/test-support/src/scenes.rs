@@ -265,3 +265,12 @@ pub fn drift(rows: &[Vec<f64>], c: usize) -> f64 {
     let x0 = rows[0][c];
     rows.iter().map(|r| (r[c] - x0).abs()).fold(0.0, f64::max)
 }
+
+/// The energy drift of a run of the flexible pendulum (`models/flexible_pendulum.ron`, the
+/// energy in column 5): in J, and relative to the potential energy released from
+/// horizontal, m g L / 2.
+pub fn flexible_pendulum_energy_drift(rows: &[Vec<f64>]) -> (f64, f64) {
+    let drift = drift(rows, 5);
+    let scale = 1.0 * 9.81 * 0.5;
+    (drift, drift / scale)
+}

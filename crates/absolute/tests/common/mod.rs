@@ -12,7 +12,8 @@ use nalgebra::DVector;
 
 /// `scene` prepared and compiled in natural coordinates (panics on an error).
 pub use flexmbd_test_support::scenes::{
-    ali3p_at, drift, energy_gradient_error, largest_difference, with_and_without_forces,
+    ali3p_at, drift, energy_gradient_error, flexible_pendulum_energy_drift, largest_difference,
+    with_and_without_forces,
 };
 
 pub fn absolute(scene: &Scene) -> Absolute {
