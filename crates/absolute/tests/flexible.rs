@@ -2,6 +2,8 @@
 //! four-bar, the rigid limit as Young's modulus grows, the two inertia routes against
 //! each other, and a flexible pendulum (energy conservation, linearised frequencies).
 
+mod common;
+use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
@@ -11,9 +13,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// Run a scene; return the sensor rows at every step.
 fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let settings = Ali3pSettings {
         step: h,
         tol_q: scene.solver.newton_tolerance,
@@ -38,9 +38,7 @@ fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
 fn coordinate_counts_of_the_flexible_four_bar() {
     // Each flexible bar: its own unit vector (2) + 2 static + 2 normal modes; its first pin is shared.
     for k in 0..=5 {
-        let f = flexmbd_model::PreparedScene::new(&four_bar(k))
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
+        let f = absolute(&four_bar(k));
         assert_eq!(f.n_coordinates(), 6 + 6 * k, "{k} flexible bars");
     }
 }
@@ -106,13 +104,9 @@ fn inertia_routes_agree_on_the_flexible_four_bar() {
 fn inertia_routes_give_the_same_system_terms() {
     for mut scene in [model("flexible_pendulum.ron"), four_bar(5)] {
         scene.solver.inertia = InertiaMethod::ShapeIntegrals;
-        let mut a = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
+        let mut a = absolute(&scene);
         scene.solver.inertia = InertiaMethod::BMatrix;
-        let mut b = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
+        let mut b = absolute(&scene);
         let (n, m) = (a.n_coordinates(), a.n_constraints());
         let (mut ta, mut tb) = (SystemTerms::new(n, m), SystemTerms::new(n, m));
         for k in 0..10 {
@@ -140,11 +134,7 @@ fn inertia_routes_give_the_same_pendulum_motion() {
     let mut bm = sh.clone();
     bm.solver.inertia = InertiaMethod::BMatrix;
     let (a, b) = (run(&sh, 1e-3, 5.0), run(&bm, 1e-3, 5.0));
-    let d = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
-        .fold(0.0, f64::max);
+    let d = largest_difference(&a, &b, &[0, 1]);
     eprintln!("pendulum, B-matrix vs shape integrals: max tip difference {d:.2e} m over 5 s");
     // Round-off differences of the two routes (1e-16) grow through the undamped stiff modes
     // (up to 750 Hz) to this level; the tip moves by 2 m.
@@ -155,24 +145,16 @@ fn inertia_routes_give_the_same_pendulum_motion() {
 fn undamped_flexible_pendulum_conserves_energy() {
     let s = model("flexible_pendulum.ron");
     let rows = run(&s, 1e-3, 10.0);
-    let e0 = rows[0][5];
-    let drift = rows.iter().map(|r| (r[5] - e0).abs()).fold(0.0, f64::max);
-    // Energy scale: the potential energy released from horizontal, m g L / 2.
-    let scale = 1.0 * 9.81 * 0.5;
-    eprintln!(
-        "energy drift {drift:.3e} J over 10 s ({:.2e} relative)",
-        drift / scale
-    );
-    assert!(drift / scale < 1e-4);
+    let (drift, per_scale) = flexible_pendulum_energy_drift(&rows);
+    eprintln!("energy drift {drift:.3e} J over 10 s ({per_scale:.2e} relative)");
+    assert!(per_scale < 1e-4);
 }
 
 /// Linearised frequencies of the hanging pendulum from the formulation itself: minimal
 /// coordinates p = (θ, y), q(p) = (cos θ, sin θ, y); K = Hessian of the potential (energy at
 /// q̇ = 0) by central differences, M = Jᵀ M(q) J.
 fn linearised_modes(scene: &Scene) -> Vec<(f64, DVector<f64>)> {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let n = f.n_coordinates();
     assert_eq!(n, 6, "q = (u, y) with the pin fixed");
     let np = n - 1;
@@ -251,19 +233,6 @@ fn linearised_modes(scene: &Scene) -> Vec<(f64, DVector<f64>)> {
         .collect();
     modes.sort_by(|a, b| a.0.total_cmp(&b.0));
     modes
-}
-
-/// Frequency of a signal from its zero crossings (linear interpolation), in Hz.
-fn crossing_frequency(t: &[f64], x: &[f64]) -> f64 {
-    let mut crossings = Vec::new();
-    for i in 1..x.len() {
-        if x[i - 1] != 0.0 && x[i - 1].signum() != x[i].signum() {
-            crossings.push(t[i - 1] + (t[i] - t[i - 1]) * x[i - 1] / (x[i - 1] - x[i]));
-        }
-    }
-    assert!(crossings.len() >= 4, "too few crossings");
-    let span = crossings[crossings.len() - 1] - crossings[0];
-    (crossings.len() - 1) as f64 / (2.0 * span)
 }
 
 #[test]

@@ -2,19 +2,16 @@
 //! B0 at t = 10 s against the converged reference, constraints at every step,
 //! energy conservation and its second-order convergence, coordinate count.
 
+mod common;
+use common::*;
 use flexmbd_core::Formulation;
-use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::Scene;
 
 /// Converged rigid N = 2 values at t = 10 s [S3 via docs/scenes.md §1 "Reference values"].
 const B0_REF: [f64; 2] = [0.32846, 0.94452];
 
 fn scene() -> Scene {
-    Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/double_four_bar.ron"
-    ))
-    .unwrap()
+    flexmbd_test_support::scenes::model("double_four_bar.ron")
 }
 
 struct Run {
@@ -27,18 +24,8 @@ struct Run {
 
 fn run(h: f64, duration: f64) -> Run {
     let scene = scene();
-    let mut f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
-    let mut s = Ali3p::new(
-        &mut f,
-        0.0,
-        Ali3pSettings {
-            step: h,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut f = absolute(&scene);
+    let mut s = ali3p_at(&mut f, h);
     let mut out = vec![0.0; 3];
     f.sensors(0.0, &s.q, &s.qd, &mut out);
     let e0 = out[2];
@@ -61,9 +48,7 @@ fn run(h: f64, duration: f64) -> Run {
 
 #[test]
 fn rigid_four_bar_has_six_coordinates() {
-    let f = flexmbd_model::PreparedScene::new(&scene())
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&scene());
     assert_eq!(f.n_coordinates(), 6);
     assert_eq!(f.n_constraints(), 5);
 }

@@ -4,6 +4,8 @@
 //! finite differences, exact slider-crank kinematics, second-order energy drift, the
 //! rigid limit of a stiffening rod, a spring–mass frequency, the two inertia routes.
 
+mod common;
+use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
@@ -13,11 +15,7 @@ use nalgebra::DVector;
 use std::f64::consts::TAU;
 
 fn slider_crank() -> Scene {
-    Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/slider_crank.ron"
-    ))
-    .unwrap()
+    flexmbd_test_support::scenes::model("slider_crank.ron")
 }
 
 fn parse(text: &str) -> Scene {
@@ -78,9 +76,7 @@ fn sensor(scene: &Scene, name: &str) -> usize {
 
 /// Run a scene; the sensor rows at t = 0 and after every step.
 fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let settings = Ali3pSettings {
         step: h,
         ..Default::default()
@@ -114,19 +110,10 @@ fn perturbed(q0: &DVector<f64>, k: usize) -> (DVector<f64>, DVector<f64>) {
     (q, qd)
 }
 
-fn eval(f: &mut impl Formulation, t: f64, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
-    let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    terms.clear(Request::ALL);
-    f.evaluate(t, q, qd, Request::ALL, &mut terms);
-    terms
-}
-
 /// Φ_q against central differences of Φ, Φ_t against a time difference, and the bias
 /// c = Φ̈|q̈=0 against the second difference of Φ along (q̇, 1). Returns the largest errors.
 fn derivative_errors(scene: &Scene) -> (f64, f64, f64) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let (q0, _) = initial(&f);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let phi = |f: &mut flexmbd_absolute::Absolute, t: f64, q: &DVector<f64>| {
@@ -190,31 +177,18 @@ fn coordinate_counts() {
     rigid.bodies[1].flexible = false;
     drop_modal_sensors(&mut rigid);
     // Rigid: crank pin B, rod end C (2 + 2), slider u (2); distance ×2, unit, slide, angle.
-    let f = flexmbd_model::PreparedScene::new(&rigid)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&rigid);
     assert_eq!((f.n_coordinates(), f.n_constraints()), (6, 5));
     // Flexible rod: + its own u (2) and 4 modes, C tied by 2 equations instead of a distance.
-    let f = flexmbd_model::PreparedScene::new(&slider_crank())
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&slider_crank());
     assert_eq!((f.n_coordinates(), f.n_constraints()), (12, 7));
     assert!(
         !f.constant_tangents(),
         "springs make K and C state-dependent"
     );
     rigid.forces.clear();
-    let f = flexmbd_model::PreparedScene::new(&rigid)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&rigid);
     assert!(f.constant_tangents());
-}
-
-/// The scene with its springs removed (same coordinates).
-fn without_springs(scene: &Scene) -> Scene {
-    let mut s = scene.clone();
-    s.forces.clear();
-    s
 }
 
 /// Spring forces are −∂V/∂q of the spring energy at rest (Q(q, 0) with springs minus
@@ -222,12 +196,7 @@ fn without_springs(scene: &Scene) -> Scene {
 #[test]
 fn spring_forces_are_the_gradient_of_the_spring_energy() {
     for scene in [slider_crank(), flexible_rail()] {
-        let mut a = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
-        let mut b = flexmbd_model::PreparedScene::new(&without_springs(&scene))
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
+        let (mut a, mut b) = with_and_without_forces(&scene, flexmbd_absolute::compile);
         let (q0, _) = initial(&a);
         let n = q0.len();
         let ie = sensor(&scene, scene.sensors.last().unwrap().name.as_str());
@@ -240,17 +209,16 @@ fn spring_forces_are_the_gradient_of_the_spring_energy() {
         for k in 0..3 {
             let (q, _) = perturbed(&q0, k);
             let dq = eval(&mut a, 0.0, &q, &z).forces - eval(&mut b, 0.0, &q, &z).forces;
-            let eps = 1e-6;
-            let mut err = 0.0f64;
-            for j in 0..n {
-                let (mut qp, mut qm) = (q.clone(), q.clone());
-                qp[j] += eps;
-                qm[j] -= eps;
-                let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-                    + energy(&mut b, &qm))
-                    / (2.0 * eps);
-                err = err.max((dq[j] + dv).abs());
-            }
+            let err = energy_gradient_error(
+                n,
+                |_| 1e-6,
+                |j| dq[j],
+                |j, e| {
+                    let mut qe = q.clone();
+                    qe[j] += e;
+                    (energy(&mut a, &qe), energy(&mut b, &qe))
+                },
+            );
             eprintln!(
                 "{}: |Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {:.2})",
                 scene.name,
@@ -288,12 +256,7 @@ fn spring_tangents_match_finite_differences() {
     }
     damped.bodies[1].flexible = true;
     for (scene, check_k) in [(rigid, true), (damped, false), (flexible_rail(), false)] {
-        let mut a = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
-        let mut b = flexmbd_model::PreparedScene::new(&without_springs(&scene))
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
+        let (mut a, mut b) = with_and_without_forces(&scene, flexmbd_absolute::compile);
         let (q0, _) = initial(&a);
         let n = q0.len();
         for k in 0..3 {
@@ -498,19 +461,6 @@ fn stiffer_rod_tends_to_the_rigid_slider_motion() {
     }
 }
 
-/// Frequency of a signal from its zero crossings (linear interpolation), in Hz.
-fn crossing_frequency(t: &[f64], x: &[f64]) -> f64 {
-    let mut crossings = Vec::new();
-    for i in 1..x.len() {
-        if x[i - 1] != 0.0 && x[i - 1].signum() != x[i].signum() {
-            crossings.push(t[i - 1] + (t[i] - t[i - 1]) * x[i - 1] / (x[i - 1] - x[i]));
-        }
-    }
-    assert!(crossings.len() >= 4, "too few crossings");
-    let span = crossings[crossings.len() - 1] - crossings[0];
-    (crossings.len() - 1) as f64 / (2.0 * span)
-}
-
 fn spring_mass(law: Option<&str>) -> Scene {
     let drivers = law.map_or(String::new(), |l| {
         format!("drivers: [(name: \"d\", joint: \"rail\", law: {l})],")
@@ -578,11 +528,7 @@ fn prismatic_driver_prescribes_the_slide() {
         frequency: 0.5,
         phase: 0.3,
     };
-    let err = rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (r[0] - law.eval(i as f64 * h).0).abs())
-        .fold(0.0, f64::max);
+    let err = law_error(&rows, &law, h);
     eprintln!("driven slide: max |s − s(t)| {err:.1e} m");
     assert!(err < 1e-9, "{err:e}");
 }

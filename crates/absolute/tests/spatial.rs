@@ -9,8 +9,10 @@
 //! - a flexible 3D pendulum: energy conservation, both inertia routes agree;
 //! - bad input gives an error naming the problem.
 
+mod common;
+use common::*;
 use flexmbd_body::InertiaMethod;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::Formulation;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
@@ -28,9 +30,7 @@ struct RunOut {
 }
 
 fn run_with(scene: &Scene, h: f64, duration: f64, tol: f64) -> RunOut {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let settings = Ali3pSettings {
         step: h,
         tol_q: tol,
@@ -118,18 +118,6 @@ fn pair(kind: &str, body_a: &str, driver: Option<&str>) -> Scene {
     s
 }
 
-fn eval(
-    f: &mut flexmbd_absolute::Absolute,
-    t: f64,
-    q: &DVector<f64>,
-    qd: &DVector<f64>,
-) -> SystemTerms {
-    let mut out = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    out.clear(Request::ALL);
-    f.evaluate(t, q, qd, Request::ALL, &mut out);
-    out
-}
-
 fn rank(a: &DMatrix<f64>) -> usize {
     let sv = a.clone().svd(false, false).singular_values;
     let max = sv.max();
@@ -159,9 +147,7 @@ fn move_rigidly(scene: &Scene, q: &mut DVector<f64>) {
 /// Φ_q, Φ_t and c of a scene against differences, at perturbed states; returns the
 /// mobility at the (rigidly moved) initial configuration and the largest errors.
 fn check_derivatives(scene: &Scene, name: &str) -> (usize, f64, f64, f64) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(scene);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let (mut q0, mut qd0) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q0, &mut qd0);
@@ -222,14 +208,20 @@ const JOINTS: [(&str, &str, usize); 6] = [
     ("rigid", "Rigid", 6),
 ];
 
+/// The scene's mobility is `mobility`, and Φ_q, Φ_t and the bias match their differences to
+/// 1e-8, `phi_t_tol` and 1e-5 (see [`check_derivatives`]).
+fn assert_derivatives(scene: &Scene, label: &str, mobility: usize, phi_t_tol: f64) {
+    let (mob, ej, et, eb) = check_derivatives(scene, label);
+    assert_eq!(mob, mobility, "{label}: mobility");
+    assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
+    assert!(et < phi_t_tol, "{label}: Φ_t error {et:e}");
+    assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+}
+
 #[test]
 fn joint_derivatives_and_mobility_between_rigid_bodies() {
     for (name, kind, mobility) in JOINTS {
-        let (mob, ej, et, eb) = check_derivatives(&pair(kind, RIGID_A, None), name);
-        assert_eq!(mob, mobility, "{name}: mobility");
-        assert!(ej < 1e-8, "{name}: Φ_q error {ej:e}");
-        assert!(et < 1e-8, "{name}: Φ_t error {et:e}");
-        assert!(eb < 1e-5, "{name}: bias error {eb:e}");
+        assert_derivatives(&pair(kind, RIGID_A, None), name, mobility, 1e-8);
     }
 }
 
@@ -238,11 +230,7 @@ fn joint_derivatives_and_mobility_at_a_flexible_node() {
     // The flexible body adds its 7 modal coordinates to the mobility.
     for (name, kind, mobility) in JOINTS {
         let label = format!("{name} at a beam tip");
-        let (mob, ej, et, eb) = check_derivatives(&pair(kind, FLEX_A, None), &label);
-        assert_eq!(mob, mobility + 7, "{label}: mobility");
-        assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
-        assert!(et < 1e-8, "{label}: Φ_t error {et:e}");
-        assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+        assert_derivatives(&pair(kind, FLEX_A, None), &label, mobility + 7, 1e-8);
     }
 }
 
@@ -257,12 +245,8 @@ fn driver_derivatives() {
             (RIGID_A, name.to_string()),
             (FLEX_A, format!("{name}, beam tip")),
         ] {
-            let (mob, ej, et, eb) = check_derivatives(&pair(kind, body, Some(law)), &label);
             let extra = if body == FLEX_A { 7 } else { 0 };
-            assert_eq!(mob, mobility + extra, "{label}: mobility");
-            assert!(ej < 1e-8, "{label}: Φ_q error {ej:e}");
-            assert!(et < 1e-7, "{label}: Φ_t error {et:e}");
-            assert!(eb < 1e-5, "{label}: bias error {eb:e}");
+            assert_derivatives(&pair(kind, body, Some(law)), &label, mobility + extra, 1e-7);
         }
     }
 }
@@ -284,12 +268,7 @@ fn driven_joints_follow_their_laws() {
         let h = 1e-3;
         let out = run_with(&s, h, 1.0, 1e-10);
         let law = &s.drivers[0].law;
-        let err = out
-            .rows
-            .iter()
-            .enumerate()
-            .map(|(k, r)| (r[0] - law.eval(k as f64 * h).0).abs())
-            .fold(0.0, f64::max);
+        let err = law_error(&out.rows, law, h);
         eprintln!("driven {name}: max |coordinate − law(t)| = {err:.1e}");
         assert!(err < 1e-8, "{name}: {err:e}");
     }
@@ -302,47 +281,37 @@ fn sensors_are_consistent() {
     use flexmbd_model::{Axis, Sensor, SensorKind};
     let mut scene = model("double_pendulum_3d.ron");
     scene.sensors.clear();
+    // link2's tip, component `axis`: its position (velocity when `velocity`) in `frame`.
+    let tip = |name: String, velocity: bool, axis: Axis, frame: Option<&str>| {
+        let (body, marker, component) = ("link2".into(), "tip".into(), axis);
+        let frame = frame.map(String::from);
+        Sensor {
+            name,
+            kind: if velocity {
+                SensorKind::Velocity {
+                    body,
+                    marker,
+                    component,
+                    frame,
+                }
+            } else {
+                SensorKind::Position {
+                    body,
+                    marker,
+                    component,
+                    frame,
+                }
+            },
+            displacement: false,
+        }
+    };
     for (k, axis) in [Axis::X, Axis::Y, Axis::Z].into_iter().enumerate() {
-        scene.sensors.push(Sensor {
-            name: format!("p{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: Some("link1".into()),
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("v{k}"),
-            kind: SensorKind::Velocity {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: None,
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("own{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: Some("link2".into()),
-            },
-            displacement: false,
-        });
-        scene.sensors.push(Sensor {
-            name: format!("g{k}"),
-            kind: SensorKind::Position {
-                body: "link2".into(),
-                marker: "tip".into(),
-                component: axis,
-                frame: None,
-            },
-            displacement: false,
-        });
+        scene.sensors.extend([
+            tip(format!("p{k}"), false, axis, Some("link1")),
+            tip(format!("v{k}"), true, axis, None),
+            tip(format!("own{k}"), false, axis, Some("link2")),
+            tip(format!("g{k}"), false, axis, None),
+        ]);
     }
     let h = 1e-3;
     let out = run_with(&scene, h, 1.0, 1e-10);
@@ -369,9 +338,7 @@ fn sensors_are_consistent() {
 #[test]
 fn rigid_double_pendulum_conserves_energy_to_second_order() {
     let scene = model("double_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&scene);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     assert_eq!((n, m), (24, 20));
     let mut drifts = Vec::new();
@@ -416,9 +383,7 @@ fn rigid_double_pendulum_conserves_energy_to_second_order() {
 fn four_bar_in_3d_reproduces_the_planar_run() {
     let planar = model("double_four_bar.ron");
     let spatial = planar_scene_in_3d(&planar);
-    let f = flexmbd_model::PreparedScene::new(&spatial)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&spatial);
     eprintln!(
         "four-bar in 3D: {} coordinates, {} constraints",
         f.n_coordinates(),
@@ -470,9 +435,7 @@ fn four_bar_in_3d_reproduces_the_planar_run() {
 #[test]
 fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
     let mut scene = model("flexible_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let f = absolute(&scene);
     assert_eq!((f.n_coordinates(), f.n_constraints()), (18, 9));
     let (h, t) = (1e-3, 3.0);
     let mut runs = Vec::new();
@@ -525,9 +488,7 @@ fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
 #[test]
 fn flexible_tangents_are_the_modal_blocks() {
     let scene = model("flexible_pendulum_3d.ron");
-    let mut f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
+    let mut f = absolute(&scene);
     let n = f.n_coordinates();
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     f.initial_guess(&mut q, &mut qd);

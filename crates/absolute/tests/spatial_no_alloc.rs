@@ -5,9 +5,10 @@
 //! (both inertia routes, tip sensors with the foreshortening shift), and a spring–damper to a
 //! flexible body's node (force elements with their tangents).
 
+mod common;
+use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, SystemTerms};
-use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_test_support::scenes::model;
 
 #[global_allocator]
@@ -42,18 +43,8 @@ fn spatial_steps_do_not_allocate() {
     });
     scenes.push(sprung);
     for scene in &scenes {
-        let mut f = flexmbd_model::PreparedScene::new(scene)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap();
-        let mut s = Ali3p::new(
-            &mut f,
-            0.0,
-            Ali3pSettings {
-                step: 1e-3,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut f = absolute(scene);
+        let mut s = ali3p_at(&mut f, 1e-3);
         let mut out = SystemTerms::new(f.n_coordinates(), f.n_constraints());
         // Warm up (lazily sized storage, if any).
         for _ in 0..5 {

@@ -56,18 +56,30 @@ fn forces(c: &mut Cable, q: &DVector<f64>, tangents: bool) -> SystemTerms {
     t
 }
 
+/// The cable of `elements` elements and a deformed state of it.
+fn deformed_cable(dim: Dim, elements: usize) -> (Cable, DVector<f64>) {
+    let c = Cable::new(&spec(dim, elements)).unwrap();
+    let q = deformed(&c);
+    (c, q)
+}
+
+/// q with its coordinate `i` moved by +dx and by −dx.
+fn plus_minus(q: &DVector<f64>, i: usize, dx: f64) -> (DVector<f64>, DVector<f64>) {
+    let (mut qp, mut qm) = (q.clone(), q.clone());
+    qp[i] += dx;
+    qm[i] -= dx;
+    (qp, qm)
+}
+
 #[test]
 fn elastic_force_is_minus_energy_gradient() {
     for dim in [Dim::Planar, Dim::Spatial] {
-        let mut c = Cable::new(&spec(dim, 5)).unwrap();
-        let q = deformed(&c);
+        let (mut c, q) = deformed_cable(dim, 5);
         let qf = forces(&mut c, &q, false).forces;
         let mut worst: f64 = 0.0;
         for i in 0..q.len() {
             let dx = 1e-6;
-            let (mut qp, mut qm) = (q.clone(), q.clone());
-            qp[i] += dx;
-            qm[i] -= dx;
+            let (qp, qm) = plus_minus(&q, i, dx);
             let du = (c.elastic(&qp, None, None) - c.elastic(&qm, None, None)) / (2.0 * dx);
             worst = worst.max((qf[i] + du).abs());
         }
@@ -83,16 +95,13 @@ fn elastic_force_is_minus_energy_gradient() {
 #[test]
 fn tangent_is_minus_force_jacobian() {
     for dim in [Dim::Planar, Dim::Spatial] {
-        let mut c = Cable::new(&spec(dim, 4)).unwrap();
-        let q = deformed(&c);
+        let (mut c, q) = deformed_cable(dim, 4);
         let k = forces(&mut c, &q, true).stiffness;
         let n = q.len();
         let mut fd = DMatrix::zeros(n, n);
         for j in 0..n {
             let dx = 1e-6;
-            let (mut qp, mut qm) = (q.clone(), q.clone());
-            qp[j] += dx;
-            qm[j] -= dx;
+            let (qp, qm) = plus_minus(&q, j, dx);
             let col = (forces(&mut c, &qp, false).forces - forces(&mut c, &qm, false).forces)
                 / (2.0 * dx);
             fd.column_mut(j).copy_from(&(-col));

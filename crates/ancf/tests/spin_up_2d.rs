@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::balance;
+use common::{balance, quick_spin_up};
 use flexmbd_ancf::{CableSpec, History, run_spin_up};
 use flexmbd_core::Dim;
 
@@ -87,10 +87,7 @@ fn step_sensitivity() {
 /// A quick spin-up (T_s = 3 s) keeps the run short and excites the beam strongly.
 #[test]
 fn hub_power_balances_energy_and_jacobi_integral_holds() {
-    let spec = CableSpec {
-        t_s: 3.0,
-        ..CableSpec::spin_up_beam(Dim::Planar, 8)
-    };
+    let spec = quick_spin_up(Dim::Planar, 8);
     let report = balance(&spec, 1e-3, 6.0);
     let half = balance(&spec, 5e-4, 6.0);
     eprintln!("h = 1e-3: {report:?}\nh = 5e-4: {half:?}");

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::balance;
+use common::{balance, quick_spin_up};
 use flexmbd_ancf::{Cable, CableSpec, run_spin_up};
 use flexmbd_core::Dim;
 
@@ -101,10 +101,7 @@ fn spin_up_with_gravity() {
 /// to second order in h (gravity along the spin axis keeps the Jacobi integral).
 #[test]
 fn hub_power_balances_energy_with_gravity() {
-    let spec = CableSpec {
-        t_s: 3.0,
-        ..CableSpec::spin_up_beam(Dim::Spatial, 6)
-    };
+    let spec = quick_spin_up(Dim::Spatial, 6);
     let a = balance(&spec, 1e-3, 5.0);
     let b = balance(&spec, 5e-4, 5.0);
     let r1 = (a.max_balance_error / b.max_balance_error).log2();

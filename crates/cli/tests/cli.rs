@@ -6,21 +6,28 @@ fn flexmbd() -> Command {
     Command::new(env!("CARGO_BIN_EXE_flexmbd"))
 }
 
+/// Run the binary with `args` and wait for its output.
+fn run<const N: usize>(args: [&str; N]) -> std::process::Output {
+    flexmbd().args(args).output().unwrap()
+}
+
+/// The command succeeded (else its standard error is the message).
+fn assert_success(out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn model(name: &str) -> String {
     format!("{}/../../models/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 #[test]
 fn modes_json_has_the_inventory() {
-    let out = flexmbd()
-        .args(["modes", &model("four_bar_bar_2d.ron"), "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = run(["modes", &model("four_bar_bar_2d.ron"), "--json"]);
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["n_fe_dofs"], 33);
     assert_eq!(v["static_modes"][0]["node"], 10);
@@ -35,10 +42,7 @@ fn modes_json_has_the_inventory() {
 
 #[test]
 fn modes_table_names_frame_and_modes() {
-    let out = flexmbd()
-        .args(["modes", &model("cantilever_2d.ron")])
-        .output()
-        .unwrap();
+    let out = run(["modes", &model("cantilever_2d.ron")]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("frame takes  ux@0 uy@0 rz@0"), "{text}");
@@ -56,10 +60,7 @@ fn a_bad_model_is_refused_with_file_and_field() {
         text.replace("young_modulus: 2.1e11", "young_modulus: -2.1e11"),
     )
     .unwrap();
-    let out = flexmbd()
-        .args(["modes", bad.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let out = run(["modes", bad.to_str().unwrap()]);
     assert!(!out.status.success());
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(
@@ -81,23 +82,16 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 fn simulate_writes_csv_and_json_summary() {
     let dir = temp_dir("sim");
     let csv = dir.join("out.csv");
-    let out = flexmbd()
-        .args([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--duration",
-            "1",
-            "--json",
-            "--output",
-            csv.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--duration",
+        "1",
+        "--json",
+        "--output",
+        csv.to_str().unwrap(),
+    ]);
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in [
         "steps",
@@ -131,24 +125,21 @@ fn simulate_writes_csv_and_json_summary() {
 #[test]
 fn simulate_is_deterministic_bit_for_bit() {
     let dir = temp_dir("det");
-    let run = |name: &str| {
+    let csv_of_a_run = |name: &str| {
         let p = dir.join(name);
-        let st = flexmbd()
-            .args([
-                "simulate",
-                &model("double_four_bar.ron"),
-                "--duration",
-                "2",
-                "--output",
-                p.to_str().unwrap(),
-            ])
-            .output()
-            .unwrap()
-            .status;
+        let st = run([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--duration",
+            "2",
+            "--output",
+            p.to_str().unwrap(),
+        ])
+        .status;
         assert!(st.success());
         std::fs::read(p).unwrap()
     };
-    assert_eq!(run("a.csv"), run("b.csv"));
+    assert_eq!(csv_of_a_run("a.csv"), csv_of_a_run("b.csv"));
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -157,20 +148,17 @@ fn simulate_failure_keeps_rows_and_reports_time_and_residual() {
     let dir = temp_dir("fail");
     let csv = dir.join("fail.csv");
     // A 0.3 s step cannot follow the mechanism through its first singular passage.
-    let out = flexmbd()
-        .args([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--step",
-            "0.3",
-            "--set",
-            "solver.output_interval=0.3",
-            "--json",
-            "--output",
-            csv.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--step",
+        "0.3",
+        "--set",
+        "solver.output_interval=0.3",
+        "--json",
+        "--output",
+        csv.to_str().unwrap(),
+    ]);
     assert!(!out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["status"], "failed");
@@ -189,29 +177,23 @@ fn simulate_failure_keeps_rows_and_reports_time_and_residual() {
 
 #[test]
 fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
-    let out = flexmbd()
-        .args([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--set",
-            "bodies.crank9.flexible=true",
-        ])
-        .output()
-        .unwrap();
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--set",
+        "bodies.crank9.flexible=true",
+    ]);
     assert!(!out.status.success());
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("crank9"), "{err}");
-    let out = flexmbd()
-        .args([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--set",
-            "bodies.crank1.flexible=true",
-            "--stiffening",
-            "foreshortening",
-        ])
-        .output()
-        .unwrap();
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--set",
+        "bodies.crank1.flexible=true",
+        "--stiffening",
+        "foreshortening",
+    ]);
     // FS0 refuses the flexible crank (its tip static modes have axial content).
     assert!(!out.status.success());
     assert!(
@@ -219,10 +201,7 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
             .unwrap()
             .contains("foreshortening (FS0)")
     );
-    let out = flexmbd()
-        .args(["simulate", &model("double_four_bar.ron"), "--step", "-1"])
-        .output()
-        .unwrap();
+    let out = run(["simulate", &model("double_four_bar.ron"), "--step", "-1"]);
     assert!(!out.status.success());
     assert!(
         String::from_utf8(out.stderr)
@@ -233,10 +212,7 @@ fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
 
 #[test]
 fn simulate_names_a_body_model_given_as_a_scene() {
-    let out = flexmbd()
-        .args(["simulate", &model("cantilever_2d.ron")])
-        .output()
-        .unwrap();
+    let out = run(["simulate", &model("cantilever_2d.ron")]);
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

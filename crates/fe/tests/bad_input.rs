@@ -6,6 +6,13 @@ use common::*;
 use flexmbd_core::Dim;
 use flexmbd_fe::{BeamBodySpec, Dof, FeError, NodeDof, ReferenceFrame, Section, reduce};
 
+/// The spec is refused naming `field` with `value` (see [`invalid`]); the error.
+fn assert_invalid(spec: &BeamBodySpec, field: &str, value: &str) -> flexmbd_core::InvalidValue {
+    let e = invalid(spec);
+    assert_eq!((e.field.as_str(), e.value.as_str()), (field, value));
+    e
+}
+
 fn invalid(spec: &BeamBodySpec) -> flexmbd_core::InvalidValue {
     // reduce() validates first; validate() gives the same error.
     match reduce(spec) {
@@ -54,8 +61,7 @@ fn coincident_polyline_points() {
 fn zero_area() {
     let mut s = base();
     s.section = general(0.0, 1e-9, 1e-9, 2e-9);
-    let e = invalid(&s);
-    assert_eq!((e.field.as_str(), e.value.as_str()), ("section.area", "0"));
+    assert_invalid(&s, "section.area", "0");
 }
 
 #[test]
@@ -65,66 +71,42 @@ fn negative_width() {
         width: -0.01,
         height: 0.01,
     };
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("section.width", "-0.01")
-    );
+    assert_invalid(&s, "section.width", "-0.01");
 }
 
 #[test]
 fn negative_density() {
     let mut s = base();
     s.material.density = -7850.0;
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("material.density", "-7850")
-    );
+    assert_invalid(&s, "material.density", "-7850");
 }
 
 #[test]
 fn zero_modulus() {
     let mut s = base();
     s.material.young_modulus = 0.0;
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("material.young_modulus", "0")
-    );
+    assert_invalid(&s, "material.young_modulus", "0");
 }
 
 #[test]
 fn non_finite_modulus() {
     let mut s = base();
     s.material.young_modulus = f64::INFINITY;
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("material.young_modulus", "inf")
-    );
+    assert_invalid(&s, "material.young_modulus", "inf");
 }
 
 #[test]
 fn negative_inertia() {
     let mut s = base();
     s.section = general(1e-4, 1e-9, -1e-9, 2e-9);
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("section.iz", "-0.000000001")
-    );
+    assert_invalid(&s, "section.iz", "-0.000000001");
 }
 
 #[test]
 fn zero_elements() {
     let mut s = base();
     s.geometry.elements_per_segment = 0;
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("geometry.elements_per_segment", "0")
-    );
+    assert_invalid(&s, "geometry.elements_per_segment", "0");
 }
 
 #[test]
@@ -134,11 +116,7 @@ fn boundary_on_missing_node() {
         node: 5,
         dof: Dof::Uy,
     }];
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("boundary[0].node", "5")
-    );
+    assert_invalid(&s, "boundary[0].node", "5");
 }
 
 #[test]
@@ -148,11 +126,7 @@ fn boundary_dof_invalid_in_2d() {
         node: 4,
         dof: Dof::Uz,
     }];
-    let e = invalid(&s);
-    assert_eq!(
-        (e.field.as_str(), e.value.as_str()),
-        ("boundary[0].dof", "Uz")
-    );
+    assert_invalid(&s, "boundary[0].dof", "Uz");
 }
 
 #[test]
@@ -194,8 +168,7 @@ fn more_modes_than_the_model_has() {
         dof: Dof::Uy,
     }];
     s.normal_modes = 12;
-    let e = invalid(&s);
-    assert_eq!((e.field.as_str(), e.value.as_str()), ("normal_modes", "12"));
+    let e = assert_invalid(&s, "normal_modes", "12");
     assert!(e.reason.contains("11"));
     s.normal_modes = 11;
     assert_eq!(reduce(&s).unwrap().n_modes(), 12);

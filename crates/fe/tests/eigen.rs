@@ -123,6 +123,23 @@ fn cantilever_slope_ratio(bl: f64) -> f64 {
     a / b
 }
 
+/// Mode `j` of the 3D cantilever in both bending planes, (v, w) Hz, within 0.1 % of the
+/// theory (tv, tw).
+fn assert_cantilever_planes(mass: &str, j: usize, (v, w): (f64, f64), (tv, tw): (f64, f64)) {
+    println!(
+        "3D {mass} mode {}: v {:.6} (th {:.6}, {:.2e}), w {:.6} (th {:.6}, {:.2e})",
+        j + 1,
+        v,
+        tv,
+        rel(v, tv),
+        w,
+        tw,
+        rel(w, tw)
+    );
+    assert!(rel(v, tv) < 1e-3);
+    assert!(rel(w, tw) < 1e-3);
+}
+
 #[test]
 fn cantilever_3d_both_planes_and_torsion() {
     let area = 0.01 * 0.02;
@@ -133,18 +150,7 @@ fn cantilever_3d_both_planes_and_torsion() {
     for j in 0..3 {
         let tv = eb_hz(CANTILEVER_BL[j], E * iz, RHO * area, 1.0);
         let tw = eb_hz(CANTILEVER_BL[j], E * iy, RHO * area, 1.0);
-        println!(
-            "3D consistent mode {}: v {:.6} (th {:.6}, {:.2e}), w {:.6} (th {:.6}, {:.2e})",
-            j + 1,
-            v[j],
-            tv,
-            rel(v[j], tv),
-            w[j],
-            tw,
-            rel(w[j], tw)
-        );
-        assert!(rel(v[j], tv) < 1e-3);
-        assert!(rel(w[j], tw) < 1e-3);
+        assert_cantilever_planes("consistent", j, (v[j], w[j]), (tv, tw));
     }
     // The default Rayleigh mass: against Rayleigh-corrected theory,
     // ω_R = ω / √(1 + (I/A) ∫φ′²/∫φ²) (Rayleigh quotient with the EB mode shape).
@@ -153,18 +159,7 @@ fn cantilever_3d_both_planes_and_torsion() {
         let q = cantilever_slope_ratio(CANTILEVER_BL[j]);
         let tv = eb_hz(CANTILEVER_BL[j], E * iz, RHO * area, 1.0) / (1.0 + iz / area * q).sqrt();
         let tw = eb_hz(CANTILEVER_BL[j], E * iy, RHO * area, 1.0) / (1.0 + iy / area * q).sqrt();
-        println!(
-            "3D Rayleigh mode {}: v {:.6} (th {:.6}, {:.2e}), w {:.6} (th {:.6}, {:.2e})",
-            j + 1,
-            vr[j],
-            tv,
-            rel(vr[j], tv),
-            wr[j],
-            tw,
-            rel(wr[j], tw)
-        );
-        assert!(rel(vr[j], tv) < 1e-3);
-        assert!(rel(wr[j], tw) < 1e-3);
+        assert_cantilever_planes("Rayleigh", j, (vr[j], wr[j]), (tv, tw));
         assert!(
             vr[j] < v[j] && wr[j] < w[j],
             "rotary inertia lowers frequencies"
@@ -205,17 +200,14 @@ fn convergence_order_is_four() {
     assert!((3.5..4.5).contains(&p2), "order {p2}");
 }
 
-#[test]
-fn pinned_pinned_2d_and_3d() {
+/// The first three 2D bending frequencies `v` (10 mm square, 1 m) against Euler–Bernoulli
+/// with the roots βL = `beta_l(j)`, within 0.1 %.
+fn assert_2d_bending(case: &str, v: &[f64], beta_l: impl Fn(usize) -> f64) {
     let (a, i) = (1e-4, 1e-4 * 1e-4 / 12.0);
-    let (_, k, m) = full_model(Dim::Planar, square10(), 20, MassModel::Consistent);
-    let n = k.nrows();
-    let e = constrained_eigen(&k, &m, &[0, 1, n - 2], "pinned-pinned 2D").unwrap();
-    let v = family_hz(&e, 1, Dim::Planar, 0);
     for j in 0..3 {
-        let th = eb_hz(std::f64::consts::PI * (j + 1) as f64, E * i, RHO * a, 1.0);
+        let th = eb_hz(beta_l(j), E * i, RHO * a, 1.0);
         println!(
-            "2D pinned-pinned mode {}: {:.6} Hz, theory {:.6}, rel {:.2e}",
+            "2D {case} mode {}: {:.6} Hz, theory {:.6}, rel {:.2e}",
             j + 1,
             v[j],
             th,
@@ -223,17 +215,16 @@ fn pinned_pinned_2d_and_3d() {
         );
         assert!(rel(v[j], th) < 1e-3);
     }
+}
+
+/// The first three 3D bending frequencies of each plane, `v` and `w` (10 × 20 mm, 1 m),
+/// against Euler–Bernoulli with the roots βL = `beta_l(j)`, within 0.1 %.
+fn assert_3d_bending(v: &[f64], w: &[f64], beta_l: impl Fn(usize) -> f64) {
     let area = 0.01 * 0.02;
     let iz = 0.02 * 0.01f64.powi(3) / 12.0;
     let iy = 0.01 * 0.02f64.powi(3) / 12.0;
-    let (_, k, m) = full_model(Dim::Spatial, rect10x20(), 20, MassModel::Consistent);
-    let n = k.nrows();
-    let fixed = [0, 1, 2, 3, n - 6 + 1, n - 6 + 2];
-    let e = constrained_eigen(&k, &m, &fixed, "pinned-pinned 3D").unwrap();
-    let v = family_hz(&e, 1, Dim::Spatial, 0);
-    let w = family_hz(&e, 2, Dim::Spatial, 0);
     for j in 0..3 {
-        let bl = std::f64::consts::PI * (j + 1) as f64;
+        let bl = beta_l(j);
         let (tv, tw) = (
             eb_hz(bl, E * iz, RHO * area, 1.0),
             eb_hz(bl, E * iy, RHO * area, 1.0),
@@ -243,52 +234,49 @@ fn pinned_pinned_2d_and_3d() {
     }
 }
 
+/// The first `n` eigenvalues are rigid modes (below 1e-8 of the first elastic one).
+fn assert_rigid_modes(e: &Eigenpairs, n: usize) {
+    let scale = e.omega_sq[n];
+    for j in 0..n {
+        assert!(
+            e.omega_sq[j].abs() < 1e-8 * scale,
+            "rigid mode {j}: {}",
+            e.omega_sq[j]
+        );
+    }
+}
+
+#[test]
+fn pinned_pinned_2d_and_3d() {
+    let pinned_bl = |j: usize| std::f64::consts::PI * (j + 1) as f64;
+    let (_, k, m) = full_model(Dim::Planar, square10(), 20, MassModel::Consistent);
+    let n = k.nrows();
+    let e = constrained_eigen(&k, &m, &[0, 1, n - 2], "pinned-pinned 2D").unwrap();
+    assert_2d_bending(
+        "pinned-pinned",
+        &family_hz(&e, 1, Dim::Planar, 0),
+        pinned_bl,
+    );
+    let (_, k, m) = full_model(Dim::Spatial, rect10x20(), 20, MassModel::Consistent);
+    let n = k.nrows();
+    let fixed = [0, 1, 2, 3, n - 6 + 1, n - 6 + 2];
+    let e = constrained_eigen(&k, &m, &fixed, "pinned-pinned 3D").unwrap();
+    let v = family_hz(&e, 1, Dim::Spatial, 0);
+    let w = family_hz(&e, 2, Dim::Spatial, 0);
+    assert_3d_bending(&v, &w, pinned_bl);
+}
+
 #[test]
 fn free_free_2d_and_3d() {
-    let (a, i) = (1e-4, 1e-4 * 1e-4 / 12.0);
+    let free_bl = |j: usize| FREE_FREE_BL[j];
     let (_, k, m) = full_model(Dim::Planar, square10(), 20, MassModel::Consistent);
     let e = generalized_eigen(&k, &m, "free-free 2D").unwrap();
-    let scale = e.omega_sq[3];
-    for j in 0..3 {
-        assert!(
-            e.omega_sq[j].abs() < 1e-8 * scale,
-            "rigid mode {j}: {}",
-            e.omega_sq[j]
-        );
-    }
-    let v = family_hz(&e, 1, Dim::Planar, 3);
-    for j in 0..3 {
-        let th = eb_hz(FREE_FREE_BL[j], E * i, RHO * a, 1.0);
-        println!(
-            "2D free-free mode {}: {:.6} Hz, theory {:.6}, rel {:.2e}",
-            j + 1,
-            v[j],
-            th,
-            rel(v[j], th)
-        );
-        assert!(rel(v[j], th) < 1e-3);
-    }
-    let area = 0.01 * 0.02;
-    let iz = 0.02 * 0.01f64.powi(3) / 12.0;
-    let iy = 0.01 * 0.02f64.powi(3) / 12.0;
+    assert_rigid_modes(&e, 3);
+    assert_2d_bending("free-free", &family_hz(&e, 1, Dim::Planar, 3), free_bl);
     let (_, k, m) = full_model(Dim::Spatial, rect10x20(), 20, MassModel::Consistent);
     let e = generalized_eigen(&k, &m, "free-free 3D").unwrap();
-    let scale = e.omega_sq[6];
-    for j in 0..6 {
-        assert!(
-            e.omega_sq[j].abs() < 1e-8 * scale,
-            "rigid mode {j}: {}",
-            e.omega_sq[j]
-        );
-    }
+    assert_rigid_modes(&e, 6);
     let v = family_hz(&e, 1, Dim::Spatial, 6);
     let w = family_hz(&e, 2, Dim::Spatial, 6);
-    for j in 0..3 {
-        let (tv, tw) = (
-            eb_hz(FREE_FREE_BL[j], E * iz, RHO * area, 1.0),
-            eb_hz(FREE_FREE_BL[j], E * iy, RHO * area, 1.0),
-        );
-        assert!(rel(v[j], tv) < 1e-3, "v {j}: {} vs {tv}", v[j]);
-        assert!(rel(w[j], tw) < 1e-3, "w {j}: {} vs {tw}", w[j]);
-    }
+    assert_3d_bending(&v, &w, free_bl);
 }

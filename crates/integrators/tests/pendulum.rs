@@ -3,74 +3,9 @@
 //! convergence, energy conservation, constraint satisfaction, consistent initial
 //! conditions, redundancy, and a clean failure on an absurd step.
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+mod common;
+use common::*;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError};
-use nalgebra::DVector;
-
-const G: f64 = 9.81;
-
-/// q = (x, y) of the bob; Φ = x² + y² − L² (repeated `copies` times to test redundancy).
-struct Pendulum {
-    mass: f64,
-    length: f64,
-    q0: [f64; 2],
-    qd0: [f64; 2],
-    held: Vec<usize>,
-    copies: usize,
-}
-
-impl Formulation for Pendulum {
-    fn n_coordinates(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        self.copies
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&self.q0);
-        qd.copy_from_slice(&self.qd0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.held
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        if req.dynamics {
-            out.mass[(0, 0)] = self.mass;
-            out.mass[(1, 1)] = self.mass;
-            out.forces[1] = -self.mass * G;
-        }
-        for k in 0..self.copies {
-            if req.constraints {
-                out.phi[k] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
-            }
-            if req.jacobian {
-                out.phi_q[(k, 0)] = 2.0 * q[0];
-                out.phi_q[(k, 1)] = 2.0 * q[1];
-            }
-            if req.accel_term {
-                out.accel_term[k] = 2.0 * (qd[0] * qd[0] + qd[1] * qd[1]);
-            }
-        }
-    }
-}
-
-fn pendulum(theta0: f64) -> Pendulum {
-    Pendulum {
-        mass: 2.0,
-        length: 1.5,
-        q0: [1.5 * theta0.sin(), -1.5 * theta0.cos()],
-        qd0: [0.0, 0.0],
-        held: vec![],
-        copies: 1,
-    }
-}
 
 fn energy(p: &Pendulum, s: &Ali3p) -> f64 {
     0.5 * p.mass * s.qd.norm_squared() + p.mass * G * s.q[1]
@@ -88,15 +23,7 @@ fn elliptic_k(k: f64) -> f64 {
 }
 
 fn run(p: &mut Pendulum, h: f64, duration: f64) -> Ali3p {
-    let mut s = Ali3p::new(
-        p,
-        0.0,
-        Ali3pSettings {
-            step: h,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut s = ali3p_at(p, h);
     let steps = (duration / h).round() as usize;
     for _ in 0..steps {
         s.step(p).unwrap();
@@ -110,15 +37,7 @@ fn large_amplitude_period_matches_the_elliptic_integral() {
     let mut p = pendulum(theta0);
     let exact = 4.0 * (p.length / G).sqrt() * elliptic_k((theta0 / 2.0).sin());
     let h = 1e-3;
-    let mut s = Ali3p::new(
-        &mut p,
-        0.0,
-        Ali3pSettings {
-            step: h,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let mut s = ali3p_at(&mut p, h);
     // x = 0 is crossed at T/4 (+ → −) and 3T/4 (− → +).
     let mut crossings = Vec::new();
     let mut x_prev = s.q[0];
@@ -148,26 +67,10 @@ fn second_order_convergence_and_energy() {
     for h in [4e-3, 2e-3, 1e-3] {
         let mut p = pendulum(1.0);
         let e0 = {
-            let s = Ali3p::new(
-                &mut p,
-                0.0,
-                Ali3pSettings {
-                    step: h,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
+            let s = ali3p_at(&mut p, h);
             energy(&p, &s)
         };
-        let mut s = Ali3p::new(
-            &mut p,
-            0.0,
-            Ali3pSettings {
-                step: h,
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let mut s = ali3p_at(&mut p, h);
         let mut drift: f64 = 0.0;
         for _ in 0..(duration / h).round() as usize {
             s.step(&mut p).unwrap();

@@ -4,72 +4,21 @@
 //! held coordinate, the load stepping of a snap-free but strongly non-linear spring, and
 //! the error paths (no equilibrium; a free rigid-body motion).
 
+mod common;
+use common::*;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, StartFrom, StaticError, StaticSettings, solve_static,
 };
 use nalgebra::DVector;
 
-const G: f64 = 9.81;
-
-/// A point mass on a rod of length L from the origin: q = (x, y), Φ = x² + y² − L²
-/// (`copies` times), gravity −y, K = 0.
-struct Pendulum {
-    q0: [f64; 2],
-    copies: usize,
-}
-const MASS: f64 = 2.0;
-const LENGTH: f64 = 1.5;
-
-impl Formulation for Pendulum {
-    fn n_coordinates(&self) -> usize {
-        2
-    }
-    fn n_constraints(&self) -> usize {
-        self.copies
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&self.q0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        if req.dynamics {
-            out.mass[(0, 0)] = MASS;
-            out.mass[(1, 1)] = MASS;
-            out.forces[1] = -MASS * G;
-        }
-        for k in 0..self.copies {
-            if req.constraints {
-                out.phi[k] = q[0] * q[0] + q[1] * q[1] - LENGTH * LENGTH;
-            }
-            if req.jacobian {
-                out.phi_q[(k, 0)] = 2.0 * q[0];
-                out.phi_q[(k, 1)] = 2.0 * q[1];
-            }
-            if req.accel_term {
-                out.accel_term[k] = 2.0 * (qd[0] * qd[0] + qd[1] * qd[1]);
-            }
-        }
-    }
-}
-
 #[test]
 fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     for copies in [1, 2] {
         // 60° off the vertical: the tangent is the constraint curvature alone.
         let mut p = Pendulum {
-            q0: [LENGTH * 1.0f64.sin(), -LENGTH * 1.0f64.cos()],
             copies,
+            ..pendulum(1.0)
         };
         let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
         eprintln!(
@@ -92,8 +41,8 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     // With the formulation's K (zero here) the tangent Φ_qᵀαΦ_q is singular along the circle:
     // the error says so instead of returning garbage.
     let mut p = Pendulum {
-        q0: [LENGTH * 1.0f64.sin(), -LENGTH * 1.0f64.cos()],
         copies: 1,
+        ..pendulum(1.0)
     };
     let e = solve_static(
         &mut p,
@@ -107,24 +56,17 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     assert!(matches!(e, StaticError::Singular { .. }), "{e}");
 }
 
-/// Two masses on hardening springs in series along x: ground —k₁— x₀ —k₂— x₁, spring force
-/// k s (1 + c s²), load P on each; x₀ held at a given value when `hold` is set.
-struct Chain {
+/// Unit masses on springs, unconstrained: `load` writes the forces (and, when asked, the
+/// tangents) at q; `hold` the specified coordinates, `q0` the start.
+struct Unconstrained<L: FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
     hold: Vec<usize>,
-    q0: [f64; 2],
-    p: f64,
-    c: f64,
-}
-const K1: f64 = 1e3;
-const K2: f64 = 4e2;
-
-fn spring(k: f64, c: f64, s: f64) -> (f64, f64) {
-    (k * s * (1.0 + c * s * s), k * (1.0 + 3.0 * c * s * s))
+    q0: Vec<f64>,
+    load: L,
 }
 
-impl Formulation for Chain {
+impl<L: FnMut(&DVector<f64>, Request, &mut SystemTerms)> Formulation for Unconstrained<L> {
     fn n_coordinates(&self) -> usize {
-        2
+        self.q0.len()
     }
     fn n_constraints(&self) -> usize {
         0
@@ -145,20 +87,44 @@ impl Formulation for Chain {
         out: &mut SystemTerms,
     ) {
         if req.dynamics {
-            let (f1, k1) = spring(K1, self.c, q[0]);
-            let (f2, k2) = spring(K2, self.c, q[1] - q[0]);
-            out.mass[(0, 0)] = 1.0;
-            out.mass[(1, 1)] = 1.0;
-            out.forces[0] = self.p - f1 + f2;
-            out.forces[1] = self.p - f2;
+            for i in 0..self.q0.len() {
+                out.mass[(i, i)] = 1.0;
+            }
+            (self.load)(q, req, out);
+        }
+    }
+}
+
+/// Two masses on hardening springs in series along x: ground —k₁— x₀ —k₂— x₁, spring force
+/// k s (1 + c s²), load P on each; x₀ held at a given value when `hold` is set.
+fn chain(
+    hold: Vec<usize>,
+    q0: [f64; 2],
+    p: f64,
+    c: f64,
+) -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
+    Unconstrained {
+        hold,
+        q0: q0.to_vec(),
+        load: move |q, req, out| {
+            let (f1, k1) = spring(K1, c, q[0]);
+            let (f2, k2) = spring(K2, c, q[1] - q[0]);
+            out.forces[0] = p - f1 + f2;
+            out.forces[1] = p - f2;
             if req.tangents {
                 out.stiffness[(0, 0)] = k1 + k2;
                 out.stiffness[(0, 1)] = -k2;
                 out.stiffness[(1, 0)] = -k2;
                 out.stiffness[(1, 1)] = k2;
             }
-        }
+        },
     }
+}
+const K1: f64 = 1e3;
+const K2: f64 = 4e2;
+
+fn spring(k: f64, c: f64, s: f64) -> (f64, f64) {
+    (k * s * (1.0 + c * s * s), k * (1.0 + 3.0 * c * s * s))
 }
 
 /// Solve k s (1 + c s²) = f for s by bisection (monotone).
@@ -182,12 +148,7 @@ fn hardening_chain_with_both_tangents_and_a_held_coordinate() {
     let s2 = invert(K2, c, p);
     let s1 = invert(K1, c, 2.0 * p);
     for fd in [true, false] {
-        let mut ch = Chain {
-            hold: vec![],
-            q0: [0.0, 0.0],
-            p,
-            c,
-        };
+        let mut ch = chain(vec![], [0.0, 0.0], p, c);
         let settings = StaticSettings {
             fd_tangent: fd,
             ..Default::default()
@@ -203,12 +164,7 @@ fn hardening_chain_with_both_tangents_and_a_held_coordinate() {
         assert!((sol.q[0] - s1).abs() < 1e-10 && (sol.q[1] - s1 - s2).abs() < 1e-10);
     }
     // x₀ held at 0.01: only the second spring carries its load.
-    let mut ch = Chain {
-        hold: vec![0],
-        q0: [0.01, 0.0],
-        p,
-        c,
-    };
+    let mut ch = chain(vec![0], [0.01, 0.0], p, c);
     let sol = solve_static(&mut ch, 0.0, &StaticSettings::default()).unwrap();
     assert_eq!(sol.q[0], 0.01);
     assert!((sol.q[1] - 0.01 - s2).abs() < 1e-10, "{}", sol.q[1]);
@@ -216,51 +172,29 @@ fn hardening_chain_with_both_tangents_and_a_held_coordinate() {
 
 /// A softening spring k s / (1 + s²) carries at most k/2: above that load there is no
 /// equilibrium, and below it the spring is strongly non-linear.
-struct Softening {
-    p: f64,
-}
-impl Formulation for Softening {
-    fn n_coordinates(&self) -> usize {
-        1
-    }
-    fn n_constraints(&self) -> usize {
-        0
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.fill(0.0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        _qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        if req.dynamics {
+fn softening(p: f64) -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
+    Unconstrained {
+        hold: vec![],
+        q0: vec![0.0],
+        load: move |q, req, out| {
             let s = q[0];
-            out.mass[(0, 0)] = 1.0;
-            out.forces[0] = self.p - s / (1.0 + s * s);
+            out.forces[0] = p - s / (1.0 + s * s);
             if req.tangents {
                 out.stiffness[(0, 0)] = (1.0 - s * s) / (1.0 + s * s).powi(2);
             }
-        }
+        },
     }
 }
 
 #[test]
 fn no_equilibrium_is_an_error_with_data_and_a_near_limit_load_converges() {
     // Near the limit load 0.5: s/(1 + s²) = 0.49 at s = 0.8174 (the stable root).
-    let mut near = Softening { p: 0.49 };
+    let mut near = softening(0.49);
     let sol = solve_static(&mut near, 0.0, &StaticSettings::default()).unwrap();
     let s = sol.q[0];
     assert!((s / (1.0 + s * s) - 0.49).abs() < 1e-12 && s < 1.0, "{s}");
 
-    let mut over = Softening { p: 0.6 };
+    let mut over = softening(0.6);
     let e = solve_static(&mut over, 0.0, &StaticSettings::default()).unwrap_err();
     eprintln!("{e}");
     let StaticError::NoConvergence {
@@ -282,39 +216,17 @@ fn no_equilibrium_is_an_error_with_data_and_a_near_limit_load_converges() {
 }
 
 /// A free mass under gravity has no equilibrium and no stiffness: the tangent is singular.
-struct Free;
-impl Formulation for Free {
-    fn n_coordinates(&self) -> usize {
-        1
-    }
-    fn n_constraints(&self) -> usize {
-        0
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.fill(0.0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        _q: &DVector<f64>,
-        _qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        if req.dynamics {
-            out.mass[(0, 0)] = 1.0;
-            out.forces[0] = -G;
-        }
+fn free() -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
+    Unconstrained {
+        hold: vec![],
+        q0: vec![0.0],
+        load: |_, _, out| out.forces[0] = -G,
     }
 }
 
 #[test]
 fn a_free_body_is_refused_as_singular() {
-    let e = solve_static(&mut Free, 0.0, &StaticSettings::default()).unwrap_err();
+    let e = solve_static(&mut free(), 0.0, &StaticSettings::default()).unwrap_err();
     assert!(matches!(e, StaticError::Singular { .. }), "{e}");
 }
 
@@ -323,8 +235,8 @@ fn a_free_body_is_refused_as_singular() {
 #[test]
 fn alip3_started_at_the_equilibrium_stays_put() {
     let mut p = Pendulum {
-        q0: [LENGTH * 0.3f64.sin(), -LENGTH * 0.3f64.cos()],
         copies: 1,
+        ..pendulum(0.3)
     };
     let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
     let settings = Ali3pSettings::default();

@@ -11,6 +11,14 @@ fn four_bar_text() -> String {
     std::fs::read_to_string(models_dir().join("double_four_bar.ron")).unwrap()
 }
 
+/// The validation error of the scene `text` (which parses).
+fn refused(text: &str) -> ModelError {
+    Scene::from_ron_str(text, "f.ron")
+        .unwrap()
+        .validate()
+        .unwrap_err()
+}
+
 #[test]
 fn double_four_bar_loads() {
     let s = Scene::load(models_dir().join("double_four_bar.ron")).unwrap();
@@ -46,8 +54,7 @@ fn joint_naming_a_missing_body_is_refused() {
         "body2: \"coupler2\", marker2: \"B\"",
         "body2: \"coupler9\", marker2: \"B\"",
     );
-    let s = Scene::from_ron_str(&text, "f.ron").unwrap();
-    let e = s.validate().unwrap_err();
+    let e = refused(&text);
     assert!(matches!(e, ModelError::Missing { kind: "body", .. }), "{e}");
     let msg = e.to_string();
     assert!(
@@ -62,10 +69,7 @@ fn sensor_on_a_missing_marker_is_refused() {
         "(body: \"crank1\", marker: \"B\", component: Y)",
         "(body: \"crank1\", marker: \"C\", component: Y)",
     );
-    let e = Scene::from_ron_str(&text, "f.ron")
-        .unwrap()
-        .validate()
-        .unwrap_err();
+    let e = refused(&text);
     let msg = e.to_string();
     assert!(
         msg.contains("sensors[B0_y].marker") && msg.contains("`C`"),
@@ -80,10 +84,7 @@ fn non_positive_step_and_duration_are_refused() {
         ("duration: 5.0", "duration: -1.0"),
     ] {
         let text = four_bar_text().replace(field, bad);
-        let e = Scene::from_ron_str(&text, "f.ron")
-            .unwrap()
-            .validate()
-            .unwrap_err();
+        let e = refused(&text);
         let msg = e.to_string();
         let name = field.split(':').next().unwrap();
         assert!(msg.contains(&format!("solver.{name}")), "{msg}");

@@ -4,22 +4,13 @@
 
 mod common;
 use common::*;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, SystemTerms};
 use flexmbd_model::Scene;
 use flexmbd_relative::Relative;
 use nalgebra::{DMatrix, DVector};
 
-fn state(n: usize, k: usize) -> (DVector<f64>, DVector<f64>) {
-    let z = DVector::from_fn(n, |i, _| 0.2 * ((i * 7 + k * 13) as f64 * 0.37).sin());
-    let zd = DVector::from_fn(n, |i, _| 0.9 * ((i * 3 + k * 5) as f64 * 0.91).cos());
-    (z, zd)
-}
-
 fn eval(f: &mut Relative, z: &DVector<f64>, zd: &DVector<f64>) -> SystemTerms {
-    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    t.clear(Request::ALL);
-    f.evaluate(0.3, z, zd, Request::ALL, &mut t);
-    t
+    terms_at(f, 0.3, z, zd)
 }
 
 /// Dense R (rows: every body's Z_k stacked) at z, by unit velocities.
@@ -41,9 +32,7 @@ fn dense_r(f: &mut Relative, z: &DVector<f64>) -> Vec<DMatrix<f64>> {
 }
 
 fn check_assembly(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..4 {
         let (z, zd) = state(n, k);
@@ -78,28 +67,12 @@ fn check_assembly(scene: &Scene) {
 
 /// Q = −Ṁ ż + ∂T/∂z − ∂V/∂z with T = ½ żᵀ M(z) ż and V the gravity and elastic potential.
 fn check_lagrange(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
-    let zero = DVector::zeros(n);
     for k in 0..3 {
         let (z, zd) = state(n, k + 7);
         let t = eval(&mut f, &z, &zd);
-        let eps = 1e-6;
-        let mp = eval(&mut f, &(&z + eps * &zd), &zd).mass;
-        let mm = eval(&mut f, &(&z - eps * &zd), &zd).mass;
-        let mdot_zd = (mp - mm) * &zd / (2.0 * eps);
-        let mut rhs = -mdot_zd;
-        for c in 0..n {
-            let mut e = DVector::zeros(n);
-            e[c] = eps;
-            let tp = 0.5 * zd.dot(&(eval(&mut f, &(&z + &e), &zd).mass * &zd));
-            let tm = 0.5 * zd.dot(&(eval(&mut f, &(&z - &e), &zd).mass * &zd));
-            let vp = f.total_energy(&(&z + &e), &zero);
-            let vm = f.total_energy(&(&z - &e), &zero);
-            rhs[c] += (tp - tm) / (2.0 * eps) - (vp - vm) / (2.0 * eps);
-        }
+        let rhs = lagrange_forces(&mut f, &z, &zd, 1e-6);
         let err = (&t.forces - &rhs).amax() / t.forces.amax().max(1.0);
         eprintln!("{}: Q vs Lagrange {err:.1e}", scene.name);
         assert!(err < 1e-6, "Lagrange {err:e}");
@@ -108,9 +81,7 @@ fn check_lagrange(scene: &Scene) {
 
 /// Φ_z and c against differences of Φ along z(t) = z + t ż.
 fn check_constraints(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
     for k in 0..3 {
         let (z, zd) = state(n, k + 3);
@@ -160,9 +131,7 @@ fn constraint_jacobian_and_bias_match_differences() {
 #[test]
 fn coordinate_counts_of_the_flexible_four_bar() {
     for k in 0..=5 {
-        let f = flexmbd_model::PreparedScene::new(&four_bar(k))
-            .and_then(|p| flexmbd_relative::compile(&p))
-            .unwrap();
+        let f = relative(&four_bar(k));
         eprintln!(
             "{k} flexible bars: {} coordinates, {} constraints",
             f.n_coordinates(),

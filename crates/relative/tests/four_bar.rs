@@ -7,9 +7,7 @@ use flexmbd_core::Formulation;
 #[test]
 fn rigid_four_bar_has_five_coordinates_and_reaches_the_reference() {
     let scene = four_bar(0);
-    let f = flexmbd_model::PreparedScene::new(&scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let f = relative(&scene);
     assert_eq!(f.n_coordinates(), 5);
     assert_eq!(f.n_constraints(), 4);
     let (rows, phi) = run_relative(&scene, 1e-3, 10.0, 10);

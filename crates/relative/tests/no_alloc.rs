@@ -30,9 +30,7 @@ fn steps_and_evaluations_do_not_allocate() {
         }
     }
     for scene in scenes {
-        let mut f = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_relative::compile(&p))
-            .unwrap();
+        let mut f = relative(&scene);
         let (n, m) = (f.n_coordinates(), f.n_constraints());
         let mut s = Ali3p::new(&mut f, 0.0, settings(&scene, 1e-3)).unwrap();
         s.step(&mut f).unwrap();

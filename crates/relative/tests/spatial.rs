@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, SystemTerms};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_relative::Relative;
 use nalgebra::{DMatrix, DVector};
@@ -55,24 +55,12 @@ fn flexible_chain_3d() -> Scene {
 }
 
 fn eval(f: &mut Relative, z: &DVector<f64>, zd: &DVector<f64>) -> SystemTerms {
-    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    t.clear(Request::ALL);
-    f.evaluate(0.3, z, zd, Request::ALL, &mut t);
-    t
-}
-
-fn state(n: usize, k: usize) -> (DVector<f64>, DVector<f64>) {
-    let z = DVector::from_fn(n, |i, _| 0.2 * ((i * 7 + k * 13) as f64 * 0.37).sin());
-    let zd = DVector::from_fn(n, |i, _| 0.9 * ((i * 3 + k * 5) as f64 * 0.91).cos());
-    (z, zd)
+    terms_at(f, 0.3, z, zd)
 }
 
 fn check_terms(scene: &Scene) {
-    let mut f = flexmbd_model::PreparedScene::new(scene)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let mut f = relative(scene);
     let n = f.n_coordinates();
-    let zero = DVector::zeros(n);
     for k in 0..3 {
         let (z, zd) = state(n, k);
         let t = eval(&mut f, &z, &zd);
@@ -95,21 +83,7 @@ fn check_terms(scene: &Scene) {
         let dm = (&t.mass - &m).amax() / m.amax();
         let dq = (&t.forces - &q).amax() / q.amax();
         // Lagrange: Q = −Ṁ ż + ∂T/∂z − ∂V/∂z.
-        let eps = 1e-6;
-        let mdz = (eval(&mut f, &(&z + eps * &zd), &zd).mass
-            - eval(&mut f, &(&z - eps * &zd), &zd).mass)
-            * &zd
-            / (2.0 * eps);
-        let mut rhs = -mdz;
-        for c in 0..n {
-            let mut e = DVector::zeros(n);
-            e[c] = eps;
-            let tp = 0.5 * zd.dot(&(eval(&mut f, &(&z + &e), &zd).mass * &zd));
-            let tm = 0.5 * zd.dot(&(eval(&mut f, &(&z - &e), &zd).mass * &zd));
-            let vp = f.total_energy(&(&z + &e), &zero);
-            let vm = f.total_energy(&(&z - &e), &zero);
-            rhs[c] += (tp - tm - vp + vm) / (2.0 * eps);
-        }
+        let rhs = lagrange_forces(&mut f, &z, &zd, 1e-6);
         let dl = (&t.forces - &rhs).amax() / t.forces.amax().max(1.0);
         // Constraints along z + s ż.
         let (mut ev, mut ea) = (0.0, 0.0);
@@ -146,9 +120,7 @@ fn flexible_pendulum_3d_conserves_energy() {
         (model("flexible_pendulum_3d.ron"), 5e-4),
         (flexible_chain_3d(), 1.25e-4),
     ] {
-        let f = flexmbd_model::PreparedScene::new(&scene)
-            .and_then(|p| flexmbd_relative::compile(&p))
-            .unwrap();
+        let f = relative(&scene);
         let ie = scene
             .sensors
             .iter()

@@ -5,50 +5,26 @@
 
 mod common;
 use common::*;
-use flexmbd_core::{Formulation, Request, SystemTerms};
-use flexmbd_model::{Force, FormulationKind, Scene};
+use flexmbd_core::{Formulation, SystemTerms};
+use flexmbd_model::{FormulationKind, Scene};
 use nalgebra::DVector;
 
 fn scene() -> Scene {
-    let mut s = model("slider_crank.ron");
-    s.forces.push(Force::SpringDamper {
-        name: "rod_spring".into(),
-        body1: "rod".into(),
-        marker1: "C".into(),
-        body2: "ground".into(),
-        marker2: "O".into(),
-        stiffness: 40.0,
-        damping: 2.0,
-        free_length: Some(1.0),
-    });
+    let mut s = slider_crank_with_rod_spring();
     s.solver.formulation = FormulationKind::Relative;
     s
 }
 
 fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
-    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    t.clear(Request::ALL);
-    f.evaluate(0.0, q, qd, Request::ALL, &mut t);
-    t
+    terms_at(f, 0.0, q, qd)
 }
 
 #[test]
 fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = scene();
-    let mut without = with.clone();
-    without.forces.clear();
-    let mut a = flexmbd_model::PreparedScene::new(&with)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
-    let mut b = flexmbd_model::PreparedScene::new(&without)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let (mut a, mut b) = with_and_without_forces(&with, flexmbd_relative::compile);
     let n = a.n_coordinates();
-    let ie = with
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let ie = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     a.initial_guess(&mut q, &mut qd);
     // A deformed, moved state (joint angles and modal coordinates).
@@ -63,33 +39,27 @@ fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         out[ie]
     };
     let dq = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;
-    let mut err = 0.0f64;
-    for j in 0..n {
-        let eps = if j >= 3 { 1e-7 } else { 1e-6 };
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        qp[j] += eps;
-        qm[j] -= eps;
-        let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-            + energy(&mut b, &qm))
-            / (2.0 * eps);
-        err = err.max((dq[j] + dv).abs());
-    }
+    let err = energy_gradient_error(
+        n,
+        |j| if j >= 3 { 1e-7 } else { 1e-6 },
+        |j| dq[j],
+        |j, e| {
+            let mut qe = q.clone();
+            qe[j] += e;
+            (energy(&mut a, &qe), energy(&mut b, &qe))
+        },
+    );
     eprintln!("|Q_spring + ∂V/∂z| {err:.1e} (|Q_spring| {:.2})", dq.amax());
     // Measured 6.8e-9 (the differences' own error) against |Q_spring| = 12.
     assert!(dq.amax() > 1.0 && err < 1e-8 * dq.amax(), "{err:e}");
     // C = −∂Q/∂ż of the springs (Q is linear in ż).
-    let (ta, tb) = (eval(&mut a, &q, &qd), eval(&mut b, &q, &qd));
-    let mut cerr = 0.0f64;
-    for j in 0..n {
-        let mut qp = qd.clone();
-        qp[j] += 1.0;
-        let (pa, pb) = (eval(&mut a, &q, &qp), eval(&mut b, &q, &qp));
-        for i in 0..n {
-            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
-            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
-            cerr = cerr.max((fd - c).abs());
+    let cerr = damping_error(n, |j| {
+        let mut qdp = qd.clone();
+        if let Some(j) = j {
+            qdp[j] += 1.0;
         }
-    }
+        (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp))
+    });
     eprintln!("|C_spring − (−∂Q/∂ż)| {cerr:.1e}");
     assert!(cerr < 1e-9, "{cerr:e}");
 }

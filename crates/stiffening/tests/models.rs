@@ -61,22 +61,36 @@ fn tangent(m: &dyn ElasticModel, y: &[f64]) -> DMatrix<f64> {
     k
 }
 
+/// The central-difference step of coordinate `j` at `y` (scaled to it) and y ± that step.
+fn perturbed(y: &[f64], j: usize) -> (f64, Vec<f64>, Vec<f64>) {
+    let h = 1e-6 * y[j].abs().max(1e-4);
+    let (mut yp, mut ym) = (y.to_vec(), y.to_vec());
+    yp[j] += h;
+    ym[j] -= h;
+    (h, yp, ym)
+}
+
 /// −∂Q/∂y by central differences, step scaled per coordinate.
 fn fd_tangent(m: &dyn ElasticModel, y: &[f64]) -> DMatrix<f64> {
     let n = y.len();
     let mut k = DMatrix::zeros(n, n);
     for j in 0..n {
-        let h = 1e-6 * y[j].abs().max(1e-4);
-        let mut yp = y.to_vec();
-        let mut ym = y.to_vec();
-        yp[j] += h;
-        ym[j] -= h;
+        let (h, yp, ym) = perturbed(y, j);
         let (fp, fm) = (forces(m, &yp), forces(m, &ym));
         for i in 0..n {
             k[(i, j)] = -(fp[i] - fm[i]) / (2.0 * h);
         }
     }
     k
+}
+
+/// The largest entry of the body's geometric stiffness matrices K_G.
+fn largest_k_g(body: &ReducedBody) -> f64 {
+    body.stiffening
+        .k_g
+        .iter()
+        .map(|m| m.amax())
+        .fold(0.0, f64::max)
 }
 
 fn rel_err(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
@@ -125,11 +139,7 @@ fn fnl2_force_is_minus_energy_gradient_and_tangent_is_hessian() {
             let mut worst: f64 = 0.0;
             let fmax = f.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             for j in 0..n {
-                let h = 1e-6 * y[j].abs().max(1e-4);
-                let mut yp = y.clone();
-                let mut ym = y.clone();
-                yp[j] += h;
-                ym[j] -= h;
+                let (h, yp, ym) = perturbed(&y, j);
                 let g = (m.strain_energy(&yp) - m.strain_energy(&ym)) / (2.0 * h);
                 worst = worst.max((f[j] + g).abs());
             }
@@ -176,12 +186,7 @@ fn fnl1_tangent_is_minus_force_jacobian() {
 fn k_g_vanishes_for_bending_modes_of_a_straight_beam() {
     for body in bodies() {
         let n = body.n_modes();
-        let kmax = body
-            .stiffening
-            .k_g
-            .iter()
-            .map(|m| m.amax())
-            .fold(0.0, f64::max);
+        let kmax = largest_k_g(&body);
         assert!(kmax > 0.0);
         let mut n_bending = 0;
         for k in 0..n {
@@ -243,12 +248,7 @@ fn axial_normal_modes_are_selected_after_the_bending_modes() {
         assert!((got / want - 1.0).abs() < 0.01, "{got} vs {want}");
     }
     // The two axial modes carry K_G, the bending ones do not.
-    let kmax = body
-        .stiffening
-        .k_g
-        .iter()
-        .map(|m| m.amax())
-        .fold(0.0, f64::max);
+    let kmax = largest_k_g(&body);
     for k in 0..6 {
         assert_eq!(
             body.stiffening.k_g[k].amax() > 1e-9 * kmax,

@@ -9,7 +9,8 @@
 //! static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 //! ```
 //!
-//! and compares [`allocations`] before and after the code under test. Counting per thread
+//! and compares [`allocations`] before and after the code under test, or counts those of a
+//! closure with [`allocations_in`]. Counting per thread
 //! keeps tests that run in parallel in one binary from seeing each other's allocations.
 
 #![warn(missing_docs)]
@@ -53,4 +54,11 @@ unsafe impl GlobalAlloc for CountingAllocator {
 /// Allocations (and reallocations) made by the current thread so far.
 pub fn allocations() -> usize {
     COUNT.with(|c| c.get())
+}
+
+/// The allocations (and reallocations) the current thread makes while running `code`.
+pub fn allocations_in(code: impl FnOnce()) -> usize {
+    let before = allocations();
+    code();
+    allocations() - before
 }

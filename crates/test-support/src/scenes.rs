@@ -1,10 +1,14 @@
 //! The scenes and runs the physics tests share (feature `scenes`): the models of `models/`,
-//! the double four-bar with k flexible bars, the ALI3-P settings a scene's solver asks for,
-//! and a run that records the sensors.
+//! the double four-bar with k flexible bars, the slider-crank with a second spring, the ALI3-P
+//! settings a scene's solver asks for, a compiled formulation, a run that records the sensors,
+//! the difference of two runs' sensor columns, and the checks of spring forces against the
+//! spring energy (Q = −∂V/∂q) and of their damping (C = −∂Q/∂q̇).
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::{BodyModel, Inertia, JointKind, PreparedScene, Scene, V3};
+use flexmbd_model::{
+    BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
+};
 
 /// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
 pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
@@ -30,6 +34,48 @@ pub fn four_bar(flexible: usize) -> Scene {
         body.flexible = true;
     }
     scene
+}
+
+/// The slider-crank (`models/slider_crank.ron`) with a second spring–damper, from node C of
+/// the rod to the ground (so the modal columns of the spring Jacobian are exercised).
+pub fn slider_crank_with_rod_spring() -> Scene {
+    let mut s = model("slider_crank.ron");
+    s.forces.push(Force::SpringDamper {
+        name: "rod_spring".into(),
+        body1: "rod".into(),
+        marker1: "C".into(),
+        body2: "ground".into(),
+        marker2: "O".into(),
+        stiffness: 40.0,
+        damping: 2.0,
+        free_length: Some(1.0),
+    });
+    s
+}
+
+/// `scene` prepared and compiled by a formulation's `compile` (panics on an error).
+pub fn compiled<F>(scene: &Scene, compile: fn(&PreparedScene) -> Result<F, ModelError>) -> F {
+    PreparedScene::new(scene).and_then(|p| compile(&p)).unwrap()
+}
+
+/// The column of the sensor `name` in the scene's sensor rows (panics if there is none).
+pub fn sensor_column(scene: &Scene, name: &str) -> usize {
+    scene
+        .sensors
+        .iter()
+        .position(|x| x.name == name)
+        .unwrap_or_else(|| panic!("{}: no sensor {name}", scene.name))
+}
+
+/// `scene` compiled by `compile` with its force elements and without them (the springs' own
+/// terms are the differences of the two).
+pub fn with_and_without_forces<F>(
+    scene: &Scene,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+) -> (F, F) {
+    let mut without = scene.clone();
+    without.forces.clear();
+    (compiled(scene, compile), compiled(&without, compile))
 }
 
 /// A planar scene of rigid bars and revolute joints written in 3D: revolute axes along z,
@@ -74,6 +120,19 @@ pub fn settings(scene: &Scene, h: f64) -> Ali3pSettings {
     }
 }
 
+/// ALI3-P on `formulation` from t = 0 at step `h`, the other settings default.
+pub fn ali3p_at<F: Formulation>(formulation: &mut F, h: f64) -> Ali3p {
+    Ali3p::new(
+        formulation,
+        0.0,
+        Ali3pSettings {
+            step: h,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 /// Run a compiled formulation for `duration` at step `h`: the sensor rows every `every`
 /// steps (and at t = 0), and the largest ‖Φ‖∞ seen at those instants.
 pub fn run_with<F: Formulation>(
@@ -102,4 +161,116 @@ pub fn run_with<F: Formulation>(
         }
     }
     (rows, phi_max)
+}
+
+/// Run `scene` compiled by a formulation's `compile`: the rows and the largest ‖Φ‖∞ of
+/// [`run_with`].
+pub fn run_compiled<F: Formulation>(
+    scene: &Scene,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+    h: f64,
+    duration: f64,
+    every: usize,
+) -> (Vec<Vec<f64>>, f64) {
+    run_with(&mut compiled(scene, compile), scene, h, duration, every)
+}
+
+/// Run `scene` with its formulation set to `kind`, compiled by that formulation's `compile`:
+/// the rows and the largest ‖Φ‖∞ of [`run_with`].
+pub fn run_as<F: Formulation>(
+    scene: &Scene,
+    kind: FormulationKind,
+    compile: fn(&PreparedScene) -> Result<F, ModelError>,
+    h: f64,
+    duration: f64,
+    every: usize,
+) -> (Vec<Vec<f64>>, f64) {
+    let mut s = scene.clone();
+    s.solver.formulation = kind;
+    run_compiled(&s, compile, h, duration, every)
+}
+
+/// Column `c` of two runs' sensor rows: (max over time of |a − b|, the range max − min of a).
+pub fn column_difference(a: &[Vec<f64>], b: &[Vec<f64>], c: usize) -> (f64, f64) {
+    let (lo, hi) = a
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
+    let d = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x[c] - y[c]).abs())
+        .fold(0.0, f64::max);
+    (d, hi - lo)
+}
+
+/// The largest [`column_difference`] relative to the range over the columns `cols`.
+pub fn worst_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
+    let mut worst = 0.0f64;
+    for &c in cols {
+        let (d, range) = column_difference(a, b, c);
+        worst = worst.max(d / range);
+    }
+    worst
+}
+
+/// max over j of |Q_j + ∂V/∂q_j| for the spring forces `q_spring(j)`, with ∂V/∂q_j the central
+/// difference of step `eps(j)` of the spring energy: `energies(j, e)` is the energy with and
+/// without the springs at q + e·e_j, and V the difference of the two.
+pub fn energy_gradient_error(
+    n: usize,
+    eps: impl Fn(usize) -> f64,
+    q_spring: impl Fn(usize) -> f64,
+    mut energies: impl FnMut(usize, f64) -> (f64, f64),
+) -> f64 {
+    let mut err = 0.0f64;
+    for j in 0..n {
+        let eps = eps(j);
+        let (with_p, without_p) = energies(j, eps);
+        let (with_m, without_m) = energies(j, -eps);
+        let dv = (with_p - without_p - with_m + without_m) / (2.0 * eps);
+        err = err.max((q_spring(j) + dv).abs());
+    }
+    err
+}
+
+/// max over i, j of |C_ij − (−∂Q_i/∂q̇_j)| for the springs (Q is linear in q̇, so a unit step
+/// is exact): `terms(None)` are the terms with and without the springs at (q, q̇), `terms(Some(j))`
+/// those at (q, q̇ + e_j); Q and C of the springs are the differences of the two.
+pub fn damping_error(
+    n: usize,
+    mut terms: impl FnMut(Option<usize>) -> (SystemTerms, SystemTerms),
+) -> f64 {
+    let (ta, tb) = terms(None);
+    let mut err = 0.0f64;
+    for j in 0..n {
+        let (pa, pb) = terms(Some(j));
+        for i in 0..n {
+            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
+            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
+            err = err.max((fd - c).abs());
+        }
+    }
+    err
+}
+
+/// The largest |a − b| over time and the columns `cols` of two runs' sensor rows.
+pub fn largest_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
+    cols.iter()
+        .map(|&c| column_difference(a, b, c).0)
+        .fold(0.0, f64::max)
+}
+
+/// The largest |x − x(0)| over time of column `c` of a run's sensor rows (an energy's drift).
+pub fn drift(rows: &[Vec<f64>], c: usize) -> f64 {
+    let x0 = rows[0][c];
+    rows.iter().map(|r| (r[c] - x0).abs()).fold(0.0, f64::max)
+}
+
+/// The energy drift of a run of the flexible pendulum (`models/flexible_pendulum.ron`, the
+/// energy in column 5): in J, and relative to the potential energy released from
+/// horizontal, m g L / 2.
+pub fn flexible_pendulum_energy_drift(rows: &[Vec<f64>]) -> (f64, f64) {
+    let drift = drift(rows, 5);
+    let scale = 1.0 * 9.81 * 0.5;
+    (drift, drift / scale)
 }

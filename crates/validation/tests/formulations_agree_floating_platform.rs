@@ -24,25 +24,13 @@ fn scene() -> flexmbd_model::Scene {
 
 /// Max over time of |relative − absolute| / range over the columns.
 fn difference(a: &[Vec<f64>], r: &[Vec<f64>]) -> f64 {
-    let mut worst = 0.0f64;
-    for c in COLS {
-        let (lo, hi) = a
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-        let d = a
-            .iter()
-            .zip(r)
-            .map(|(x, y)| (x[c] - y[c]).abs())
-            .fold(0.0, f64::max);
-        worst = worst.max(d / (hi - lo));
-    }
-    worst
+    worst_difference(a, r, &COLS)
 }
 
 #[test]
 fn floating_platform_with_a_loop_agrees_in_both_formulations() {
     let s = scene();
-    let energy = s.sensors.iter().position(|x| x.name == "energy").unwrap();
+    let energy = sensor_column(&s, "energy");
     let mut d = Vec::new();
     for h in [1e-3_f64, 5e-4, 2.5e-4] {
         let every = (0.01 / h).round() as usize;

@@ -33,19 +33,7 @@ fn difference(scene: &Scene, h: f64, duration: f64, cols: &[usize]) -> f64 {
     let every = (0.01 / h).round() as usize;
     let (a, _) = run_absolute(scene, h, duration, every);
     let (r, _) = run_relative(scene, h, duration, every);
-    let mut worst = 0.0f64;
-    for &c in cols {
-        let (lo, hi) = a
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-        let d = a
-            .iter()
-            .zip(&r)
-            .map(|(x, y)| (x[c] - y[c]).abs())
-            .fold(0.0, f64::max);
-        worst = worst.max(d / (hi - lo));
-    }
-    worst
+    worst_difference(&a, &r, cols)
 }
 
 fn convergence(scene: &Scene, duration: f64, cols: &[usize]) -> Vec<f64> {
@@ -139,17 +127,9 @@ fn projections_do_not_amplify_round_off() {
         }
         let compile = |s: &Scene| -> Box<dyn flexmbd_core::Formulation> {
             if relative {
-                Box::new(
-                    flexmbd_model::PreparedScene::new(s)
-                        .and_then(|p| flexmbd_relative::compile(&p))
-                        .unwrap(),
-                )
+                Box::new(compiled(s, flexmbd_relative::compile))
             } else {
-                Box::new(
-                    flexmbd_model::PreparedScene::new(s)
-                        .and_then(|p| flexmbd_absolute::compile(&p))
-                        .unwrap(),
-                )
+                Box::new(compiled(s, flexmbd_absolute::compile))
             }
         };
         let (mut f1, mut f2) = (compile(&s), compile(&s));

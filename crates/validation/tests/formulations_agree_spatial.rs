@@ -9,9 +9,7 @@ use flexmbd_core::Formulation;
 #[test]
 fn double_pendulum_3d_agrees_with_natural_coordinates() {
     let s = model("double_pendulum_3d.ron");
-    let f = flexmbd_model::PreparedScene::new(&s)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let f = relative(&s);
     assert_eq!((f.n_coordinates(), f.n_constraints()), (4, 0));
     let d: Vec<f64> = [2e-3f64, 1e-3, 5e-4]
         .iter()
@@ -47,9 +45,7 @@ fn double_pendulum_3d_agrees_with_natural_coordinates() {
 fn spatial_four_bar_reproduces_the_planar_run() {
     let planar = four_bar(0);
     let spatial = planar_scene_in_3d(&planar);
-    let f = flexmbd_model::PreparedScene::new(&spatial)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
+    let f = relative(&spatial);
     eprintln!(
         "four-bar in 3D: {} coordinates, {} constraints",
         f.n_coordinates(),

@@ -134,15 +134,8 @@ fn differences(scene: &Scene, duration: f64, hs: [f64; 3]) -> Vec<f64> {
             let (r, _) = run_relative(scene, h, duration, every);
             (0..a[0].len())
                 .map(|c| {
-                    let (lo, hi) = a
-                        .iter()
-                        .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-                    let d = a
-                        .iter()
-                        .zip(&r)
-                        .map(|(x, y)| (x[c] - y[c]).abs())
-                        .fold(0.0, f64::max);
-                    d / (hi - lo).max(1e-12)
+                    let (d, range) = column_difference(&a, &r, c);
+                    d / range.max(1e-12)
                 })
                 .fold(0.0, f64::max)
         })
@@ -176,20 +169,9 @@ fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> System
 #[test]
 fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = double_pendulum(0.8);
-    let mut without = with.clone();
-    without.forces.clear();
-    let compile = |s: &Scene| {
-        flexmbd_model::PreparedScene::new(s)
-            .and_then(|p| flexmbd_absolute::compile(&p))
-            .unwrap()
-    };
-    let (mut a, mut b) = (compile(&with), compile(&without));
+    let (mut a, mut b) = with_and_without_forces(&with, flexmbd_absolute::compile);
     let n = a.n_coordinates();
-    let energy_column = with
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let energy_column = sensor_column(&with, "energy");
     let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
     a.initial_guess(&mut q, &mut qd);
     for i in 0..n {
@@ -203,17 +185,16 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         out[energy_column]
     };
     let q_springs = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;
-    let mut err = 0.0f64;
-    for j in 0..n {
-        let eps = 1e-6;
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        qp[j] += eps;
-        qm[j] -= eps;
-        let dv = (energy(&mut a, &qp) - energy(&mut b, &qp) - energy(&mut a, &qm)
-            + energy(&mut b, &qm))
-            / (2.0 * eps);
-        err = err.max((q_springs[j] + dv).abs());
-    }
+    let err = energy_gradient_error(
+        n,
+        |_| 1e-6,
+        |j| q_springs[j],
+        |j, e| {
+            let mut qe = q.clone();
+            qe[j] += e;
+            (energy(&mut a, &qe), energy(&mut b, &qe))
+        },
+    );
     eprintln!(
         "|Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {:.2})",
         q_springs.amax()
@@ -223,18 +204,13 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
         "{err:e}"
     );
     // C = −∂Q/∂q̇ of the springs (Q is linear in q̇).
-    let (ta, tb) = (eval(&mut a, &q, &qd), eval(&mut b, &q, &qd));
-    let mut c_err = 0.0f64;
-    for j in 0..n {
+    let c_err = damping_error(n, |j| {
         let mut qdp = qd.clone();
-        qdp[j] += 1.0;
-        let (pa, pb) = (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp));
-        for i in 0..n {
-            let fd = -((pa.forces[i] - pb.forces[i]) - (ta.forces[i] - tb.forces[i]));
-            let c = ta.damping[(i, j)] - tb.damping[(i, j)];
-            c_err = c_err.max((fd - c).abs());
+        if let Some(j) = j {
+            qdp[j] += 1.0;
         }
-    }
+        (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp))
+    });
     eprintln!("|C_spring − (−∂Q/∂q̇)| {c_err:.1e}");
     assert!(c_err < 1e-9, "{c_err:e}");
 }
@@ -242,11 +218,7 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
 #[test]
 fn undamped_springs_conserve_energy_in_natural_coordinates_3d() {
     let scene = double_pendulum(0.0);
-    let energy = scene
-        .sensors
-        .iter()
-        .position(|x| x.name == "energy")
-        .unwrap();
+    let energy = sensor_column(&scene, "energy");
     let drift: Vec<f64> = [2e-3, 1e-3]
         .iter()
         .map(|&h| {
@@ -262,27 +234,9 @@ fn undamped_springs_conserve_energy_in_natural_coordinates_3d() {
     assert!(drift[1] < 1e-3, "{drift:?}");
 }
 
-/// The slider-crank (`models/slider_crank.ron`) with a second spring–damper, from a node of
-/// the rod to the ground.
-fn slider_crank_with_springs() -> Scene {
-    let mut s = model("slider_crank.ron");
-    s.forces.push(Force::SpringDamper {
-        name: "rod_spring".into(),
-        body1: "rod".into(),
-        marker1: "C".into(),
-        body2: "ground".into(),
-        marker2: "O".into(),
-        stiffness: 40.0,
-        damping: 2.0,
-        free_length: Some(1.0),
-    });
-    s.solver.formulation = FormulationKind::Relative;
-    s
-}
-
 #[test]
 fn slider_crank_with_springs_agrees_with_natural_coordinates() {
-    let mut s = slider_crank_with_springs();
+    let mut s = slider_crank_with_rod_spring();
     s.solver.formulation = FormulationKind::Absolute;
     // Rigid rod: the flexible rod's undamped modes (no structural damping in the scene) are
     // not resolved at these steps, and the two formulations then converge to each other
@@ -297,19 +251,7 @@ fn slider_crank_with_springs_agrees_with_natural_coordinates() {
         let every = (0.01 / h).round() as usize;
         let (a, _) = run_absolute(&s, h, 2.0, every);
         let (r, _) = run_relative(&s, h, 2.0, every);
-        let mut worst = 0.0f64;
-        for c in cols {
-            let (lo, hi) = a
-                .iter()
-                .fold((f64::MAX, f64::MIN), |(l, u), x| (l.min(x[c]), u.max(x[c])));
-            let e = a
-                .iter()
-                .zip(&r)
-                .map(|(x, y)| (x[c] - y[c]).abs())
-                .fold(0.0, f64::max);
-            worst = worst.max(e / (hi - lo));
-        }
-        d.push(worst);
+        d.push(worst_difference(&a, &r, &cols));
     }
     eprintln!("slider-crank with springs, relative vs absolute / range: {d:?}");
     // Measured 9.19e-6, 2.35e-6, 5.88e-7.

@@ -5,15 +5,11 @@
 //! energy). FNL2's force is the gradient of U, so the trapezoidal rule keeps E to O(h²).
 //! (FNL1 is not conservative: its force is not the gradient of any U, docs/methods.md §6.2.)
 
-use flexmbd::model::{FormulationKind, Scene, Sensor, SensorKind, Stiffening, V3};
+use flexmbd::model::{FormulationKind, Sensor, SensorKind, Stiffening, V3};
 use flexmbd::simulation::run;
 
 fn energy_drift(st: Stiffening, formulation: FormulationKind, h: f64) -> (f64, f64) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_2d.ron"
-    );
-    let mut scene = Scene::load(path).unwrap();
+    let mut scene = flexmbd_test_support::scenes::model("spin_up_beam_2d.ron");
     scene.drivers.clear();
     scene.bodies[0].velocity.angular = V3([0.0, 0.0, 6.0]);
     scene.gravity = V3([0.0, -9.81, 0.0]);

@@ -27,8 +27,7 @@ fn scene(duration: f64) -> Scene {
 }
 
 fn scene_of(file: &str, duration: f64) -> Scene {
-    let path = format!("{}/../../models/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut scene = Scene::load(&path).unwrap();
+    let mut scene = flexmbd_test_support::scenes::model(file);
     scene.solver.stiffening = Stiffening::Foreshortening;
     scene.solver.formulation = FormulationKind::Relative;
     scene.solver.duration = duration;

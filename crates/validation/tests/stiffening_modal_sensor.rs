@@ -9,11 +9,7 @@ use flexmbd::simulation::run;
 use flexmbd_model::BodyModel;
 
 fn scene() -> Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_2d.ron"
-    );
-    let mut s = Scene::load(path).unwrap();
+    let mut s = flexmbd_test_support::scenes::model("spin_up_beam_2d.ron");
     s.sensors.push(Sensor {
         name: "bend1".into(),
         kind: SensorKind::Modal {

@@ -11,7 +11,7 @@
 //! measured value plus about 5 % (FNL1 u_x is FNL1's missing foreshortening, a
 //! property of the model, so its bound is tight around 18.9 mm from both sides).
 
-use flexmbd::model::{FormulationKind, Scene, Stiffening};
+use flexmbd::model::{FormulationKind, Stiffening};
 use flexmbd::simulation::run;
 use flexmbd_ancf::{CableSpec, History, run_spin_up};
 use flexmbd_core::Dim;
@@ -35,11 +35,7 @@ struct Outcome {
 }
 
 fn spin_up(st: Stiffening, formulation: FormulationKind, duration: f64, r: &History) -> Outcome {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_2d.ron"
-    );
-    let mut scene = Scene::load(path).unwrap();
+    let mut scene = flexmbd_test_support::scenes::model("spin_up_beam_2d.ron");
     scene.solver.stiffening = st;
     scene.solver.formulation = formulation;
     scene.solver.duration = duration;

@@ -12,11 +12,7 @@ use flexmbd_core::Dim;
 use nalgebra::DVector;
 
 fn scene(st: Stiffening, f: FormulationKind) -> Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_3d.ron"
-    );
-    let mut scene = Scene::load(path).unwrap();
+    let mut scene = flexmbd_test_support::scenes::model("spin_up_beam_3d.ron");
     scene.solver.stiffening = st;
     scene.solver.formulation = f;
     if st == Stiffening::Foreshortening {

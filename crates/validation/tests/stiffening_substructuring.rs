@@ -14,11 +14,7 @@ use flexmbd_core::Dim;
 use flexmbd_model::rewrite::substructure;
 
 fn scene_2d() -> Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../models/spin_up_beam_2d.ron"
-    );
-    let mut s = Scene::load(path).unwrap();
+    let mut s = flexmbd_test_support::scenes::model("spin_up_beam_2d.ron");
     s.solver.formulation = FormulationKind::Relative;
     s
 }

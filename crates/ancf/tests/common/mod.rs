@@ -1,8 +1,17 @@
-//! Shared by the spin-up tests: the energy balance of the driven hub.
+//! Shared by the spin-up tests: the quick spin-up and the energy balance of the driven hub.
 
 use flexmbd_ancf::{Cable, CableSpec};
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
+
+/// The spin-up beam of `elements` cables with a quick spin-up (T_s = 3 s): short runs that
+/// excite the beam strongly.
+pub fn quick_spin_up(dim: Dim, elements: usize) -> CableSpec {
+    CableSpec {
+        t_s: 3.0,
+        ..CableSpec::spin_up_beam(dim, elements)
+    }
+}
 
 /// Energy bookkeeping of one ALI3-P run.
 #[derive(Debug)]

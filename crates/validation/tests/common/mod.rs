@@ -2,23 +2,26 @@
 //! `flexmbd_test_support::scenes`, and a run in each formulation.
 #![allow(dead_code, unused_imports)]
 
-use flexmbd_model::{FormulationKind, PreparedScene, Scene};
-pub use flexmbd_test_support::scenes::{four_bar, model, planar_scene_in_3d, run_with, settings};
+use flexmbd_model::{FormulationKind::Relative, Scene};
+pub use flexmbd_test_support::scenes::*;
 
-/// Run `scene` in the relative formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
-pub fn run_relative(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let mut s = scene.clone();
-    s.solver.formulation = FormulationKind::Relative;
-    let mut f = PreparedScene::new(&s)
-        .and_then(|p| flexmbd_relative::compile(&p))
-        .unwrap();
-    run_with(&mut f, &s, h, duration, every)
+/// `scene` prepared and compiled in the relative formulation (panics on an error).
+pub fn relative(scene: &Scene) -> flexmbd_relative::Relative {
+    compiled(scene, flexmbd_relative::compile)
+}
+
+/// `scene` prepared and compiled in the absolute formulation (panics on an error).
+pub fn absolute(scene: &Scene) -> flexmbd_absolute::Absolute {
+    compiled(scene, flexmbd_absolute::compile)
+}
+
+/// Run `scene` in the relative formulation: sensor rows every `every` steps for `secs`, largest
+/// ‖Φ‖∞.
+pub fn run_relative(scene: &Scene, h: f64, secs: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
+    run_as(scene, Relative, flexmbd_relative::compile, h, secs, every)
 }
 
 /// Run `scene` in the absolute formulation: sensor rows every `every` steps, largest ‖Φ‖∞.
 pub fn run_absolute(scene: &Scene, h: f64, duration: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
-    let mut f = PreparedScene::new(scene)
-        .and_then(|p| flexmbd_absolute::compile(&p))
-        .unwrap();
-    run_with(&mut f, scene, h, duration, every)
+    run_compiled(scene, flexmbd_absolute::compile, h, duration, every)
 }
