@@ -70,7 +70,7 @@ use construction::{PackedIntegrals, check_reduced};
 use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};
 pub(crate) use layout::{
     relative_layout, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
-    write_relative_couplings, write_relative_rigid,
+    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
 };
 pub use state::BodyState;
 
