@@ -10,33 +10,16 @@
 //!   (in plane), N_c(x) = Ω² ρA (L² − x²)/2, and ∫N_c g_w g_wᵀ dx out of plane;
 //! * the node helper against the kinematics.
 
+mod common;
+use common::{PrescribedMotion, d1, d2, rot_z, rz_ry_rx, spin_up_body, z_of, z_vec};
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_fe::ReducedBody;
 use flexmbd_fe::beam::{VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite};
 use flexmbd_fe::cloud::element_local_modes;
-use flexmbd_fe::foreshortening::foreshortening;
-use flexmbd_fe::{BeamBodySpec, ReducedBody, preprocess};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 const L: f64 = 10.0;
 const RHO_A: f64 = 1.2;
-
-fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> (ReducedBody, flexmbd_fe::Mesh) {
-    let (d, pts) = match dim {
-        Dim::Planar => ("Planar", "[[0.0, 0.0], [10.0, 0.0]]"),
-        Dim::Spatial => ("Spatial", "[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]"),
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 7e10, density: 3000.0, poisson_ratio: None, shear_modulus: Some(3.5e10)),
-          section: General(area: 4e-4, iy: 2e-7, iz: 2e-7, torsion_j: 4e-7),
-          geometry: (points: {pts}, elements_per_segment: {elements}),
-          frame: Clamped(node: 0), boundary: [], normal_modes: {modes})"
-    );
-    let spec = BeamBodySpec::from_ron_str(&text, "spin-up beam").unwrap();
-    let p = preprocess(&spec).unwrap();
-    let mut rb = p.body;
-    rb.foreshortening = Some(foreshortening(&p.mesh, &rb.modes).unwrap());
-    (rb, p.mesh)
-}
 
 /// Smooth motion: r0(t), A(t) = Rz Ry Rx (Rz only in 2D), y(t).
 struct Motion {
@@ -49,7 +32,7 @@ fn f(a: f64, b: f64, c: f64, t: f64) -> f64 {
     a + b * t + c * (1.3 * t + 0.4 * a).sin()
 }
 
-impl Motion {
+impl PrescribedMotion for Motion {
     fn r0(&self, t: f64) -> Vector3<f64> {
         let z = if self.dim == Dim::Planar {
             0.0
@@ -59,16 +42,11 @@ impl Motion {
         Vector3::new(f(0.3, 0.5, -0.7, t), f(-0.4, 0.2, 0.6, t), z)
     }
     fn a(&self, t: f64) -> Matrix3<f64> {
-        let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
-        let rz = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        let alpha = f(0.5, 1.7, 0.9, t);
         if self.dim == Dim::Planar {
-            return rz;
+            return rot_z(alpha);
         }
-        let (sb, cb) = f(-0.3, 0.8, 0.5, t).sin_cos();
-        let (sg, cg) = f(0.7, -0.6, 0.4, t).sin_cos();
-        let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
-        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
-        rz * ry * rx
+        rz_ry_rx(alpha, f(-0.3, 0.8, 0.5, t), f(0.7, -0.6, 0.4, t))
     }
     fn y(&self, t: f64) -> Vec<f64> {
         // Tip deflections of order 1 m on the 10 m beam (mode rows are O(1)).
@@ -81,25 +59,10 @@ impl Motion {
     }
 }
 
-fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
-}
-fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
-        / (12.0 * h * h)
-}
-
 /// FS0 body-frame position of cloud point k.
 fn rbar(rb: &ReducedBody, k: usize, y: &[f64]) -> Vector3<f64> {
-    let n = y.len();
     let fs = rb.foreshortening.as_ref().unwrap();
-    let x = rb.cloud.rows(k);
-    let mut r = rb.cloud.positions[k];
-    for c in 0..3 {
-        for j in 0..n {
-            r[c] += x[c * n + j] * y[j];
-        }
-    }
+    let r = common::cloud_point(rb, k, y);
     let yv = DVector::from_column_slice(y);
     let q = (yv.transpose() * &fs.cloud[k] * &yv)[0];
     r - fs.axis * (0.5 * q)
@@ -113,29 +76,6 @@ fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> 
             .copy_from(&(r0 + a * rbar(rb, k, y)));
     }
     out
-}
-
-fn z_of(m: &Motion, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
-    let ad = d1(|t| DVector::from_column_slice(m.a(t).as_slice()), t, h);
-    let w = Matrix3::from_column_slice(ad.as_slice()) * m.a(t).transpose();
-    let omega = Vector3::new(
-        0.5 * (w[(2, 1)] - w[(1, 2)]),
-        0.5 * (w[(0, 2)] - w[(2, 0)]),
-        0.5 * (w[(1, 0)] - w[(0, 1)]),
-    );
-    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
-    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
-    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
-    (r0d + m.r0(t).cross(&omega), omega, yd.as_slice().to_vec())
-}
-
-fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
-    let mut v = match dim {
-        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
-        Dim::Planar => vec![s.x, s.y, w.z],
-    };
-    v.extend_from_slice(yd);
-    DVector::from_vec(v)
 }
 
 /// Largest relative residual of the virtual-power equations and of the kinetic energy.

@@ -20,7 +20,7 @@ mod common;
 use common::*;
 use flexmbd_body::NaturalWorkspace;
 use flexmbd_body::{BodyPoint, BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState};
-use flexmbd_fe::{BeamBodySpec, ReducedBody, reduce};
+use flexmbd_fe::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 use rand::Rng;
 
@@ -97,47 +97,16 @@ fn random_q<R: Rng>(r: &mut R, dim: Dim, n: usize, y_scale: f64) -> Q {
     Q { dim, q, qd }
 }
 
-fn nat_eval(
-    body: &FlexibleBody,
-    ws: &mut NaturalWorkspace,
-    st: &NaturalState<'_>,
-    method: InertiaMethod,
-) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_natural_coords();
-    let mut m = DMatrix::from_element(nc, nc, f64::NAN);
-    let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia_natural(st, method, ws, &mut m, &mut q);
-    assert!(m.iter().all(|v| v.is_finite()), "every entry of M written");
-    assert!(
-        q.iter().all(|v| v.is_finite()),
-        "every entry of Q_v written"
-    );
-    (m, q)
-}
-
-fn spec(dim: Dim, points: &str, boundary: &str, normal: usize, elems: usize) -> ReducedBody {
-    let d = if dim == Dim::Planar {
-        "Planar"
-    } else {
-        "Spatial"
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)),
-          section: Rectangle(width: 0.02, height: 0.01),
-          geometry: (points: {points}, elements_per_segment: {elems}),
-          frame: Clamped(node: 0), boundary: {boundary}, normal_modes: {normal})"
-    );
-    let s = BeamBodySpec::from_ron_str(&text, "test beam").unwrap();
-    reduce(&s).unwrap()
-}
-
 fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
     match dim {
         Dim::Spatial => vec![
-            ("3D straight", spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10)),
+            (
+                "3D straight",
+                beam_spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10),
+            ),
             (
                 "3D L-beam + static",
-                spec(
+                beam_spec(
                     dim,
                     "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
                     "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
@@ -147,10 +116,10 @@ fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
             ),
         ],
         Dim::Planar => vec![
-            ("2D straight", spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
+            ("2D straight", beam_spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
             (
                 "2D L-beam + static",
-                spec(
+                beam_spec(
                     dim,
                     "[[0,0],[0.6,0],[0.6,0.4]]",
                     "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
@@ -206,8 +175,8 @@ fn routes_agree(rb: &ReducedBody, seed: u64, y_scale: f64) -> (f64, f64) {
     let mut worst = (0.0f64, 0.0f64);
     for _ in 0..20 {
         let s = random_q(&mut r, rb.dim, n, y_scale);
-        let (ma, qa) = nat_eval(&body, &mut ws, &s.view(), InertiaMethod::BMatrix);
-        let (mb, qb) = nat_eval(&body, &mut ws, &s.view(), InertiaMethod::ShapeIntegrals);
+        let (ma, qa) = eval_natural(&body, &mut ws, &s.view(), InertiaMethod::BMatrix);
+        let (mb, qb) = eval_natural(&body, &mut ws, &s.view(), InertiaMethod::ShapeIntegrals);
         let (dm, dq) = (rel_diff_m(&ma, &mb), rel_diff_v(&qa, &qb));
         assert!(
             dm < 1e-10 && dq < 1e-10,
@@ -271,7 +240,7 @@ fn mass_matrix_is_the_cloud_projection() {
             let b = b_k(&rb, k, &st);
             m_ref += rb.cloud.weights[k] * b.transpose() * &b;
         }
-        let (m, _) = nat_eval(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
+        let (m, _) = eval_natural(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
         let d = rel_diff_m(&m, &m_ref);
         assert!(d < 1e-12, "{dim}: M vs Σ w BᵀB: {d:e}");
     }
@@ -293,7 +262,7 @@ fn lagrange(rb: &ReducedBody, seed: u64, y_scale: f64) -> f64 {
         let s = random_q(&mut r, rb.dim, n, y_scale);
         let mass = |ws: &mut NaturalWorkspace, q: DVector<f64>| {
             let sq = s.with_q(q);
-            nat_eval(&body, ws, &sq.view(), InertiaMethod::ShapeIntegrals).0
+            eval_natural(&body, ws, &sq.view(), InertiaMethod::ShapeIntegrals).0
         };
         let mp = mass(&mut ws, &s.q + h * &s.qd);
         let mm = mass(&mut ws, &s.q - h * &s.qd);
@@ -310,7 +279,7 @@ fn lagrange(rb: &ReducedBody, seed: u64, y_scale: f64) -> f64 {
         }
         let q_ref = -mdot_qd + dtdq;
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-            let (_, qv) = nat_eval(&body, &mut ws, &s.view(), method);
+            let (_, qv) = eval_natural(&body, &mut ws, &s.view(), method);
             let d = rel_diff_v(&qv, &q_ref);
             assert!(d < 1e-6, "{} n={n} {method:?}: Lagrange {d:e}", rb.dim);
             worst = worst.max(d);
@@ -430,7 +399,7 @@ fn check_relative(rb: &ReducedBody, seed: u64, y_scale: f64) -> (f64, f64, f64) 
         let (s, rm, rdz) = natural_from_relative(&view, dim, n);
         assert!((&rm * &z - &s.qd).amax() < 1e-14, "q̇ = R Z");
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-            let (m, qv) = nat_eval(&body, &mut ws, &s.view(), method);
+            let (m, qv) = eval_natural(&body, &mut ws, &s.view(), method);
             let t_nat = 0.5 * s.qd.dot(&(&m * &s.qd));
             let t_rel = 0.5 * z.dot(&(&mrel * &z));
             let dt = (t_nat - t_rel).abs() / t_rel;
@@ -483,7 +452,7 @@ fn two_point_map(len: f64) -> DMatrix<f64> {
 #[test]
 fn rigid_bar_from_two_points() {
     let len = 1.5;
-    let rb = spec(Dim::Planar, "[[0,0],[1.5,0]]", "[]", 0, 8);
+    let rb = beam_spec(Dim::Planar, "[[0,0],[1.5,0]]", "[]", 0, 8);
     assert_eq!(rb.n_modes(), 0);
     let body = FlexibleBody::new(&rb).unwrap();
     let m = body.mass();
@@ -502,7 +471,7 @@ fn rigid_bar_from_two_points() {
         let mut q = s.q.clone();
         let un = q.fixed_rows::<2>(2).normalize();
         q.fixed_rows_mut::<2>(2).copy_from(&un);
-        let (mn, qv) = nat_eval(&body, &mut ws, &s.with_q(q).view(), method);
+        let (mn, qv) = eval_natural(&body, &mut ws, &s.with_q(q).view(), method);
         assert_eq!(qv.amax(), 0.0);
         let mp = t.transpose() * mn * &t;
         let d = rel_diff_m(&mp, &expect);
@@ -549,7 +518,7 @@ fn rigid_planar_cloud_two_points() {
         &[],
         &[],
     );
-    let (mn, _) = nat_eval(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
+    let (mn, _) = eval_natural(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
     let t = two_point_map(len);
     let mp = t.transpose() * mn * &t;
     let i2 = Matrix2::identity();
