@@ -11,7 +11,7 @@
 //! * the node helper against the kinematics.
 
 mod common;
-use common::{PrescribedMotion, d1, d2, rot_z, rz_ry_rx, spin_up_body, z_of, z_vec};
+use common::{MotionSample, PrescribedMotion, d1, d2, rot_z, rz_ry_rx, spin_up_body};
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
 use flexmbd_fe::ReducedBody;
 use flexmbd_fe::beam::{VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite};
@@ -30,6 +30,17 @@ struct Motion {
 
 fn f(a: f64, b: f64, c: f64, t: f64) -> f64 {
     a + b * t + c * (1.3 * t + 0.4 * a).sin()
+}
+
+impl Motion {
+    /// The motion of the spin-up beam checks, its modal amplitudes falling as 1/(1 + j).
+    fn new(dim: Dim, n: usize) -> Self {
+        Self {
+            dim,
+            n,
+            ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
+        }
+    }
 }
 
 impl PrescribedMotion for Motion {
@@ -68,6 +79,31 @@ fn rbar(rb: &ReducedBody, k: usize, y: &[f64]) -> Vector3<f64> {
     r - fs.axis * (0.5 * q)
 }
 
+/// ∂r_k/∂y_j of every cloud position at (r0, A, y), by differences in y_j (step 1e-4).
+fn modal_column(
+    rb: &ReducedBody,
+    r0: Vector3<f64>,
+    a: Matrix3<f64>,
+    y: &[f64],
+    j: usize,
+) -> DVector<f64> {
+    let shifted = |s: f64| {
+        let mut yy = y.to_vec();
+        yy[j] += s;
+        positions(rb, r0, a, &yy)
+    };
+    d1(shifted, 0.0, 1e-4)
+}
+
+/// `Σ_k w_k u_k · v_k` over the cloud points of two stacked position-sized vectors.
+fn weighted_dot(rb: &ReducedBody, u: &DVector<f64>, v: &DVector<f64>) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..rb.cloud.len() {
+        sum += rb.cloud.weights[k] * u.fixed_rows::<3>(3 * k).dot(&v.fixed_rows::<3>(3 * k));
+    }
+    sum
+}
+
 fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> DVector<f64> {
     let np = rb.cloud.len();
     let mut out = DVector::zeros(3 * np);
@@ -84,33 +120,13 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
     let n = rb.n_modes();
     let mut body = FlexibleBody::new(&rb).unwrap();
     assert!(body.has_foreshortening());
-    let m = Motion {
-        dim,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(dim, n);
     let (h, nc, np) = (1e-3, body.n_coords(), rb.cloud.len());
     let (mut worst, mut worst_t) = (0.0_f64, 0.0_f64);
     for &t in &[0.0, 0.37, 1.1] {
-        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
-        let (r0, a, y) = (m.r0(t), m.a(t), m.y(t));
-        let st = BodyState {
-            r0,
-            a,
-            omega,
-            s_dot,
-            y: &y,
-            y_dot: &yd,
-        };
-        let z = z_vec(dim, &s_dot, &omega, &yd);
-        let zd = d1(
-            |t| {
-                let (s, w, yd) = z_of(&m, t, 1e-4);
-                z_vec(dim, &s, &w, &yd)
-            },
-            t,
-            h,
-        );
+        let sample = MotionSample::new(&m, dim, t, h);
+        let (r0, a, y) = (sample.state.r0, sample.state.a, &sample.state.y);
+        let (st, z, zd) = (sample.state.view(), &sample.z, &sample.z_dot);
         let pos_at = |t: f64| positions(&rb, m.r0(t), m.a(t), &m.y(t));
         let rdot = d1(pos_at, t, h);
         let rddot = d2(pos_at, t, h);
@@ -132,15 +148,7 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
             }
         }
         for j in 0..n {
-            let dy = 1e-4;
-            let shifted = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            jac[nr + j] = (shifted(-2.0 * dy) - shifted(-dy) * 8.0 + shifted(dy) * 8.0
-                - shifted(2.0 * dy))
-                / (12.0 * dy);
+            jac[nr + j] = modal_column(&rb, r0, a, y, j);
         }
         let mut lhs = DVector::<f64>::zeros(nc);
         let mut ke = 0.0;
@@ -156,10 +164,10 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
         let mut mm = DMatrix::zeros(nc, nc);
         let mut qv = DVector::zeros(nc);
         body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut qv);
-        let rhs = &mm * &zd - &qv;
-        let scale = lhs.amax().max((&mm * &zd).amax()).max(qv.amax());
+        let rhs = &mm * zd - &qv;
+        let scale = lhs.amax().max((&mm * zd).amax()).max(qv.amax());
         worst = worst.max((&lhs - &rhs).amax() / scale);
-        let ke_m = 0.5 * z.dot(&(&mm * &z));
+        let ke_m = 0.5 * z.dot(&(&mm * z));
         worst_t = worst_t.max((ke - ke_m).abs() / ke);
     }
     (worst, worst_t)
@@ -354,11 +362,7 @@ fn gravity_and_first_moment_include_the_shortening() {
         let (rb, _) = spin_up_body(dim, 8, modes);
         let n = rb.n_modes();
         let body = FlexibleBody::new(&rb).unwrap();
-        let m = Motion {
-            dim,
-            n,
-            ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-        };
+        let m = Motion::new(dim, n);
         let (r0, a, y) = (m.r0(0.3), m.a(0.3), m.y(0.3));
         let g = match dim {
             Dim::Planar => Vector3::new(3.0, -9.81, 0.0),
@@ -474,11 +478,7 @@ fn natural_planar_inertia_matches_virtual_power() {
     let n = rb.n_modes();
     let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion {
-        dim: Dim::Planar,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(Dim::Planar, n);
     let uvec = |t: f64| {
         let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
         nalgebra::Vector2::new(c, s) * (1.0 + 0.1 * (2.0 * t).sin())
@@ -525,19 +525,7 @@ fn natural_planar_inertia_matches_virtual_power() {
             lhs[3] += w * (-rbk.y * acc.x + rbk.x * acc.y);
         }
         for j in 0..n {
-            let d = 1e-4;
-            let sh = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            let col = (sh(-2.0 * d) - sh(-d) * 8.0 + sh(d) * 8.0 - sh(2.0 * d)) / (12.0 * d);
-            for k in 0..np {
-                lhs[4 + j] += rb.cloud.weights[k]
-                    * col
-                        .fixed_rows::<3>(3 * k)
-                        .dot(&rddot.fixed_rows::<3>(3 * k));
-            }
+            lhs[4 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
         }
         let rhs = &mm * &qdd - &qv;
         let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
@@ -556,11 +544,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
     let n = rb.n_modes();
     let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion {
-        dim: Dim::Spatial,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(Dim::Spatial, n);
     let amat = |t: f64| {
         let s = Matrix3::new(
             (1.1 * t).sin(),
@@ -612,19 +596,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
             }
         }
         for j in 0..n {
-            let d = 1e-4;
-            let sh = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            let col = (sh(-2.0 * d) - sh(-d) * 8.0 + sh(d) * 8.0 - sh(2.0 * d)) / (12.0 * d);
-            for k in 0..np {
-                lhs[12 + j] += rb.cloud.weights[k]
-                    * col
-                        .fixed_rows::<3>(3 * k)
-                        .dot(&rddot.fixed_rows::<3>(3 * k));
-            }
+            lhs[12 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
         }
         for (r, method) in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals]
             .into_iter()

@@ -10,7 +10,7 @@
 
 mod common;
 use common::*;
-use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_body::{Dim, FlexibleBody, InertiaMethod};
 use flexmbd_fe::ReducedBody;
 use nalgebra::{DVector, Matrix3, Vector3};
 
@@ -87,26 +87,9 @@ fn check(seed: u64, dim: Dim, n: usize) {
     let m = Motion::new(seed + 100, dim, n);
     let h = 1e-3;
     for &t in &[0.0, 0.37, 1.1] {
-        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
-        let y = m.y(t);
-        let st = BodyState {
-            r0: m.r0(t),
-            a: m.a(t),
-            omega,
-            s_dot,
-            y: &y,
-            y_dot: &yd,
-        };
-        let z = z_vec(dim, &s_dot, &omega, &yd);
         // Ż by differencing Z(t) (itself from differences of an analytic motion).
-        let zd = d1(
-            |t| {
-                let (s, w, yd) = z_of(&m, t, 1e-4);
-                z_vec(dim, &s, &w, &yd)
-            },
-            t,
-            h,
-        );
+        let sample = MotionSample::new(&m, dim, t, h);
+        let (st, z, zd) = (sample.state.view(), &sample.z, &sample.z_dot);
         let rdot = d1(|t| positions(&rb, &m, t), t, h);
         let rddot = d2(|t| positions(&rb, &m, t), t, h);
         // Velocity Jacobian column i = ṙ_k at the unit velocity Z = e_i, straight from the
@@ -158,7 +141,7 @@ fn check(seed: u64, dim: Dim, n: usize) {
         }
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
             let (mm, qv) = eval(&mut body, &st, method);
-            let rhs = &mm * &zd - &qv;
+            let rhs = &mm * zd - &qv;
             let d = rel_diff_v(&rhs, &lhs);
             eprintln!(
                 "{dim} n={n} {method:?} t={t}: virtual power rel diff {d:.1e}, |Q_v|/|lhs| = {:.2}",
@@ -168,7 +151,7 @@ fn check(seed: u64, dim: Dim, n: usize) {
                 d < 1e-7,
                 "{dim} n={n} {method:?}: Σ w Bᵀ r̈ vs M̄Ż − Q̄_v: {d:e}"
             );
-            let ke_m = 0.5 * z.dot(&(&mm * &z));
+            let ke_m = 0.5 * z.dot(&(&mm * z));
             assert!(
                 (ke_m - ke).abs() < 1e-8 * ke,
                 "{dim} {method:?}: T {ke_m} vs {ke}"

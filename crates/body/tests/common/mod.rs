@@ -161,14 +161,22 @@ pub fn eval(
     st: &BodyState<'_>,
     method: InertiaMethod,
 ) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_coords();
+    written(body.n_coords(), |m, q| body.inertia(st, method, m, q))
+}
+
+/// M (nc × nc) and Q (nc) written by `fill` into NaN-filled storage, checked that every entry
+/// is written.
+fn written(
+    nc: usize,
+    fill: impl FnOnce(&mut DMatrix<f64>, &mut DVector<f64>),
+) -> (DMatrix<f64>, DVector<f64>) {
     let mut m = DMatrix::from_element(nc, nc, f64::NAN);
     let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia(st, method, &mut m, &mut q);
-    assert!(m.iter().all(|v| v.is_finite()), "every entry of M̄ written");
+    fill(&mut m, &mut q);
+    assert!(m.iter().all(|v| v.is_finite()), "every entry of M written");
     assert!(
         q.iter().all(|v| v.is_finite()),
-        "every entry of Q̄_v written"
+        "every entry of Q_v written"
     );
     (m, q)
 }
@@ -194,16 +202,9 @@ pub fn eval_natural(
     st: &NaturalState<'_>,
     method: InertiaMethod,
 ) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_natural_coords();
-    let mut m = DMatrix::from_element(nc, nc, f64::NAN);
-    let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia_natural(st, method, ws, &mut m, &mut q);
-    assert!(m.iter().all(|v| v.is_finite()), "every entry of M written");
-    assert!(
-        q.iter().all(|v| v.is_finite()),
-        "every entry of Q_v written"
-    );
-    (m, q)
+    written(body.n_natural_coords(), |m, q| {
+        body.inertia_natural(st, method, ws, m, q)
+    })
 }
 
 /// A steel beam of 0.02 × 0.01 section along the polyline `points` (RON), clamped at node 0,
@@ -303,6 +304,40 @@ pub fn z_of<M: PrescribedMotion>(m: &M, t: f64, h: f64) -> (Vector3<f64>, Vector
     let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
     let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
     (r0d + m.r0(t).cross(&omega), omega, yd.as_slice().to_vec())
+}
+
+/// A prescribed motion sampled at t: the frame and the modes, Z = {ṡ; ω; ẏ} differenced with
+/// step 1e-4, and Ż from differencing Z(t) with step h.
+pub struct MotionSample {
+    /// The frame, Z and the modes at t.
+    pub state: OwnedState,
+    /// Z in the body's relative set (2D keeps ṡx, ṡy, ωz).
+    pub z: DVector<f64>,
+    pub z_dot: DVector<f64>,
+}
+
+impl MotionSample {
+    pub fn new<M: PrescribedMotion>(m: &M, dim: Dim, t: f64, h: f64) -> Self {
+        let (s_dot, omega, y_dot) = z_of(m, t, 1e-4);
+        let z = z_vec(dim, &s_dot, &omega, &y_dot);
+        let z_dot = d1(
+            |t| {
+                let (s, w, yd) = z_of(m, t, 1e-4);
+                z_vec(dim, &s, &w, &yd)
+            },
+            t,
+            h,
+        );
+        let state = OwnedState {
+            r0: m.r0(t),
+            a: m.a(t),
+            omega,
+            s_dot,
+            y: m.y(t),
+            y_dot,
+        };
+        Self { state, z, z_dot }
+    }
 }
 
 /// The Z vector of the body's relative set (2D keeps ṡx, ṡy, ωz).
