@@ -95,6 +95,19 @@ fn modal_column(
     d1(shifted, 0.0, 1e-4)
 }
 
+/// Residual of the virtual-power equations `lhs = Σ w J_kᵀ r̈_k = M ż − Q_v`, relative to the
+/// largest of |lhs|, |M ż| and |Q_v|.
+fn virtual_power_residual(
+    lhs: &DVector<f64>,
+    mm: &DMatrix<f64>,
+    zd: &DVector<f64>,
+    qv: &DVector<f64>,
+) -> f64 {
+    let rhs = mm * zd - qv;
+    let scale = lhs.amax().max((mm * zd).amax()).max(qv.amax());
+    (lhs - &rhs).amax() / scale
+}
+
 /// `Σ_k w_k u_k · v_k` over the cloud points of two stacked position-sized vectors.
 fn weighted_dot(rb: &ReducedBody, u: &DVector<f64>, v: &DVector<f64>) -> f64 {
     let mut sum = 0.0;
@@ -164,9 +177,7 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
         let mut mm = DMatrix::zeros(nc, nc);
         let mut qv = DVector::zeros(nc);
         body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut qv);
-        let rhs = &mm * zd - &qv;
-        let scale = lhs.amax().max((&mm * zd).amax()).max(qv.amax());
-        worst = worst.max((&lhs - &rhs).amax() / scale);
+        worst = worst.max(virtual_power_residual(&lhs, &mm, zd, &qv));
         let ke_m = 0.5 * z.dot(&(&mm * z));
         worst_t = worst_t.max((ke - ke_m).abs() / ke);
     }
@@ -527,9 +538,7 @@ fn natural_planar_inertia_matches_virtual_power() {
         for j in 0..n {
             lhs[4 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
         }
-        let rhs = &mm * &qdd - &qv;
-        let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
-        worst = worst.max((&lhs - &rhs).amax() / scale);
+        worst = worst.max(virtual_power_residual(&lhs, &mm, &qdd, &qv));
     }
     eprintln!("FS0 natural planar: virtual power residual {worst:.2e}");
     assert!(worst < 1e-6, "{worst}");
@@ -605,9 +614,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
             let mut mm = DMatrix::zeros(nc, nc);
             let mut qv = DVector::zeros(nc);
             body.inertia_natural(&st, method, &mut nws, &mut mm, &mut qv);
-            let rhs = &mm * &qdd - &qv;
-            let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
-            worst[r] = worst[r].max((&lhs - &rhs).amax() / scale);
+            worst[r] = worst[r].max(virtual_power_residual(&lhs, &mm, &qdd, &qv));
         }
     }
     eprintln!(
