@@ -110,14 +110,7 @@ fn zero_mode_beam_is_the_uniform_bar() {
         m * len * len / 3.0 + rho * iy * len,
         m * len * len / 3.0 + rho * iz * len,
     ));
-    let st = OwnedState {
-        r0: Vector3::zeros(),
-        a: Matrix3::identity(),
-        omega: Vector3::zeros(),
-        s_dot: Vector3::zeros(),
-        y: vec![],
-        y_dot: vec![],
-    };
+    let st = OwnedState::rigid_at_rest(Vector3::zeros());
     for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
         let (mm, _) = eval(&mut b3, &st.view(), method);
         assert!((mm[(0, 0)] - m).abs() < 1e-12 * m);

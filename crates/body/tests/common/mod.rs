@@ -115,6 +115,18 @@ pub struct OwnedState {
 }
 
 impl OwnedState {
+    /// A body without modes at rest with its frame at `r0`, unrotated.
+    pub fn rigid_at_rest(r0: Vector3<f64>) -> Self {
+        Self {
+            r0,
+            a: Matrix3::identity(),
+            omega: Vector3::zeros(),
+            s_dot: Vector3::zeros(),
+            y: vec![],
+            y_dot: vec![],
+        }
+    }
+
     pub fn view(&self) -> BodyState<'_> {
         BodyState {
             r0: self.r0,
