@@ -44,14 +44,26 @@ pub fn rot_z(t: f64) -> Matrix3<f64> {
 /// A reduced body around a given cloud: K_ff random SPD, C_ff = 0.01 K_ff.
 pub fn body_from_cloud<R: Rng>(r: &mut R, dim: Dim, cloud: MassCloud) -> ReducedBody {
     let n = cloud.n_modes;
+    let q = DMatrix::from_fn(n, n, |_, _| uni(r, -1.0, 1.0));
+    let k_ff = &q * q.transpose() + DMatrix::identity(n, n) * (n as f64);
+    let c_ff = 0.01 * &k_ff;
+    body_with_cloud(dim, cloud, k_ff, c_ff)
+}
+
+/// A reduced body of a cloud alone (no FE data): the cloud's shape integrals, its modal mass
+/// `M_ff = Σ_a Sᵃᵃ`, and the given stiffness and damping.
+pub fn body_with_cloud(
+    dim: Dim,
+    cloud: MassCloud,
+    k_ff: DMatrix<f64>,
+    c_ff: DMatrix<f64>,
+) -> ReducedBody {
+    let n = cloud.n_modes;
     let si = ShapeIntegrals::from_cloud(&cloud);
     let mut m_ff = DMatrix::zeros(n, n);
     for a in 0..3 {
         m_ff += &si.s_ab[a][a];
     }
-    let q = DMatrix::from_fn(n, n, |_, _| uni(r, -1.0, 1.0));
-    let k_ff = &q * q.transpose() + DMatrix::identity(n, n) * (n as f64);
-    let c_ff = 0.01 * &k_ff;
     ReducedBody {
         dim,
         inventory: ModeInventory {
