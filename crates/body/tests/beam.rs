@@ -38,30 +38,11 @@ fn routes_agree(rb: &ReducedBody, seed: u64) -> (f64, f64) {
 
 #[test]
 fn straight_and_l_beams_3d() {
-    let straight = beam_spec(Dim::Spatial, "[[0,0,0],[1,0,0]]", "[]", 6, 10);
-    let w = routes_agree(&straight, 1);
-    eprintln!(
-        "3D straight ({} modes, {} points): {:.1e} {:.1e}",
-        straight.n_modes(),
-        straight.cloud.len(),
-        w.0,
-        w.1
-    );
-    let l = beam_spec(
-        Dim::Spatial,
-        "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
-        "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
-        5,
-        6,
-    );
-    let w = routes_agree(&l, 2);
-    eprintln!(
-        "3D L-beam ({} modes, {} points): {:.1e} {:.1e}",
-        l.n_modes(),
-        l.cloud.len(),
-        w.0,
-        w.1
-    );
+    for ((name, rb), seed) in beams(Dim::Spatial).into_iter().zip([1, 2]) {
+        let w = routes_agree(&rb, seed);
+        let (n, np) = (rb.n_modes(), rb.cloud.len());
+        eprintln!("{name} ({n} modes, {np} points): {:.1e} {:.1e}", w.0, w.1);
+    }
 }
 
 #[test]
@@ -78,17 +59,10 @@ fn cantilever_model_file_3d() {
 
 #[test]
 fn straight_and_l_beams_2d() {
-    let straight = beam_spec(Dim::Planar, "[[0,0],[1,0]]", "[]", 4, 10);
-    routes_agree(&straight, 4);
-    let l = beam_spec(
-        Dim::Planar,
-        "[[0,0],[0.6,0],[0.6,0.4]]",
-        "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
-        3,
-        6,
-    );
-    let w = routes_agree(&l, 5);
-    eprintln!("2D L-beam ({} modes): {:.1e} {:.1e}", l.n_modes(), w.0, w.1);
+    for ((name, rb), seed) in beams(Dim::Planar).into_iter().zip([4, 5]) {
+        let w = routes_agree(&rb, seed);
+        eprintln!("{name} ({} modes): {:.1e} {:.1e}", rb.n_modes(), w.0, w.1);
+    }
 }
 
 /// A 0-mode beam is a rigid uniform bar: m = ρAL, static moment m L/2, inertia about

@@ -97,38 +97,19 @@ fn random_q<R: Rng>(r: &mut R, dim: Dim, n: usize, y_scale: f64) -> Q {
     Q { dim, q, qd }
 }
 
-fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
-    match dim {
-        Dim::Spatial => vec![
-            (
-                "3D straight",
-                beam_spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10),
-            ),
-            (
-                "3D L-beam + static",
-                beam_spec(
-                    dim,
-                    "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
-                    "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
-                    5,
-                    6,
-                ),
-            ),
-        ],
-        Dim::Planar => vec![
-            ("2D straight", beam_spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
-            (
-                "2D L-beam + static",
-                beam_spec(
-                    dim,
-                    "[[0,0],[0.6,0],[0.6,0.4]]",
-                    "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
-                    3,
-                    6,
-                ),
-            ),
-        ],
-    }
+/// `∂f/∂q` at q by central differences with step h.
+fn central_gradient(
+    q: &DVector<f64>,
+    h: f64,
+    mut f: impl FnMut(DVector<f64>) -> f64,
+) -> DVector<f64> {
+    DVector::from_fn(q.len(), |i, _| {
+        let mut qp = q.clone();
+        qp[i] += h;
+        let mut qm = q.clone();
+        qm[i] -= h;
+        (f(qp) - f(qm)) / (2.0 * h)
+    })
 }
 
 /// The cloud's `B_k` (absolute set, §2.2 / §2.5 "2D") written afresh from the
@@ -255,7 +236,6 @@ fn lagrange(rb: &ReducedBody, seed: u64, y_scale: f64) -> f64 {
     let body = FlexibleBody::new(rb).unwrap();
     let mut ws = body.natural_workspace();
     let n = body.n_modes();
-    let nc = body.n_natural_coords();
     let h = 1e-5;
     let mut worst = 0.0f64;
     for _ in 0..5 {
@@ -267,16 +247,7 @@ fn lagrange(rb: &ReducedBody, seed: u64, y_scale: f64) -> f64 {
         let mp = mass(&mut ws, &s.q + h * &s.qd);
         let mm = mass(&mut ws, &s.q - h * &s.qd);
         let mdot_qd = (mp - mm) / (2.0 * h) * &s.qd;
-        let mut dtdq = DVector::zeros(nc);
-        for i in 0..nc {
-            let mut qp = s.q.clone();
-            qp[i] += h;
-            let mut qm = s.q.clone();
-            qm[i] -= h;
-            let tp = 0.5 * s.qd.dot(&(mass(&mut ws, qp) * &s.qd));
-            let tm = 0.5 * s.qd.dot(&(mass(&mut ws, qm) * &s.qd));
-            dtdq[i] = (tp - tm) / (2.0 * h);
-        }
+        let dtdq = central_gradient(&s.q, h, |q| 0.5 * s.qd.dot(&(mass(&mut ws, q) * &s.qd)));
         let q_ref = -mdot_qd + dtdq;
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
             let (_, qv) = eval_natural(&body, &mut ws, &s.view(), method);
@@ -573,16 +544,9 @@ fn gravity_rows() {
             assert!(d < 1e-12, "{name}: gravity vs Σ w Bᵀ g: {d:e}");
             // −∂V/∂q (V quadratic in q: central differences exact up to round-off).
             let h = 1e-5;
-            let mut q_fd = DVector::zeros(nc);
-            for j in 0..nc {
-                let mut qp = s.q.clone();
-                qp[j] += h;
-                let mut qm = s.q.clone();
-                qm[j] -= h;
-                let vp = body.natural_potential_energy(&s.with_q(qp).view(), &g);
-                let vm = body.natural_potential_energy(&s.with_q(qm).view(), &g);
-                q_fd[j] = -(vp - vm) / (2.0 * h);
-            }
+            let q_fd = -central_gradient(&s.q, h, |q| {
+                body.natural_potential_energy(&s.with_q(q).view(), &g)
+            });
             let d2 = rel_diff_v(&qg, &q_fd);
             assert!(d2 < 1e-8, "{name}: gravity vs −∂V/∂q: {d2:e}");
             eprintln!("{dim} {name}: Σ wBᵀg {d:.1e}, −∂V/∂q {d2:.1e}");

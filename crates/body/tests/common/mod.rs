@@ -255,6 +255,42 @@ pub fn beam_spec(
     reduce(&s).unwrap()
 }
 
+/// The FE beams the route checks run on: a straight cantilever and an L-shaped beam with
+/// static modes at the corner.
+pub fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
+    match dim {
+        Dim::Spatial => vec![
+            (
+                "3D straight",
+                beam_spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10),
+            ),
+            (
+                "3D L-beam + static",
+                beam_spec(
+                    dim,
+                    "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
+                    "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
+                    5,
+                    6,
+                ),
+            ),
+        ],
+        Dim::Planar => vec![
+            ("2D straight", beam_spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
+            (
+                "2D L-beam + static",
+                beam_spec(
+                    dim,
+                    "[[0,0],[0.6,0],[0.6,0.4]]",
+                    "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
+                    3,
+                    6,
+                ),
+            ),
+        ],
+    }
+}
+
 /// The spin-up beam (docs/scenes.md §5: 10 m, clamped at the root) with its FS0 data, and the
 /// mesh it was reduced from.
 pub fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> (ReducedBody, Mesh) {
