@@ -220,7 +220,7 @@ impl FlexibleBody {
         let (a, ad) = (&st.a, &st.a_dot);
         let ws = &mut nws.0;
         let moments = self.shape_moments(y, yd, ws);
-        let s_rows = self.first_moment_rows(&moments, &ws.sy);
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         let s_yd = rows_dot_3(s_rows, n, yd);
         write_natural_rigid_block_3d(m_out, self.mass, &moments.mb, &moments.p);
         let axial = moments.axial.as_ref().map(|ax| (a * ax.axis, ax));
@@ -286,13 +286,7 @@ impl FlexibleBody {
     #[inline(always)]
     fn planar_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> PlanarMoments {
         let n = self.n;
-        let mut mb = self.m_u.xy();
-        let mut s_yd = Vector2::zeros();
-        for c in 0..2 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
-        }
+        let (mb, s_yd) = self.planar_first_moment(y, yd);
         let mut ptr = self.p_u[(0, 0)] + self.p_u[(1, 1)];
         let mut lam = Matrix2::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         if n > 0 {
@@ -359,11 +353,7 @@ impl FlexibleBody {
             return;
         }
         let o = 4;
-        let s_rows: &[f64] = if moments.axial.is_some() {
-            &ws.sy
-        } else {
-            &self.s
-        };
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         let l2 = moments.l2_row * n;
         for j in 0..n {
             let asj = a * Vector2::new(s_rows[j], s_rows[n + j]);

@@ -223,15 +223,29 @@ impl FlexibleBody {
         write_relative_couplings(m_out, self.dim, n, translation, rotation);
     }
 
-    /// The S rows (3 × n) that go with `moments`: the body's own for a linear body, FS0's
+    /// The S rows (3 × n) of the moments just formed: the body's own for a linear body, FS0's
     /// hatted Ŝ (written into `sy` by [`fs_moments`](Self::fs_moments)) for a foreshortened one.
     #[inline(always)]
-    pub(crate) fn first_moment_rows<'a>(
-        &'a self,
-        moments: &ShapeMoments,
-        sy: &'a [f64],
-    ) -> &'a [f64] {
-        if moments.axial.is_some() { sy } else { &self.s }
+    pub(crate) fn first_moment_rows<'a>(&'a self, foreshortened: bool, sy: &'a [f64]) -> &'a [f64] {
+        if foreshortened { sy } else { &self.s }
+    }
+
+    /// The in-plane first moment `m̄(y)` and `S ẏ` of a linear body (x, y rows of S).
+    #[inline(always)]
+    pub(crate) fn planar_first_moment(
+        &self,
+        y: &[f64],
+        yd: &[f64],
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        let n = self.n;
+        let mut mb = self.m_u.xy();
+        let mut s_yd = Vector2::zeros();
+        for c in 0..2 {
+            let sr = &self.s[c * n..(c + 1) * n];
+            mb[c] += dot(sr, y);
+            s_yd[c] = dot(sr, yd);
+        }
+        (mb, s_yd)
     }
 
     /// The moments of this body at (y, ẏ): linear (§2.3, S and L rows in `self.s`, `ws.l`) or
@@ -265,7 +279,11 @@ impl FlexibleBody {
         let (wb, ab) = body_frame_motion(st);
         let moments = self.shape_moments(y, yd, ws);
         let (mb, p) = (moments.mb, moments.p);
-        let s_yd = rows_dot_3(self.first_moment_rows(&moments, &ws.sy), n, yd);
+        let s_yd = rows_dot_3(
+            self.first_moment_rows(moments.axial.is_some(), &ws.sy),
+            n,
+            yd,
+        );
         let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         let mut h_yd = 0.0;
         if n > 0 {
@@ -305,7 +323,7 @@ impl FlexibleBody {
         let mut yy = std::mem::take(&mut ws.yy);
         let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
-        let s_rows = self.first_moment_rows(&moments, &ws.sy);
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
         let (_, o) = relative_layout(self.dim);
         write_modal_rows(m_out, q_out, o, modal_mass.unwrap_or(&yy), &qy);
@@ -372,13 +390,7 @@ impl FlexibleBody {
         let v0b = a.tr_mul(&r0_dot);
         let ab = w * Vector2::new(-v0b.y, v0b.x);
 
-        let mut mb = self.m_u.xy();
-        let mut s_yd = Vector2::zeros();
-        for c in 0..2 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
-        }
+        let (mb, s_yd) = self.planar_first_moment(y, yd);
         // I_zz(y) = P̄11 + P̄22 + 2 (S¹_1 + S²_2)·y + y·M_yy y ; h = S¹_1 + S²_2 + M_yy y ;
         // C_3 = S¹_2 − S²_1 + G_3 y ; all in O(n²) with three mat-vecs.
         let mut izz = self.p_u[(0, 0)] + self.p_u[(1, 1)];
