@@ -155,7 +155,7 @@ impl FlexibleBody {
                     ws.qy[j] += wacc.dot(&axj);
                 }
             }
-            accumulate_modal_mass_2d(wk, &ws.ax[..n], &ws.ax[n..2 * n], &mut ws.yy);
+            accumulate_modal_mass_2d(wk, n, &ws.ax, &mut ws.yy);
         }
         write_planar_rigid(m_out, q_out, msum, &gsum, jsum, &[-asum.x, -asum.y, -tq]);
         for j in 0..n {
@@ -213,21 +213,14 @@ fn accumulate_modal_3d(
     if n == 0 {
         return;
     }
-    let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
-    accumulate_modal_mass_3d(wk, ax0, ax1, ax2, &mut ws.yy);
+    accumulate_modal_mass_3d(wk, n, &ws.ax, &mut ws.yy);
 }
 
-/// Add one cloud point's `w (A X̂_k)ᵀ (A X̂_k)` to the n × n row-major `yy`, from the three
-/// global rows of `A X̂_k` (length n > 0 each).
+/// Add one cloud point's `w (A X̂_k)ᵀ (A X̂_k)` to the n × n row-major `yy` (n > 0), from the
+/// three global rows of `A X̂_k` at 0, n, 2n in `ax`.
 #[inline(always)]
-pub(crate) fn accumulate_modal_mass_3d(
-    wk: f64,
-    ax0: &[f64],
-    ax1: &[f64],
-    ax2: &[f64],
-    yy: &mut [f64],
-) {
-    let n = ax0.len();
+pub(crate) fn accumulate_modal_mass_3d(wk: f64, n: usize, ax: &[f64], yy: &mut [f64]) {
+    let (ax0, ax1, ax2) = (&ax[..n], &ax[n..2 * n], &ax[2 * n..3 * n]);
     for (i, row) in yy.chunks_exact_mut(n).enumerate() {
         let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
         for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
@@ -237,10 +230,10 @@ pub(crate) fn accumulate_modal_mass_3d(
 }
 
 /// Add one cloud point's `w (A X̂_k)ᵀ (A X̂_k)` to the upper triangle of the n × n row-major
-/// `yy`, from the two in-plane rows of `A X̂_k` (length n each).
+/// `yy`, from the two in-plane rows of `A X̂_k` at 0, n in `ax`.
 #[inline(always)]
-pub(crate) fn accumulate_modal_mass_2d(wk: f64, ax0: &[f64], ax1: &[f64], yy: &mut [f64]) {
-    let n = ax0.len();
+pub(crate) fn accumulate_modal_mass_2d(wk: f64, n: usize, ax: &[f64], yy: &mut [f64]) {
+    let (ax0, ax1) = (&ax[..n], &ax[n..2 * n]);
     for i in 0..n {
         let (p0, p1) = (wk * ax0[i], wk * ax1[i]);
         let row = &mut yy[i * n + i..(i + 1) * n];

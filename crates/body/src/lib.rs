@@ -383,6 +383,7 @@ impl FlexibleBody {
 
     /// The size checks of an inertia call `what` with `nc` coordinates: the output M's shape,
     /// the output Q's rows, and the lengths of y and ẏ.
+    #[inline(always)]
     #[track_caller]
     fn check_sizes(
         &self,

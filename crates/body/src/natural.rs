@@ -460,7 +460,7 @@ impl FlexibleBody {
                 }
                 ws.qy[j] += wk * (acc.x * v.x + acc.y * v.y + acc.z * v.z);
             }
-            accumulate_modal_mass_3d(wk, ax0, ax1, ax2, &mut ws.yy);
+            accumulate_modal_mass_3d(wk, n, &ws.ax, &mut ws.yy);
         }
         let sums = BMatrixSums3 {
             m: msum,
@@ -532,7 +532,7 @@ impl FlexibleBody {
                 ws.wy[n + j] += wk * uy.y;
                 ws.qy[j] += wk * acc.dot(&v);
             }
-            accumulate_modal_mass_2d(wk, ax0, ax1, &mut ws.yy);
+            accumulate_modal_mass_2d(wk, n, &ws.ax, &mut ws.yy);
         }
         let sums = BMatrixSums2 {
             m: msum,
