@@ -1,13 +1,17 @@
 //! Rough loop timing of one inertia evaluation per route (the criterion benches are
 //! the lead's). `cargo run --release -p flexmbd-body --example timing`.
+//! The bodies are built by the tests' `body_with_cloud` (`tests/common`).
+
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
-use flexmbd_fe::{MassCloud, ModeInventory, ReducedBody, ShapeIntegrals, StiffeningIntegrals};
+use flexmbd_fe::{MassCloud, ReducedBody};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use std::hint::black_box;
 use std::time::Instant;
 
-/// Deterministic pseudo-random numbers in [−1, 1) (no rand dependency in examples).
+/// Deterministic pseudo-random numbers in [−1, 1): one fixed cloud, so timings compare across runs.
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
@@ -47,24 +51,22 @@ fn body(dim: Dim, n: usize, np: usize) -> ReducedBody {
         mode_rows,
         description: "random".into(),
     };
-    let si = ShapeIntegrals::from_cloud(&cloud);
-    ReducedBody {
-        dim,
-        inventory: ModeInventory {
-            n_fe_dofs: 0,
-            frame_dofs: vec![],
-            static_modes: vec![],
-            normal_frequencies_hz: vec![1.0; n],
-        },
-        modes: DMatrix::zeros(0, n),
-        m_ff: DMatrix::identity(n, n),
-        k_ff: DMatrix::identity(n, n),
-        c_ff: DMatrix::zeros(n, n),
-        cloud,
-        shape_integrals: si,
-        nodes: vec![],
-        stiffening: StiffeningIntegrals::default(),
-        foreshortening: None,
+    common::body_with_cloud(dim, cloud, DMatrix::identity(n, n), DMatrix::zeros(n, n))
+}
+
+/// Nanoseconds per call of `eval`, repeated until a batch takes over 0.2 s.
+fn ns_per_call(mut eval: impl FnMut()) -> f64 {
+    let mut reps = 1000usize;
+    loop {
+        let t = Instant::now();
+        for _ in 0..reps {
+            eval();
+        }
+        let dt = t.elapsed().as_secs_f64();
+        if dt > 0.2 {
+            return dt / reps as f64 * 1e9;
+        }
+        reps *= 4;
     }
 }
 
@@ -72,19 +74,10 @@ fn time(b: &mut FlexibleBody, st: &BodyState<'_>, method: InertiaMethod) -> f64 
     let nc = b.n_coords();
     let mut m = DMatrix::zeros(nc, nc);
     let mut q = DVector::zeros(nc);
-    let mut reps = 1000usize;
-    loop {
-        let t = Instant::now();
-        for _ in 0..reps {
-            b.inertia(black_box(st), method, &mut m, &mut q);
-            black_box(&m);
-        }
-        let dt = t.elapsed().as_secs_f64();
-        if dt > 0.2 {
-            return dt / reps as f64 * 1e9;
-        }
-        reps *= 4;
-    }
+    ns_per_call(|| {
+        b.inertia(black_box(st), method, &mut m, &mut q);
+        black_box(&m);
+    })
 }
 
 fn time_nat(b: &FlexibleBody, st: &flexmbd_body::NaturalState<'_>, method: InertiaMethod) -> f64 {
@@ -92,19 +85,10 @@ fn time_nat(b: &FlexibleBody, st: &flexmbd_body::NaturalState<'_>, method: Inert
     let mut ws = b.natural_workspace();
     let mut m = DMatrix::zeros(nc, nc);
     let mut q = DVector::zeros(nc);
-    let mut reps = 1000usize;
-    loop {
-        let t = Instant::now();
-        for _ in 0..reps {
-            b.inertia_natural(black_box(st), method, &mut ws, &mut m, &mut q);
-            black_box(&m);
-        }
-        let dt = t.elapsed().as_secs_f64();
-        if dt > 0.2 {
-            return dt / reps as f64 * 1e9;
-        }
-        reps *= 4;
-    }
+    ns_per_call(|| {
+        b.inertia_natural(black_box(st), method, &mut ws, &mut m, &mut q);
+        black_box(&m);
+    })
 }
 
 fn main() {

@@ -24,7 +24,7 @@
 use crate::kinematics::PointKinematics;
 use crate::{
     BodyState, FlexibleBody, Workspace, planar_rotation, relative_layout, write_modal_block,
-    write_relative_couplings, write_relative_rigid,
+    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
 };
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -155,36 +155,11 @@ impl FlexibleBody {
                     ws.qy[j] += wacc.dot(&axj);
                 }
             }
-            let (ax0, ax1) = (&ws.ax[..n], &ws.ax[n..2 * n]);
-            for i in 0..n {
-                let (p0, p1) = (wk * ax0[i], wk * ax1[i]);
-                let row = &mut ws.yy[i * n + i..(i + 1) * n];
-                let (b0, b1) = (&ax0[i..], &ax1[i..]);
-                for j in 0..row.len() {
-                    row[j] += p0 * b0[j] + p1 * b1[j];
-                }
-            }
+            accumulate_modal_mass_2d(wk, n, &ws.ax, &mut ws.yy);
         }
-        m_out[(0, 0)] = msum;
-        m_out[(1, 1)] = msum;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        // Σ w E r_k = (−g_y, g_x).
-        m_out[(0, 2)] = -gsum.y;
-        m_out[(2, 0)] = -gsum.y;
-        m_out[(1, 2)] = gsum.x;
-        m_out[(2, 1)] = gsum.x;
-        m_out[(2, 2)] = jsum;
-        q_out[0] = -asum.x;
-        q_out[1] = -asum.y;
-        q_out[2] = -tq;
+        write_planar_rigid(m_out, q_out, msum, &gsum, jsum, &[-asum.x, -asum.y, -tq]);
         for j in 0..n {
-            m_out[(0, 3 + j)] = ws.sy[j];
-            m_out[(3 + j, 0)] = ws.sy[j];
-            m_out[(1, 3 + j)] = ws.sy[n + j];
-            m_out[(3 + j, 1)] = ws.sy[n + j];
-            m_out[(2, 3 + j)] = ws.wy[j];
-            m_out[(3 + j, 2)] = ws.wy[j];
+            write_planar_coupling(m_out, j, ws.sy[j], ws.sy[n + j], ws.wy[j]);
         }
         write_modal_block(m_out, q_out, 3, n, &ws.yy, &ws.qy);
     }
@@ -238,11 +213,33 @@ fn accumulate_modal_3d(
     if n == 0 {
         return;
     }
-    let (ax0, ax1, ax2) = (&ws.ax[..n], &ws.ax[n..2 * n], &ws.ax[2 * n..3 * n]);
-    for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
+    accumulate_modal_mass_3d(wk, n, &ws.ax, &mut ws.yy);
+}
+
+/// Add one cloud point's `w (A X̂_k)ᵀ (A X̂_k)` to the n × n row-major `yy` (n > 0), from the
+/// three global rows of `A X̂_k` at 0, n, 2n in `ax`.
+#[inline(always)]
+pub(crate) fn accumulate_modal_mass_3d(wk: f64, n: usize, ax: &[f64], yy: &mut [f64]) {
+    let (ax0, ax1, ax2) = (&ax[..n], &ax[n..2 * n], &ax[2 * n..3 * n]);
+    for (i, row) in yy.chunks_exact_mut(n).enumerate() {
         let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
         for (((o, b0), b1), b2) in row.iter_mut().zip(ax0).zip(ax1).zip(ax2) {
             *o += p0 * b0 + p1 * b1 + p2 * b2;
+        }
+    }
+}
+
+/// Add one cloud point's `w (A X̂_k)ᵀ (A X̂_k)` to the upper triangle of the n × n row-major
+/// `yy`, from the two in-plane rows of `A X̂_k` at 0, n in `ax`.
+#[inline(always)]
+pub(crate) fn accumulate_modal_mass_2d(wk: f64, n: usize, ax: &[f64], yy: &mut [f64]) {
+    let (ax0, ax1) = (&ax[..n], &ax[n..2 * n]);
+    for i in 0..n {
+        let (p0, p1) = (wk * ax0[i], wk * ax1[i]);
+        let row = &mut yy[i * n + i..(i + 1) * n];
+        let (b0, b1) = (&ax0[i..], &ax1[i..]);
+        for j in 0..row.len() {
+            row[j] += p0 * b0[j] + p1 * b1[j];
         }
     }
 }

@@ -4,7 +4,7 @@
 //! into caller storage.
 
 use flexmbd_core::Dim;
-use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector3};
+use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
 /// The modal part of a route-(a) result: `Q[o + j] = −qy[j]` and the symmetric n × n block
 /// of M at (o, o) from the upper triangle of `yy` (row-major), which the B-matrix loops
@@ -78,6 +78,56 @@ pub(crate) fn write_relative_rigid<SM, SQ>(
         }
         q_out[oi] = force[i];
     }
+}
+
+/// The rigid part of a planar relative-set result {ṡx; ṡy; θ̇z}, written directly (the planar
+/// kernels sum in-plane quantities only): M̄ = [[m I₂, E g], [(E g)ᵀ, J]] with the first moment
+/// g about the global origin (`E g = (−g_y, g_x)`) and the polar inertia J there, and the three
+/// rigid entries of Q̄.
+#[inline(always)]
+pub(crate) fn write_planar_rigid<SM, SQ>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    q_out: &mut Matrix<f64, Dyn, U1, SQ>,
+    mass: f64,
+    moment: &Vector2<f64>,
+    inertia: f64,
+    force: &[f64; 3],
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+    SQ: StorageMut<f64, Dyn, U1>,
+{
+    m_out[(0, 0)] = mass;
+    m_out[(1, 1)] = mass;
+    m_out[(0, 1)] = 0.0;
+    m_out[(1, 0)] = 0.0;
+    m_out[(0, 2)] = -moment.y;
+    m_out[(2, 0)] = -moment.y;
+    m_out[(1, 2)] = moment.x;
+    m_out[(2, 1)] = moment.x;
+    m_out[(2, 2)] = inertia;
+    q_out[0] = force[0];
+    q_out[1] = force[1];
+    q_out[2] = force[2];
+}
+
+/// Mode j's rigid–modal couplings of a planar relative-set M̄, symmetric: the translation
+/// rows x, y and the rotation row θz of column 3 + j.
+#[inline(always)]
+pub(crate) fn write_planar_coupling<SM>(
+    m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
+    j: usize,
+    x: f64,
+    y: f64,
+    theta: f64,
+) where
+    SM: StorageMut<f64, Dyn, Dyn>,
+{
+    m_out[(0, 3 + j)] = x;
+    m_out[(3 + j, 0)] = x;
+    m_out[(1, 3 + j)] = y;
+    m_out[(3 + j, 1)] = y;
+    m_out[(2, 3 + j)] = theta;
+    m_out[(3 + j, 2)] = theta;
 }
 
 /// The rigid–modal couplings of a relative-set M̄ in the layout of `dim`, symmetric: rows

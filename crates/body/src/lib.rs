@@ -70,7 +70,7 @@ use construction::{PackedIntegrals, check_reduced};
 use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};
 pub(crate) use layout::{
     relative_layout, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
-    write_relative_couplings, write_relative_rigid,
+    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
 };
 pub use state::BodyState;
 
@@ -316,15 +316,8 @@ impl FlexibleBody {
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
-        let nc = self.n_coords();
-        assert_eq!(m_out.shape(), (nc, nc), "inertia: m_out must be {nc}x{nc}");
-        assert_eq!(qv_out.nrows(), nc, "inertia: qv_out must have {nc} rows");
-        assert_eq!(state.y.len(), self.n, "inertia: y must have n entries");
-        assert_eq!(
-            state.y_dot.len(),
-            self.n,
-            "inertia: y_dot must have n entries"
-        );
+        let (nc, m_shape, q_rows) = (self.n_coords(), m_out.shape(), qv_out.nrows());
+        self.check_sizes("inertia", nc, m_shape, q_rows, state.y, state.y_dot);
         let mut workspace = self.workspace.take().expect("inertia: workspace lent out");
         let ws = workspace.as_mut();
         // Linear spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body
@@ -388,6 +381,25 @@ impl FlexibleBody {
         }
     }
 
+    /// The size checks of an inertia call `what` with `nc` coordinates: the output M's shape,
+    /// the output Q's rows, and the lengths of y and ẏ.
+    #[inline(always)]
+    #[track_caller]
+    fn check_sizes(
+        &self,
+        what: &str,
+        nc: usize,
+        m_shape: (usize, usize),
+        q_rows: usize,
+        y: &[f64],
+        y_dot: &[f64],
+    ) {
+        assert_eq!(m_shape, (nc, nc), "{what}: m_out must be {nc}x{nc}");
+        assert_eq!(q_rows, nc, "{what}: qv_out must have {nc} rows");
+        assert_eq!(y.len(), self.n, "{what}: y must have n entries");
+        assert_eq!(y_dot.len(), self.n, "{what}: y_dot must have n entries");
+    }
+
     /// A workspace for [`inertia_natural`](Self::inertia_natural), sized for this body.
     pub fn natural_workspace(&self) -> NaturalWorkspace {
         NaturalWorkspace(Workspace::for_body(self.n, self.fs.is_some()))
@@ -420,27 +432,8 @@ impl FlexibleBody {
         SM: StorageMut<f64, Dyn, Dyn>,
         SQ: StorageMut<f64, Dyn, U1>,
     {
-        let nc = self.n_natural_coords();
-        assert_eq!(
-            m_out.shape(),
-            (nc, nc),
-            "inertia_natural: m_out must be {nc}x{nc}"
-        );
-        assert_eq!(
-            qv_out.nrows(),
-            nc,
-            "inertia_natural: qv_out must have {nc} rows"
-        );
-        assert_eq!(
-            state.y.len(),
-            self.n,
-            "inertia_natural: y must have n entries"
-        );
-        assert_eq!(
-            state.y_dot.len(),
-            self.n,
-            "inertia_natural: y_dot must have n entries"
-        );
+        let (nc, m_shape, q_rows) = (self.n_natural_coords(), m_out.shape(), qv_out.nrows());
+        self.check_sizes("inertia_natural", nc, m_shape, q_rows, state.y, state.y_dot);
         assert_eq!(
             ws.0.qy.len(),
             self.n,

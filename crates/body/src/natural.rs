@@ -18,8 +18,9 @@
 //! over the cloud-point kinematics (`kinematics.rs`): for FS0 (methods.md §6.3) `X̂_k` replaces
 //! `X_k`, `r̄_k` carries the axial shortening and `Ḃ_k q̇` gains `−A ē₁ (ẏᵀF_k ẏ)`.
 
+use crate::bmatrix::{accumulate_modal_mass_2d, accumulate_modal_mass_3d};
 use crate::kinematics::PointKinematics;
-use crate::shape::AxialMoments;
+use crate::shape::{AxialMoments, rows_dot_3};
 use crate::{
     FlexibleBody, Workspace, dot, write_modal_block, write_modal_rows, write_natural_rigid_block_3d,
 };
@@ -219,15 +220,8 @@ impl FlexibleBody {
         let (a, ad) = (&st.a, &st.a_dot);
         let ws = &mut nws.0;
         let moments = self.shape_moments(y, yd, ws);
-        let s_rows: &[f64] = if moments.axial.is_some() {
-            &ws.sy
-        } else {
-            &self.s
-        };
-        let mut s_yd = Vector3::zeros();
-        for c in 0..3 {
-            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
-        }
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
+        let s_yd = rows_dot_3(s_rows, n, yd);
         write_natural_rigid_block_3d(m_out, self.mass, &moments.mb, &moments.p);
         let axial = moments.axial.as_ref().map(|ax| (a * ax.axis, ax));
         let mut q0 = -2.0 * (ad * s_yd);
@@ -239,12 +233,11 @@ impl FlexibleBody {
         }
         for b in 0..3 {
             // L_b ẏ.
-            let mut lby = Vector3::zeros();
-            if n > 0 {
-                for c in 0..3 {
-                    lby[c] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
-                }
-            }
+            let lby = if n > 0 {
+                rows_dot_3(&ws.l[3 * b * n..], n, yd)
+            } else {
+                Vector3::zeros()
+            };
             let mut qb = -2.0 * (ad * lby);
             if let Some((ae, ax)) = &axial {
                 qb += ae * ax.c1[b];
@@ -293,13 +286,7 @@ impl FlexibleBody {
     #[inline(always)]
     fn planar_moments(&self, y: &[f64], yd: &[f64], ws: &mut Workspace) -> PlanarMoments {
         let n = self.n;
-        let mut mb = self.m_u.xy();
-        let mut s_yd = Vector2::zeros();
-        for c in 0..2 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
-        }
+        let (mb, s_yd) = self.planar_first_moment(y, yd);
         let mut ptr = self.p_u[(0, 0)] + self.p_u[(1, 1)];
         let mut lam = Matrix2::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         if n > 0 {
@@ -366,11 +353,7 @@ impl FlexibleBody {
             return;
         }
         let o = 4;
-        let s_rows: &[f64] = if moments.axial.is_some() {
-            &ws.sy
-        } else {
-            &self.s
-        };
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         let l2 = moments.l2_row * n;
         for j in 0..n {
             let asj = a * Vector2::new(s_rows[j], s_rows[n + j]);
@@ -477,12 +460,7 @@ impl FlexibleBody {
                 }
                 ws.qy[j] += wk * (acc.x * v.x + acc.y * v.y + acc.z * v.z);
             }
-            for (i, row) in ws.yy.chunks_exact_mut(n).enumerate() {
-                let (p0, p1, p2) = (wk * ax0[i], wk * ax1[i], wk * ax2[i]);
-                for (((o, b0), b1), b2) in row.iter_mut().zip(&*ax0).zip(&*ax1).zip(&*ax2) {
-                    *o += p0 * b0 + p1 * b1 + p2 * b2;
-                }
-            }
+            accumulate_modal_mass_3d(wk, n, &ws.ax, &mut ws.yy);
         }
         let sums = BMatrixSums3 {
             m: msum,
@@ -554,14 +532,7 @@ impl FlexibleBody {
                 ws.wy[n + j] += wk * uy.y;
                 ws.qy[j] += wk * acc.dot(&v);
             }
-            for i in 0..n {
-                let (p0, p1) = (wk * ax0[i], wk * ax1[i]);
-                let row = &mut ws.yy[i * n + i..(i + 1) * n];
-                let (b0, b1) = (&ax0[i..], &ax1[i..]);
-                for j in 0..row.len() {
-                    row[j] += p0 * b0[j] + p1 * b1[j];
-                }
-            }
+            accumulate_modal_mass_2d(wk, n, &ws.ax, &mut ws.yy);
         }
         let sums = BMatrixSums2 {
             m: msum,

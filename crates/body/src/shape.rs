@@ -17,9 +17,20 @@
 
 use crate::{
     BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout, write_modal_rows,
-    write_relative_couplings, write_relative_rigid,
+    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
 };
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
+
+/// `(R_c · ẏ)_c` for the three rows R_c of length n at c n in `rows` (S ẏ, or L_b ẏ from the
+/// rows of L_b).
+#[inline(always)]
+pub(crate) fn rows_dot_3(rows: &[f64], n: usize, yd: &[f64]) -> Vector3<f64> {
+    let mut v = Vector3::zeros();
+    for c in 0..3 {
+        v[c] = dot(&rows[c * n..(c + 1) * n], yd);
+    }
+    v
+}
 
 /// The rigid blocks of the s form in global components (§2.4 steps 2–3), from the body-frame
 /// moments and forces: `M̄_sω = −g̃` with the first moment `g = m r0 + A m̄` about the global
@@ -212,6 +223,31 @@ impl FlexibleBody {
         write_relative_couplings(m_out, self.dim, n, translation, rotation);
     }
 
+    /// The S rows (3 × n) of the moments just formed: the body's own for a linear body, FS0's
+    /// hatted Ŝ (written into `sy` by [`fs_moments`](Self::fs_moments)) for a foreshortened one.
+    #[inline(always)]
+    pub(crate) fn first_moment_rows<'a>(&'a self, foreshortened: bool, sy: &'a [f64]) -> &'a [f64] {
+        if foreshortened { sy } else { &self.s }
+    }
+
+    /// The in-plane first moment `m̄(y)` and `S ẏ` of a linear body (x, y rows of S).
+    #[inline(always)]
+    pub(crate) fn planar_first_moment(
+        &self,
+        y: &[f64],
+        yd: &[f64],
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        let n = self.n;
+        let mut mb = self.m_u.xy();
+        let mut s_yd = Vector2::zeros();
+        for c in 0..2 {
+            let sr = &self.s[c * n..(c + 1) * n];
+            mb[c] += dot(sr, y);
+            s_yd[c] = dot(sr, yd);
+        }
+        (mb, s_yd)
+    }
+
     /// The moments of this body at (y, ẏ): linear (§2.3, S and L rows in `self.s`, `ws.l`) or
     /// foreshortened (§6.3, Ŝ and L̂ rows in `ws.sy`, `ws.l`, contractions in `ws.fs`).
     #[inline(always)]
@@ -243,22 +279,16 @@ impl FlexibleBody {
         let (wb, ab) = body_frame_motion(st);
         let moments = self.shape_moments(y, yd, ws);
         let (mb, p) = (moments.mb, moments.p);
-        let s_rows: &[f64] = if moments.axial.is_some() {
-            &ws.sy
-        } else {
-            &self.s
-        };
-        let mut s_yd = Vector3::zeros();
-        for c in 0..3 {
-            s_yd[c] = dot(&s_rows[c * n..(c + 1) * n], yd);
-        }
+        let s_yd = rows_dot_3(
+            self.first_moment_rows(moments.axial.is_some(), &ws.sy),
+            n,
+            yd,
+        );
         let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         let mut h_yd = 0.0;
         if n > 0 {
             for b in 0..3 {
-                for c in 0..3 {
-                    lam[(b, c)] = dot(&ws.l[(3 * b + c) * n..(3 * b + c + 1) * n], yd);
-                }
+                lam.set_row(b, &rows_dot_3(&ws.l[3 * b * n..], n, yd).transpose());
             }
             h_yd = lam[(0, 0)] + lam[(1, 1)] + lam[(2, 2)];
         }
@@ -293,11 +323,7 @@ impl FlexibleBody {
         let mut yy = std::mem::take(&mut ws.yy);
         let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
-        let s_rows: &[f64] = if moments.axial.is_some() {
-            &ws.sy
-        } else {
-            &self.s
-        };
+        let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
         let (_, o) = relative_layout(self.dim);
         write_modal_rows(m_out, q_out, o, modal_mass.unwrap_or(&yy), &qy);
@@ -364,13 +390,7 @@ impl FlexibleBody {
         let v0b = a.tr_mul(&r0_dot);
         let ab = w * Vector2::new(-v0b.y, v0b.x);
 
-        let mut mb = self.m_u.xy();
-        let mut s_yd = Vector2::zeros();
-        for c in 0..2 {
-            let sr = &self.s[c * n..(c + 1) * n];
-            mb[c] += dot(sr, y);
-            s_yd[c] = dot(sr, yd);
-        }
+        let (mb, s_yd) = self.planar_first_moment(y, yd);
         // I_zz(y) = P̄11 + P̄22 + 2 (S¹_1 + S²_2)·y + y·M_yy y ; h = S¹_1 + S²_2 + M_yy y ;
         // C_3 = S¹_2 − S²_1 + G_3 y ; all in O(n²) with three mat-vecs.
         let mut izz = self.p_u[(0, 0)] + self.p_u[(1, 1)];
@@ -410,18 +430,7 @@ impl FlexibleBody {
         let qtg = a * qt;
         let qrg = r0.x * qtg.y - r0.y * qtg.x + qr;
 
-        m_out[(0, 0)] = m;
-        m_out[(1, 1)] = m;
-        m_out[(0, 1)] = 0.0;
-        m_out[(1, 0)] = 0.0;
-        m_out[(0, 2)] = -lever.y;
-        m_out[(2, 0)] = -lever.y;
-        m_out[(1, 2)] = lever.x;
-        m_out[(2, 1)] = lever.x;
-        m_out[(2, 2)] = jzz;
-        q_out[0] = qtg.x;
-        q_out[1] = qtg.y;
-        q_out[2] = qrg;
+        write_planar_rigid(m_out, q_out, m, &lever, jzz, &[qtg.x, qtg.y, qrg]);
         if n == 0 {
             return;
         }
@@ -452,12 +461,7 @@ impl FlexibleBody {
         for j in 0..n {
             let asj = a * Vector2::new(self.s[j], self.s[n + j]);
             let wyj = r0.x * asj.y - r0.y * asj.x + c3[j];
-            m_out[(0, 3 + j)] = asj.x;
-            m_out[(3 + j, 0)] = asj.x;
-            m_out[(1, 3 + j)] = asj.y;
-            m_out[(3 + j, 1)] = asj.y;
-            m_out[(2, 3 + j)] = wyj;
-            m_out[(3 + j, 2)] = wyj;
+            write_planar_coupling(m_out, j, asj.x, asj.y, wyj);
             let sta = self.s[j] * ab.x + self.s[n + j] * ab.y;
             q_out[3 + j] = w * w * h[j] - 2.0 * w * g3yd[j] - sta;
         }

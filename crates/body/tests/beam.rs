@@ -10,22 +10,6 @@ use nalgebra::{Matrix3, Vector3};
 
 const TOL: f64 = 1e-10;
 
-fn spec(dim: Dim, points: &str, boundary: &str, normal: usize, elems: usize) -> ReducedBody {
-    let d = if dim == Dim::Planar {
-        "Planar"
-    } else {
-        "Spatial"
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)),
-          section: Rectangle(width: 0.02, height: 0.01),
-          geometry: (points: {points}, elements_per_segment: {elems}),
-          frame: Clamped(node: 0), boundary: {boundary}, normal_modes: {normal})"
-    );
-    let s = BeamBodySpec::from_ron_str(&text, "test beam").unwrap();
-    reduce(&s).unwrap()
-}
-
 fn routes_agree(rb: &ReducedBody, seed: u64) -> (f64, f64) {
     let mut r = rng(seed);
     let mut body = FlexibleBody::new(rb).unwrap();
@@ -54,30 +38,11 @@ fn routes_agree(rb: &ReducedBody, seed: u64) -> (f64, f64) {
 
 #[test]
 fn straight_and_l_beams_3d() {
-    let straight = spec(Dim::Spatial, "[[0,0,0],[1,0,0]]", "[]", 6, 10);
-    let w = routes_agree(&straight, 1);
-    eprintln!(
-        "3D straight ({} modes, {} points): {:.1e} {:.1e}",
-        straight.n_modes(),
-        straight.cloud.len(),
-        w.0,
-        w.1
-    );
-    let l = spec(
-        Dim::Spatial,
-        "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
-        "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
-        5,
-        6,
-    );
-    let w = routes_agree(&l, 2);
-    eprintln!(
-        "3D L-beam ({} modes, {} points): {:.1e} {:.1e}",
-        l.n_modes(),
-        l.cloud.len(),
-        w.0,
-        w.1
-    );
+    for ((name, rb), seed) in beams(Dim::Spatial).into_iter().zip([1, 2]) {
+        let w = routes_agree(&rb, seed);
+        let (n, np) = (rb.n_modes(), rb.cloud.len());
+        eprintln!("{name} ({n} modes, {np} points): {:.1e} {:.1e}", w.0, w.1);
+    }
 }
 
 #[test]
@@ -94,17 +59,10 @@ fn cantilever_model_file_3d() {
 
 #[test]
 fn straight_and_l_beams_2d() {
-    let straight = spec(Dim::Planar, "[[0,0],[1,0]]", "[]", 4, 10);
-    routes_agree(&straight, 4);
-    let l = spec(
-        Dim::Planar,
-        "[[0,0],[0.6,0],[0.6,0.4]]",
-        "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
-        3,
-        6,
-    );
-    let w = routes_agree(&l, 5);
-    eprintln!("2D L-beam ({} modes): {:.1e} {:.1e}", l.n_modes(), w.0, w.1);
+    for ((name, rb), seed) in beams(Dim::Planar).into_iter().zip([4, 5]) {
+        let w = routes_agree(&rb, seed);
+        eprintln!("{name} ({} modes): {:.1e} {:.1e}", rb.n_modes(), w.0, w.1);
+    }
 }
 
 /// A 0-mode beam is a rigid uniform bar: m = ρAL, static moment m L/2, inertia about
@@ -118,7 +76,7 @@ fn zero_mode_beam_is_the_uniform_bar() {
     let m = rho * area * len;
     let iz = ht * wdt.powi(3) / 12.0; // ∫ y² dA, y along the width
     let iy = wdt * ht.powi(3) / 12.0;
-    let rb3 = spec(Dim::Spatial, "[[0,0,0],[1,0,0]]", "[]", 0, 8);
+    let rb3 = beam_spec(Dim::Spatial, "[[0,0,0],[1,0,0]]", "[]", 0, 8);
     assert_eq!(rb3.n_modes(), 0);
     let mut b3 = FlexibleBody::new(&rb3).unwrap();
     let j_end = Matrix3::from_diagonal(&Vector3::new(
@@ -126,14 +84,7 @@ fn zero_mode_beam_is_the_uniform_bar() {
         m * len * len / 3.0 + rho * iy * len,
         m * len * len / 3.0 + rho * iz * len,
     ));
-    let st = OwnedState {
-        r0: Vector3::zeros(),
-        a: Matrix3::identity(),
-        omega: Vector3::zeros(),
-        s_dot: Vector3::zeros(),
-        y: vec![],
-        y_dot: vec![],
-    };
+    let st = OwnedState::rigid_at_rest(Vector3::zeros());
     for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
         let (mm, _) = eval(&mut b3, &st.view(), method);
         assert!((mm[(0, 0)] - m).abs() < 1e-12 * m);
@@ -141,7 +92,7 @@ fn zero_mode_beam_is_the_uniform_bar() {
         let j = mm.fixed_view::<3, 3>(3, 3).into_owned();
         assert!((j - j_end).amax() < 1e-12 * j_end.amax(), "{j} vs {j_end}");
     }
-    let rb2 = spec(Dim::Planar, "[[0,0],[1,0]]", "[]", 0, 8);
+    let rb2 = beam_spec(Dim::Planar, "[[0,0],[1,0]]", "[]", 0, 8);
     let mut b2 = FlexibleBody::new(&rb2).unwrap();
     let st2 = flexmbd_body::BodyState::planar(
         nalgebra::Vector2::zeros(),

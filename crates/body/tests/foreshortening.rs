@@ -10,33 +10,16 @@
 //!   (in plane), N_c(x) = Ω² ρA (L² − x²)/2, and ∫N_c g_w g_wᵀ dx out of plane;
 //! * the node helper against the kinematics.
 
+mod common;
+use common::{MotionSample, PrescribedMotion, d1, d2, rot_z, rz_ry_rx, spin_up_body};
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_fe::ReducedBody;
 use flexmbd_fe::beam::{VPLANE_2D, VPLANE_3D, WPLANE_3D, hermite};
 use flexmbd_fe::cloud::element_local_modes;
-use flexmbd_fe::foreshortening::foreshortening;
-use flexmbd_fe::{BeamBodySpec, ReducedBody, preprocess};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 const L: f64 = 10.0;
 const RHO_A: f64 = 1.2;
-
-fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> (ReducedBody, flexmbd_fe::Mesh) {
-    let (d, pts) = match dim {
-        Dim::Planar => ("Planar", "[[0.0, 0.0], [10.0, 0.0]]"),
-        Dim::Spatial => ("Spatial", "[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]"),
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 7e10, density: 3000.0, poisson_ratio: None, shear_modulus: Some(3.5e10)),
-          section: General(area: 4e-4, iy: 2e-7, iz: 2e-7, torsion_j: 4e-7),
-          geometry: (points: {pts}, elements_per_segment: {elements}),
-          frame: Clamped(node: 0), boundary: [], normal_modes: {modes})"
-    );
-    let spec = BeamBodySpec::from_ron_str(&text, "spin-up beam").unwrap();
-    let p = preprocess(&spec).unwrap();
-    let mut rb = p.body;
-    rb.foreshortening = Some(foreshortening(&p.mesh, &rb.modes).unwrap());
-    (rb, p.mesh)
-}
 
 /// Smooth motion: r0(t), A(t) = Rz Ry Rx (Rz only in 2D), y(t).
 struct Motion {
@@ -50,6 +33,17 @@ fn f(a: f64, b: f64, c: f64, t: f64) -> f64 {
 }
 
 impl Motion {
+    /// The motion of the spin-up beam checks, its modal amplitudes falling as 1/(1 + j).
+    fn new(dim: Dim, n: usize) -> Self {
+        Self {
+            dim,
+            n,
+            ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
+        }
+    }
+}
+
+impl PrescribedMotion for Motion {
     fn r0(&self, t: f64) -> Vector3<f64> {
         let z = if self.dim == Dim::Planar {
             0.0
@@ -59,16 +53,11 @@ impl Motion {
         Vector3::new(f(0.3, 0.5, -0.7, t), f(-0.4, 0.2, 0.6, t), z)
     }
     fn a(&self, t: f64) -> Matrix3<f64> {
-        let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
-        let rz = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        let alpha = f(0.5, 1.7, 0.9, t);
         if self.dim == Dim::Planar {
-            return rz;
+            return rot_z(alpha);
         }
-        let (sb, cb) = f(-0.3, 0.8, 0.5, t).sin_cos();
-        let (sg, cg) = f(0.7, -0.6, 0.4, t).sin_cos();
-        let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
-        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
-        rz * ry * rx
+        rz_ry_rx(alpha, f(-0.3, 0.8, 0.5, t), f(0.7, -0.6, 0.4, t))
     }
     fn y(&self, t: f64) -> Vec<f64> {
         // Tip deflections of order 1 m on the 10 m beam (mode rows are O(1)).
@@ -81,28 +70,51 @@ impl Motion {
     }
 }
 
-fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
-}
-fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
-        / (12.0 * h * h)
-}
-
 /// FS0 body-frame position of cloud point k.
 fn rbar(rb: &ReducedBody, k: usize, y: &[f64]) -> Vector3<f64> {
-    let n = y.len();
     let fs = rb.foreshortening.as_ref().unwrap();
-    let x = rb.cloud.rows(k);
-    let mut r = rb.cloud.positions[k];
-    for c in 0..3 {
-        for j in 0..n {
-            r[c] += x[c * n + j] * y[j];
-        }
-    }
+    let r = common::cloud_point(rb, k, y);
     let yv = DVector::from_column_slice(y);
     let q = (yv.transpose() * &fs.cloud[k] * &yv)[0];
     r - fs.axis * (0.5 * q)
+}
+
+/// ∂r_k/∂y_j of every cloud position at (r0, A, y), by differences in y_j (step 1e-4).
+fn modal_column(
+    rb: &ReducedBody,
+    r0: Vector3<f64>,
+    a: Matrix3<f64>,
+    y: &[f64],
+    j: usize,
+) -> DVector<f64> {
+    let shifted = |s: f64| {
+        let mut yy = y.to_vec();
+        yy[j] += s;
+        positions(rb, r0, a, &yy)
+    };
+    d1(shifted, 0.0, 1e-4)
+}
+
+/// Residual of the virtual-power equations `lhs = Σ w J_kᵀ r̈_k = M ż − Q_v`, relative to the
+/// largest of |lhs|, |M ż| and |Q_v|.
+fn virtual_power_residual(
+    lhs: &DVector<f64>,
+    mm: &DMatrix<f64>,
+    zd: &DVector<f64>,
+    qv: &DVector<f64>,
+) -> f64 {
+    let rhs = mm * zd - qv;
+    let scale = lhs.amax().max((mm * zd).amax()).max(qv.amax());
+    (lhs - &rhs).amax() / scale
+}
+
+/// `Σ_k w_k u_k · v_k` over the cloud points of two stacked position-sized vectors.
+fn weighted_dot(rb: &ReducedBody, u: &DVector<f64>, v: &DVector<f64>) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..rb.cloud.len() {
+        sum += rb.cloud.weights[k] * u.fixed_rows::<3>(3 * k).dot(&v.fixed_rows::<3>(3 * k));
+    }
+    sum
 }
 
 fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> DVector<f64> {
@@ -115,62 +127,19 @@ fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> 
     out
 }
 
-fn z_of(m: &Motion, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
-    let ad = d1(|t| DVector::from_column_slice(m.a(t).as_slice()), t, h);
-    let w = Matrix3::from_column_slice(ad.as_slice()) * m.a(t).transpose();
-    let omega = Vector3::new(
-        0.5 * (w[(2, 1)] - w[(1, 2)]),
-        0.5 * (w[(0, 2)] - w[(2, 0)]),
-        0.5 * (w[(1, 0)] - w[(0, 1)]),
-    );
-    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
-    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
-    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
-    (r0d + m.r0(t).cross(&omega), omega, yd.as_slice().to_vec())
-}
-
-fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
-    let mut v = match dim {
-        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
-        Dim::Planar => vec![s.x, s.y, w.z],
-    };
-    v.extend_from_slice(yd);
-    DVector::from_vec(v)
-}
-
 /// Largest relative residual of the virtual-power equations and of the kinetic energy.
 fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
     let (rb, _) = spin_up_body(dim, 8, modes);
     let n = rb.n_modes();
     let mut body = FlexibleBody::new(&rb).unwrap();
     assert!(body.has_foreshortening());
-    let m = Motion {
-        dim,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(dim, n);
     let (h, nc, np) = (1e-3, body.n_coords(), rb.cloud.len());
     let (mut worst, mut worst_t) = (0.0_f64, 0.0_f64);
     for &t in &[0.0, 0.37, 1.1] {
-        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
-        let (r0, a, y) = (m.r0(t), m.a(t), m.y(t));
-        let st = BodyState {
-            r0,
-            a,
-            omega,
-            s_dot,
-            y: &y,
-            y_dot: &yd,
-        };
-        let z = z_vec(dim, &s_dot, &omega, &yd);
-        let zd = d1(
-            |t| {
-                let (s, w, yd) = z_of(&m, t, 1e-4);
-                z_vec(dim, &s, &w, &yd)
-            },
-            t,
-            h,
-        );
+        let sample = MotionSample::new(&m, dim, t, h);
+        let (r0, a, y) = (sample.state.r0, sample.state.a, &sample.state.y);
+        let (st, z, zd) = (sample.state.view(), &sample.z, &sample.z_dot);
         let pos_at = |t: f64| positions(&rb, m.r0(t), m.a(t), &m.y(t));
         let rdot = d1(pos_at, t, h);
         let rddot = d2(pos_at, t, h);
@@ -192,15 +161,7 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
             }
         }
         for j in 0..n {
-            let dy = 1e-4;
-            let shifted = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            jac[nr + j] = (shifted(-2.0 * dy) - shifted(-dy) * 8.0 + shifted(dy) * 8.0
-                - shifted(2.0 * dy))
-                / (12.0 * dy);
+            jac[nr + j] = modal_column(&rb, r0, a, y, j);
         }
         let mut lhs = DVector::<f64>::zeros(nc);
         let mut ke = 0.0;
@@ -216,10 +177,8 @@ fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
         let mut mm = DMatrix::zeros(nc, nc);
         let mut qv = DVector::zeros(nc);
         body.inertia(&st, InertiaMethod::BMatrix, &mut mm, &mut qv);
-        let rhs = &mm * &zd - &qv;
-        let scale = lhs.amax().max((&mm * &zd).amax()).max(qv.amax());
-        worst = worst.max((&lhs - &rhs).amax() / scale);
-        let ke_m = 0.5 * z.dot(&(&mm * &z));
+        worst = worst.max(virtual_power_residual(&lhs, &mm, zd, &qv));
+        let ke_m = 0.5 * z.dot(&(&mm * z));
         worst_t = worst_t.max((ke - ke_m).abs() / ke);
     }
     (worst, worst_t)
@@ -414,11 +373,7 @@ fn gravity_and_first_moment_include_the_shortening() {
         let (rb, _) = spin_up_body(dim, 8, modes);
         let n = rb.n_modes();
         let body = FlexibleBody::new(&rb).unwrap();
-        let m = Motion {
-            dim,
-            n,
-            ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-        };
+        let m = Motion::new(dim, n);
         let (r0, a, y) = (m.r0(0.3), m.a(0.3), m.y(0.3));
         let g = match dim {
             Dim::Planar => Vector3::new(3.0, -9.81, 0.0),
@@ -534,11 +489,7 @@ fn natural_planar_inertia_matches_virtual_power() {
     let n = rb.n_modes();
     let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion {
-        dim: Dim::Planar,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(Dim::Planar, n);
     let uvec = |t: f64| {
         let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
         nalgebra::Vector2::new(c, s) * (1.0 + 0.1 * (2.0 * t).sin())
@@ -585,23 +536,9 @@ fn natural_planar_inertia_matches_virtual_power() {
             lhs[3] += w * (-rbk.y * acc.x + rbk.x * acc.y);
         }
         for j in 0..n {
-            let d = 1e-4;
-            let sh = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            let col = (sh(-2.0 * d) - sh(-d) * 8.0 + sh(d) * 8.0 - sh(2.0 * d)) / (12.0 * d);
-            for k in 0..np {
-                lhs[4 + j] += rb.cloud.weights[k]
-                    * col
-                        .fixed_rows::<3>(3 * k)
-                        .dot(&rddot.fixed_rows::<3>(3 * k));
-            }
+            lhs[4 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
         }
-        let rhs = &mm * &qdd - &qv;
-        let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
-        worst = worst.max((&lhs - &rhs).amax() / scale);
+        worst = worst.max(virtual_power_residual(&lhs, &mm, &qdd, &qv));
     }
     eprintln!("FS0 natural planar: virtual power residual {worst:.2e}");
     assert!(worst < 1e-6, "{worst}");
@@ -616,11 +553,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
     let n = rb.n_modes();
     let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion {
-        dim: Dim::Spatial,
-        n,
-        ys: (0..n).map(|j| 0.8 / (1.0 + j as f64)).collect(),
-    };
+    let m = Motion::new(Dim::Spatial, n);
     let amat = |t: f64| {
         let s = Matrix3::new(
             (1.1 * t).sin(),
@@ -672,19 +605,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
             }
         }
         for j in 0..n {
-            let d = 1e-4;
-            let sh = |s: f64| {
-                let mut yy = y.clone();
-                yy[j] += s;
-                positions(&rb, r0, a, &yy)
-            };
-            let col = (sh(-2.0 * d) - sh(-d) * 8.0 + sh(d) * 8.0 - sh(2.0 * d)) / (12.0 * d);
-            for k in 0..np {
-                lhs[12 + j] += rb.cloud.weights[k]
-                    * col
-                        .fixed_rows::<3>(3 * k)
-                        .dot(&rddot.fixed_rows::<3>(3 * k));
-            }
+            lhs[12 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
         }
         for (r, method) in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals]
             .into_iter()
@@ -693,9 +614,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
             let mut mm = DMatrix::zeros(nc, nc);
             let mut qv = DVector::zeros(nc);
             body.inertia_natural(&st, method, &mut nws, &mut mm, &mut qv);
-            let rhs = &mm * &qdd - &qv;
-            let scale = lhs.amax().max((&mm * &qdd).amax()).max(qv.amax());
-            worst[r] = worst[r].max((&lhs - &rhs).amax() / scale);
+            worst[r] = worst[r].max(virtual_power_residual(&lhs, &mm, &qdd, &qv));
         }
     }
     eprintln!(

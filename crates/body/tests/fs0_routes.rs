@@ -8,32 +8,14 @@
 mod common;
 use common::*;
 use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState};
-use flexmbd_fe::foreshortening::{ForeshorteningData, foreshortening};
-use flexmbd_fe::{BeamBodySpec, ReducedBody, preprocess};
+use flexmbd_fe::ReducedBody;
+use flexmbd_fe::foreshortening::ForeshorteningData;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector2, Vector3};
 use rand::Rng;
 
 /// Worst relative difference measured (release, x86-64): 2.5e-15 (3D spin-up beam, Q̄_v; see
 /// the test output); 1e-12 leaves a margin of 400 for other platforms and compilers.
 const TOL: f64 = 1e-12;
-
-fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> ReducedBody {
-    let (d, pts) = match dim {
-        Dim::Planar => ("Planar", "[[0.0, 0.0], [10.0, 0.0]]"),
-        Dim::Spatial => ("Spatial", "[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]"),
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 7e10, density: 3000.0, poisson_ratio: None, shear_modulus: Some(3.5e10)),
-          section: General(area: 4e-4, iy: 2e-7, iz: 2e-7, torsion_j: 4e-7),
-          geometry: (points: {pts}, elements_per_segment: {elements}),
-          frame: Clamped(node: 0), boundary: [], normal_modes: {modes})"
-    );
-    let spec = BeamBodySpec::from_ron_str(&text, "spin-up beam").unwrap();
-    let p = preprocess(&spec).unwrap();
-    let mut rb = p.body;
-    rb.foreshortening = Some(foreshortening(&p.mesh, &rb.modes).unwrap());
-    rb
-}
 
 /// A random cloud with random symmetric F's (shared by runs of 1–4 consecutive points, as
 /// section points share a station's) and a unit axis in general position (in the plane for 2D).
@@ -142,7 +124,7 @@ fn natural_worst(rb: &ReducedBody, dim: Dim, seed: u64, ys: f64) -> (f64, f64) {
 #[test]
 fn routes_agree_on_the_spin_up_beam() {
     for (dim, modes) in [(Dim::Planar, 4), (Dim::Planar, 8), (Dim::Spatial, 8)] {
-        let rb = spin_up_body(dim, 20, modes);
+        let rb = spin_up_body(dim, 20, modes).0;
         let wr = relative_worst(&rb, dim, 7, 1.0);
         let wn = natural_worst(&rb, dim, 8, 1.0);
         eprintln!(
@@ -176,7 +158,7 @@ fn routes_agree_on_random_clouds() {
 /// (linear) shape route, so the agreement above is not the linear route agreeing with itself.
 #[test]
 fn fs0_terms_are_exercised() {
-    let rb = spin_up_body(Dim::Spatial, 20, 8);
+    let rb = spin_up_body(Dim::Spatial, 20, 8).0;
     let mut plain = rb.clone();
     plain.foreshortening = None;
     let mut r = rng(3);
@@ -196,7 +178,7 @@ static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::C
 #[test]
 fn shape_route_allocates_nothing() {
     for (dim, modes) in [(Dim::Planar, 4), (Dim::Spatial, 8)] {
-        let rb = spin_up_body(dim, 8, modes);
+        let rb = spin_up_body(dim, 8, modes).0;
         let mut body = FlexibleBody::new(&rb).unwrap();
         let mut r = rng(9);
         let st = scaled_state(&mut r, dim, modes, 1.0);

@@ -10,7 +10,7 @@
 
 mod common;
 use common::*;
-use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
+use flexmbd_body::{Dim, FlexibleBody, InertiaMethod};
 use flexmbd_fe::ReducedBody;
 use nalgebra::{DVector, Matrix3, Vector3};
 
@@ -46,6 +46,9 @@ impl Motion {
             .collect();
         Self { dim, c, n, yc }
     }
+}
+
+impl PrescribedMotion for Motion {
     fn r0(&self, t: f64) -> Vector3<f64> {
         let z = if self.dim == Dim::Planar {
             0.0
@@ -55,75 +58,26 @@ impl Motion {
         Vector3::new(f(&self.c[0], t), f(&self.c[1], t), z)
     }
     fn a(&self, t: f64) -> Matrix3<f64> {
-        let rz = rot_z(f(&self.c[3], t));
+        let alpha = f(&self.c[3], t);
         if self.dim == Dim::Planar {
-            return rz;
+            return rot_z(alpha);
         }
-        let (sb, cb) = f(&self.c[4], t).sin_cos();
-        let (sg, cg) = f(&self.c[5], t).sin_cos();
-        let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
-        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
-        rz * ry * rx
+        rz_ry_rx(alpha, f(&self.c[4], t), f(&self.c[5], t))
     }
     fn y(&self, t: f64) -> Vec<f64> {
         (0..self.n).map(|j| f(&self.yc[j], t)).collect()
     }
 }
 
-/// 4th-order central first and second derivatives of a vector function.
-fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
-}
-fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
-    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
-        / (12.0 * h * h)
-}
-
 fn positions(rb: &ReducedBody, m: &Motion, t: f64) -> DVector<f64> {
     let (r0, a, y) = (m.r0(t), m.a(t), m.y(t));
-    let n = m.n;
     let np = rb.cloud.len();
     let mut out = DVector::zeros(3 * np);
     for k in 0..np {
-        let x = rb.cloud.rows(k);
-        let mut rb_k = rb.cloud.positions[k];
-        for c in 0..3 {
-            for j in 0..n {
-                rb_k[c] += x[c * n + j] * y[j];
-            }
-        }
-        let r = r0 + a * rb_k;
+        let r = r0 + a * cloud_point(rb, k, &y);
         out.fixed_rows_mut::<3>(3 * k).copy_from(&r);
     }
     out
-}
-
-/// Z(t) = {ṡ; ω; ẏ} from the motion: ω̃ = Ȧ Aᵀ, ṡ = ṙ0 + r0 × ω (differenced).
-fn z_of(m: &Motion, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
-    let vec9 = |t: f64| DVector::from_column_slice(m.a(t).as_slice());
-    let ad = d1(vec9, t, h);
-    let ad = Matrix3::from_column_slice(ad.as_slice());
-    let w = ad * m.a(t).transpose();
-    let omega = Vector3::new(
-        0.5 * (w[(2, 1)] - w[(1, 2)]),
-        0.5 * (w[(0, 2)] - w[(2, 0)]),
-        0.5 * (w[(1, 0)] - w[(0, 1)]),
-    );
-    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
-    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
-    let s_dot = r0d + m.r0(t).cross(&omega);
-    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
-    (s_dot, omega, yd.as_slice().to_vec())
-}
-
-/// Reduced Z vector (2D keeps ṡx, ṡy, ωz).
-fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
-    let mut v = match dim {
-        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
-        Dim::Planar => vec![s.x, s.y, w.z],
-    };
-    v.extend_from_slice(yd);
-    DVector::from_vec(v)
 }
 
 fn check(seed: u64, dim: Dim, n: usize) {
@@ -133,26 +87,9 @@ fn check(seed: u64, dim: Dim, n: usize) {
     let m = Motion::new(seed + 100, dim, n);
     let h = 1e-3;
     for &t in &[0.0, 0.37, 1.1] {
-        let (s_dot, omega, yd) = z_of(&m, t, 1e-4);
-        let y = m.y(t);
-        let st = BodyState {
-            r0: m.r0(t),
-            a: m.a(t),
-            omega,
-            s_dot,
-            y: &y,
-            y_dot: &yd,
-        };
-        let z = z_vec(dim, &s_dot, &omega, &yd);
         // Ż by differencing Z(t) (itself from differences of an analytic motion).
-        let zd = d1(
-            |t| {
-                let (s, w, yd) = z_of(&m, t, 1e-4);
-                z_vec(dim, &s, &w, &yd)
-            },
-            t,
-            h,
-        );
+        let sample = MotionSample::new(&m, dim, t, h);
+        let (st, z, zd) = (sample.state.view(), &sample.z, &sample.z_dot);
         let rdot = d1(|t| positions(&rb, &m, t), t, h);
         let rddot = d2(|t| positions(&rb, &m, t), t, h);
         // Velocity Jacobian column i = ṙ_k at the unit velocity Z = e_i, straight from the
@@ -204,7 +141,7 @@ fn check(seed: u64, dim: Dim, n: usize) {
         }
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
             let (mm, qv) = eval(&mut body, &st, method);
-            let rhs = &mm * &zd - &qv;
+            let rhs = &mm * zd - &qv;
             let d = rel_diff_v(&rhs, &lhs);
             eprintln!(
                 "{dim} n={n} {method:?} t={t}: virtual power rel diff {d:.1e}, |Q_v|/|lhs| = {:.2}",
@@ -214,7 +151,7 @@ fn check(seed: u64, dim: Dim, n: usize) {
                 d < 1e-7,
                 "{dim} n={n} {method:?}: Σ w Bᵀ r̈ vs M̄Ż − Q̄_v: {d:e}"
             );
-            let ke_m = 0.5 * z.dot(&(&mm * &z));
+            let ke_m = 0.5 * z.dot(&(&mm * z));
             assert!(
                 (ke_m - ke).abs() < 1e-8 * ke,
                 "{dim} {method:?}: T {ke_m} vs {ke}"
@@ -285,10 +222,7 @@ fn origin_form_against_direct_projection() {
                 qref -= wk * b.transpose() * bd;
             }
             let _ = r0d;
-            let keep: Vec<usize> = match dim {
-                Dim::Spatial => (0..full).collect(),
-                Dim::Planar => [0, 1, 5].into_iter().chain(6..full).collect(),
-            };
+            let keep = kept_rows(dim, n);
             let nc = keep.len();
             let mref = nalgebra::DMatrix::from_fn(nc, nc, |i, j| mref[(keep[i], keep[j])]);
             let qref = DVector::from_fn(nc, |i, _| qref[keep[i]]);

@@ -57,30 +57,10 @@ fn positions(rb: &ReducedBody, dim: Dim, q: &DVector<f64>) -> DVector<f64> {
     let np = rb.cloud.len();
     let mut out = DVector::zeros(3 * np);
     for k in 0..np {
-        let x = rb.cloud.rows(k);
-        let mut p = rb.cloud.positions[k];
-        for c in 0..3 {
-            for j in 0..n {
-                p[c] += x[c * n + j] * y[j];
-            }
-        }
-        out.fixed_rows_mut::<3>(3 * k).copy_from(&(r0 + a * p));
+        out.fixed_rows_mut::<3>(3 * k)
+            .copy_from(&(r0 + a * cloud_point(rb, k, &y)));
     }
     out
-}
-
-fn eval_nat(
-    body: &FlexibleBody,
-    st: &NaturalState<'_>,
-    method: InertiaMethod,
-) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_natural_coords();
-    let mut ws = body.natural_workspace();
-    let mut m = DMatrix::from_element(nc, nc, f64::NAN);
-    let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia_natural(st, method, &mut ws, &mut m, &mut q);
-    assert!(m.iter().chain(q.iter()).all(|v| v.is_finite()));
-    (m, q)
 }
 
 fn nq(dim: Dim, n: usize) -> usize {
@@ -121,6 +101,7 @@ fn natural_routes_agree() {
         let mut r = rng(seed);
         let rb = random_body(&mut r, dim, n, 23);
         let body = FlexibleBody::new(&rb).unwrap();
+        let mut ws = body.natural_workspace();
         let qf = motion(seed + 10, dim, n);
         for i in 0..10 {
             let t = 0.3 * i as f64;
@@ -129,8 +110,8 @@ fn natural_routes_agree() {
             let (_, _, y) = unpack(dim, &q, n);
             let yd = qd.as_slice()[qd.len() - n..].to_vec();
             let st = state(dim, &q, &qd, &y, &yd);
-            let (ma, qa) = eval_nat(&body, &st, InertiaMethod::BMatrix);
-            let (mb, qb) = eval_nat(&body, &st, InertiaMethod::ShapeIntegrals);
+            let (ma, qa) = eval_natural(&body, &mut ws, &st, InertiaMethod::BMatrix);
+            let (mb, qb) = eval_natural(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
             let (dm, dq) = (rel_diff_m(&ma, &mb), rel_diff_v(&qa, &qb));
             assert!(dm < 1e-10 && dq < 1e-10, "{dim} n={n}: M {dm:e}, Q {dq:e}");
             assert!(rel_diff_m(&ma, &ma.transpose()) < 1e-15);
@@ -149,22 +130,15 @@ fn natural_virtual_power_and_gravity() {
         let mut r = rng(seed);
         let rb = random_body(&mut r, dim, n, 13);
         let body = FlexibleBody::new(&rb).unwrap();
+        let mut ws = body.natural_workspace();
         let qf = motion(seed + 20, dim, n);
         let m = nq(dim, n);
         let h = 1e-3;
         for &t in &[0.1, 0.8] {
             let q = qf(t);
-            let d1 = |t: f64| {
-                (qf(t - 2.0 * h) - 8.0 * qf(t - h) + 8.0 * qf(t + h) - qf(t + 2.0 * h)) / (12.0 * h)
-            };
-            let qd = d1(t);
-            let qdd = (-qf(t - 2.0 * h) + 16.0 * qf(t - h) - 30.0 * qf(t) + 16.0 * qf(t + h)
-                - qf(t + 2.0 * h))
-                / (12.0 * h * h);
-            let pos = |t: f64| positions(&rb, dim, &qf(t));
-            let rdd = (-pos(t - 2.0 * h) + 16.0 * pos(t - h) - 30.0 * pos(t) + 16.0 * pos(t + h)
-                - pos(t + 2.0 * h))
-                / (12.0 * h * h);
+            let qd = d1(&qf, t, h);
+            let qdd = d2(&qf, t, h);
+            let rdd = d2(|t: f64| positions(&rb, dim, &qf(t)), t, h);
             // B = ∂r/∂q by central differences (r is linear in r0, A, and in y: exact).
             let mut bmat = DMatrix::zeros(3 * rb.cloud.len(), m);
             for i in 0..m {
@@ -190,7 +164,7 @@ fn natural_virtual_power_and_gravity() {
             let g_ref =
                 bmat.transpose() * DVector::from_fn(3 * rb.cloud.len(), |i, _| wdiag[i] * g[i % 3]);
             for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-                let (mm, qv) = eval_nat(&body, &st, method);
+                let (mm, qv) = eval_natural(&body, &mut ws, &st, method);
                 let d = rel_diff_v(&(&mm * &qdd - &qv), &lhs);
                 assert!(d < 1e-7, "{dim} n={n} {method:?}: virtual power {d:e}");
                 // M = Σ w B_kᵀ B_k with the differenced B.

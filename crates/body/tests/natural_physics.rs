@@ -20,7 +20,7 @@ mod common;
 use common::*;
 use flexmbd_body::NaturalWorkspace;
 use flexmbd_body::{BodyPoint, BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState};
-use flexmbd_fe::{BeamBodySpec, ReducedBody, reduce};
+use flexmbd_fe::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 use rand::Rng;
 
@@ -97,69 +97,19 @@ fn random_q<R: Rng>(r: &mut R, dim: Dim, n: usize, y_scale: f64) -> Q {
     Q { dim, q, qd }
 }
 
-fn nat_eval(
-    body: &FlexibleBody,
-    ws: &mut NaturalWorkspace,
-    st: &NaturalState<'_>,
-    method: InertiaMethod,
-) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_natural_coords();
-    let mut m = DMatrix::from_element(nc, nc, f64::NAN);
-    let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia_natural(st, method, ws, &mut m, &mut q);
-    assert!(m.iter().all(|v| v.is_finite()), "every entry of M written");
-    assert!(
-        q.iter().all(|v| v.is_finite()),
-        "every entry of Q_v written"
-    );
-    (m, q)
-}
-
-fn spec(dim: Dim, points: &str, boundary: &str, normal: usize, elems: usize) -> ReducedBody {
-    let d = if dim == Dim::Planar {
-        "Planar"
-    } else {
-        "Spatial"
-    };
-    let text = format!(
-        "(dim: {d}, material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)),
-          section: Rectangle(width: 0.02, height: 0.01),
-          geometry: (points: {points}, elements_per_segment: {elems}),
-          frame: Clamped(node: 0), boundary: {boundary}, normal_modes: {normal})"
-    );
-    let s = BeamBodySpec::from_ron_str(&text, "test beam").unwrap();
-    reduce(&s).unwrap()
-}
-
-fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
-    match dim {
-        Dim::Spatial => vec![
-            ("3D straight", spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10)),
-            (
-                "3D L-beam + static",
-                spec(
-                    dim,
-                    "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
-                    "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
-                    5,
-                    6,
-                ),
-            ),
-        ],
-        Dim::Planar => vec![
-            ("2D straight", spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
-            (
-                "2D L-beam + static",
-                spec(
-                    dim,
-                    "[[0,0],[0.6,0],[0.6,0.4]]",
-                    "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
-                    3,
-                    6,
-                ),
-            ),
-        ],
-    }
+/// `∂f/∂q` at q by central differences with step h.
+fn central_gradient(
+    q: &DVector<f64>,
+    h: f64,
+    mut f: impl FnMut(DVector<f64>) -> f64,
+) -> DVector<f64> {
+    DVector::from_fn(q.len(), |i, _| {
+        let mut qp = q.clone();
+        qp[i] += h;
+        let mut qm = q.clone();
+        qm[i] -= h;
+        (f(qp) - f(qm)) / (2.0 * h)
+    })
 }
 
 /// The cloud's `B_k` (absolute set, §2.2 / §2.5 "2D") written afresh from the
@@ -206,8 +156,8 @@ fn routes_agree(rb: &ReducedBody, seed: u64, y_scale: f64) -> (f64, f64) {
     let mut worst = (0.0f64, 0.0f64);
     for _ in 0..20 {
         let s = random_q(&mut r, rb.dim, n, y_scale);
-        let (ma, qa) = nat_eval(&body, &mut ws, &s.view(), InertiaMethod::BMatrix);
-        let (mb, qb) = nat_eval(&body, &mut ws, &s.view(), InertiaMethod::ShapeIntegrals);
+        let (ma, qa) = eval_natural(&body, &mut ws, &s.view(), InertiaMethod::BMatrix);
+        let (mb, qb) = eval_natural(&body, &mut ws, &s.view(), InertiaMethod::ShapeIntegrals);
         let (dm, dq) = (rel_diff_m(&ma, &mb), rel_diff_v(&qa, &qb));
         assert!(
             dm < 1e-10 && dq < 1e-10,
@@ -271,7 +221,7 @@ fn mass_matrix_is_the_cloud_projection() {
             let b = b_k(&rb, k, &st);
             m_ref += rb.cloud.weights[k] * b.transpose() * &b;
         }
-        let (m, _) = nat_eval(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
+        let (m, _) = eval_natural(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
         let d = rel_diff_m(&m, &m_ref);
         assert!(d < 1e-12, "{dim}: M vs Σ w BᵀB: {d:e}");
     }
@@ -286,31 +236,21 @@ fn lagrange(rb: &ReducedBody, seed: u64, y_scale: f64) -> f64 {
     let body = FlexibleBody::new(rb).unwrap();
     let mut ws = body.natural_workspace();
     let n = body.n_modes();
-    let nc = body.n_natural_coords();
     let h = 1e-5;
     let mut worst = 0.0f64;
     for _ in 0..5 {
         let s = random_q(&mut r, rb.dim, n, y_scale);
         let mass = |ws: &mut NaturalWorkspace, q: DVector<f64>| {
             let sq = s.with_q(q);
-            nat_eval(&body, ws, &sq.view(), InertiaMethod::ShapeIntegrals).0
+            eval_natural(&body, ws, &sq.view(), InertiaMethod::ShapeIntegrals).0
         };
         let mp = mass(&mut ws, &s.q + h * &s.qd);
         let mm = mass(&mut ws, &s.q - h * &s.qd);
         let mdot_qd = (mp - mm) / (2.0 * h) * &s.qd;
-        let mut dtdq = DVector::zeros(nc);
-        for i in 0..nc {
-            let mut qp = s.q.clone();
-            qp[i] += h;
-            let mut qm = s.q.clone();
-            qm[i] -= h;
-            let tp = 0.5 * s.qd.dot(&(mass(&mut ws, qp) * &s.qd));
-            let tm = 0.5 * s.qd.dot(&(mass(&mut ws, qm) * &s.qd));
-            dtdq[i] = (tp - tm) / (2.0 * h);
-        }
+        let dtdq = central_gradient(&s.q, h, |q| 0.5 * s.qd.dot(&(mass(&mut ws, q) * &s.qd)));
         let q_ref = -mdot_qd + dtdq;
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-            let (_, qv) = nat_eval(&body, &mut ws, &s.view(), method);
+            let (_, qv) = eval_natural(&body, &mut ws, &s.view(), method);
             let d = rel_diff_v(&qv, &q_ref);
             assert!(d < 1e-6, "{} n={n} {method:?}: Lagrange {d:e}", rb.dim);
             worst = worst.max(d);
@@ -430,7 +370,7 @@ fn check_relative(rb: &ReducedBody, seed: u64, y_scale: f64) -> (f64, f64, f64) 
         let (s, rm, rdz) = natural_from_relative(&view, dim, n);
         assert!((&rm * &z - &s.qd).amax() < 1e-14, "q̇ = R Z");
         for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
-            let (m, qv) = nat_eval(&body, &mut ws, &s.view(), method);
+            let (m, qv) = eval_natural(&body, &mut ws, &s.view(), method);
             let t_nat = 0.5 * s.qd.dot(&(&m * &s.qd));
             let t_rel = 0.5 * z.dot(&(&mrel * &z));
             let dt = (t_nat - t_rel).abs() / t_rel;
@@ -483,7 +423,7 @@ fn two_point_map(len: f64) -> DMatrix<f64> {
 #[test]
 fn rigid_bar_from_two_points() {
     let len = 1.5;
-    let rb = spec(Dim::Planar, "[[0,0],[1.5,0]]", "[]", 0, 8);
+    let rb = beam_spec(Dim::Planar, "[[0,0],[1.5,0]]", "[]", 0, 8);
     assert_eq!(rb.n_modes(), 0);
     let body = FlexibleBody::new(&rb).unwrap();
     let m = body.mass();
@@ -502,7 +442,7 @@ fn rigid_bar_from_two_points() {
         let mut q = s.q.clone();
         let un = q.fixed_rows::<2>(2).normalize();
         q.fixed_rows_mut::<2>(2).copy_from(&un);
-        let (mn, qv) = nat_eval(&body, &mut ws, &s.with_q(q).view(), method);
+        let (mn, qv) = eval_natural(&body, &mut ws, &s.with_q(q).view(), method);
         assert_eq!(qv.amax(), 0.0);
         let mp = t.transpose() * mn * &t;
         let d = rel_diff_m(&mp, &expect);
@@ -549,7 +489,7 @@ fn rigid_planar_cloud_two_points() {
         &[],
         &[],
     );
-    let (mn, _) = nat_eval(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
+    let (mn, _) = eval_natural(&body, &mut ws, &st, InertiaMethod::ShapeIntegrals);
     let t = two_point_map(len);
     let mp = t.transpose() * mn * &t;
     let i2 = Matrix2::identity();
@@ -604,16 +544,9 @@ fn gravity_rows() {
             assert!(d < 1e-12, "{name}: gravity vs Σ w Bᵀ g: {d:e}");
             // −∂V/∂q (V quadratic in q: central differences exact up to round-off).
             let h = 1e-5;
-            let mut q_fd = DVector::zeros(nc);
-            for j in 0..nc {
-                let mut qp = s.q.clone();
-                qp[j] += h;
-                let mut qm = s.q.clone();
-                qm[j] -= h;
-                let vp = body.natural_potential_energy(&s.with_q(qp).view(), &g);
-                let vm = body.natural_potential_energy(&s.with_q(qm).view(), &g);
-                q_fd[j] = -(vp - vm) / (2.0 * h);
-            }
+            let q_fd = -central_gradient(&s.q, h, |q| {
+                body.natural_potential_energy(&s.with_q(q).view(), &g)
+            });
             let d2 = rel_diff_v(&qg, &q_fd);
             assert!(d2 < 1e-8, "{name}: gravity vs −∂V/∂q: {d2:e}");
             eprintln!("{dim} {name}: Σ wBᵀg {d:.1e}, −∂V/∂q {d2:.1e}");

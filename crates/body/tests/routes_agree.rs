@@ -134,13 +134,7 @@ fn gravity_and_elastic_rows() {
         let mut refv = DVector::zeros(6 + n);
         for k in 0..rb.cloud.len() {
             let x = rb.cloud.rows(k);
-            let mut p = rb.cloud.positions[k];
-            for c in 0..3 {
-                for j in 0..n {
-                    p[c] += x[c * n + j] * v.y[j];
-                }
-            }
-            let rk = v.r0 + v.a * p;
+            let rk = v.r0 + v.a * cloud_point(&rb, k, v.y);
             let w = rb.cloud.weights[k];
             refv.rows_mut(0, 3).add_assign(&(w * g));
             refv.rows_mut(3, 3).add_assign(&(w * rk.cross(&g)));
@@ -149,10 +143,7 @@ fn gravity_and_elastic_rows() {
                 refv[6 + j] += w * (v.a * col).dot(&g);
             }
         }
-        let keep: Vec<usize> = match dim {
-            Dim::Spatial => (0..6 + n).collect(),
-            Dim::Planar => [0, 1, 5].into_iter().chain(6..6 + n).collect(),
-        };
+        let keep = kept_rows(dim, n);
         let refv = DVector::from_fn(keep.len(), |i, _| refv[keep[i]]);
         let mut out = vec![0.0; body.n_coords()];
         body.gravity_forces(&v, &g, &mut out);

@@ -1,8 +1,14 @@
-//! Shared helpers of the body tests: random clouds, rotations and states.
+//! Shared helpers of the body tests: random clouds, rotations and states, the FE beams the
+//! tests reduce, evaluation into fresh storage, cloud-point positions and the finite
+//! differences the physics checks difference motions with.
 #![allow(dead_code)]
 
-use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod};
-use flexmbd_fe::{MassCloud, ModeInventory, ReducedBody, ShapeIntegrals, StiffeningIntegrals};
+use flexmbd_body::{BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
+use flexmbd_fe::foreshortening::foreshortening;
+use flexmbd_fe::{
+    BeamBodySpec, MassCloud, Mesh, ModeInventory, ReducedBody, ShapeIntegrals, StiffeningIntegrals,
+    preprocess, reduce,
+};
 use nalgebra::{DMatrix, DVector, Matrix3, Quaternion, UnitQuaternion, Vector3};
 use rand::{Rng, RngExt, SeedableRng, rngs::StdRng};
 
@@ -38,14 +44,26 @@ pub fn rot_z(t: f64) -> Matrix3<f64> {
 /// A reduced body around a given cloud: K_ff random SPD, C_ff = 0.01 K_ff.
 pub fn body_from_cloud<R: Rng>(r: &mut R, dim: Dim, cloud: MassCloud) -> ReducedBody {
     let n = cloud.n_modes;
+    let q = DMatrix::from_fn(n, n, |_, _| uni(r, -1.0, 1.0));
+    let k_ff = &q * q.transpose() + DMatrix::identity(n, n) * (n as f64);
+    let c_ff = 0.01 * &k_ff;
+    body_with_cloud(dim, cloud, k_ff, c_ff)
+}
+
+/// A reduced body of a cloud alone (no FE data): the cloud's shape integrals, its modal mass
+/// `M_ff = Σ_a Sᵃᵃ`, and the given stiffness and damping.
+pub fn body_with_cloud(
+    dim: Dim,
+    cloud: MassCloud,
+    k_ff: DMatrix<f64>,
+    c_ff: DMatrix<f64>,
+) -> ReducedBody {
+    let n = cloud.n_modes;
     let si = ShapeIntegrals::from_cloud(&cloud);
     let mut m_ff = DMatrix::zeros(n, n);
     for a in 0..3 {
         m_ff += &si.s_ab[a][a];
     }
-    let q = DMatrix::from_fn(n, n, |_, _| uni(r, -1.0, 1.0));
-    let k_ff = &q * q.transpose() + DMatrix::identity(n, n) * (n as f64);
-    let c_ff = 0.01 * &k_ff;
     ReducedBody {
         dim,
         inventory: ModeInventory {
@@ -109,6 +127,18 @@ pub struct OwnedState {
 }
 
 impl OwnedState {
+    /// A body without modes at rest with its frame at `r0`, unrotated.
+    pub fn rigid_at_rest(r0: Vector3<f64>) -> Self {
+        Self {
+            r0,
+            a: Matrix3::identity(),
+            omega: Vector3::zeros(),
+            s_dot: Vector3::zeros(),
+            y: vec![],
+            y_dot: vec![],
+        }
+    }
+
     pub fn view(&self) -> BodyState<'_> {
         BodyState {
             r0: self.r0,
@@ -155,14 +185,22 @@ pub fn eval(
     st: &BodyState<'_>,
     method: InertiaMethod,
 ) -> (DMatrix<f64>, DVector<f64>) {
-    let nc = body.n_coords();
+    written(body.n_coords(), |m, q| body.inertia(st, method, m, q))
+}
+
+/// M (nc × nc) and Q (nc) written by `fill` into NaN-filled storage, checked that every entry
+/// is written.
+fn written(
+    nc: usize,
+    fill: impl FnOnce(&mut DMatrix<f64>, &mut DVector<f64>),
+) -> (DMatrix<f64>, DVector<f64>) {
     let mut m = DMatrix::from_element(nc, nc, f64::NAN);
     let mut q = DVector::from_element(nc, f64::NAN);
-    body.inertia(st, method, &mut m, &mut q);
-    assert!(m.iter().all(|v| v.is_finite()), "every entry of M̄ written");
+    fill(&mut m, &mut q);
+    assert!(m.iter().all(|v| v.is_finite()), "every entry of M written");
     assert!(
         q.iter().all(|v| v.is_finite()),
-        "every entry of Q̄_v written"
+        "every entry of Q_v written"
     );
     (m, q)
 }
@@ -178,4 +216,205 @@ pub fn rel_diff_v(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
     assert_eq!(a.len(), b.len());
     let scale = b.amax().max(f64::MIN_POSITIVE);
     (a - b).amax() / scale
+}
+
+/// Route evaluation in natural coordinates into fresh storage, checking that every entry
+/// is written.
+pub fn eval_natural(
+    body: &FlexibleBody,
+    ws: &mut NaturalWorkspace,
+    st: &NaturalState<'_>,
+    method: InertiaMethod,
+) -> (DMatrix<f64>, DVector<f64>) {
+    written(body.n_natural_coords(), |m, q| {
+        body.inertia_natural(st, method, ws, m, q)
+    })
+}
+
+/// A steel beam of 0.02 × 0.01 section along the polyline `points` (RON), clamped at node 0,
+/// with the static `boundary` modes and `normal` normal modes, reduced by `flexmbd_fe::reduce`.
+pub fn beam_spec(
+    dim: Dim,
+    points: &str,
+    boundary: &str,
+    normal: usize,
+    elems: usize,
+) -> ReducedBody {
+    let d = if dim == Dim::Planar {
+        "Planar"
+    } else {
+        "Spatial"
+    };
+    let text = format!(
+        "(dim: {d}, material: (young_modulus: 2.1e11, density: 7850.0, poisson_ratio: Some(0.3)),
+          section: Rectangle(width: 0.02, height: 0.01),
+          geometry: (points: {points}, elements_per_segment: {elems}),
+          frame: Clamped(node: 0), boundary: {boundary}, normal_modes: {normal})"
+    );
+    let s = BeamBodySpec::from_ron_str(&text, "test beam").unwrap();
+    reduce(&s).unwrap()
+}
+
+/// The FE beams the route checks run on: a straight cantilever and an L-shaped beam with
+/// static modes at the corner.
+pub fn beams(dim: Dim) -> Vec<(&'static str, ReducedBody)> {
+    match dim {
+        Dim::Spatial => vec![
+            (
+                "3D straight",
+                beam_spec(dim, "[[0,0,0],[1,0,0]]", "[]", 6, 10),
+            ),
+            (
+                "3D L-beam + static",
+                beam_spec(
+                    dim,
+                    "[[0,0,0],[0.6,0,0],[0.6,0.4,0]]",
+                    "[(node: 12, dof: Uz), (node: 12, dof: Uy)]",
+                    5,
+                    6,
+                ),
+            ),
+        ],
+        Dim::Planar => vec![
+            ("2D straight", beam_spec(dim, "[[0,0],[1,0]]", "[]", 4, 10)),
+            (
+                "2D L-beam + static",
+                beam_spec(
+                    dim,
+                    "[[0,0],[0.6,0],[0.6,0.4]]",
+                    "[(node: 12, dof: Ux), (node: 12, dof: Uy)]",
+                    3,
+                    6,
+                ),
+            ),
+        ],
+    }
+}
+
+/// The spin-up beam (docs/scenes.md §5: 10 m, clamped at the root) with its FS0 data, and the
+/// mesh it was reduced from.
+pub fn spin_up_body(dim: Dim, elements: usize, modes: usize) -> (ReducedBody, Mesh) {
+    let (d, pts) = match dim {
+        Dim::Planar => ("Planar", "[[0.0, 0.0], [10.0, 0.0]]"),
+        Dim::Spatial => ("Spatial", "[[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]]"),
+    };
+    let text = format!(
+        "(dim: {d}, material: (young_modulus: 7e10, density: 3000.0, poisson_ratio: None, shear_modulus: Some(3.5e10)),
+          section: General(area: 4e-4, iy: 2e-7, iz: 2e-7, torsion_j: 4e-7),
+          geometry: (points: {pts}, elements_per_segment: {elements}),
+          frame: Clamped(node: 0), boundary: [], normal_modes: {modes})"
+    );
+    let spec = BeamBodySpec::from_ron_str(&text, "spin-up beam").unwrap();
+    let p = preprocess(&spec).unwrap();
+    let mut rb = p.body;
+    rb.foreshortening = Some(foreshortening(&p.mesh, &rb.modes).unwrap());
+    (rb, p.mesh)
+}
+
+/// Body-frame position of cloud point k of a linear body at modal coordinates y: `r̄_k + X_k y`.
+pub fn cloud_point(rb: &ReducedBody, k: usize, y: &[f64]) -> Vector3<f64> {
+    let n = y.len();
+    let x = rb.cloud.rows(k);
+    let mut p = rb.cloud.positions[k];
+    for c in 0..3 {
+        for j in 0..n {
+            p[c] += x[c * n + j] * y[j];
+        }
+    }
+    p
+}
+
+/// The rows of the spatial relative set {ṡ; ω; ẏ} (6 + n) a body of `dim` keeps: all in 3D,
+/// ṡx, ṡy, ωz and the modes in 2D.
+pub fn kept_rows(dim: Dim, n: usize) -> Vec<usize> {
+    match dim {
+        Dim::Spatial => (0..6 + n).collect(),
+        Dim::Planar => [0, 1, 5].into_iter().chain(6..6 + n).collect(),
+    }
+}
+
+/// 4th-order central first derivative of a vector function.
+pub fn d1<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (g(t - 2.0 * h) - 8.0 * g(t - h) + 8.0 * g(t + h) - g(t + 2.0 * h)) / (12.0 * h)
+}
+
+/// 4th-order central second derivative of a vector function.
+pub fn d2<F: Fn(f64) -> DVector<f64>>(g: F, t: f64, h: f64) -> DVector<f64> {
+    (-g(t - 2.0 * h) + 16.0 * g(t - h) - 30.0 * g(t) + 16.0 * g(t + h) - g(t + 2.0 * h))
+        / (12.0 * h * h)
+}
+
+/// A prescribed smooth motion of the body frame and the modes.
+pub trait PrescribedMotion {
+    fn r0(&self, t: f64) -> Vector3<f64>;
+    fn a(&self, t: f64) -> Matrix3<f64>;
+    fn y(&self, t: f64) -> Vec<f64>;
+}
+
+/// Z(t) = {ṡ; ω; ẏ} of a motion: ω̃ = Ȧ Aᵀ, ṡ = ṙ0 + r0 × ω (differenced with step h).
+pub fn z_of<M: PrescribedMotion>(m: &M, t: f64, h: f64) -> (Vector3<f64>, Vector3<f64>, Vec<f64>) {
+    let ad = d1(|t| DVector::from_column_slice(m.a(t).as_slice()), t, h);
+    let w = Matrix3::from_column_slice(ad.as_slice()) * m.a(t).transpose();
+    let omega = Vector3::new(
+        0.5 * (w[(2, 1)] - w[(1, 2)]),
+        0.5 * (w[(0, 2)] - w[(2, 0)]),
+        0.5 * (w[(1, 0)] - w[(0, 1)]),
+    );
+    let r0d = d1(|t| DVector::from_column_slice(m.r0(t).as_slice()), t, h);
+    let r0d = Vector3::new(r0d[0], r0d[1], r0d[2]);
+    let yd = d1(|t| DVector::from_vec(m.y(t)), t, h);
+    (r0d + m.r0(t).cross(&omega), omega, yd.as_slice().to_vec())
+}
+
+/// A prescribed motion sampled at t: the frame and the modes, Z = {ṡ; ω; ẏ} differenced with
+/// step 1e-4, and Ż from differencing Z(t) with step h.
+pub struct MotionSample {
+    /// The frame, Z and the modes at t.
+    pub state: OwnedState,
+    /// Z in the body's relative set (2D keeps ṡx, ṡy, ωz).
+    pub z: DVector<f64>,
+    pub z_dot: DVector<f64>,
+}
+
+impl MotionSample {
+    pub fn new<M: PrescribedMotion>(m: &M, dim: Dim, t: f64, h: f64) -> Self {
+        let (s_dot, omega, y_dot) = z_of(m, t, 1e-4);
+        let z = z_vec(dim, &s_dot, &omega, &y_dot);
+        let z_dot = d1(
+            |t| {
+                let (s, w, yd) = z_of(m, t, 1e-4);
+                z_vec(dim, &s, &w, &yd)
+            },
+            t,
+            h,
+        );
+        let state = OwnedState {
+            r0: m.r0(t),
+            a: m.a(t),
+            omega,
+            s_dot,
+            y: m.y(t),
+            y_dot,
+        };
+        Self { state, z, z_dot }
+    }
+}
+
+/// The Z vector of the body's relative set (2D keeps ṡx, ṡy, ωz).
+pub fn z_vec(dim: Dim, s: &Vector3<f64>, w: &Vector3<f64>, yd: &[f64]) -> DVector<f64> {
+    let mut v = match dim {
+        Dim::Spatial => vec![s.x, s.y, s.z, w.x, w.y, w.z],
+        Dim::Planar => vec![s.x, s.y, w.z],
+    };
+    v.extend_from_slice(yd);
+    DVector::from_vec(v)
+}
+
+/// `Rz(α) Ry(β) Rx(γ)`.
+pub fn rz_ry_rx(alpha: f64, beta: f64, gamma: f64) -> Matrix3<f64> {
+    let (sb, cb) = beta.sin_cos();
+    let (sg, cg) = gamma.sin_cos();
+    let ry = Matrix3::new(cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb);
+    let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cg, -sg, 0.0, sg, cg);
+    rot_z(alpha) * ry * rx
 }
