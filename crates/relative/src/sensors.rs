@@ -49,14 +49,7 @@ impl Relative {
         self.last_zd.copy_from(&qd0);
         self.kinematics(&q0, &qd0);
         let this = &*self;
-        let side_at = |id: MarkerId| match id.body {
-            None => Side {
-                body: None,
-                rbar: prepared.marker_position(id),
-                node: None,
-            },
-            Some(b) => infos[b.0].markers[id.index],
-        };
+        let side_at = |id: MarkerId| Side::at(prepared, infos, id);
         Sensors::new(
             prepared,
             SensorHandles {
