@@ -342,30 +342,21 @@ impl Topology {
             && bodies[pb].flexible
         {
             let rows = &bodies[pb].node_rows;
-            for a in 0..dim.n_trans() {
-                let nz = rows.nonzero(node, a, false);
+            let rotation_axes: &[usize] = match (turns, dim) {
+                (false, _) => &[],
+                (true, Dim::Planar) => &[2],
+                (true, Dim::Spatial) => &[0, 1, 2],
+            };
+            let translations = (0..dim.n_trans()).map(|a| (a, false, ElemKind::Prismatic));
+            let rotations = rotation_axes.iter().map(|&a| (a, true, ElemKind::Revolute));
+            for (a, rotation, kind) in translations.chain(rotations) {
+                let nz = rows.nonzero(node, a, rotation);
                 if !nz.is_empty() {
                     let rate = nz
                         .iter()
                         .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
                         .collect();
-                    f = self.push_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), rate);
-                }
-            }
-            if turns {
-                let axes: &[usize] = match dim {
-                    Dim::Planar => &[2],
-                    Dim::Spatial => &[0, 1, 2],
-                };
-                for &a in axes {
-                    let nz = rows.nonzero(node, a, true);
-                    if !nz.is_empty() {
-                        let rate = nz
-                            .iter()
-                            .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
-                            .collect();
-                        f = self.push_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), rate);
-                    }
+                    f = self.push_elem(Some(f), kind, Vector3::ith(a, 1.0), rate);
                 }
             }
         }
