@@ -15,7 +15,7 @@ use super::super::algebra::{c_of, e_mat};
 use super::super::body::{BodyMarker, PlanarBody, PointSlots, Slot};
 use super::super::constraints::{Constraint, Distance, PointOnBody, UnitVector};
 use super::super::kinematics::PlanarMarker;
-use super::names::{InitialFrame, MarkerTable};
+use super::marker_table::{InitialFrame, MarkerTable};
 use super::points::Coordinates;
 use crate::flex;
 

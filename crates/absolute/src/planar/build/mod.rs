@@ -2,7 +2,7 @@
 //! the bodies and their bases (with the initial velocities), the joints and drivers, the
 //! force elements, the sensors and the constant rigid terms.
 
-pub(super) mod names;
+pub(super) mod marker_table;
 
 mod bodies;
 mod joints;
@@ -17,7 +17,7 @@ use super::Planar;
 use super::constraints::Constraint;
 use super::kinematics::PlanarMarker;
 use bodies::BodyBuilder;
-use names::MarkerTable;
+use marker_table::MarkerTable;
 use points::Coordinates;
 
 impl Planar {

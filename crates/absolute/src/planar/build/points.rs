@@ -9,7 +9,7 @@ use flexmbd_model::{JointKind, ModelError, PreparedScene, Scene};
 use nalgebra::Vector2;
 
 use super::super::body::{PointSlots, Slot};
-use super::names::MarkerTable;
+use super::marker_table::MarkerTable;
 
 /// Disjoint sets of 0..n with path compression; a set's root is its smallest member.
 pub(super) struct UnionFind(Vec<usize>);
