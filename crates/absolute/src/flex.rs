@@ -3,11 +3,40 @@
 //! The body crate gives M_f and Q_v,f in frame coordinates {r0, u, y}
 //! (docs/methods.md §2.5); gravity (§2.6, folded 2D rows) and the elastic forces are
 //! added here, and the constant basis map T (see `planar`) gives
-//! M_b = T_extᵀ M_f T_ext, Q_b = T_extᵀ Q_f with T_ext = blockdiag(T, I_n).
+//! M_b = T_extᵀ M_f T_ext, Q_b = T_extᵀ Q_f with T_ext = blockdiag(T, I_n). The elastic
+//! tangents of a body's modal block ([`add_elastic_tangents`]) serve the spatial bodies
+//! too.
 
 use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
+use flexmbd_core::SystemTerms;
 use flexmbd_fe::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix4, Vector2, Vector3};
+
+/// A flexible body's elastic tangents K_ff (into K) and C_ff (into C), in the diagonal
+/// block of its modal coordinates, which start at coordinate `first`.
+pub(crate) fn add_elastic_tangents(
+    body: &FlexibleBody,
+    y: &[f64],
+    yd: &[f64],
+    first: usize,
+    out: &mut SystemTerms,
+) {
+    let n = y.len();
+    body.add_elastic_tangents(
+        y,
+        yd,
+        1.0,
+        0.0,
+        out.stiffness.view_mut((first, first), (n, n)),
+    );
+    body.add_elastic_tangents(
+        y,
+        yd,
+        0.0,
+        1.0,
+        out.damping.view_mut((first, first), (n, n)),
+    );
+}
 
 /// Storage of one flexible body, sized once.
 pub(crate) struct Flex2 {

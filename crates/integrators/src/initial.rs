@@ -26,6 +26,15 @@ use crate::lu::DenseLu;
 
 const MAX_ITER: usize = 200;
 
+/// Rows `m..` of the augmented Jacobian: one unit row per held coordinate (its position or
+/// rate equals the specified one).
+fn hold_rows(j: &mut DMatrix<f64>, m: usize, held: &[usize]) {
+    for (k, &c) in held.iter().enumerate() {
+        j.row_mut(m + k).fill(0.0);
+        j[(m + k, c)] = 1.0;
+    }
+}
+
 pub(crate) fn make_consistent<F: Formulation + ?Sized>(
     s: &mut Ali3p,
     f: &mut F,
@@ -61,9 +70,8 @@ pub(crate) fn make_consistent<F: Formulation + ?Sized>(
         let tt = s.terms();
         j.rows_mut(0, m).copy_from(&tt.phi_q);
         r.rows_mut(0, m).copy_from(&tt.phi);
+        hold_rows(&mut j, m, &held);
         for (k, &c) in held.iter().enumerate() {
-            j.row_mut(m + k).fill(0.0);
-            j[(m + k, c)] = 1.0;
             r[m + k] = s.q[c] - q_spec[c];
         }
         phi_norm = r.amax();
@@ -102,9 +110,8 @@ pub(crate) fn make_consistent<F: Formulation + ?Sized>(
         let tt = s.terms();
         j.rows_mut(0, m).copy_from(&tt.phi_q);
         jt.rows_mut(0, m).copy_from(&tt.phi_t);
+        hold_rows(&mut j, m, &held);
         for (k, &c) in held.iter().enumerate() {
-            j.row_mut(m + k).fill(0.0);
-            j[(m + k, c)] = 1.0;
             jt[m + k] = -qd_spec[c];
         }
     }

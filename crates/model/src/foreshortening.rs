@@ -12,7 +12,7 @@ use flexmbd_fe::Mesh;
 use crate::bodies::PreparedBody;
 use crate::error::ModelError;
 use crate::rewrite::refuse_fs0 as refuse;
-use crate::scene::{BodyModel, Force, Scene};
+use crate::scene::{BodyModel, Scene};
 
 impl Scene {
     /// Attach FS0 data to a flexible body: F at its cloud points and nodes, in the reduced
@@ -58,26 +58,21 @@ impl Scene {
             .iter()
             .flat_map(|j| {
                 [
-                    (&j.body1, &j.marker1, &j.name),
-                    (&j.body2, &j.marker2, &j.name),
+                    (j.body1.as_str(), j.marker1.as_str(), j.name.as_str()),
+                    (j.body2.as_str(), j.marker2.as_str(), j.name.as_str()),
                 ]
             })
-            .chain(scene.forces.iter().flat_map(|f| {
-                let Force::SpringDamper {
-                    name,
-                    body1,
-                    marker1,
-                    body2,
-                    marker2,
-                    ..
-                } = f;
-                [(body1, marker1, name), (body2, marker2, name)]
-            }));
+            .chain(
+                scene
+                    .forces
+                    .iter()
+                    .flat_map(|f| f.ends().map(|(body, marker)| (body, marker, f.name()))),
+            );
         for (body_name, marker, what) in markers_used {
-            if *body_name != b.name {
+            if body_name != b.name {
                 continue;
             }
-            let k = b.markers.iter().position(|m| m.name == *marker);
+            let k = b.markers.iter().position(|m| m.name == marker);
             let node = k.and_then(|k| prep.marker_nodes[k]);
             let f_zero = node.is_some_and(|nd| data.nodes[nd].amax() == 0.0);
             if !f_zero {

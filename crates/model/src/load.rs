@@ -8,7 +8,7 @@ use flexmbd_fe::reduced::Dof;
 use serde_json::Value;
 
 use crate::error::ModelError;
-use crate::scene::{BodyModel, Force, GROUND, JointKind, Scene, SensorKind};
+use crate::scene::{BodyModel, Force, GROUND, JointKind, Marker, Scene, SensorKind};
 
 impl Scene {
     /// Parse RON text; `origin` names the file in errors. Not validated.
@@ -46,6 +46,22 @@ impl Scene {
             file: self.origin.clone(),
             error: e,
         }
+    }
+
+    /// Refuse the first marker of `markers` (one body's, or the ground's) whose name an
+    /// earlier one already has, as `field`.
+    fn unique_marker_names(&self, field: &str, markers: &[Marker]) -> Result<(), ModelError> {
+        let mut names = HashSet::new();
+        for m in markers {
+            if !names.insert(m.name.as_str()) {
+                return Err(self.invalid(InvalidValue::new(
+                    field,
+                    &m.name,
+                    "duplicate marker name",
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// Check names, references and values. Errors name the file and the field.
@@ -94,16 +110,7 @@ impl Scene {
                     "duplicate body name",
                 )));
             }
-            let mut markers = HashSet::new();
-            for m in &b.markers {
-                if !markers.insert(m.name.as_str()) {
-                    return Err(self.invalid(InvalidValue::new(
-                        f("markers.name"),
-                        &m.name,
-                        "duplicate marker name",
-                    )));
-                }
-            }
+            self.unique_marker_names(&f("markers.name"), &b.markers)?;
             let n_modes = match &b.model {
                 BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
                 _ => 0,
@@ -147,16 +154,7 @@ impl Scene {
                 }
             }
         }
-        let mut ground_markers = HashSet::new();
-        for m in &self.ground {
-            if !ground_markers.insert(m.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    "ground.name",
-                    &m.name,
-                    "duplicate marker name",
-                )));
-            }
-        }
+        self.unique_marker_names("ground.name", &self.ground)?;
         let mut joint_names = HashSet::new();
         for j in &self.joints {
             if !joint_names.insert(j.name.as_str()) {

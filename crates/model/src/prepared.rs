@@ -19,7 +19,7 @@ use std::borrow::Cow;
 use crate::bodies::PreparedBody;
 use crate::error::ModelError;
 use crate::rewrite::rewrite_for_stiffening;
-use crate::scene::{Axis, Force, GROUND, Scene, SensorKind};
+use crate::scene::{Axis, GROUND, Scene, SensorKind};
 
 /// A body of the prepared scene: its index in [`PreparedScene::bodies`] (and in the
 /// prepared scene's `bodies`).
@@ -114,13 +114,7 @@ impl PreparedScene {
             .forces
             .iter()
             .map(|f| {
-                let Force::SpringDamper {
-                    body1,
-                    marker1,
-                    body2,
-                    marker2,
-                    ..
-                } = f;
+                let [(body1, marker1), (body2, marker2)] = f.ends();
                 scene.marker_pair(body1, marker1, body2, marker2)
             })
             .collect::<Result<_, _>>()?;

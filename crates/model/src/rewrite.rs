@@ -14,13 +14,12 @@
 
 use std::borrow::Cow;
 
-use flexmbd_fe::{Dof, NodeDof, ReferenceFrame};
+use flexmbd_fe::{BeamBodySpec, Dof, NodeDof, ReferenceFrame};
 use nalgebra::Vector3;
 
 use crate::error::ModelError;
 use crate::scene::{
-    Body, BodyModel, Force, FormulationKind, Joint, JointKind, Marker, Scene, SensorKind,
-    Stiffening, V3,
+    Body, BodyModel, FormulationKind, Joint, JointKind, Marker, Scene, SensorKind, Stiffening, V3,
 };
 
 pub(crate) fn refuse_fs0(scene: &Scene, what: String) -> ModelError {
@@ -43,13 +42,7 @@ pub fn rewrite_for_stiffening(scene: &Scene) -> Result<Cow<'_, Scene>, ModelErro
 /// clamped frame).
 pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
     let mut out = scene.clone();
-    for b in out.bodies.iter_mut() {
-        let BodyModel::Beam(spec) = &mut b.model else {
-            continue;
-        };
-        if !b.flexible {
-            continue;
-        }
+    for (name, spec) in flexible_beams(&mut out.bodies) {
         let straight = spec
             .geometry
             .points
@@ -58,13 +51,13 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
         let ReferenceFrame::Clamped { node: frame } = spec.frame else {
             return Err(ModelError::Unsupported(format!(
                 "{}: body `{}`: FNL2 needs a clamped frame (methods.md §6)",
-                scene.origin, b.name
+                scene.origin, name
             )));
         };
         if !straight {
             return Err(ModelError::Unsupported(format!(
                 "{}: body `{}`: FNL2 needs a straight beam along body x (methods.md §6)",
-                scene.origin, b.name
+                scene.origin, name
             )));
         }
         // The axial normal modes are replaced by the complete static basis.
@@ -85,7 +78,7 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
             let SensorKind::Modal { body, index } = &mut sensor.kind else {
                 continue;
             };
-            if *body != b.name || *index < n_static {
+            if body != name || *index < n_static {
                 continue;
             }
             if had_axial {
@@ -93,13 +86,21 @@ pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
                     "{}: sensor `{}`: modal index {} of body `{}` names a normal mode, and FNL2 \
                      replaces that body's axial modes (axial_modes > 0) by static modes, so the \
                      normal modes are renumbered; use a Position sensor or run without axial_modes",
-                    scene.origin, sensor.name, index, b.name
+                    scene.origin, sensor.name, index, name
                 )));
             }
             *index += added;
         }
     }
     Ok(out)
+}
+
+/// Every flexible beam of `bodies`, by name, its spec open to the rewrite.
+fn flexible_beams(bodies: &mut [Body]) -> impl Iterator<Item = (&str, &mut BeamBodySpec)> {
+    bodies.iter_mut().filter_map(|b| match &mut b.model {
+        BodyModel::Beam(spec) if b.flexible => Some((b.name.as_str(), spec)),
+        _ => None,
+    })
 }
 
 /// Substructuring SBn (methods.md §6.4, scenes.md §5): every flexible beam (straight along
@@ -246,15 +247,9 @@ pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
         remap(&mut j.body2, &mut j.marker2);
     }
     for f in out.forces.iter_mut() {
-        let Force::SpringDamper {
-            body1,
-            marker1,
-            body2,
-            marker2,
-            ..
-        } = f;
-        remap(body1, marker1);
-        remap(body2, marker2);
+        for (body, marker) in f.ends_mut() {
+            remap(body, marker);
+        }
     }
     let frame_of = |f: &mut Option<String>| {
         if let Some(name) = f
@@ -295,19 +290,13 @@ pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
 /// The scene FS0 compiles: every flexible beam without axial modes.
 pub fn drop_axial_modes(scene: &Scene) -> Result<Scene, ModelError> {
     let mut out = scene.clone();
-    for b in out.bodies.iter_mut() {
-        let BodyModel::Beam(spec) = &mut b.model else {
-            continue;
-        };
-        if !b.flexible {
-            continue;
-        }
+    for (name, spec) in flexible_beams(&mut out.bodies) {
         if spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
             return Err(refuse_fs0(
                 scene,
                 format!(
                     "body `{}`: the frame must be clamped at the root node 0 (methods.md §6.3)",
-                    b.name
+                    name
                 ),
             ));
         }

@@ -311,6 +311,32 @@ impl Force {
         }
     }
 
+    /// The element's two ends, (body, marker) each, first then second.
+    pub fn ends(&self) -> [(&str, &str); 2] {
+        match self {
+            Force::SpringDamper {
+                body1,
+                marker1,
+                body2,
+                marker2,
+                ..
+            } => [(body1, marker1), (body2, marker2)],
+        }
+    }
+
+    /// The element's two ends, to rename them (a scene rewrite).
+    pub fn ends_mut(&mut self) -> [(&mut String, &mut String); 2] {
+        match self {
+            Force::SpringDamper {
+                body1,
+                marker1,
+                body2,
+                marker2,
+                ..
+            } => [(body1, marker1), (body2, marker2)],
+        }
+    }
+
     /// The free length of a spring–damper whose markers sit at `r1`, `r2` at t = 0: its
     /// `free_length`, or their distance. Markers that coincide are refused (a spring of zero
     /// length has no direction), naming the force.
@@ -321,14 +347,9 @@ impl Force {
         r2: &Vector3<f64>,
     ) -> Result<f64, crate::ModelError> {
         let Force::SpringDamper {
-            name,
-            body1,
-            marker1,
-            body2,
-            marker2,
-            free_length,
-            ..
+            name, free_length, ..
         } = self;
+        let [(body1, marker1), (body2, marker2)] = self.ends();
         let l = (r2 - r1).norm();
         if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
             return Err(crate::ModelError::Invalid {

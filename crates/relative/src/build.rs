@@ -23,10 +23,10 @@ impl Relative {
     pub fn compile(prepared: &PreparedScene) -> Result<Relative, ModelError> {
         let scene = prepared.scene();
         let (infos, flex) = body_infos(prepared)?;
-        let topology = Topology::build(scene, &infos)?;
+        let topology = Topology::build(prepared, &infos)?;
         let coordinates = Coordinates::new(&topology, &infos);
-        let mut constraints = cut_joint_constraints(scene, &infos, &topology)?;
-        driver_constraints(scene, &topology, &mut constraints)?;
+        let mut constraints = cut_joint_constraints(prepared, &infos, &topology)?;
+        driver_constraints(prepared, &topology, &mut constraints)?;
         let mut rel =
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
         rel.initial_coordinates(scene);
@@ -134,14 +134,7 @@ impl Relative {
         infos: &[BodyInfo],
     ) -> Result<(), ModelError> {
         let scene = prepared.scene();
-        let side_at = |id: MarkerId| match id.body {
-            None => Side {
-                body: None,
-                rbar: prepared.marker_position(id),
-                node: None,
-            },
-            Some(b) => infos[b.0].markers[id.index],
-        };
+        let side_at = |id: MarkerId| Side::at(prepared, infos, id);
         if scene.solver.stiffening == flexmbd_model::Stiffening::Foreshortening {
             for (force, pair) in scene.forces.iter().zip(prepared.force_markers()) {
                 let at_fs0_node = [pair.first, pair.second].into_iter().any(|id| {

@@ -22,13 +22,13 @@
 //! runs the joint from body2 to body1).
 
 use flexmbd_core::Dim;
-use flexmbd_model::{Driver, Joint, JointKind, ModelError, MotionLaw, Scene};
+use flexmbd_model::{Driver, JointKind, ModelError, MotionLaw, PreparedScene};
 use nalgebra::{Matrix3, Vector3};
 
 use crate::constraints::Constraint;
 use crate::kinematics::angle_of;
 use crate::system::unsupported;
-use crate::topology::{BodyInfo, Side, Topology, side_of};
+use crate::topology::{BodyInfo, Side, Topology};
 
 /// Two unit vectors perpendicular to a and to each other.
 pub(crate) fn perpendiculars(a: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
@@ -53,9 +53,12 @@ struct CutJoint {
 }
 
 impl CutJoint {
-    fn new(scene: &Scene, infos: &[BodyInfo], joint: &Joint) -> CutJoint {
-        let i = side_of(scene, infos, &joint.body1, &joint.marker1);
-        let j = side_of(scene, infos, &joint.body2, &joint.marker2);
+    fn new(prepared: &PreparedScene, infos: &[BodyInfo], ji: usize) -> CutJoint {
+        let scene = prepared.scene();
+        let joint = &scene.joints[ji];
+        let ends = prepared.joint_markers()[ji];
+        let i = Side::at(prepared, infos, ends.first);
+        let j = Side::at(prepared, infos, ends.second);
         let a0_of = |s: &Side| s.body.map_or(Matrix3::identity(), |b| infos[b].a0);
         CutJoint {
             i,
@@ -116,14 +119,15 @@ impl CutJoint {
 
 /// The constraints of every cut joint, in the order of `topology.cuts`.
 pub(crate) fn cut_joint_constraints(
-    scene: &Scene,
+    prepared: &PreparedScene,
     infos: &[BodyInfo],
     topology: &Topology,
 ) -> Result<Vec<Constraint>, ModelError> {
+    let scene = prepared.scene();
     let mut constraints = Vec::new();
     for &ji in &topology.cuts {
         let joint = &scene.joints[ji];
-        let cut = CutJoint::new(scene, infos, joint);
+        let cut = CutJoint::new(prepared, infos, ji);
         let driver = scene.drivers.iter().find(|d| d.joint == joint.name);
         match (scene.dim, &joint.kind) {
             // A cut Free joint (its body reached through other joints) adds nothing.
@@ -235,17 +239,13 @@ fn spatial_cut_joint(
 /// z_c − s θ(t) = 0 for every driver of a one-coordinate joint of the tree (drivers of cut
 /// joints are in [`cut_joint_constraints`]).
 pub(crate) fn driver_constraints(
-    scene: &Scene,
+    prepared: &PreparedScene,
     topology: &Topology,
     constraints: &mut Vec<Constraint>,
 ) -> Result<(), ModelError> {
-    for d in &scene.drivers {
-        let ji = scene
-            .joints
-            .iter()
-            .position(|j| j.name == d.joint)
-            .expect("validated");
-        let Some(tj) = &topology.tree[ji] else {
+    let scene = prepared.scene();
+    for (d, ji) in scene.drivers.iter().zip(prepared.driver_joints()) {
+        let Some(tj) = &topology.tree[ji.0] else {
             continue;
         };
         if tj.coords.len() != 1 {

@@ -70,8 +70,6 @@ impl Relative {
         zd: &DVector<f64>,
         k: usize,
     ) -> (DVector<f64>, DVector<f64>) {
-        self.last_z.copy_from(z);
-        self.last_zd.copy_from(zd);
         self.kinematics(z, zd);
         let b = &self.bodies[k];
         let (zr, d) = (self.frame_velocity[b.frame], self.frame_bias[b.frame]);
@@ -94,16 +92,12 @@ impl Relative {
         zd: &DVector<f64>,
         k: usize,
     ) -> (DMatrix<f64>, DVector<f64>) {
-        self.last_z.copy_from(z);
-        self.last_zd.copy_from(zd);
         self.kinematics(z, zd);
         self.evaluate_bodies(z, zd);
         (self.bodies[k].m_bar.clone(), self.bodies[k].q_bar.clone())
     }
     /// Total mechanical energy at (z, ż) (the `Energy` sensor).
     pub fn total_energy(&mut self, z: &DVector<f64>, zd: &DVector<f64>) -> f64 {
-        self.last_z.copy_from(z);
-        self.last_zd.copy_from(zd);
         self.kinematics(z, zd);
         self.energy(z, zd)
     }

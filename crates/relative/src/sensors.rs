@@ -45,18 +45,9 @@ impl Relative {
     ) -> Result<RelativeSensors, ModelError> {
         let scene = prepared.scene();
         let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
-        self.last_z.copy_from(&q0);
-        self.last_zd.copy_from(&qd0);
         self.kinematics(&q0, &qd0);
         let this = &*self;
-        let side_at = |id: MarkerId| match id.body {
-            None => Side {
-                body: None,
-                rbar: prepared.marker_position(id),
-                node: None,
-            },
-            Some(b) => infos[b.0].markers[id.index],
-        };
+        let side_at = |id: MarkerId| Side::at(prepared, infos, id);
         Sensors::new(
             prepared,
             SensorHandles {
@@ -129,8 +120,6 @@ impl Relative {
 
     /// Read the sensors at (q, q̇) into `out`, after one kinematics pass there.
     pub(crate) fn read_sensors(&mut self, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.last_z.copy_from(q);
-        self.last_zd.copy_from(qd);
         self.kinematics(q, qd);
         let mut sensors = std::mem::take(&mut self.sensors);
         sensors.read(self, q, qd, out);

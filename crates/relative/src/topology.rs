@@ -32,7 +32,7 @@
 
 use flexmbd_core::Dim;
 use flexmbd_fe::NodeModes;
-use flexmbd_model::{GROUND, JointKind, ModelError, Scene};
+use flexmbd_model::{JointKind, MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{Matrix3, Vector3};
 
 /// Elementary joint type (docs/methods.md §4.2).
@@ -205,44 +205,35 @@ pub(crate) struct BodyInfo {
     pub(crate) node_rows: NodeRows,
 }
 
-/// Resolve a (body, marker) name pair.
-pub(crate) fn side_of(scene: &Scene, bodies: &[BodyInfo], body: &str, marker: &str) -> Side {
-    if body == GROUND {
-        let m = scene
-            .ground
-            .iter()
-            .find(|m| m.name == marker)
-            .expect("validated ground marker");
-        Side {
-            body: None,
-            rbar: m.position.vec(),
-            node: None,
+impl Side {
+    /// A marker of the prepared scene as this formulation sees it: a ground point, or the
+    /// body's compiled marker (`bodies` in the scene's body order).
+    pub(crate) fn at(prepared: &PreparedScene, bodies: &[BodyInfo], marker: MarkerId) -> Side {
+        match marker.body {
+            None => Side {
+                body: None,
+                rbar: prepared.marker_position(marker),
+                node: None,
+            },
+            Some(b) => bodies[b.0].markers[marker.index],
         }
-    } else {
-        let bi = scene
-            .bodies
-            .iter()
-            .position(|b| b.name == body)
-            .expect("validated body");
-        let k = scene.bodies[bi]
-            .markers
-            .iter()
-            .position(|m| m.name == marker)
-            .expect("validated marker");
-        bodies[bi].markers[k]
     }
 }
 
 impl Topology {
     /// Choose the spanning tree and build the augmented frames.
-    pub(crate) fn build(scene: &Scene, bodies: &[BodyInfo]) -> Result<Topology, ModelError> {
+    pub(crate) fn build(
+        prepared: &PreparedScene,
+        bodies: &[BodyInfo],
+    ) -> Result<Topology, ModelError> {
+        let scene = prepared.scene();
         let dim = scene.dim;
         let nb = bodies.len();
         let SpanningTree {
             order,
             used,
             floating,
-        } = spanning_tree(scene, bodies)?;
+        } = spanning_tree(prepared, bodies)?;
         let mut t = Topology {
             frames: Vec::new(),
             elems: Vec::new(),
@@ -256,7 +247,7 @@ impl Topology {
             t.add_floating(dim, b, &bodies[b]);
         }
         for &(ji, reversed) in &order {
-            t.add_tree_joint(scene, bodies, ji, reversed)?;
+            t.add_tree_joint(prepared, bodies, ji, reversed)?;
         }
         Ok(t)
     }
@@ -351,30 +342,21 @@ impl Topology {
             && bodies[pb].flexible
         {
             let rows = &bodies[pb].node_rows;
-            for a in 0..dim.n_trans() {
-                let nz = rows.nonzero(node, a, false);
+            let rotation_axes: &[usize] = match (turns, dim) {
+                (false, _) => &[],
+                (true, Dim::Planar) => &[2],
+                (true, Dim::Spatial) => &[0, 1, 2],
+            };
+            let translations = (0..dim.n_trans()).map(|a| (a, false, ElemKind::Prismatic));
+            let rotations = rotation_axes.iter().map(|&a| (a, true, ElemKind::Revolute));
+            for (a, rotation, kind) in translations.chain(rotations) {
+                let nz = rows.nonzero(node, a, rotation);
                 if !nz.is_empty() {
                     let rate = nz
                         .iter()
                         .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
                         .collect();
-                    f = self.push_elem(Some(f), ElemKind::Prismatic, Vector3::ith(a, 1.0), rate);
-                }
-            }
-            if turns {
-                let axes: &[usize] = match dim {
-                    Dim::Planar => &[2],
-                    Dim::Spatial => &[0, 1, 2],
-                };
-                for &a in axes {
-                    let nz = rows.nonzero(node, a, true);
-                    if !nz.is_empty() {
-                        let rate = nz
-                            .iter()
-                            .map(|&(m, v)| (CoordRef::Mode(pb, m), v))
-                            .collect();
-                        f = self.push_elem(Some(f), ElemKind::Revolute, Vector3::ith(a, 1.0), rate);
-                    }
+                    f = self.push_elem(Some(f), kind, Vector3::ith(a, 1.0), rate);
                 }
             }
         }
@@ -475,16 +457,18 @@ impl Topology {
 
     fn add_tree_joint(
         &mut self,
-        scene: &Scene,
+        prepared: &PreparedScene,
         bodies: &[BodyInfo],
         ji: usize,
         reversed: bool,
     ) -> Result<(), ModelError> {
+        let scene = prepared.scene();
         let dim = scene.dim;
         let j = &scene.joints[ji];
+        let ends = prepared.joint_markers()[ji];
         let (s1, s2) = (
-            side_of(scene, bodies, &j.body1, &j.marker1),
-            side_of(scene, bodies, &j.body2, &j.marker2),
+            Side::at(prepared, bodies, ends.first),
+            Side::at(prepared, bodies, ends.second),
         );
         let (ps, cs) = if reversed { (s2, s1) } else { (s1, s2) };
         let child = cs.body.expect("a tree child is a body");
@@ -529,15 +513,22 @@ impl Topology {
 /// Can joint `ji` carry its child's frame at the child's marker (`child_is_body2`: the
 /// child is the joint's body2)? Always for a rigid child; for a flexible one, at a node
 /// where every mode row the joint transmits is zero.
-fn can_carry_frame(scene: &Scene, bodies: &[BodyInfo], ji: usize, child_is_body2: bool) -> bool {
+fn can_carry_frame(
+    prepared: &PreparedScene,
+    bodies: &[BodyInfo],
+    ji: usize,
+    child_is_body2: bool,
+) -> bool {
+    let scene = prepared.scene();
     let dim = scene.dim;
     let j = &scene.joints[ji];
-    let (cb, cm) = if child_is_body2 {
-        (&j.body2, &j.marker2)
+    let ends = prepared.joint_markers()[ji];
+    let child = if child_is_body2 {
+        ends.second
     } else {
-        (&j.body1, &j.marker1)
+        ends.first
     };
-    let side = side_of(scene, bodies, cb, cm);
+    let side = Side::at(prepared, bodies, child);
     let Some(b) = side.body else { return false };
     let info = &bodies[b];
     if !info.flexible {
@@ -566,19 +557,16 @@ struct SpanningTree {
 
 /// Choose the spanning tree: layer by layer from the ground, each body through its best
 /// joint to the bodies already in the tree.
-fn spanning_tree(scene: &Scene, bodies: &[BodyInfo]) -> Result<SpanningTree, ModelError> {
+fn spanning_tree(
+    prepared: &PreparedScene,
+    bodies: &[BodyInfo],
+) -> Result<SpanningTree, ModelError> {
+    let scene = prepared.scene();
     let nb = bodies.len();
-    let body_of = |name: &str| -> Option<usize> {
-        if name == GROUND {
-            None
-        } else {
-            scene.bodies.iter().position(|b| b.name == name)
-        }
-    };
-    let ends: Vec<(Option<usize>, Option<usize>)> = scene
-        .joints
+    let ends: Vec<(Option<usize>, Option<usize>)> = prepared
+        .joint_markers()
         .iter()
-        .map(|j| (body_of(&j.body1), body_of(&j.body2)))
+        .map(|p| (p.first.body.map(|b| b.0), p.second.body.map(|b| b.0)))
         .collect();
     let mut in_tree = vec![false; nb];
     let mut used = vec![false; scene.joints.len()];
@@ -597,7 +585,7 @@ fn spanning_tree(scene: &Scene, bodies: &[BodyInfo]) -> Result<SpanningTree, Mod
                 (false, true) => (b1.expect("not ground"), true),
                 _ => continue,
             };
-            let valid = can_carry_frame(scene, bodies, ji, !reversed);
+            let valid = can_carry_frame(prepared, bodies, ji, !reversed);
             let has_dof = !matches!(scene.joints[ji].kind, JointKind::Rigid);
             let key = (valid, has_dof, ji, reversed);
             let better = match best[child] {

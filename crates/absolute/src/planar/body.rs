@@ -47,7 +47,6 @@ pub(super) struct PointSlots {
 
 /// A marker of a body as compiled.
 pub(super) struct BodyMarker {
-    pub(super) name: String,
     /// Undeformed position r̄_P in the body frame (m).
     pub(super) position: Vector2<f64>,
     /// The FE node it sits on (its own node on flexible bodies, from the prepared scene).
@@ -104,16 +103,6 @@ impl PlanarBody {
                 None
             },
         }
-    }
-
-    /// The marker named `name` of this body (index `body` in the scene).
-    pub(super) fn marker(&self, body: usize, name: &str) -> PlanarMarker {
-        let k = self
-            .markers
-            .iter()
-            .position(|m| m.name == name)
-            .expect("validated");
-        self.marker_by_index(body, k)
     }
 
     /// Rotation row X^r_z of a node (1 × n).

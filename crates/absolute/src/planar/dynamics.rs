@@ -10,6 +10,7 @@ use nalgebra::DVector;
 
 use super::Planar;
 use super::body::Slot;
+use crate::flex::add_elastic_tangents;
 
 impl Planar {
     /// Scatter a body's local terms (basis order, then modes), the first `n_local` rows and
@@ -103,21 +104,7 @@ impl Planar {
         if tangents {
             let b = &self.bodies[body_index];
             let (y, yd) = (&q.as_slice()[b.modes()], &qd.as_slice()[b.modes()]);
-            let (first, n) = (b.first_mode, b.n_modes);
-            b.body.add_elastic_tangents(
-                y,
-                yd,
-                1.0,
-                0.0,
-                out.stiffness.view_mut((first, first), (n, n)),
-            );
-            b.body.add_elastic_tangents(
-                y,
-                yd,
-                0.0,
-                1.0,
-                out.damping.view_mut((first, first), (n, n)),
-            );
+            add_elastic_tangents(&b.body, y, yd, b.first_mode, out);
         }
     }
 }

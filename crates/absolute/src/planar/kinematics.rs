@@ -257,12 +257,9 @@ mod tests {
     fn markers(planar: &Planar) -> Vec<PlanarMarker> {
         let ground = PlanarMarker::Ground(Vector2::new(1.3, 0.0));
         let mut list = vec![ground];
-        for (b, names) in [
-            (0, ["O", "B", "B"]),
-            (1, ["B", "mid", "C"]),
-            (2, ["pin"; 3]),
-        ] {
-            list.extend(names.iter().map(|name| planar.bodies[b].marker(b, name)));
+        // crank O, B, B; rod B, mid, C; slider pin three times.
+        for (b, indices) in [(0, [0, 1, 1]), (1, [0, 1, 2]), (2, [0; 3])] {
+            list.extend(indices.map(|k| planar.bodies[b].marker_by_index(b, k)));
         }
         assert!(matches!(list[5], PlanarMarker::Body { node: Some(_), .. }));
         list

@@ -35,7 +35,7 @@
 //! f = k (l − l₀) + c l̇, and their (state-dependent) tangents to K and C; they are the
 //! shared `flexmbd_model::force_elements` over `impl MarkerKinematics for Planar`.
 //!
-//! **Layout.** `build` compiles the scene (marker table and names, shared points, bodies and
+//! **Layout.** `build` compiles the scene (marker table, shared points, bodies and
 //! their bases, joints and drivers, force elements, sensors, constant rigid terms); `body`
 //! holds a body's basis and local points; `kinematics` frames, markers and directions;
 //! `dynamics` the mass matrix and forces; `constraints` Φ, Φ_q, Φ_t and the bias; `sensors`

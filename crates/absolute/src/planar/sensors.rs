@@ -51,13 +51,14 @@ impl Planar {
         let scene = prepared.scene();
         let joint = |_sensor: &str, id: flexmbd_model::JointId| {
             let j = &scene.joints[id.0];
+            let ends = prepared.joint_markers()[id.0];
             Ok(if let JointKind::Prismatic { axis } = &j.kind {
-                let (p1, p2, d1) = self.prismatic_parts(scene, j, axis, q0)?;
+                let (p1, p2, d1) = self.prismatic_parts(prepared, j, ends, axis, q0)?;
                 let s0 = self.slide(&p1, &p2, &d1, q0, &self.zero_rates);
                 PlanarJointCoordinate(JointCoordinate::Slide { p1, p2, d1, s0 })
             } else {
-                let d1 = self.direction_at(scene, &j.body1, &j.marker1);
-                let d2 = self.direction_at(scene, &j.body2, &j.marker2);
+                let d1 = self.direction_at(ends.first);
+                let d2 = self.direction_at(ends.second);
                 let phi0 = self.angle(&d1, &d2, q0);
                 PlanarJointCoordinate(JointCoordinate::Angle { d1, d2, phi0 })
             })

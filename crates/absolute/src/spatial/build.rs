@@ -44,6 +44,7 @@ impl Spatial {
             .collect();
         let lookup = TermLookup {
             scene,
+            joints: prepared.joint_markers(),
             bodies: &built.bodies,
             initial_frames: built.initial_frames,
             node_rotations: built.node_rotations,
@@ -53,7 +54,7 @@ impl Spatial {
             .force_markers()
             .iter()
             .flat_map(|pair| [pair.first, pair.second])
-            .map(|id: MarkerId| (id, lookup.point_at(id.body.map(|b| b.0), id.index)))
+            .map(|id: MarkerId| (id, lookup.point(id)))
             .collect();
         joint_constraints(&lookup, &mut constraints)?;
         let m = constraints.iter().map(Constraint::rows).sum();

@@ -8,6 +8,7 @@ use flexmbd_core::{Dim, SystemTerms};
 use nalgebra::{DVector, Vector3};
 
 use super::{Spatial, SpatialBody};
+use crate::flex::add_elastic_tangents;
 
 impl Spatial {
     /// Fill M and Q (and K, C when `tangents`).
@@ -69,21 +70,6 @@ fn body_dynamics(
         out.forces[o + 12 + j] += e;
     }
     if tangents {
-        let (y, yd) = (state.y, state.y_dot);
-        let oy = o + 12;
-        b.body.add_elastic_tangents(
-            y,
-            yd,
-            1.0,
-            0.0,
-            out.stiffness.view_mut((oy, oy), (n_modes, n_modes)),
-        );
-        b.body.add_elastic_tangents(
-            y,
-            yd,
-            0.0,
-            1.0,
-            out.damping.view_mut((oy, oy), (n_modes, n_modes)),
-        );
+        add_elastic_tangents(&b.body, state.y, state.y_dot, o + 12, out);
     }
 }

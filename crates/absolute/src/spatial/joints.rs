@@ -3,7 +3,7 @@
 //! vectors built from the axis at t = 0 by [`perpendiculars`], the same global vectors
 //! fixed in both bodies.
 
-use flexmbd_model::{Joint, JointKind, ModelError, MotionLaw, Scene, V3};
+use flexmbd_model::{Joint, JointKind, MarkerPair, ModelError, MotionLaw, Scene, V3};
 use nalgebra::{Matrix3, Vector3};
 
 use super::constraints::{AngleConstraint, Constraint, DotConstraint};
@@ -28,9 +28,9 @@ pub(super) fn joint_constraints(
     constraints: &mut Vec<Constraint>,
 ) -> Result<(), ModelError> {
     let scene = lookup.scene;
-    for joint in &scene.joints {
+    for (joint, &ends) in scene.joints.iter().zip(lookup.joints) {
         let driver = driver_of(scene, joint)?;
-        let builder = JointBuilder::new(lookup, joint);
+        let builder = JointBuilder::new(lookup, joint, ends);
         builder.add(driver, constraints)?;
         if driver_refused(&joint.kind, scene, &joint.name) {
             return Err(builder
@@ -77,6 +77,8 @@ fn joint_error(scene: &Scene, joint: &Joint, what: &str) -> ModelError {
 struct JointBuilder<'a> {
     lookup: &'a TermLookup<'a>,
     joint: &'a Joint,
+    /// The joint's markers on body 1 and body 2.
+    ends: MarkerPair,
     /// The marker points on body 1 and body 2.
     p1: Term,
     p2: Term,
@@ -85,13 +87,14 @@ struct JointBuilder<'a> {
 }
 
 impl<'a> JointBuilder<'a> {
-    fn new(lookup: &'a TermLookup<'a>, joint: &'a Joint) -> Self {
-        let p1 = lookup.point(&joint.body1, &joint.marker1);
-        let p2 = lookup.point(&joint.body2, &joint.marker2);
+    fn new(lookup: &'a TermLookup<'a>, joint: &'a Joint, ends: MarkerPair) -> Self {
+        let p1 = lookup.point(ends.first);
+        let p2 = lookup.point(ends.second);
         let gap = lookup.position0(&p2) - lookup.position0(&p1);
         JointBuilder {
             lookup,
             joint,
+            ends,
             p1,
             p2,
             gap,
@@ -104,14 +107,12 @@ impl<'a> JointBuilder<'a> {
 
     /// A direction fixed in body 1 (at its marker), from its ground components at t = 0.
     fn dir1(&self, v: &Vector3<f64>) -> Term {
-        let j = self.joint;
-        self.lookup.direction(&j.body1, &j.marker1, v)
+        self.lookup.direction(self.ends.first, v)
     }
 
     /// A direction fixed in body 2 (at its marker), from its ground components at t = 0.
     fn dir2(&self, v: &Vector3<f64>) -> Term {
-        let j = self.joint;
-        self.lookup.direction(&j.body2, &j.marker2, v)
+        self.lookup.direction(self.ends.second, v)
     }
 
     fn axis_of(&self, v: &V3) -> Result<Vector3<f64>, ModelError> {

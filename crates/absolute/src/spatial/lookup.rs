@@ -1,17 +1,19 @@
-//! Compile-time resolution of names into terms: a marker becomes a point term with its
+//! Compile-time resolution of the prepared scene's markers into terms: a marker becomes a point term with its
 //! FE node's translation rows, a joint axis a direction term turning with its node
 //! (docs/methods.md §3.3: `V = X_P` for a point, `V = [X^r_j × ā]_j` for a direction).
 
-use flexmbd_model::{GROUND, Scene};
+use flexmbd_model::{MarkerId, MarkerPair, Scene};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use super::SpatialBody;
 use super::kinematics::Term;
 
-/// Names to indices, and the data to build marker terms: the bodies' frames at t = 0 and
-/// the modal rows (translation and rotation, `None` on a rigid body) of every marker's node.
+/// The data to build marker terms: the bodies' frames at t = 0 and the modal rows
+/// (translation and rotation, `None` on a rigid body) of every marker's node.
 pub(super) struct TermLookup<'a> {
     pub(super) scene: &'a Scene,
+    /// The markers of each joint (the prepared scene's).
+    pub(super) joints: &'a [MarkerPair],
     pub(super) bodies: &'a [SpatialBody],
     /// Origin and rotation of every body at t = 0.
     pub(super) initial_frames: Vec<(Vector3<f64>, Matrix3<f64>)>,
@@ -22,33 +24,6 @@ pub(super) struct TermLookup<'a> {
 }
 
 impl TermLookup<'_> {
-    /// The index of a body, `None` for the ground.
-    pub(super) fn body(&self, name: &str) -> Option<usize> {
-        if name == GROUND {
-            None
-        } else {
-            Some(
-                self.scene
-                    .bodies
-                    .iter()
-                    .position(|b| b.name == name)
-                    .expect("validated"),
-            )
-        }
-    }
-
-    /// The index of a marker on a body (or on the ground).
-    pub(super) fn marker(&self, body: Option<usize>, marker: &str) -> usize {
-        match body {
-            None => self.scene.ground.iter().position(|m| m.name == marker),
-            Some(body_index) => self.scene.bodies[body_index]
-                .markers
-                .iter()
-                .position(|m| m.name == marker),
-        }
-        .expect("validated")
-    }
-
     /// The global position of a term at t = 0 (undeformed).
     pub(super) fn position0(&self, t: &Term) -> Vector3<f64> {
         match t.body {
@@ -60,11 +35,11 @@ impl TermLookup<'_> {
         }
     }
 
-    /// The point term of marker `marker_index` of a body (or of the ground), with its node's
-    /// translation rows and, on a foreshortened body, its FS0 node.
-    pub(super) fn point_at(&self, body: Option<usize>, marker_index: usize) -> Term {
-        let k = marker_index;
-        match body {
+    /// The point term of a marker (of a body or of the ground), with its node's translation
+    /// rows and, on a foreshortened body, its FS0 node.
+    pub(super) fn point(&self, marker: MarkerId) -> Term {
+        let k = marker.index;
+        match marker.body.map(|b| b.0) {
             None => Term {
                 body: None,
                 point: true,
@@ -103,17 +78,11 @@ impl TermLookup<'_> {
         }
     }
 
-    /// The point term of a marker named by body and marker.
-    pub(super) fn point(&self, body: &str, marker: &str) -> Term {
-        let body_index = self.body(body);
-        self.point_at(body_index, self.marker(body_index, marker))
-    }
-
     /// A direction fixed in the marker's body (at its node on a flexible body), given in
     /// ground components at t = 0.
-    pub(super) fn direction(&self, body: &str, marker: &str, global: &Vector3<f64>) -> Term {
+    pub(super) fn direction(&self, marker: MarkerId, global: &Vector3<f64>) -> Term {
         let g = global.normalize();
-        match self.body(body) {
+        match marker.body.map(|b| b.0) {
             None => Term {
                 body: None,
                 point: false,
@@ -122,7 +91,7 @@ impl TermLookup<'_> {
                 foreshortening_node: None,
             },
             Some(body_index) => {
-                let k = self.marker(Some(body_index), marker);
+                let k = marker.index;
                 let local = self.initial_frames[body_index].1.tr_mul(&g);
                 let rows = match &self.node_rotations[body_index][k] {
                     Some(rotation_modes) => {

@@ -66,7 +66,7 @@ pub(super) fn sensor_terms(
     for (sensor, target) in lookup.scene.sensors.iter().zip(prepared.sensor_targets()) {
         match *target {
             SensorTarget::Position { marker, .. } | SensorTarget::Velocity { marker, .. } => {
-                let term = lookup.point_at(marker.body.map(|b| b.0), marker.index);
+                let term = lookup.point(marker);
                 terms.markers.insert(marker, term);
             }
             SensorTarget::JointCoordinate(joint) => {
@@ -87,8 +87,9 @@ fn joint_coordinate(
 ) -> Result<SpatialJointCoordinate, ModelError> {
     let scene = lookup.scene;
     let j = &scene.joints[joint.0];
-    let dir1 = |v: &Vector3<f64>| lookup.direction(&j.body1, &j.marker1, v);
-    let dir2 = |v: &Vector3<f64>| lookup.direction(&j.body2, &j.marker2, v);
+    let ends = lookup.joints[joint.0];
+    let dir1 = |v: &Vector3<f64>| lookup.direction(ends.first, v);
+    let dir2 = |v: &Vector3<f64>| lookup.direction(ends.second, v);
     Ok(match &j.kind {
         JointKind::Revolute { axis: Some(axis) } => {
             let a = axis.vec().normalize();
@@ -102,10 +103,7 @@ fn joint_coordinate(
         }
         JointKind::Prismatic { axis } => {
             let a = axis.vec().normalize();
-            let (p1, p2) = (
-                lookup.point(&j.body1, &j.marker1),
-                lookup.point(&j.body2, &j.marker2),
-            );
+            let (p1, p2) = (lookup.point(ends.first), lookup.point(ends.second));
             let s0 = (lookup.position0(&p2) - lookup.position0(&p1)).dot(&a);
             SpatialJointCoordinate(JointCoordinate::Slide {
                 x: p2,

@@ -15,7 +15,7 @@ use super::super::algebra::{c_of, e_mat};
 use super::super::body::{BodyMarker, PlanarBody, PointSlots, Slot};
 use super::super::constraints::{Constraint, Distance, PointOnBody, UnitVector};
 use super::super::kinematics::PlanarMarker;
-use super::names::{InitialFrame, MarkerTable};
+use super::marker_table::{InitialFrame, MarkerTable};
 use super::points::Coordinates;
 use crate::flex;
 
@@ -69,12 +69,8 @@ impl BodyBuilder<'_> {
         let body = prep.body.clone();
         let n_modes = body.n_modes();
         let first = self.table.first_of_body[index];
-        let markers: Vec<BodyMarker> = b
-            .markers
-            .iter()
-            .enumerate()
-            .map(|(k, m)| BodyMarker {
-                name: m.name.clone(),
+        let markers: Vec<BodyMarker> = (0..b.markers.len())
+            .map(|k| BodyMarker {
                 position: self.table.position[first + k],
                 node: prep.marker_nodes[k],
             })
@@ -300,7 +296,6 @@ mod tests {
 
     fn marker(x: f64, y: f64) -> BodyMarker {
         BodyMarker {
-            name: String::new(),
             position: Vector2::new(x, y),
             node: None,
         }

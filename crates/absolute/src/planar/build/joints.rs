@@ -3,29 +3,31 @@
 //! driven revolute the angle driver θ(t); a prismatic joint the slide (r_P2 − r_P1) × d₁ = 0,
 //! the angle lock and, when driven, (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0.
 
-use flexmbd_model::{Joint, JointKind, ModelError, MotionLaw, Scene, V3};
+use flexmbd_model::{
+    BodyId, Joint, JointKind, MarkerId, MarkerPair, ModelError, MotionLaw, PreparedScene, V3,
+};
 use nalgebra::{DVector, Vector2};
 
 use super::super::Planar;
 use super::super::algebra::e_mat;
 use super::super::constraints::{Angle, Constraint, Slide};
 use super::super::kinematics::{Direction, PlanarMarker};
-use super::names::body_index;
 
 impl Planar {
     /// The constraints of the joints and drivers, in joint order (angles measured from their
     /// value at q0).
     pub(super) fn joint_constraints(
         &self,
-        scene: &Scene,
+        prepared: &PreparedScene,
         q0: &DVector<f64>,
     ) -> Result<Vec<Constraint>, ModelError> {
+        let scene = prepared.scene();
         let zero = DVector::zeros(self.n_coordinates);
         let mut constraints = Vec::new();
-        for j in &scene.joints {
+        for (j, &ends) in scene.joints.iter().zip(prepared.joint_markers()) {
             let driver = scene.drivers.iter().find(|d| d.joint == j.name);
             if let JointKind::Prismatic { axis } = &j.kind {
-                let (p1, p2, d1) = self.prismatic_parts(scene, j, axis, q0)?;
+                let (p1, p2, d1) = self.prismatic_parts(prepared, j, ends, axis, q0)?;
                 constraints.push(Constraint::Slide(Slide {
                     p1,
                     p2,
@@ -33,8 +35,8 @@ impl Planar {
                     along: None,
                 }));
                 // The relative rotation is locked.
-                let a1 = self.direction_at(scene, &j.body1, &j.marker1);
-                let a2 = self.direction_at(scene, &j.body2, &j.marker2);
+                let a1 = self.direction_at(ends.first);
+                let a2 = self.direction_at(ends.second);
                 let phi0 = self.angle(&a1, &a2, q0);
                 constraints.push(Constraint::Angle(Angle {
                     d1: a1,
@@ -59,8 +61,8 @@ impl Planar {
                 _ => None,
             };
             if let Some(law) = law {
-                let d1 = self.direction_at(scene, &j.body1, &j.marker1);
-                let d2 = self.direction_at(scene, &j.body2, &j.marker2);
+                let d1 = self.direction_at(ends.first);
+                let d2 = self.direction_at(ends.second);
                 let phi0 = self.angle(&d1, &d2, q0);
                 constraints.push(Constraint::Angle(Angle { d1, d2, phi0, law }));
             }
@@ -70,49 +72,22 @@ impl Planar {
 
     /// The x axis of a body's frame, turned at the marker's node on a flexible body (the
     /// ground x axis for the ground).
-    pub(in super::super) fn direction_at(
-        &self,
-        scene: &Scene,
-        body: &str,
-        marker: &str,
-    ) -> Direction {
-        match body_index(scene, body) {
+    pub(in super::super) fn direction_at(&self, marker: MarkerId) -> Direction {
+        match marker.body {
             None => Direction {
                 body: None,
                 node: None,
                 abar: Vector2::new(1.0, 0.0),
             },
-            Some(b) => {
-                let k = scene.bodies[b]
-                    .markers
-                    .iter()
-                    .position(|m| m.name == marker)
-                    .expect("validated");
-                Direction {
-                    body: Some(b),
-                    node: if self.bodies[b].n_modes > 0 {
-                        self.bodies[b].markers[k].node
-                    } else {
-                        None
-                    },
-                    abar: Vector2::new(1.0, 0.0),
-                }
-            }
-        }
-    }
-
-    /// A marker by body and marker name.
-    fn marker_at(&self, scene: &Scene, body: &str, marker: &str) -> PlanarMarker {
-        match body_index(scene, body) {
-            None => {
-                let m = scene
-                    .ground
-                    .iter()
-                    .find(|m| m.name == marker)
-                    .expect("validated");
-                PlanarMarker::Ground(Vector2::new(m.position.0[0], m.position.0[1]))
-            }
-            Some(b) => self.bodies[b].marker(b, marker),
+            Some(BodyId(b)) => Direction {
+                body: Some(b),
+                node: if self.bodies[b].n_modes > 0 {
+                    self.bodies[b].markers[marker.index].node
+                } else {
+                    None
+                },
+                abar: Vector2::new(1.0, 0.0),
+            },
         }
     }
 
@@ -120,8 +95,9 @@ impl Planar {
     /// marker's node on a flexible body) and equals the unit axis at q0.
     pub(in super::super) fn prismatic_parts(
         &self,
-        scene: &Scene,
+        prepared: &PreparedScene,
         j: &Joint,
+        ends: MarkerPair,
         axis: &V3,
         q0: &DVector<f64>,
     ) -> Result<(PlanarMarker, PlanarMarker, Direction), ModelError> {
@@ -129,7 +105,7 @@ impl Planar {
         let norm = a.norm();
         if !norm.is_finite() || norm <= 1e-12 || axis.0[2].abs() > 1e-9 * norm {
             return Err(ModelError::Invalid {
-                file: scene.origin.to_string(),
+                file: prepared.scene().origin.to_string(),
                 error: flexmbd_core::InvalidValue::new(
                     format!("joints[{}].kind.Prismatic.axis", j.name),
                     format!("{:?}", axis.0),
@@ -138,9 +114,9 @@ impl Planar {
             });
         }
         let a = a / a.norm();
-        let p1 = self.marker_at(scene, &j.body1, &j.marker1);
-        let p2 = self.marker_at(scene, &j.body2, &j.marker2);
-        let mut d1 = self.direction_at(scene, &j.body1, &j.marker1);
+        let p1 = self.marker_of(prepared, ends.first);
+        let p2 = self.marker_of(prepared, ends.second);
+        let mut d1 = self.direction_at(ends.first);
         // C(ā) d_x(q0) = a  ⇒  ā = (a · d_x, a · E d_x) / |d_x|².
         let (dx, _, _) = self.direction(&d1, q0, &DVector::zeros(q0.len()));
         let edx = e_mat() * dx;

@@ -2,7 +2,7 @@
 //! the bodies and their bases (with the initial velocities), the joints and drivers, the
 //! force elements, the sensors and the constant rigid terms.
 
-pub(super) mod names;
+pub(super) mod marker_table;
 
 mod bodies;
 mod joints;
@@ -17,7 +17,7 @@ use super::Planar;
 use super::constraints::Constraint;
 use super::kinematics::PlanarMarker;
 use bodies::BodyBuilder;
-use names::MarkerTable;
+use marker_table::MarkerTable;
 use points::Coordinates;
 
 impl Planar {
@@ -37,7 +37,7 @@ impl Planar {
         debug_assert_eq!(scene.solver.formulation, FormulationKind::Absolute);
         let table = MarkerTable::new(scene);
         let mut coordinates = Coordinates::default();
-        let points = points::shared_points(scene, &table, &mut coordinates)?;
+        let points = points::shared_points(prepared, &table, &mut coordinates)?;
         let gravity = Vector2::new(scene.gravity.0[0], scene.gravity.0[1]);
         let mut constraints = Vec::new();
         let mut initial_rates = Vec::new();
@@ -74,7 +74,7 @@ impl Planar {
             local_forces: DVector::zeros(0),
             local_to_global: Vec::new(),
         };
-        constraints.extend(planar.joint_constraints(scene, &q0)?);
+        constraints.extend(planar.joint_constraints(prepared, &q0)?);
         planar.n_constraints = constraints.iter().map(Constraint::rows).sum();
         planar.constraints = constraints;
         planar.force_elements = planar.build_force_elements(prepared, &q0)?;

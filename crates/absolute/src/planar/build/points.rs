@@ -5,11 +5,11 @@
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 
-use flexmbd_model::{JointKind, ModelError, Scene};
+use flexmbd_model::{JointKind, ModelError, PreparedScene, Scene};
 use nalgebra::Vector2;
 
 use super::super::body::{PointSlots, Slot};
-use super::names::MarkerTable;
+use super::marker_table::MarkerTable;
 
 /// Disjoint sets of 0..n with path compression; a set's root is its smallest member.
 pub(super) struct UnionFind(Vec<usize>);
@@ -74,12 +74,13 @@ impl Coordinates {
 /// joint), allocating coordinates for the points that do not touch the ground. Refuses
 /// joint kinds the formulation lacks and joined markers that do not coincide at t = 0.
 pub(super) fn shared_points(
-    scene: &Scene,
+    prepared: &PreparedScene,
     table: &MarkerTable,
     coordinates: &mut Coordinates,
 ) -> Result<Vec<Option<PointSlots>>, ModelError> {
-    let mut groups = join_markers(scene, table)?;
-    let in_joint = joint_markers(scene, table);
+    let scene = prepared.scene();
+    let mut groups = join_markers(prepared, table)?;
+    let in_joint = joint_markers(prepared, table);
     let mut point_of_root: HashMap<usize, PointSlots> = HashMap::new();
     // Ground-touching groups are fixed.
     for global in 0..table.len() {
@@ -120,15 +121,12 @@ pub(super) fn shared_points(
 }
 
 /// The groups of markers joined by revolute and rigid joints.
-fn join_markers(scene: &Scene, table: &MarkerTable) -> Result<UnionFind, ModelError> {
+fn join_markers(prepared: &PreparedScene, table: &MarkerTable) -> Result<UnionFind, ModelError> {
     let mut groups = UnionFind::new(table.len());
-    for j in &scene.joints {
+    for (j, ends) in prepared.scene().joints.iter().zip(prepared.joint_markers()) {
         match j.kind {
             JointKind::Revolute { .. } | JointKind::Rigid => {
-                groups.union(
-                    table.global_index(scene, &j.body1, &j.marker1),
-                    table.global_index(scene, &j.body2, &j.marker2),
-                );
+                groups.union(table.global(ends.first), table.global(ends.second));
             }
             // Its markers are not shared points: they slide on each other.
             JointKind::Prismatic { .. } => {}
@@ -146,12 +144,12 @@ fn join_markers(scene: &Scene, table: &MarkerTable) -> Result<UnionFind, ModelEr
 }
 
 /// Which markers are joint points (appear in a revolute or rigid joint).
-fn joint_markers(scene: &Scene, table: &MarkerTable) -> Vec<bool> {
+fn joint_markers(prepared: &PreparedScene, table: &MarkerTable) -> Vec<bool> {
     let mut in_joint = vec![false; table.len()];
-    for j in &scene.joints {
+    for (j, ends) in prepared.scene().joints.iter().zip(prepared.joint_markers()) {
         if matches!(j.kind, JointKind::Revolute { .. } | JointKind::Rigid) {
-            in_joint[table.global_index(scene, &j.body1, &j.marker1)] = true;
-            in_joint[table.global_index(scene, &j.body2, &j.marker2)] = true;
+            in_joint[table.global(ends.first)] = true;
+            in_joint[table.global(ends.second)] = true;
         }
     }
     in_joint
@@ -183,6 +181,7 @@ fn check_coincidence(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use flexmbd_model::MarkerId;
 
     #[test]
     fn union_find_groups_under_the_smallest_member() {
@@ -217,10 +216,16 @@ mod tests {
     #[test]
     fn slider_crank_shares_its_revolute_points() {
         let scene = crate::planar::tests::model("slider_crank.ron");
+        let prepared = PreparedScene::new(&scene).unwrap();
         let table = MarkerTable::new(&scene);
         let mut coordinates = Coordinates::default();
-        let points = shared_points(&scene, &table, &mut coordinates).unwrap();
-        let at = |body: &str, marker: &str| points[table.global_index(&scene, body, marker)];
+        let points = shared_points(&prepared, &table, &mut coordinates).unwrap();
+        let at = |body: &str, marker: &str| {
+            let body = prepared.body_id(body);
+            let markers = body.map_or(&scene.ground, |b| &scene.bodies[b.0].markers);
+            let index = markers.iter().position(|m| m.name == marker).unwrap();
+            points[table.global(MarkerId { body, index })]
+        };
         let o = at("crank", "O").unwrap();
         assert_eq!((o.x, o.y), (Slot::Fixed(0.0), Slot::Fixed(0.0)));
         let (b, c) = (at("crank", "B").unwrap(), at("slider", "pin").unwrap());
@@ -236,8 +241,9 @@ mod tests {
     fn joined_markers_must_coincide() {
         let mut scene = crate::planar::tests::model("slider_crank.ron");
         scene.bodies[2].origin.0[1] = 0.01;
+        let prepared = PreparedScene::new(&scene).unwrap();
         let table = MarkerTable::new(&scene);
-        let e = shared_points(&scene, &table, &mut Coordinates::default())
+        let e = shared_points(&prepared, &table, &mut Coordinates::default())
             .err()
             .unwrap()
             .to_string();

@@ -1,44 +1,8 @@
-//! Name resolution and the scene's marker table: every marker (ground markers first, then
+//! The scene's marker table: every marker (ground markers first, then
 //! each body's in order) under one global index, with its initial position.
 
-use flexmbd_model::{GROUND, Scene};
+use flexmbd_model::{GROUND, MarkerId, Scene};
 use nalgebra::{Matrix2, Vector2};
-
-/// The index of a body by name (`None` for the ground or an unknown name).
-pub(in super::super) fn body_index(scene: &Scene, name: &str) -> Option<usize> {
-    if name == GROUND {
-        None
-    } else {
-        scene.bodies.iter().position(|b| b.name == name)
-    }
-}
-
-/// A marker by body and marker name: (body index, or `None` for the ground; marker index
-/// within its body or the ground).
-pub(in super::super) fn marker_index(
-    scene: &Scene,
-    body: &str,
-    marker: &str,
-) -> (Option<usize>, usize) {
-    match body_index(scene, body) {
-        None => (
-            None,
-            scene
-                .ground
-                .iter()
-                .position(|m| m.name == marker)
-                .expect("validated"),
-        ),
-        Some(b) => (
-            Some(b),
-            scene.bodies[b]
-                .markers
-                .iter()
-                .position(|m| m.name == marker)
-                .expect("validated"),
-        ),
-    }
-}
 
 /// A body's frame at t = 0.
 #[derive(Clone, Copy, Debug)]
@@ -109,11 +73,11 @@ impl MarkerTable {
         self.owner.len()
     }
 
-    /// The global index of a marker by body and marker name.
-    pub(super) fn global_index(&self, scene: &Scene, body: &str, marker: &str) -> usize {
-        match marker_index(scene, body, marker) {
-            (None, k) => k,
-            (Some(b), k) => self.first_of_body[b] + k,
+    /// The global index of a marker of the prepared scene.
+    pub(super) fn global(&self, marker: MarkerId) -> usize {
+        match marker.body {
+            None => marker.index,
+            Some(b) => self.first_of_body[b.0] + marker.index,
         }
     }
 
