@@ -25,6 +25,30 @@ pub enum Absolute {
 }
 
 /// Compile a prepared scene for the absolute formulation.
+///
+/// The scene must be prepared first ([`PreparedScene::new`]: validated, rewritten for its
+/// stiffening method, its bodies reduced and built, its names resolved):
+///
+/// ```
+/// use flexmbd_core::Formulation;
+/// use flexmbd_model::{PreparedScene, Scene};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/double_four_bar.ron");
+/// let scene = Scene::load(path)?;
+/// let formulation = flexmbd_absolute::compile(&PreparedScene::new(&scene)?)?;
+/// assert!(formulation.n_coordinates() > 0);
+/// # Ok::<(), flexmbd_model::ModelError>(())
+/// ```
+///
+/// A bare scene is not accepted, so no formulation can run a scene whose stiffening rewrite
+/// (FNL2's axial basis, substructuring) was skipped:
+///
+/// ```compile_fail
+/// use flexmbd_model::Scene;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/double_four_bar.ron");
+/// let scene = Scene::load(path)?;
+/// let formulation = flexmbd_absolute::compile(&scene)?;
+/// # Ok::<(), flexmbd_model::ModelError>(())
+/// ```
 pub fn compile(prepared: &PreparedScene) -> Result<Absolute, ModelError> {
     match prepared.scene().dim {
         Dim::Planar => Ok(Absolute::Planar(Box::new(Planar::compile(prepared)?))),

@@ -69,6 +69,30 @@ pub use system::Relative;
 use flexmbd_model::{ModelError, PreparedScene};
 
 /// Compile a prepared scene (planar or spatial) for the relative formulation.
+///
+/// The scene must be prepared first ([`PreparedScene::new`]: validated, rewritten for its
+/// stiffening method, its bodies reduced and built, its names resolved):
+///
+/// ```
+/// use flexmbd_core::Formulation;
+/// use flexmbd_model::{PreparedScene, Scene};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/double_four_bar.ron");
+/// let scene = Scene::load(path)?;
+/// let formulation = flexmbd_relative::compile(&PreparedScene::new(&scene)?)?;
+/// assert!(formulation.n_coordinates() > 0);
+/// # Ok::<(), flexmbd_model::ModelError>(())
+/// ```
+///
+/// A bare scene is not accepted, so no formulation can run a scene whose stiffening rewrite
+/// (FNL2's axial basis, substructuring) was skipped:
+///
+/// ```compile_fail
+/// use flexmbd_model::Scene;
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../models/double_four_bar.ron");
+/// let scene = Scene::load(path)?;
+/// let formulation = flexmbd_relative::compile(&scene)?;
+/// # Ok::<(), flexmbd_model::ModelError>(())
+/// ```
 pub fn compile(prepared: &PreparedScene) -> Result<Relative, ModelError> {
     Relative::compile(prepared)
 }
