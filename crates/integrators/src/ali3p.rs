@@ -480,8 +480,102 @@ impl Ali3p {
         }
     }
 
-    /// Advance one step of size h.
+    /// Advance one step of size h (docs/methods.md §5.2): the predictor (`predict`), Newton
+    /// iterations — the correction (`correct`), the multiplier update λ* += αΦ
+    /// (`update_multipliers`), the convergence test and the singular-passage α raise — then
+    /// the predictor choice for the next step (`choose_predictor`) and the projections.
     pub fn step<F: Formulation + ?Sized>(&mut self, f: &mut F) -> Result<(), IntegratorError> {
+        self.predict();
+        let h = self.settings.step;
+        // t = t₀ + k h, not an accumulated sum, so output times are exact multiples.
+        self.t = self.t0 + (self.stats.steps + 1) as f64 * h;
+        let every = self.settings.profile_every.max(1);
+        self.time_weight = if self.stats.steps.is_multiple_of(every) {
+            every as f64
+        } else {
+            0.0
+        };
+        let (mut dq_norm, mut phi_norm) = (f64::INFINITY, f64::INFINITY);
+        let mut prev_dq = f64::INFINITY;
+        let mut converged = false;
+        let mut iterations = 0;
+        // Slow contraction (θ ≥ 0.5 twice after the third iteration) is the multiplier update
+        // in a rank-deficient direction of Φ_q (singular configurations): its rate is about
+        // 1/(1 + α σ² h²/4m) for the small singular value σ, so α is raised ×10 for the rest
+        // of the step (at most twice). The converged q, λ do not depend on α.
+        let alpha_step = self.alpha;
+        let (mut slow, mut boosts) = (0, 0);
+        while iterations < self.settings.max_iterations {
+            iterations += 1;
+            let boost = slow >= 2 && boosts < 2;
+            if boost {
+                self.alpha *= 10.0;
+                boosts += 1;
+                slow = 0;
+            }
+            // Modified Newton: refresh the tangent unless the last correction shrank fast.
+            let refresh = iterations == 1
+                || boost
+                || !self.settings.reuse_tangent
+                || dq_norm >= 0.5 * prev_dq;
+            self.correct(f, iterations, refresh)?;
+            prev_dq = dq_norm;
+            dq_norm = self.rhs.amax();
+            phi_norm = self.update_multipliers(f);
+            if !(dq_norm.is_finite() && phi_norm.is_finite()) {
+                self.stats.failed_steps += 1;
+                return Err(IntegratorError::Diverged { t: self.t });
+            }
+            // Error of the iterate: with the observed contraction θ = ‖Δq_i‖/‖Δq_{i−1}‖ < 1 the
+            // distance to the solution is about θ/(1−θ)‖Δq_i‖ (Hairer & Wanner II, §IV.8), so a
+            // linearly converging iteration can stop one correction earlier than ‖Δq_i‖ ≤ ε_q.
+            let theta = if prev_dq.is_finite() {
+                dq_norm / prev_dq
+            } else {
+                1.0
+            };
+            let error = if theta < 0.5 {
+                theta / (1.0 - theta) * dq_norm
+            } else {
+                dq_norm
+            };
+            if iterations >= 3 && theta >= 0.5 {
+                slow += 1;
+            }
+            if error <= self.settings.tol_q * self.q.amax().max(1.0)
+                && phi_norm <= self.settings.tol_phi
+            {
+                converged = true;
+                break;
+            }
+        }
+        self.alpha = alpha_step;
+        self.stats.newton_iterations += iterations;
+        if !converged {
+            if phi_norm <= self.settings.accept_phi && dq_norm.is_finite() {
+                self.stats.accepted_unconverged += 1;
+            } else {
+                self.stats.failed_steps += 1;
+                return Err(IntegratorError::NoConvergence {
+                    t: self.t,
+                    iterations,
+                    dq: dq_norm,
+                    phi: phi_norm,
+                });
+            }
+        }
+        self.choose_predictor();
+        self.set_newmark_rates();
+        self.project(f)?;
+        self.stats.steps += 1;
+        Ok(())
+    }
+
+    /// Predictor (docs/methods.md §5.2): the Newmark constants q̂̇, q̂̈ of the step and the
+    /// predicted q_{n+1}, per coordinate by q̈_{n+1} ≈ q̈_n or by the linear extrapolation
+    /// (`extrapolate`); q̈_n becomes q̈_{n−1}.
+    #[inline]
+    fn predict(&mut self) {
         let h = self.settings.step;
         let (a1, a2) = (2.0 / h, 4.0 / (h * h));
         // Predictor and the Newmark constants of the step.
@@ -530,129 +624,80 @@ impl Ali3p {
             qdd_prev[i] = qdd[i];
         }
         self.have_qdd_prev = true;
-        // t = t₀ + k h, not an accumulated sum, so output times are exact multiples.
-        self.t = self.t0 + (self.stats.steps + 1) as f64 * h;
-        let every = self.settings.profile_every.max(1);
-        self.time_weight = if self.stats.steps.is_multiple_of(every) {
-            every as f64
-        } else {
-            0.0
-        };
-        let (mut dq_norm, mut phi_norm) = (f64::INFINITY, f64::INFINITY);
-        let mut prev_dq = f64::INFINITY;
-        let mut converged = false;
-        let mut iterations = 0;
-        // Slow contraction (θ ≥ 0.5 twice after the third iteration) is the multiplier update
-        // in a rank-deficient direction of Φ_q (singular configurations): its rate is about
-        // 1/(1 + α σ² h²/4m) for the small singular value σ, so α is raised ×10 for the rest
-        // of the step (at most twice). The converged q, λ do not depend on α.
-        let alpha_step = self.alpha;
-        let (mut slow, mut boosts) = (0, 0);
-        while iterations < self.settings.max_iterations {
-            iterations += 1;
-            let boost = slow >= 2 && boosts < 2;
-            if boost {
-                self.alpha *= 10.0;
-                boosts += 1;
-                slow = 0;
-            }
-            // Modified Newton: refresh the tangent unless the last correction shrank fast.
-            let refresh = iterations == 1
-                || boost
-                || !self.settings.reuse_tangent
-                || dq_norm >= 0.5 * prev_dq;
-            self.set_newmark_rates();
-            // Φ and Φ_q at this q come from the pass after the last update (first
-            // iteration: from this pass).
-            self.eval(
-                f,
-                Request {
-                    dynamics: true,
-                    tangents: refresh,
-                    constraints: iterations == 1,
-                    jacobian: iterations == 1,
-                    accel_term: false,
-                },
-            );
-            let t0 = (self.time_weight > 0.0).then(Instant::now);
-            // rhs = −f = −h²/4 (M q̈ + Φ_qᵀ(αΦ + λ) − Q)
-            let tt = &self.terms;
-            self.tmp_m.copy_from(&self.lambda);
-            self.tmp_m.axpy(self.alpha, &tt.phi, 1.0);
-            self.rhs.copy_from(&tt.forces);
-            self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0);
-            self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
-            self.rhs *= 0.25 * h * h;
-            if refresh {
-                self.form_leading();
-                self.factor_leading()?;
-            }
-            self.solve_leading();
-            if let Some(t0) = t0 {
-                self.stats.time_factorization += self.time_weight * t0.elapsed().as_secs_f64();
-            }
-            if !self.rhs.iter().all(|v| v.is_finite()) {
-                self.stats.failed_steps += 1;
-                return Err(IntegratorError::Diverged { t: self.t });
-            }
-            self.q += &self.rhs;
-            prev_dq = dq_norm;
-            dq_norm = self.rhs.amax();
-            // Φ for the multiplier update and the test, Φ_q for the next iteration or the
-            // projections (they depend on q and t only).
-            self.eval(
-                f,
-                Request {
-                    constraints: true,
-                    jacobian: true,
-                    ..Request::default()
-                },
-            );
-            phi_norm = self.terms.phi.amax();
-            self.lambda.axpy(self.alpha, &self.terms.phi, 1.0);
-            if !(dq_norm.is_finite() && phi_norm.is_finite()) {
-                self.stats.failed_steps += 1;
-                return Err(IntegratorError::Diverged { t: self.t });
-            }
-            // Error of the iterate: with the observed contraction θ = ‖Δq_i‖/‖Δq_{i−1}‖ < 1 the
-            // distance to the solution is about θ/(1−θ)‖Δq_i‖ (Hairer & Wanner II, §IV.8), so a
-            // linearly converging iteration can stop one correction earlier than ‖Δq_i‖ ≤ ε_q.
-            let theta = if prev_dq.is_finite() {
-                dq_norm / prev_dq
-            } else {
-                1.0
-            };
-            let error = if theta < 0.5 {
-                theta / (1.0 - theta) * dq_norm
-            } else {
-                dq_norm
-            };
-            if iterations >= 3 && theta >= 0.5 {
-                slow += 1;
-            }
-            if error <= self.settings.tol_q * self.q.amax().max(1.0)
-                && phi_norm <= self.settings.tol_phi
-            {
-                converged = true;
-                break;
-            }
+    }
+
+    /// One Newton correction of ALI3-P: the M, Q (K, C on `refresh`) pass at q (Φ, Φ_q too
+    /// on the first iteration), rhs = −f, f_q formed and factorised on `refresh`, Δq = f_q⁻¹ rhs
+    /// into `rhs`, q += Δq. Diverged when Δq is not finite.
+    #[inline]
+    fn correct<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        iterations: usize,
+        refresh: bool,
+    ) -> Result<(), IntegratorError> {
+        let h = self.settings.step;
+        self.set_newmark_rates();
+        // Φ and Φ_q at this q come from the pass after the last update (first
+        // iteration: from this pass).
+        self.eval(
+            f,
+            Request {
+                dynamics: true,
+                tangents: refresh,
+                constraints: iterations == 1,
+                jacobian: iterations == 1,
+                accel_term: false,
+            },
+        );
+        let t0 = (self.time_weight > 0.0).then(Instant::now);
+        // rhs = −f = −h²/4 (M q̈ + Φ_qᵀ(αΦ + λ) − Q)
+        let tt = &self.terms;
+        self.tmp_m.copy_from(&self.lambda);
+        self.tmp_m.axpy(self.alpha, &tt.phi, 1.0);
+        self.rhs.copy_from(&tt.forces);
+        self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0);
+        self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
+        self.rhs *= 0.25 * h * h;
+        if refresh {
+            self.form_leading();
+            self.factor_leading()?;
         }
-        self.alpha = alpha_step;
-        self.stats.newton_iterations += iterations;
-        if !converged {
-            if phi_norm <= self.settings.accept_phi && dq_norm.is_finite() {
-                self.stats.accepted_unconverged += 1;
-            } else {
-                self.stats.failed_steps += 1;
-                return Err(IntegratorError::NoConvergence {
-                    t: self.t,
-                    iterations,
-                    dq: dq_norm,
-                    phi: phi_norm,
-                });
-            }
+        self.solve_leading();
+        if let Some(t0) = t0 {
+            self.stats.time_factorization += self.time_weight * t0.elapsed().as_secs_f64();
         }
-        // Which predictor was nearer, per coordinate, for the next step.
+        if !self.rhs.iter().all(|v| v.is_finite()) {
+            self.stats.failed_steps += 1;
+            return Err(IntegratorError::Diverged { t: self.t });
+        }
+        self.q += &self.rhs;
+        Ok(())
+    }
+
+    /// Augmented-Lagrangian multiplier update after a correction: the Φ, Φ_q pass at the new
+    /// q (Φ_q for the next iteration or the projections), λ* += αΦ; returns ‖Φ‖∞.
+    #[inline]
+    fn update_multipliers<F: Formulation + ?Sized>(&mut self, f: &mut F) -> f64 {
+        // Φ for the multiplier update and the test, Φ_q for the next iteration or the
+        // projections (they depend on q and t only).
+        self.eval(
+            f,
+            Request {
+                constraints: true,
+                jacobian: true,
+                ..Request::default()
+            },
+        );
+        let phi_norm = self.terms.phi.amax();
+        self.lambda.axpy(self.alpha, &self.terms.phi, 1.0);
+        phi_norm
+    }
+
+    /// Which predictor was nearer the converged q, per coordinate, for the next step.
+    #[inline]
+    fn choose_predictor(&mut self) {
+        let n = self.q.len();
         let (q, pred, pred_d) = (
             &self.q.as_slice()[..n],
             &self.pred.as_slice()[..n],
@@ -665,10 +710,6 @@ impl Ali3p {
             e.1 = 0.5 * e.1 + (q[i] - (pred[i] + pred_d[i])).abs();
             extrapolate[i] = e.1 < 0.5 * e.0;
         }
-        self.set_newmark_rates();
-        self.project(f)?;
-        self.stats.steps += 1;
-        Ok(())
     }
 
     /// One projection in increment form: with f_q = W + c Φ_qᵀΦ_q (c = h²α/4),

@@ -72,6 +72,12 @@
 //! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). On failure an error carries the
 //! iteration count, the residual, the constraint error and the load factor reached — never
 //! a panic, never NaN. The solver runs once per scene and allocates its workspace up front.
+//!
+//! **Code.** `solve_static` tries the full load, then `load_stepping`; each load level is
+//! `level`, whose iteration is the tangent (`tangent`; α from the first one, `set_penalty`),
+//! the Newton correction (`newton_correction`) and the watchdog line search (`line_search`),
+//! each trial point being projected onto Φ = 0 (`project`) with its least-squares multipliers
+//! (`estimate_multipliers`) and residual (`residual`) — `trial`.
 
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use nalgebra::{DMatrix, DVector};
@@ -229,6 +235,15 @@ enum Level {
     Failed,
 }
 
+/// State of the watchdog of one load level (module documentation, "Globalisation").
+#[derive(Default)]
+struct Watchdog {
+    /// (‖g‖₂ where it started, full steps left).
+    active: Option<(f64, usize)>,
+    /// Skip it once after it failed.
+    off: bool,
+}
+
 impl Solver<'_> {
     fn eval<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &DVector<f64>, req: Request) {
         self.terms.clear(req);
@@ -347,7 +362,7 @@ impl Solver<'_> {
     }
 
     /// Newton at load factor `load` from q: projected onto Φ = 0 after every correction,
-    /// multipliers by least squares, backtracking on ‖g‖₂ (module documentation).
+    /// multipliers by least squares, watchdog and backtracking on ‖g‖₂ (module documentation).
     fn level<F: Formulation + ?Sized>(
         &mut self,
         f: &mut F,
@@ -355,22 +370,16 @@ impl Solver<'_> {
         lambda: &mut DVector<f64>,
         load: f64,
     ) -> Result<Level, StaticError> {
-        let n = self.n;
         if !self.project(f, q) {
             return Ok(Level::Failed);
         }
         let mut last_dq = f64::INFINITY;
-        // (‖g‖ where the watchdog started, full steps left); skip it once after it failed.
-        let mut watchdog: Option<(f64, usize)> = None;
-        let mut watchdog_off = false;
-        let fd = self.s.fd_tangent;
+        let mut watchdog = Watchdog::default();
         let req = Request {
-            tangents: !fd,
+            tangents: !self.s.fd_tangent,
             ..REQ_FULL
         };
-        self.eval(f, q, req);
-        self.estimate_multipliers(lambda, load);
-        self.residual(lambda, load, false);
+        self.restart_at(f, q, lambda, load, req);
         for _ in 0..self.s.max_iterations {
             let phi = self.terms.phi.amax();
             let res = self.g.amax();
@@ -386,160 +395,31 @@ impl Solver<'_> {
                 return Ok(Level::Converged);
             }
             self.iterations += 1;
-            // Tangent H of −Q + Φ_qᵀμ, μ = λ + αΦ held (Φ_qᵀαΦ_q added below, exactly).
-            if fd {
-                self.base.copy_from(&self.g);
-                // Keep Φ_q of the base point for the penalty term: the columns overwrite terms.
-                self.phi_q_base.copy_from(&self.terms.phi_q);
-                for j in 0..n {
-                    if self.held[j] {
-                        continue;
-                    }
-                    let d = 1e-7 * q[j].abs().max(1.0);
-                    let qj = q[j];
-                    q[j] = qj + d;
-                    self.eval(
-                        f,
-                        q,
-                        Request {
-                            constraints: false,
-                            ..REQ_FULL
-                        },
-                    );
-                    q[j] = qj;
-                    let tt = &self.terms;
-                    // Column: (−Q(q + d e_j) + Φ_q(q + d e_j)ᵀ μ − (−Q + Φ_qᵀμ)) / d; the
-                    // homotopy term is constant and cancels.
-                    let mut col = self.h.column_mut(j);
-                    col.copy_from(&tt.forces);
-                    col.gemv_tr(1.0, &tt.phi_q, &self.mu, -1.0);
-                    col.axpy(1.0 - load, &self.q0_forces, 1.0);
-                    for (i, v) in col.iter_mut().enumerate() {
-                        *v = if self.held[i] {
-                            0.0
-                        } else {
-                            (*v - self.base[i]) / d
-                        };
-                    }
-                }
-                self.terms.phi_q.copy_from(&self.phi_q_base);
-            } else {
-                self.h.copy_from(&self.terms.stiffness);
-            }
+            self.tangent(f, q, load);
             if self.alpha == 0.0 {
-                // First tangent: set the penalty from its scale (module documentation).
-                let k_ref = (0..n)
-                    .filter(|&i| !self.held[i])
-                    .map(|i| self.h[(i, i)].abs())
-                    .fold(0.0, f64::max);
-                let m_ref = (0..n)
-                    .map(|i| self.terms.mass[(i, i)].abs())
-                    .fold(0.0, f64::max);
-                let k_ref = if k_ref > 0.0 { k_ref } else { m_ref.max(1.0) };
-                self.alpha = self.s.penalty.unwrap_or(1e4 * k_ref);
+                self.set_penalty();
             }
-            let a = self.alpha;
-            let phi_q = &self.terms.phi_q;
-            self.h.gemm_tr(a, phi_q, phi_q, 1.0);
-            for j in 0..n {
-                if self.held[j] {
-                    self.h.row_mut(j).fill(0.0);
-                    self.h.column_mut(j).fill(0.0);
-                    self.h[(j, j)] = 1.0;
-                }
+            if let Some(failed) = self.newton_correction()? {
+                return Ok(failed);
             }
-            if let Err(e) = self.lu.factor(&self.h) {
-                // Singular at the initial guess: the scene has a free motion. Later, the
-                // iteration wandered off (past a limit point, say): let load stepping try.
-                if self.iterations == 1 {
-                    return Err(StaticError::Singular {
-                        iterations: self.iterations,
-                        pivot_ratio: e.pivot_ratio,
-                    });
-                }
-                return Ok(Level::Failed);
-            }
-            self.dq.copy_from(&self.g);
-            self.dq.neg_mut();
-            self.lu.solve_in_place(&mut self.dq);
-            if !self.dq.iter().all(|v| v.is_finite()) {
-                return Ok(Level::Failed);
-            }
-            // Full step first; if it raises ‖g‖₂, the watchdog may still take it (below), else
-            // backtracking on ‖g‖₂ over projected trial points.
-            let g0 = self.g.norm();
-            let mut step = 1.0;
-            let mut accepted = false;
-            while step >= 1.0 / 1024.0 {
-                let mut q_try = std::mem::take(&mut self.q_try);
-                q_try.copy_from(q);
-                q_try.axpy(step, &self.dq, 1.0);
-                let projected = self.project(f, &mut q_try);
-                if projected {
-                    self.eval(f, &q_try, req);
-                }
-                self.q_try = q_try;
-                if projected {
-                    let mut l_try = std::mem::take(&mut self.lambda_try);
-                    self.estimate_multipliers(&mut l_try, load);
-                    self.residual(&l_try, load, true);
-                    self.lambda_try = l_try;
-                    let g1 = self.g_try.norm();
-                    if g1.is_finite() && g1 <= (1.0 - 1e-4 * step) * g0 {
-                        accepted = true;
-                        break;
-                    }
-                    // At round-off the residual cannot fall further: accept a full step that
-                    // does not raise it much, so the test on Δq can finish.
-                    if step == 1.0 && g0 <= 1e3 * self.s.tol_residual * self.f_ref && g1 <= 2.0 * g0
-                    {
-                        accepted = true;
-                        break;
-                    }
-                    // Watchdog: take a full step that raises ‖g‖ and give the following full
-                    // steps WATCHDOG iterations to fall below the level it started from.
-                    if step == 1.0 && g1.is_finite() {
-                        if watchdog.is_none() && !watchdog_off {
-                            self.q_ref.copy_from(q);
-                            self.lambda_ref.copy_from(lambda);
-                            watchdog = Some((g0, WATCHDOG));
-                            accepted = true;
-                            break;
-                        }
-                        if let Some((g_ref, left)) = watchdog
-                            && left > 1
-                        {
-                            watchdog = Some((g_ref, left - 1));
-                            accepted = true;
-                            break;
-                        }
-                    }
-                }
-                if let Some((_, 1)) = watchdog {
+            let Some(step) = self.line_search(f, q, lambda, load, req, &mut watchdog) else {
+                if watchdog.active.is_some() {
                     // The watchdog ran out: back to where it started, with a damped step.
-                    break;
-                }
-                step *= 0.5;
-            }
-            if !accepted {
-                if watchdog.is_some() {
-                    watchdog = None;
-                    watchdog_off = true;
+                    watchdog.active = None;
+                    watchdog.off = true;
                     q.copy_from(&self.q_ref);
                     lambda.copy_from(&self.lambda_ref);
-                    self.eval(f, q, req);
-                    self.estimate_multipliers(lambda, load);
-                    self.residual(lambda, load, false);
+                    self.restart_at(f, q, lambda, load, req);
                     last_dq = f64::INFINITY;
                     continue;
                 }
                 return Ok(Level::Failed);
-            }
-            watchdog_off = false;
-            if let Some((g_ref, _)) = watchdog
+            };
+            watchdog.off = false;
+            if let Some((g_ref, _)) = watchdog.active
                 && self.g_try.norm() <= (1.0 - 1e-4) * g_ref
             {
-                watchdog = None;
+                watchdog.active = None;
             }
             q.copy_from(&self.q_try);
             lambda.copy_from(&self.lambda_try);
@@ -547,6 +427,192 @@ impl Solver<'_> {
             last_dq = step * self.dq.amax();
         }
         Ok(Level::Failed)
+    }
+
+    /// Terms, least-squares multipliers and residual g at q (already on Φ = 0).
+    fn restart_at<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &DVector<f64>,
+        lambda: &mut DVector<f64>,
+        load: f64,
+        req: Request,
+    ) {
+        self.eval(f, q, req);
+        self.estimate_multipliers(lambda, load);
+        self.residual(lambda, load, false);
+    }
+
+    /// Tangent H of −Q + Φ_qᵀμ at q, μ = λ + αΦ held, into `h` (Φ_qᵀαΦ_q is added by
+    /// [`Self::newton_correction`], exactly): forward differences, one evaluation per free
+    /// coordinate, or the formulation's K (module documentation, "Tangent").
+    fn tangent<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &mut DVector<f64>, load: f64) {
+        if !self.s.fd_tangent {
+            self.h.copy_from(&self.terms.stiffness);
+            return;
+        }
+        self.base.copy_from(&self.g);
+        // Keep Φ_q of the base point for the penalty term: the columns overwrite terms.
+        self.phi_q_base.copy_from(&self.terms.phi_q);
+        for j in 0..self.n {
+            if self.held[j] {
+                continue;
+            }
+            let d = 1e-7 * q[j].abs().max(1.0);
+            let qj = q[j];
+            q[j] = qj + d;
+            self.eval(
+                f,
+                q,
+                Request {
+                    constraints: false,
+                    ..REQ_FULL
+                },
+            );
+            q[j] = qj;
+            let tt = &self.terms;
+            // Column: (−Q(q + d e_j) + Φ_q(q + d e_j)ᵀ μ − (−Q + Φ_qᵀμ)) / d; the
+            // homotopy term is constant and cancels.
+            let mut col = self.h.column_mut(j);
+            col.copy_from(&tt.forces);
+            col.gemv_tr(1.0, &tt.phi_q, &self.mu, -1.0);
+            col.axpy(1.0 - load, &self.q0_forces, 1.0);
+            for (i, v) in col.iter_mut().enumerate() {
+                *v = if self.held[i] {
+                    0.0
+                } else {
+                    (*v - self.base[i]) / d
+                };
+            }
+        }
+        self.terms.phi_q.copy_from(&self.phi_q_base);
+    }
+
+    /// First tangent: α = 10⁴ k_ref unless given (module documentation, "Penalty").
+    fn set_penalty(&mut self) {
+        let n = self.n;
+        let k_ref = (0..n)
+            .filter(|&i| !self.held[i])
+            .map(|i| self.h[(i, i)].abs())
+            .fold(0.0, f64::max);
+        let m_ref = (0..n)
+            .map(|i| self.terms.mass[(i, i)].abs())
+            .fold(0.0, f64::max);
+        let k_ref = if k_ref > 0.0 { k_ref } else { m_ref.max(1.0) };
+        self.alpha = self.s.penalty.unwrap_or(1e4 * k_ref);
+    }
+
+    /// The Newton correction: H += Φ_qᵀαΦ_q, held rows and columns replaced by the identity,
+    /// H Δq = −g into `dq`. `Some(Level::Failed)` when H is singular or Δq not finite after
+    /// the first iteration; singular at the first one is an error (a free motion).
+    fn newton_correction(&mut self) -> Result<Option<Level>, StaticError> {
+        let a = self.alpha;
+        let phi_q = &self.terms.phi_q;
+        self.h.gemm_tr(a, phi_q, phi_q, 1.0);
+        for j in 0..self.n {
+            if self.held[j] {
+                self.h.row_mut(j).fill(0.0);
+                self.h.column_mut(j).fill(0.0);
+                self.h[(j, j)] = 1.0;
+            }
+        }
+        if let Err(e) = self.lu.factor(&self.h) {
+            // Singular at the initial guess: the scene has a free motion. Later, the
+            // iteration wandered off (past a limit point, say): let load stepping try.
+            if self.iterations == 1 {
+                return Err(StaticError::Singular {
+                    iterations: self.iterations,
+                    pivot_ratio: e.pivot_ratio,
+                });
+            }
+            return Ok(Some(Level::Failed));
+        }
+        self.dq.copy_from(&self.g);
+        self.dq.neg_mut();
+        self.lu.solve_in_place(&mut self.dq);
+        if !self.dq.iter().all(|v| v.is_finite()) {
+            return Ok(Some(Level::Failed));
+        }
+        Ok(None)
+    }
+
+    /// Step length s along `dq` from (q, λ): the full step first; if it raises ‖g‖₂, the
+    /// watchdog may still take it, else backtracking s = ½, ¼, … ≥ 1/1024 on ‖g‖₂ over
+    /// projected trial points (module documentation, "Globalisation"). The accepted point is
+    /// left in `q_try`, `lambda_try`, `g_try`; `None` when no step is accepted.
+    fn line_search<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &DVector<f64>,
+        lambda: &DVector<f64>,
+        load: f64,
+        req: Request,
+        watchdog: &mut Watchdog,
+    ) -> Option<f64> {
+        let g0 = self.g.norm();
+        let mut step = 1.0;
+        while step >= 1.0 / 1024.0 {
+            if let Some(g1) = self.trial(f, q, step, load, req) {
+                if g1.is_finite() && g1 <= (1.0 - 1e-4 * step) * g0 {
+                    return Some(step);
+                }
+                // At round-off the residual cannot fall further: accept a full step that
+                // does not raise it much, so the test on Δq can finish.
+                if step == 1.0 && g0 <= 1e3 * self.s.tol_residual * self.f_ref && g1 <= 2.0 * g0 {
+                    return Some(step);
+                }
+                // Watchdog: take a full step that raises ‖g‖ and give the following full
+                // steps WATCHDOG iterations to fall below the level it started from.
+                if step == 1.0 && g1.is_finite() {
+                    if watchdog.active.is_none() && !watchdog.off {
+                        self.q_ref.copy_from(q);
+                        self.lambda_ref.copy_from(lambda);
+                        watchdog.active = Some((g0, WATCHDOG));
+                        return Some(step);
+                    }
+                    if let Some((g_ref, left)) = watchdog.active
+                        && left > 1
+                    {
+                        watchdog.active = Some((g_ref, left - 1));
+                        return Some(step);
+                    }
+                }
+            }
+            if let Some((_, 1)) = watchdog.active {
+                // The watchdog ran out: the caller goes back to where it started.
+                return None;
+            }
+            step *= 0.5;
+        }
+        None
+    }
+
+    /// Trial point P(q + s Δq) into `q_try`, with its least-squares multipliers in
+    /// `lambda_try` and residual in `g_try`; ‖g_try‖₂, or `None` when the projection fails.
+    fn trial<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &DVector<f64>,
+        step: f64,
+        load: f64,
+        req: Request,
+    ) -> Option<f64> {
+        let mut q_try = std::mem::take(&mut self.q_try);
+        q_try.copy_from(q);
+        q_try.axpy(step, &self.dq, 1.0);
+        let projected = self.project(f, &mut q_try);
+        if projected {
+            self.eval(f, &q_try, req);
+        }
+        self.q_try = q_try;
+        if !projected {
+            return None;
+        }
+        let mut l_try = std::mem::take(&mut self.lambda_try);
+        self.estimate_multipliers(&mut l_try, load);
+        self.residual(&l_try, load, true);
+        self.lambda_try = l_try;
+        Some(self.g_try.norm())
     }
 }
 
@@ -561,41 +627,7 @@ pub fn solve_static<F: Formulation + ?Sized>(
     let mut q0 = DVector::zeros(n);
     let mut qd = DVector::zeros(n);
     f.initial_guess(&mut q0, &mut qd);
-    let mut held = vec![false; n];
-    for &j in f.specified_coordinates() {
-        if j < n {
-            held[j] = true;
-        }
-    }
-    let mut s = Solver {
-        s: settings,
-        t,
-        n,
-        held,
-        terms: SystemTerms::new(n, m),
-        zero_qd: DVector::zeros(n),
-        alpha: 0.0,
-        q0_forces: DVector::zeros(n),
-        f_ref: f64::MIN_POSITIVE,
-        evaluations: 0,
-        iterations: 0,
-        g: DVector::zeros(n),
-        g_try: DVector::zeros(n),
-        base: DVector::zeros(n),
-        mu: DVector::zeros(m),
-        phi_q_base: DMatrix::zeros(m, n),
-        h: DMatrix::zeros(n, n),
-        dq: DVector::zeros(n),
-        q_try: DVector::zeros(n),
-        lambda_try: DVector::zeros(m),
-        q_ref: DVector::zeros(n),
-        lambda_ref: DVector::zeros(m),
-        lu: DenseLu::new(n),
-        mm: DMatrix::zeros(m, m),
-        lu_m: DenseLu::new(m),
-        last_residual: f64::INFINITY,
-        last_phi: f64::INFINITY,
-    };
+    let mut s = Solver::new(f, t, settings);
     // Q(q₀) for the homotopy, and a finiteness check of the scene at the guess.
     s.eval(f, &q0, REQ_FULL);
     s.q0_forces.copy_from(&s.terms.forces);
@@ -613,38 +645,7 @@ pub fn solve_static<F: Formulation + ?Sized>(
         // Load stepping by the Newton homotopy, from the initial guess.
         q.copy_from(&q0);
         lambda.fill(0.0);
-        load_steps = 0;
-        let first = 1.0 / settings.load_steps.max(1) as f64;
-        let mut inc = first;
-        let (mut q_save, mut l_save) = (q.clone(), lambda.clone());
-        loop {
-            let target = if load + inc > 1.0 - 1e-12 {
-                1.0
-            } else {
-                load + inc
-            };
-            let before = s.iterations;
-            if matches!(s.level(f, &mut q, &mut lambda, target)?, Level::Converged) {
-                load = target;
-                load_steps += 1;
-                q_save.copy_from(&q);
-                l_save.copy_from(&lambda);
-                if load >= 1.0 {
-                    converged = true;
-                    break;
-                }
-                if s.iterations - before <= 6 {
-                    inc = (2.0 * inc).min(first);
-                }
-            } else {
-                q.copy_from(&q_save);
-                lambda.copy_from(&l_save);
-                inc *= 0.5;
-                if inc < settings.min_increment {
-                    break;
-                }
-            }
-        }
+        (converged, load, load_steps) = s.load_stepping(f, &mut q, &mut lambda)?;
     }
     if !converged {
         return Err(StaticError::NoConvergence {
@@ -666,6 +667,91 @@ pub fn solve_static<F: Formulation + ?Sized>(
         phi: s.last_phi,
         penalty: s.alpha,
     })
+}
+
+impl<'s> Solver<'s> {
+    /// The workspace of a solve of `f` at time `t`, α not yet chosen.
+    fn new<F: Formulation + ?Sized>(f: &F, t: f64, settings: &'s StaticSettings) -> Self {
+        let (n, m) = (f.n_coordinates(), f.n_constraints());
+        let mut held = vec![false; n];
+        for &j in f.specified_coordinates() {
+            if j < n {
+                held[j] = true;
+            }
+        }
+        Solver {
+            s: settings,
+            t,
+            n,
+            held,
+            terms: SystemTerms::new(n, m),
+            zero_qd: DVector::zeros(n),
+            alpha: 0.0,
+            q0_forces: DVector::zeros(n),
+            f_ref: f64::MIN_POSITIVE,
+            evaluations: 0,
+            iterations: 0,
+            g: DVector::zeros(n),
+            g_try: DVector::zeros(n),
+            base: DVector::zeros(n),
+            mu: DVector::zeros(m),
+            phi_q_base: DMatrix::zeros(m, n),
+            h: DMatrix::zeros(n, n),
+            dq: DVector::zeros(n),
+            q_try: DVector::zeros(n),
+            lambda_try: DVector::zeros(m),
+            q_ref: DVector::zeros(n),
+            lambda_ref: DVector::zeros(m),
+            lu: DenseLu::new(n),
+            mm: DMatrix::zeros(m, m),
+            lu_m: DenseLu::new(m),
+            last_residual: f64::INFINITY,
+            last_phi: f64::INFINITY,
+        }
+    }
+
+    /// Load stepping by the Newton homotopy from (q, λ) at load 0: increments from
+    /// 1/`load_steps`, halved after a failed level, doubled (up to the first) after one that
+    /// took ≤ 6 iterations. (converged, largest load factor solved, levels solved).
+    fn load_stepping<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &mut DVector<f64>,
+        lambda: &mut DVector<f64>,
+    ) -> Result<(bool, f64, usize), StaticError> {
+        let mut load = 0.0;
+        let mut load_steps = 0;
+        let first = 1.0 / self.s.load_steps.max(1) as f64;
+        let mut inc = first;
+        let (mut q_save, mut l_save) = (q.clone(), lambda.clone());
+        loop {
+            let target = if load + inc > 1.0 - 1e-12 {
+                1.0
+            } else {
+                load + inc
+            };
+            let before = self.iterations;
+            if matches!(self.level(f, q, lambda, target)?, Level::Converged) {
+                load = target;
+                load_steps += 1;
+                q_save.copy_from(q);
+                l_save.copy_from(lambda);
+                if load >= 1.0 {
+                    return Ok((true, load, load_steps));
+                }
+                if self.iterations - before <= 6 {
+                    inc = (2.0 * inc).min(first);
+                }
+            } else {
+                q.copy_from(&q_save);
+                lambda.copy_from(&l_save);
+                inc *= 0.5;
+                if inc < self.s.min_increment {
+                    return Ok((false, load, load_steps));
+                }
+            }
+        }
+    }
 }
 
 /// A formulation that starts from given positions and velocities: `initial_guess` returns
