@@ -8,7 +8,9 @@ use flexmbd_fe::reduced::Dof;
 use serde_json::Value;
 
 use crate::error::ModelError;
-use crate::scene::{BodyModel, Force, GROUND, JointKind, Marker, Scene, SensorKind};
+use crate::scene::{
+    Body, BodyModel, Force, GROUND, Joint, JointKind, Marker, Scene, Sensor, SensorKind,
+};
 
 impl Scene {
     /// Parse RON text; `origin` names the file in errors. Not validated.
@@ -65,7 +67,24 @@ impl Scene {
     }
 
     /// Check names, references and values. Errors name the file and the field.
+    ///
+    /// The parts of the scene are checked in a fixed order (solver, gravity, bodies,
+    /// ground, joints, drivers, forces, sensors) and the first error found is returned,
+    /// so that a scene with several mistakes always reports the same one.
     pub fn validate(&self) -> Result<(), ModelError> {
+        self.check_solver()?;
+        self.check_gravity()?;
+        self.check_bodies()?;
+        self.unique_marker_names("ground.name", &self.ground)?;
+        self.check_joints()?;
+        self.check_drivers()?;
+        self.check_forces()?;
+        self.check_sensors()
+    }
+
+    /// The solver settings: positive step, duration, tolerance and optional output
+    /// interval and penalty, and at least one Newton iteration.
+    fn check_solver(&self) -> Result<(), ModelError> {
         let s = &self.solver;
         require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
         require_positive("solver.duration", s.duration).map_err(|e| self.invalid(e))?;
@@ -84,6 +103,11 @@ impl Scene {
         if let Some(p) = s.penalty {
             require_positive("solver.penalty", p).map_err(|e| self.invalid(e))?;
         }
+        Ok(())
+    }
+
+    /// Every gravity component must be finite.
+    fn check_gravity(&self) -> Result<(), ModelError> {
         for (i, g) in self.gravity.0.iter().enumerate() {
             if !g.is_finite() {
                 return Err(self.invalid(InvalidValue::new(
@@ -93,9 +117,13 @@ impl Scene {
                 )));
             }
         }
+        Ok(())
+    }
+
+    /// Each body in turn; body names must be unique and none may be `ground`.
+    fn check_bodies(&self) -> Result<(), ModelError> {
         let mut body_names = HashSet::new();
         for b in &self.bodies {
-            let f = |field: &str| format!("bodies[{}].{field}", b.name);
             if b.name == GROUND {
                 return Err(self.invalid(InvalidValue::new(
                     "bodies.name",
@@ -110,51 +138,67 @@ impl Scene {
                     "duplicate body name",
                 )));
             }
-            self.unique_marker_names(&f("markers.name"), &b.markers)?;
-            let n_modes = match &b.model {
-                BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
-                _ => 0,
-            };
-            if b.initial_modes.len() > n_modes {
-                return Err(self.invalid(InvalidValue::new(
-                    f("initial_modes"),
-                    format!("{:?}", b.initial_modes),
-                    format!("the body has {n_modes} modal coordinates"),
-                )));
-            }
-            if let Some(v) = b.initial_modes.iter().find(|v| !v.is_finite()) {
-                return Err(self.invalid(InvalidValue::new(
-                    f("initial_modes"),
-                    v,
-                    "must be finite",
-                )));
-            }
-            match &b.model {
-                BodyModel::Rigid { mass, inertia, .. } => {
-                    require_positive(&f("model.Rigid.mass"), *mass).map_err(|e| self.invalid(e))?;
-                    let t = inertia.tensor();
-                    for k in 0..3 {
-                        require_non_negative(&f("model.Rigid.inertia"), t[(k, k)])
-                            .map_err(|e| self.invalid(e))?;
-                    }
+            self.unique_marker_names(&format!("bodies[{}].markers.name", b.name), &b.markers)?;
+            self.check_initial_modes(b)?;
+            self.check_body_model(b)?;
+        }
+        Ok(())
+    }
+
+    /// A body's initial modal coordinates: no more than it has (a flexible beam's
+    /// boundary and normal modes, none otherwise), and all finite.
+    fn check_initial_modes(&self, b: &Body) -> Result<(), ModelError> {
+        let field = format!("bodies[{}].initial_modes", b.name);
+        let n_modes = match &b.model {
+            BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
+            _ => 0,
+        };
+        if b.initial_modes.len() > n_modes {
+            return Err(self.invalid(InvalidValue::new(
+                field,
+                format!("{:?}", b.initial_modes),
+                format!("the body has {n_modes} modal coordinates"),
+            )));
+        }
+        if let Some(v) = b.initial_modes.iter().find(|v| !v.is_finite()) {
+            return Err(self.invalid(InvalidValue::new(field, v, "must be finite")));
+        }
+        Ok(())
+    }
+
+    /// A body's model: a rigid body's positive mass and non-negative principal inertias,
+    /// or a beam of the scene's dimension whose finite-element spec is itself valid.
+    fn check_body_model(&self, b: &Body) -> Result<(), ModelError> {
+        let f = |field: &str| format!("bodies[{}].{field}", b.name);
+        match &b.model {
+            BodyModel::Rigid { mass, inertia, .. } => {
+                require_positive(&f("model.Rigid.mass"), *mass).map_err(|e| self.invalid(e))?;
+                let t = inertia.tensor();
+                for k in 0..3 {
+                    require_non_negative(&f("model.Rigid.inertia"), t[(k, k)])
+                        .map_err(|e| self.invalid(e))?;
                 }
-                BodyModel::Beam(spec) => {
-                    if spec.dim != self.dim {
-                        return Err(self.invalid(InvalidValue::new(
-                            f("model.Beam.dim"),
-                            format!("{:?}", spec.dim),
-                            format!("the scene is {:?}", self.dim),
-                        )));
-                    }
-                    spec.validate().map_err(|source| ModelError::Fe {
-                        file: self.origin.clone(),
-                        body: b.name.clone(),
-                        source: Box::new(source),
-                    })?;
+            }
+            BodyModel::Beam(spec) => {
+                if spec.dim != self.dim {
+                    return Err(self.invalid(InvalidValue::new(
+                        f("model.Beam.dim"),
+                        format!("{:?}", spec.dim),
+                        format!("the scene is {:?}", self.dim),
+                    )));
                 }
+                spec.validate().map_err(|source| ModelError::Fe {
+                    file: self.origin.clone(),
+                    body: b.name.clone(),
+                    source: Box::new(source),
+                })?;
             }
         }
-        self.unique_marker_names("ground.name", &self.ground)?;
+        Ok(())
+    }
+
+    /// Each joint in turn; joint names must be unique.
+    fn check_joints(&self) -> Result<(), ModelError> {
         let mut joint_names = HashSet::new();
         for j in &self.joints {
             if !joint_names.insert(j.name.as_str()) {
@@ -164,36 +208,49 @@ impl Scene {
                     "duplicate joint name",
                 )));
             }
-            let item = |f: &str| format!("joints[{}].{f}", j.name);
-            self.check_marker(&item("body1"), &j.body1, &item("marker1"), &j.marker1)?;
-            self.check_marker(&item("body2"), &j.body2, &item("marker2"), &j.marker2)?;
-            if j.body1 == j.body2 {
-                return Err(self.invalid(InvalidValue::new(
-                    item("body2"),
-                    &j.body2,
-                    "a joint needs two different bodies",
-                )));
-            }
-            if matches!(j.kind, JointKind::Free) && j.body1 != GROUND {
-                return Err(self.invalid(InvalidValue::new(
-                    item("body1"),
-                    &j.body1,
-                    "a Free joint joins a floating base (body2) to the ground: body1 must be `ground`",
-                )));
-            }
-            let planar = self.dim == flexmbd_core::Dim::Planar;
-            let spatial_only = matches!(
-                j.kind,
-                JointKind::Spherical | JointKind::Universal { .. } | JointKind::Cylindrical { .. }
-            );
-            if planar && spatial_only {
-                return Err(self.invalid(InvalidValue::new(
-                    item("kind"),
-                    format!("{:?}", j.kind),
-                    "not a planar joint",
-                )));
-            }
+            self.check_joint(j)?;
         }
+        Ok(())
+    }
+
+    /// One joint: existing markers on two different bodies, a Free joint only from the
+    /// ground, and no spatial-only kind in a planar scene.
+    fn check_joint(&self, j: &Joint) -> Result<(), ModelError> {
+        let item = |f: &str| format!("joints[{}].{f}", j.name);
+        self.check_marker(&item("body1"), &j.body1, &item("marker1"), &j.marker1)?;
+        self.check_marker(&item("body2"), &j.body2, &item("marker2"), &j.marker2)?;
+        if j.body1 == j.body2 {
+            return Err(self.invalid(InvalidValue::new(
+                item("body2"),
+                &j.body2,
+                "a joint needs two different bodies",
+            )));
+        }
+        if matches!(j.kind, JointKind::Free) && j.body1 != GROUND {
+            return Err(self.invalid(InvalidValue::new(
+                item("body1"),
+                &j.body1,
+                "a Free joint joins a floating base (body2) to the ground: body1 must be `ground`",
+            )));
+        }
+        let planar = self.dim == flexmbd_core::Dim::Planar;
+        let spatial_only = matches!(
+            j.kind,
+            JointKind::Spherical | JointKind::Universal { .. } | JointKind::Cylindrical { .. }
+        );
+        if planar && spatial_only {
+            return Err(self.invalid(InvalidValue::new(
+                item("kind"),
+                format!("{:?}", j.kind),
+                "not a planar joint",
+            )));
+        }
+        Ok(())
+    }
+
+    /// Each driver must drive an existing joint with a single coordinate (not Free),
+    /// and a SpinUp law needs a positive ramp time.
+    fn check_drivers(&self) -> Result<(), ModelError> {
         for d in &self.drivers {
             let Some(j) = self.joints.iter().find(|j| j.name == d.joint) else {
                 return Err(self.missing(format!("drivers[{}].joint", d.name), "joint", &d.joint));
@@ -210,6 +267,12 @@ impl Scene {
                     .map_err(|e| self.invalid(e))?;
             }
         }
+        Ok(())
+    }
+
+    /// Each spring-damper: existing markers, and non-negative stiffness, damping and
+    /// (if given) free length.
+    fn check_forces(&self) -> Result<(), ModelError> {
         for force in &self.forces {
             let Force::SpringDamper {
                 name,
@@ -230,6 +293,12 @@ impl Scene {
                 require_non_negative(&item("free_length"), *l).map_err(|e| self.invalid(e))?;
             }
         }
+        Ok(())
+    }
+
+    /// Each sensor in turn; sensor names must be unique and none may be `t` (the time
+    /// column of the output).
+    fn check_sensors(&self) -> Result<(), ModelError> {
         let mut sensor_names = HashSet::new();
         for sn in &self.sensors {
             if !sensor_names.insert(sn.name.as_str()) || sn.name == "t" {
@@ -239,67 +308,80 @@ impl Scene {
                     "duplicate sensor name (or `t`)",
                 )));
             }
-            let item = |f: &str| format!("sensors[{}].{f}", sn.name);
-            if sn.displacement && !matches!(sn.kind, SensorKind::Position { .. }) {
-                return Err(self.invalid(InvalidValue::new(
-                    item("displacement"),
-                    true,
-                    "only a Position sensor can report a displacement",
-                )));
+            self.check_sensor(sn)?;
+        }
+        Ok(())
+    }
+
+    /// One sensor: a displacement only from a Position sensor, and what its kind
+    /// measures must exist (marker and frame, joint with one coordinate, modal index).
+    fn check_sensor(&self, sn: &Sensor) -> Result<(), ModelError> {
+        let item = |f: &str| format!("sensors[{}].{f}", sn.name);
+        if sn.displacement && !matches!(sn.kind, SensorKind::Position { .. }) {
+            return Err(self.invalid(InvalidValue::new(
+                item("displacement"),
+                true,
+                "only a Position sensor can report a displacement",
+            )));
+        }
+        match &sn.kind {
+            SensorKind::Position {
+                body,
+                marker,
+                frame,
+                ..
             }
-            match &sn.kind {
-                SensorKind::Position {
-                    body,
-                    marker,
-                    frame,
-                    ..
+            | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            } => {
+                self.check_marker(&item("body"), body, &item("marker"), marker)?;
+                if let Some(fr) = frame
+                    && fr != GROUND
+                    && !self.bodies.iter().any(|b| &b.name == fr)
+                {
+                    return Err(self.missing(item("frame"), "body", fr));
                 }
-                | SensorKind::Velocity {
-                    body,
-                    marker,
-                    frame,
-                    ..
-                } => {
-                    self.check_marker(&item("body"), body, &item("marker"), marker)?;
-                    if let Some(fr) = frame
-                        && fr != GROUND
-                        && !self.bodies.iter().any(|b| &b.name == fr)
-                    {
-                        return Err(self.missing(item("frame"), "body", fr));
-                    }
-                }
-                SensorKind::JointCoordinate { joint } => {
-                    let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
-                        return Err(self.missing(item("joint"), "joint", joint));
-                    };
-                    if matches!(j.kind, JointKind::Free) {
-                        return Err(self.invalid(InvalidValue::new(
-                            item("joint"),
-                            joint,
-                            "a Free joint has no single coordinate; use Position/Velocity sensors on its body",
-                        )));
-                    }
-                }
-                SensorKind::Modal { body, index } => {
-                    let Some(b) = self.bodies.iter().find(|b| &b.name == body) else {
-                        return Err(self.missing(item("body"), "body", body));
-                    };
-                    let n = match &b.model {
-                        BodyModel::Beam(spec) if b.flexible => {
-                            spec.boundary.len() + spec.normal_modes + spec.axial_modes
-                        }
-                        _ => 0,
-                    };
-                    if *index >= n {
-                        return Err(self.invalid(InvalidValue::new(
-                            item("index"),
-                            index,
-                            format!("body `{body}` has {n} modal coordinates"),
-                        )));
-                    }
-                }
-                SensorKind::Energy => {}
             }
+            SensorKind::JointCoordinate { joint } => {
+                let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
+                    return Err(self.missing(item("joint"), "joint", joint));
+                };
+                if matches!(j.kind, JointKind::Free) {
+                    return Err(self.invalid(InvalidValue::new(
+                        item("joint"),
+                        joint,
+                        "a Free joint has no single coordinate; use Position/Velocity sensors on its body",
+                    )));
+                }
+            }
+            SensorKind::Modal { body, index } => self.check_modal_sensor(&sn.name, body, *index)?,
+            SensorKind::Energy => {}
+        }
+        Ok(())
+    }
+
+    /// A Modal sensor's body must exist and `index` must be one of its modal coordinates
+    /// (a flexible beam's boundary, normal and axial modes; a rigid body has none).
+    fn check_modal_sensor(&self, sensor: &str, body: &str, index: usize) -> Result<(), ModelError> {
+        let item = |f: &str| format!("sensors[{sensor}].{f}");
+        let Some(b) = self.bodies.iter().find(|b| b.name == body) else {
+            return Err(self.missing(item("body"), "body", body));
+        };
+        let n = match &b.model {
+            BodyModel::Beam(spec) if b.flexible => {
+                spec.boundary.len() + spec.normal_modes + spec.axial_modes
+            }
+            _ => 0,
+        };
+        if index >= n {
+            return Err(self.invalid(InvalidValue::new(
+                item("index"),
+                index,
+                format!("body `{body}` has {n} modal coordinates"),
+            )));
         }
         Ok(())
     }

@@ -115,149 +115,266 @@ fn flexible_beams(bodies: &mut [Body]) -> impl Iterator<Item = (&str, &mut BeamB
 /// last); a sensor frame naming the beam becomes the first substructure's frame, which is
 /// the beam's floating frame. `Modal` sensors and initial modes of a split beam are refused.
 pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
-    let refuse = |what: String| Err(ModelError::Unsupported(format!("{}: {what}", scene.origin)));
-    if n == 0 {
-        return refuse("substructuring needs n ≥ 1 substructures".into());
-    }
-    if scene.solver.formulation != FormulationKind::Relative {
-        return refuse(format!(
-            "substructuring SB{n} runs in the relative formulation only (methods.md §6.4); \
-             use --formulation relative"
-        ));
-    }
+    check_substructuring(scene, n)?;
     let mut out = scene.clone();
     out.solver.stiffening = Stiffening::Linear;
     out.bodies.clear();
     out.joints = scene.joints.clone();
-    // (old body, old marker) → (new body, new marker name)
-    let mut moved: Vec<(String, String, String, String)> = Vec::new();
-    let mut first_of: Vec<(String, String)> = Vec::new();
+    let mut split = SplitBeams::default();
     for b in &scene.bodies {
-        let BodyModel::Beam(spec) = &b.model else {
-            out.bodies.push(b.clone());
-            continue;
-        };
-        if !b.flexible {
-            out.bodies.push(b.clone());
-            continue;
+        match &b.model {
+            BodyModel::Beam(spec) if b.flexible => {
+                check_splittable_beam(scene, b, spec)?;
+                split_beam(b, spec, n, &mut out, &mut split);
+            }
+            _ => out.bodies.push(b.clone()),
         }
-        let pts = &spec.geometry.points;
-        let straight = pts.len() == 2
-            && pts[0].iter().all(|c| *c == 0.0)
-            && pts[1].iter().skip(1).all(|c| *c == 0.0)
-            && pts[1][0] > 0.0;
-        if !straight || spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
-            return refuse(format!(
+    }
+    repoint_to_substructures(scene, &mut out, &split)?;
+    Ok(out)
+}
+
+/// Elements of each substructure's mesh (docs/methods.md §6.4 prototype, docs/scenes.md §5).
+const SUBSTRUCTURE_ELEMENTS: usize = 2;
+
+/// Substructuring cannot rewrite this scene: `what` says why, after the file name.
+fn refuse_substructuring(scene: &Scene, what: String) -> ModelError {
+    ModelError::Unsupported(format!("{}: {what}", scene.origin))
+}
+
+/// SBn as a whole: at least one substructure, and the relative formulation (the only
+/// one that joins substructures by `Rigid` brackets).
+fn check_substructuring(scene: &Scene, n: usize) -> Result<(), ModelError> {
+    if n == 0 {
+        return Err(refuse_substructuring(
+            scene,
+            "substructuring needs n ≥ 1 substructures".into(),
+        ));
+    }
+    if scene.solver.formulation != FormulationKind::Relative {
+        return Err(refuse_substructuring(
+            scene,
+            format!(
+                "substructuring SB{n} runs in the relative formulation only (methods.md §6.4); \
+                 use --formulation relative"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A flexible beam can be split only if it is one straight segment from the origin along
+/// body x, with its frame clamped at node 0, and has no initial modes (they would not
+/// map onto the substructures' bases).
+fn check_splittable_beam(scene: &Scene, b: &Body, spec: &BeamBodySpec) -> Result<(), ModelError> {
+    let pts = &spec.geometry.points;
+    let straight = pts.len() == 2
+        && pts[0].iter().all(|c| *c == 0.0)
+        && pts[1].iter().skip(1).all(|c| *c == 0.0)
+        && pts[1][0] > 0.0;
+    if !straight || spec.frame != (ReferenceFrame::Clamped { node: 0 }) {
+        return Err(refuse_substructuring(
+            scene,
+            format!(
                 "body `{}`: substructuring needs a straight beam from the origin along body x \
                  with its frame clamped at node 0",
                 b.name
-            ));
-        }
-        if !b.initial_modes.is_empty() {
-            return refuse(format!(
+            ),
+        ));
+    }
+    if !b.initial_modes.is_empty() {
+        return Err(refuse_substructuring(
+            scene,
+            format!(
                 "body `{}`: initial modes of a split beam are not supported",
                 b.name
-            ));
-        }
-        // Each substructure: 2 elements (docs/methods.md §6.4 prototype, docs/scenes.md §5).
-        let (length, per) = (pts[1][0], 2);
-        let ls = length / n as f64;
-        let a0 = b.orientation.matrix();
-        let planar = spec.dim == flexmbd_core::Dim::Planar;
-        let dofs: &[Dof] = if planar {
-            &[Dof::Ux, Dof::Uy, Dof::Rz]
-        } else {
-            &[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]
-        };
-        let v3 = |x: f64| V3([x, 0.0, 0.0]);
-        let point = |x: f64| -> Vec<f64> {
-            if planar {
-                vec![x, 0.0]
-            } else {
-                vec![x, 0.0, 0.0]
-            }
-        };
-        let name = |k: usize| format!("{}_{}", b.name, k + 1);
-        first_of.push((b.name.clone(), name(0)));
-        for k in 0..n {
-            let mut sub = spec.clone();
-            sub.geometry.points = vec![point(0.0), point(ls)];
-            sub.geometry.elements_per_segment = per;
-            sub.boundary = dofs.iter().map(|&dof| NodeDof { node: per, dof }).collect();
-            sub.normal_modes = if planar { 1 } else { 2 };
-            sub.axial_modes = 0;
-            let offset = a0 * Vector3::new(k as f64 * ls, 0.0, 0.0);
-            let w = b.velocity.angular.vec();
-            let mut velocity = b.velocity.clone();
-            velocity.linear = V3((b.velocity.linear.vec() + w.cross(&offset)).into());
-            let mut markers = vec![
-                Marker {
-                    name: "inner".into(),
-                    position: v3(0.0),
-                },
-                Marker {
-                    name: "outer".into(),
-                    position: v3(ls),
-                },
-            ];
-            for m in &b.markers {
-                let x = m.position.0[0];
-                let kk = ((x / ls + 1e-9).floor() as usize).min(n - 1);
-                if kk == k {
-                    markers.push(Marker {
-                        name: m.name.clone(),
-                        position: v3(x - k as f64 * ls),
-                    });
-                    moved.push((b.name.clone(), m.name.clone(), name(k), m.name.clone()));
-                }
-            }
-            out.bodies.push(Body {
-                name: name(k),
-                origin: V3((b.origin.vec() + offset).into()),
-                orientation: b.orientation.clone(),
-                model: BodyModel::Beam(sub),
-                flexible: true,
-                markers,
-                velocity,
-                initial_modes: Vec::new(),
-            });
-            if k > 0 {
-                out.joints.push(Joint {
-                    name: format!("{}_bracket_{k}", b.name),
-                    kind: JointKind::Rigid,
-                    body1: name(k - 1),
-                    marker1: "outer".into(),
-                    body2: name(k),
-                    marker2: "inner".into(),
-                });
-            }
-        }
+            ),
+        ));
     }
-    let remap = |body: &mut String, marker: &mut String| {
-        if let Some((_, _, nb, nm)) = moved
+    Ok(())
+}
+
+/// Where the split beams' markers went, to re-point what named them.
+#[derive(Default)]
+struct SplitBeams {
+    /// (old body, old marker) → (new body, new marker name).
+    moved: Vec<(String, String, String, String)>,
+    /// (split beam, its first substructure).
+    first_of: Vec<(String, String)>,
+}
+
+impl SplitBeams {
+    /// Re-point a (body, marker) pair to the substructure that now holds the marker.
+    fn remap(&self, body: &mut String, marker: &mut String) {
+        if let Some((_, _, nb, nm)) = self
+            .moved
             .iter()
             .find(|(ob, om, _, _)| ob == body && om == marker)
         {
             *body = nb.clone();
             *marker = nm.clone();
         }
-    };
-    for j in out.joints.iter_mut() {
-        remap(&mut j.body1, &mut j.marker1);
-        remap(&mut j.body2, &mut j.marker2);
     }
-    for f in out.forces.iter_mut() {
-        for (body, marker) in f.ends_mut() {
-            remap(body, marker);
-        }
-    }
-    let frame_of = |f: &mut Option<String>| {
-        if let Some(name) = f
-            && let Some((_, first)) = first_of.iter().find(|(o, _)| o == name)
+
+    /// A frame naming a split beam becomes its first substructure's frame, which is the
+    /// beam's floating frame.
+    fn remap_frame(&self, frame: &mut Option<String>) {
+        if let Some(name) = frame
+            && let Some((_, first)) = self.first_of.iter().find(|(o, _)| o == name)
         {
             *name = first.clone();
         }
+    }
+
+    /// Whether `body` is a beam that was split (its name no longer exists).
+    fn is_split(&self, body: &str) -> bool {
+        self.first_of.iter().any(|(o, _)| o == body)
+    }
+}
+
+/// Name of substructure `k` (0-based) of beam `b`: `{name}_{k+1}`.
+fn substructure_name(b: &Body, k: usize) -> String {
+    format!("{}_{}", b.name, k + 1)
+}
+
+/// Replace beam `b` in `out` by its `n` substructures, joined by `Rigid` brackets, and
+/// record in `split` where its markers went.
+fn split_beam(b: &Body, spec: &BeamBodySpec, n: usize, out: &mut Scene, split: &mut SplitBeams) {
+    split
+        .first_of
+        .push((b.name.clone(), substructure_name(b, 0)));
+    for k in 0..n {
+        out.bodies
+            .push(substructure_body(b, spec, n, k, &mut split.moved));
+        if k > 0 {
+            out.joints.push(bracket(b, k));
+        }
+    }
+}
+
+/// Substructure `k` of the `n` of beam `b`: a 2-element beam of length L/n, placed and
+/// moving as that stretch of the original beam, holding the beam's markers on it.
+fn substructure_body(
+    b: &Body,
+    spec: &BeamBodySpec,
+    n: usize,
+    k: usize,
+    moved: &mut Vec<(String, String, String, String)>,
+) -> Body {
+    let ls = spec.geometry.points[1][0] / n as f64;
+    let offset = b.orientation.matrix() * Vector3::new(k as f64 * ls, 0.0, 0.0);
+    let w = b.velocity.angular.vec();
+    let mut velocity = b.velocity.clone();
+    velocity.linear = V3((b.velocity.linear.vec() + w.cross(&offset)).into());
+    Body {
+        name: substructure_name(b, k),
+        origin: V3((b.origin.vec() + offset).into()),
+        orientation: b.orientation.clone(),
+        model: BodyModel::Beam(substructure_spec(spec, ls)),
+        flexible: true,
+        markers: substructure_markers(b, n, k, ls, moved),
+        velocity,
+        initial_modes: Vec::new(),
+    }
+}
+
+/// A substructure's beam spec: length `ls`, 2 elements, frame clamped at its inner node,
+/// static modes of every DOF of its outer node (2D: u, v, θ; 3D: 6), one fixed-interface
+/// mode per bending plane, no axial modes.
+fn substructure_spec(spec: &BeamBodySpec, ls: f64) -> BeamBodySpec {
+    let planar = spec.dim == flexmbd_core::Dim::Planar;
+    let dofs: &[Dof] = if planar {
+        &[Dof::Ux, Dof::Uy, Dof::Rz]
+    } else {
+        &[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]
     };
+    let point = |x: f64| -> Vec<f64> {
+        if planar {
+            vec![x, 0.0]
+        } else {
+            vec![x, 0.0, 0.0]
+        }
+    };
+    let per = SUBSTRUCTURE_ELEMENTS;
+    let mut sub = spec.clone();
+    sub.geometry.points = vec![point(0.0), point(ls)];
+    sub.geometry.elements_per_segment = per;
+    sub.boundary = dofs.iter().map(|&dof| NodeDof { node: per, dof }).collect();
+    sub.normal_modes = if planar { 1 } else { 2 };
+    sub.axial_modes = 0;
+    sub
+}
+
+/// Substructure `k`'s markers: `inner` and `outer` (for the brackets), then those of
+/// beam `b`'s markers that lie on it (a point on an interface goes to the inner end of
+/// the outer substructure, the tip to the last), each recorded in `moved`.
+fn substructure_markers(
+    b: &Body,
+    n: usize,
+    k: usize,
+    ls: f64,
+    moved: &mut Vec<(String, String, String, String)>,
+) -> Vec<Marker> {
+    let v3 = |x: f64| V3([x, 0.0, 0.0]);
+    let mut markers = vec![
+        Marker {
+            name: "inner".into(),
+            position: v3(0.0),
+        },
+        Marker {
+            name: "outer".into(),
+            position: v3(ls),
+        },
+    ];
+    for m in &b.markers {
+        let x = m.position.0[0];
+        let kk = ((x / ls + 1e-9).floor() as usize).min(n - 1);
+        if kk == k {
+            markers.push(Marker {
+                name: m.name.clone(),
+                position: v3(x - k as f64 * ls),
+            });
+            moved.push((
+                b.name.clone(),
+                m.name.clone(),
+                substructure_name(b, k),
+                m.name.clone(),
+            ));
+        }
+    }
+    markers
+}
+
+/// The `Rigid` joint `{name}_bracket_k` from substructure k-1's `outer` marker to
+/// substructure k's `inner` marker.
+fn bracket(b: &Body, k: usize) -> Joint {
+    Joint {
+        name: format!("{}_bracket_{k}", b.name),
+        kind: JointKind::Rigid,
+        body1: substructure_name(b, k - 1),
+        marker1: "outer".into(),
+        body2: substructure_name(b, k),
+        marker2: "inner".into(),
+    }
+}
+
+/// Re-point joints, forces and Position/Velocity sensors of `out` from the split beams'
+/// markers to the substructures that now hold them; refuse `Modal` sensors of a split
+/// beam, whose modal coordinates no longer exist.
+fn repoint_to_substructures(
+    scene: &Scene,
+    out: &mut Scene,
+    split: &SplitBeams,
+) -> Result<(), ModelError> {
+    for j in out.joints.iter_mut() {
+        split.remap(&mut j.body1, &mut j.marker1);
+        split.remap(&mut j.body2, &mut j.marker2);
+    }
+    for f in out.forces.iter_mut() {
+        for (body, marker) in f.ends_mut() {
+            split.remap(body, marker);
+        }
+    }
     for s in out.sensors.iter_mut() {
         match &mut s.kind {
             SensorKind::Position {
@@ -272,19 +389,22 @@ pub fn substructure(scene: &Scene, n: usize) -> Result<Scene, ModelError> {
                 frame,
                 ..
             } => {
-                remap(body, marker);
-                frame_of(frame);
+                split.remap(body, marker);
+                split.remap_frame(frame);
             }
-            SensorKind::Modal { body, .. } if first_of.iter().any(|(o, _)| o == body) => {
-                return refuse(format!(
-                    "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
-                    s.name
+            SensorKind::Modal { body, .. } if split.is_split(body) => {
+                return Err(refuse_substructuring(
+                    scene,
+                    format!(
+                        "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
+                        s.name
+                    ),
                 ));
             }
             _ => {}
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The scene FS0 compiles: every flexible beam without axial modes.
