@@ -7,7 +7,10 @@
 pub mod ali3p;
 mod initial;
 pub mod lu;
+mod settings;
+mod start_from;
 pub mod statics;
 
 pub use ali3p::{Ali3p, Ali3pSettings, Checkpoint, IntegratorError, Stats};
-pub use statics::{StartFrom, StaticError, StaticSettings, StaticSolution, solve_static};
+pub use start_from::StartFrom;
+pub use statics::{StaticError, StaticSettings, StaticSolution, solve_static};
