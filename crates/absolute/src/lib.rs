@@ -97,6 +97,9 @@ impl Formulation for Absolute {
     fn constant_mass(&self) -> bool {
         both!(self, f => f.constant_mass())
     }
+}
+
+impl flexmbd_core::Observe for Absolute {
     fn sensor_names(&self) -> &[String] {
         both!(self, f => f.sensor_names())
     }

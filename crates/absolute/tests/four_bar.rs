@@ -5,6 +5,7 @@
 mod common;
 use common::*;
 use flexmbd_core::Formulation;
+use flexmbd_core::Observe as _;
 use flexmbd_model::Scene;
 
 /// Converged rigid N = 2 values at t = 10 s [S3 via docs/scenes.md §1 "Reference values"].

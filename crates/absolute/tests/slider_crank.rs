@@ -7,6 +7,7 @@
 mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
+use flexmbd_core::Observe as _;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{BodyModel, Driver, Force, MotionLaw, Scene, SensorKind};

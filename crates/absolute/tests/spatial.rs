@@ -13,6 +13,7 @@ mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Formulation;
+use flexmbd_core::Observe as _;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};

@@ -8,6 +8,7 @@
 mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
+use flexmbd_core::Observe as _;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_test_support::scenes::model;
 

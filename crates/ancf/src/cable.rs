@@ -447,6 +447,9 @@ impl Formulation for Cable {
                 nddx * q[d] + nddy * q[d + 1] + 2.0 * (ndx * qd[d] + ndy * qd[d + 1]);
         }
     }
+}
+
+impl flexmbd_core::Observe for Cable {
     fn sensor_names(&self) -> &[String] {
         &self.names
     }

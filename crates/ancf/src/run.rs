@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use flexmbd_core::{Formulation, InvalidValue};
+use flexmbd_core::{InvalidValue, Observe};
 use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError, Stats};
 
 use crate::cable::{Cable, StaticError, StaticReport};

@@ -2,7 +2,7 @@
 //! (counting global allocator).
 
 use flexmbd_ancf::{Cable, CableSpec};
-use flexmbd_core::{Dim, Formulation};
+use flexmbd_core::{Dim, Observe};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 
 #[global_allocator]

@@ -12,6 +12,9 @@
 //!   **c** = Φ̇_q q̇ + Φ̇_t.
 //!
 //! Coordinates update additively, q ← q + Δq.
+//!
+//! What a simulation reads at output instants, the sensors, is a separate trait
+//! ([`Observe`]); a compiled scene is both ([`CompiledScene`]).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -145,10 +148,19 @@ pub trait Formulation {
     fn symmetric_tangent(&self) -> bool {
         true
     }
-    /// Names of the sensors, in output order.
-    fn sensor_names(&self) -> &[String] {
-        &[]
-    }
-    /// Sensor values at (t, q, q̇), one per name. Called at output instants only.
-    fn sensors(&mut self, _t: f64, _q: &DVector<f64>, _qd: &DVector<f64>, _out: &mut [f64]) {}
 }
+
+/// The sensors of a compiled scene, read at output instants only: outside the integrator's
+/// contract, which is [`Formulation`] alone.
+pub trait Observe {
+    /// Names of the sensors, in output order.
+    fn sensor_names(&self) -> &[String];
+    /// Sensor values at (t, q, q̇), one per name.
+    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]);
+}
+
+/// A compiled scene: the [`Formulation`] an integrator drives and the sensors ([`Observe`])
+/// a simulation reads. Every type that is both is one.
+pub trait CompiledScene: Formulation + Observe {}
+
+impl<T: Formulation + Observe + ?Sized> CompiledScene for T {}

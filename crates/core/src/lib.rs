@@ -9,7 +9,7 @@
 pub mod formulation;
 pub mod kinematics;
 
-pub use formulation::{Formulation, Request, SystemTerms};
+pub use formulation::{CompiledScene, Formulation, Observe, Request, SystemTerms};
 pub use kinematics::{JointReading, MarkerKinematics, SensorQuery};
 
 use nalgebra::{Matrix3, Vector3};

@@ -15,7 +15,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use flexmbd_core::Formulation;
+use flexmbd_core::CompiledScene;
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, Checkpoint as IntegratorCheckpoint, StartFrom, StaticSettings, Stats,
     solve_static,
@@ -107,13 +107,13 @@ impl History {
 /// Compile a scene with the formulation its solver settings name, for tests and benchmarks
 /// that evaluate the formulation at chosen states or drive [`Ali3p`] by hand;
 /// [`Simulation::new`] is the usual route.
-pub fn compile(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
+pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
     build_formulation(scene)
 }
 
 /// The one place where a formulation is built from a scene (every route of the facade
 /// comes through here).
-fn build_formulation(scene: &Scene) -> Result<Box<dyn Formulation>, ModelError> {
+fn build_formulation(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
     let prepared = PreparedScene::new(scene)?;
@@ -230,7 +230,7 @@ impl History {
 
 /// A scene compiled into its formulation, not yet started.
 struct Compiled {
-    formulation: Box<dyn Formulation>,
+    formulation: Box<dyn CompiledScene>,
     setup: Setup,
 }
 
@@ -291,7 +291,7 @@ impl StartFailure {
 /// its output, or [`restore`](Simulation::restore) an earlier [`checkpoint`](Simulation::checkpoint).
 /// A different step size, tolerance or model means a new simulation from a changed scene.
 pub struct Simulation {
-    formulation: Box<dyn Formulation>,
+    formulation: Box<dyn CompiledScene>,
     integrator: Ali3p,
     /// The state before the step under way; a failed step returns here.
     last_good: IntegratorCheckpoint,

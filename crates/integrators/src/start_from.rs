@@ -63,10 +63,4 @@ impl<F: Formulation + ?Sized> Formulation for StartFrom<'_, F> {
     fn symmetric_tangent(&self) -> bool {
         self.inner.symmetric_tangent()
     }
-    fn sensor_names(&self) -> &[String] {
-        self.inner.sensor_names()
-    }
-    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.inner.sensors(t, q, qd, out)
-    }
 }

@@ -185,6 +185,9 @@ impl flexmbd_core::Formulation for Relative {
             self.constraint_terms(t, req, out);
         }
     }
+}
+
+impl flexmbd_core::Observe for Relative {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }

@@ -5,6 +5,7 @@
 
 mod common;
 use common::*;
+use flexmbd_core::Observe as _;
 use flexmbd_core::{Formulation, SystemTerms};
 use flexmbd_model::{FormulationKind, Scene};
 use nalgebra::DVector;

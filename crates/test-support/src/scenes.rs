@@ -4,7 +4,7 @@
 //! the difference of two runs' sensor columns, and the checks of spring forces against the
 //! spring energy (Q = −∂V/∂q) and of their damping (C = −∂Q/∂q̇).
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{CompiledScene, Formulation, Request, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{
     BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
@@ -135,7 +135,7 @@ pub fn ali3p_at<F: Formulation>(formulation: &mut F, h: f64) -> Ali3p {
 
 /// Run a compiled formulation for `duration` at step `h`: the sensor rows every `every`
 /// steps (and at t = 0), and the largest ‖Φ‖∞ seen at those instants.
-pub fn run_with<F: Formulation>(
+pub fn run_with<F: CompiledScene>(
     formulation: &mut F,
     scene: &Scene,
     h: f64,
@@ -165,7 +165,7 @@ pub fn run_with<F: Formulation>(
 
 /// Run `scene` compiled by a formulation's `compile`: the rows and the largest ‖Φ‖∞ of
 /// [`run_with`].
-pub fn run_compiled<F: Formulation>(
+pub fn run_compiled<F: CompiledScene>(
     scene: &Scene,
     compile: fn(&PreparedScene) -> Result<F, ModelError>,
     h: f64,
@@ -177,7 +177,7 @@ pub fn run_compiled<F: Formulation>(
 
 /// Run `scene` with its formulation set to `kind`, compiled by that formulation's `compile`:
 /// the rows and the largest ‖Φ‖∞ of [`run_with`].
-pub fn run_as<F: Formulation>(
+pub fn run_as<F: CompiledScene>(
     scene: &Scene,
     kind: FormulationKind,
     compile: fn(&PreparedScene) -> Result<F, ModelError>,

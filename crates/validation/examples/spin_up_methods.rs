@@ -106,7 +106,7 @@ fn main() {
 /// tip displacement in the turning frame every `every_s` seconds.
 fn ancf_from_rest(spec: &CableSpec, h: f64, duration: f64, every_s: f64) -> History {
     use flexmbd::integrators::{Ali3p, Ali3pSettings};
-    use flexmbd_core::Formulation;
+    use flexmbd_core::Observe;
     let mut cable = Cable::new(spec).expect("cable");
     let settings = Ali3pSettings {
         step: h,

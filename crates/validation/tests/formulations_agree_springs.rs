@@ -12,6 +12,7 @@
 
 mod common;
 use common::*;
+use flexmbd_core::Observe as _;
 use flexmbd_core::{Formulation, Request, SystemTerms};
 use flexmbd_model::{Force, FormulationKind, Marker, Scene, Sensor, SensorKind, V3};
 use nalgebra::DVector;

@@ -143,6 +143,9 @@ impl flexmbd_core::Formulation for Planar {
             .iter()
             .all(|b| b.body.elastic_model().is_symmetric())
     }
+}
+
+impl flexmbd_core::Observe for Planar {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }

@@ -191,6 +191,9 @@ impl flexmbd_core::Formulation for Spatial {
             .iter()
             .all(|b| b.body.elastic_model().is_symmetric())
     }
+}
+
+impl flexmbd_core::Observe for Spatial {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }
