@@ -55,6 +55,11 @@ impl MarkerKinematics for Relative {
         self.add_point_jacobian(marker, &p, 1.0, &mut scratch.jw);
         scratch.jz.fill(0.0);
         for (w, lw) in self.l_rows.iter().enumerate() {
+            // Most w columns of one marker are zero (joints off its body's path): adding
+            // a·0 would leave every sum as it is, so they are skipped.
+            if (0..3).all(|r| scratch.jw[(r, w)] == 0.0) {
+                continue;
+            }
             for &(c, a) in lw {
                 for r in 0..3 {
                     scratch.jz[(r, c)] += a * scratch.jw[(r, w)];
