@@ -27,6 +27,30 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// Writing a run's output (a [`crate::output::RowSink`] streaming to `path`) failed.
+    #[error("cannot write {}: {source}", path.display())]
+    Output {
+        /// The output file.
+        path: std::path::PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A run to the scene's duration would keep more rows in memory (a
+    /// [`crate::History`]) than [`crate::output::HISTORY_MEMORY_LIMIT`] allows.
+    #[error(
+        "the run's in-memory history would hold {rows} rows × {columns} columns × 8 bytes = {bytes} bytes ({:.1} GiB), more than the limit of {} GiB: raise solver.output_interval, shorten solver.duration, or stream the rows (`flexmbd simulate --output`, `simulation::run_into`)",
+        *bytes as f64 / (1u64 << 30) as f64,
+        crate::output::HISTORY_MEMORY_LIMIT >> 30
+    )]
+    HistoryTooLarge {
+        /// Rows the run would record.
+        rows: usize,
+        /// Columns of a row (t and the sensors).
+        columns: usize,
+        /// rows × columns × 8.
+        bytes: u128,
+    },
 }
 
 impl Error {

@@ -31,8 +31,10 @@
 //! ```
 //!
 //! [`simulation::run`] does the same to the scene's duration and returns a [`Summary`]
-//! and the sensor [`History`] at the output interval; the `flexmbd` command-line program
-//! (crate `flexmbd-cli`) writes them as JSON and CSV.
+//! and the sensor [`History`] at the output interval; [`simulation::run_into`] hands each
+//! row to an [`output::RowSink`] as soon as it is computed instead, and stops between two
+//! steps when a flag is set. The `flexmbd` command-line program (crate `flexmbd-cli`)
+//! streams the rows to a CSV file and prints the summary as text or JSON.
 //!
 //! # The principal types
 //!
@@ -76,7 +78,10 @@
 //! - [`ancf`]: the large-deformation reference of the spin-up beam (ANCF cables);
 //! - [`integrators`]: ALI3-P on the trapezoidal rule, its consistent initial conditions and
 //!   the static-equilibrium start;
-//! - [`simulation`]: [`Simulation`], [`simulation::run`], [`Summary`] and [`History`].
+//! - [`simulation`]: [`Simulation`], [`simulation::run`], [`simulation::run_into`] and
+//!   [`Summary`];
+//! - [`output`]: [`output::RowSink`], where a run's rows go, and [`History`], the sink that
+//!   keeps them in memory.
 //!
 //! `docs/design.md` records the design and its choices.
 
@@ -94,6 +99,7 @@ pub use flexmbd_stiffening as stiffening;
 
 mod error;
 pub mod inventory;
+pub mod output;
 pub mod simulation;
 
 pub use error::Error;

@@ -6,11 +6,18 @@
 //! [`Simulation`] is the stepping interface: the host calls [`Simulation::step`] or
 //! [`Simulation::advance_to`] and reads [`Simulation::read_sensors`] in between.
 //! [`run`] (and [`Simulation::run`]) goes to the scene's duration, records the sensors at
-//! the output interval into a [`History`] and summarises the run in a [`Summary`].
+//! the output interval into a [`History`] and summarises the run in a [`Summary`];
+//! [`run_into`] (and [`Simulation::run_into`]) hands each row to a
+//! [`RowSink`](crate::output::RowSink) as soon as it is computed, and stops between two
+//! steps when asked to (a flag, set e.g. by a signal handler).
 //!
 //! A failed step (Newton does not converge, the solution diverges) returns an
 //! [`Error`] with the time and the reason and leaves the simulation at its last good
 //! state; [`run`] then ends with `status = "failed"`, keeping the rows computed so far.
+//!
+//! A run is bounded: more than [`MAX_STEPS`] steps are refused when the scene is compiled
+//! ([`Simulation::new`], [`run`], [`run_into`]), and a [`History`] refuses to hold more than
+//! [`HISTORY_MEMORY_LIMIT`](crate::output::HISTORY_MEMORY_LIMIT).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -26,20 +33,32 @@ use flexmbd_model::{
 use serde::Serialize;
 
 use crate::Error;
+pub use crate::output::History;
+
+mod plan;
+mod run;
+
+pub use plan::MAX_STEPS;
+use plan::RunPlan;
+pub use run::{run, run_into};
 
 /// Everything a run reports (the `--json` summary of `flexmbd simulate`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     /// The scene's name.
     pub scene: String,
-    /// `"ok"` or `"failed"`.
+    /// `"ok"`, `"failed"` (a step, the static start or the consistent initial conditions
+    /// failed) or `"interrupted"` (the run was asked to stop between two steps).
     pub status: String,
     /// Time of the failed step (s).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed_at: Option<f64>,
-    /// Why it failed.
+    /// Why it failed, or when it was interrupted.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
+    /// What a reader of an `"ok"` status should know: the duration or output interval
+    /// rounded to whole steps, steps accepted unconverged.
+    pub warnings: Vec<String>,
     /// `absolute` or `relative`.
     pub formulation: String,
     /// `b-matrix` or `shape-integrals`.
@@ -85,23 +104,6 @@ pub struct Summary {
     /// The typed error behind `status = "failed"` and `message` (not serialised).
     #[serde(skip)]
     pub error: Option<Arc<Error>>,
-}
-
-/// A recorded history: times and sensor values.
-#[derive(Clone, Debug, Default)]
-pub struct History {
-    /// `t` followed by the sensor names.
-    pub header: Vec<String>,
-    /// One row per output instant: t, then the sensors.
-    pub rows: Vec<Vec<f64>>,
-}
-
-impl History {
-    /// The column of a sensor.
-    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
-        let k = self.header.iter().position(|h| h == name)?;
-        Some(self.rows.iter().map(|r| r[k]).collect())
-    }
 }
 
 /// Compile a scene with the formulation its solver settings name, for tests and benchmarks
@@ -165,6 +167,8 @@ struct Setup {
     formulation: String,
     inertia: String,
     stiffening: String,
+    /// The steps and output instants of a run to the scene's duration.
+    plan: RunPlan,
     preprocessing_seconds: f64,
     static_seconds: f64,
     static_iterations: usize,
@@ -180,6 +184,7 @@ impl Setup {
             status: "ok".into(),
             failed_at: None,
             message: None,
+            warnings: self.plan.warnings.clone(),
             formulation: self.formulation.clone(),
             inertia: self.inertia.clone(),
             stiffening: self.stiffening.clone(),
@@ -216,16 +221,11 @@ impl Summary {
     }
 }
 
-impl History {
-    /// An empty history with the columns `t` and `sensors`.
-    fn with_columns(sensors: &[String], capacity: usize) -> Self {
-        History {
-            header: std::iter::once("t".to_string())
-                .chain(sensors.iter().cloned())
-                .collect(),
-            rows: Vec::with_capacity(capacity),
-        }
-    }
+/// The columns of a run's rows: `t`, then the sensors.
+fn columns(sensors: &[String]) -> Vec<String> {
+    std::iter::once("t".to_string())
+        .chain(sensors.iter().cloned())
+        .collect()
 }
 
 /// A scene compiled into its formulation, not yet started.
@@ -234,8 +234,10 @@ struct Compiled {
     setup: Setup,
 }
 
-/// Compile `scene` (timed as preprocessing) and note its options for the summary.
+/// Compile `scene` (timed as preprocessing) and note its options for the summary. A run
+/// longer than [`MAX_STEPS`] is refused first.
 fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
+    let plan = RunPlan::of(scene)?;
     let clock = Instant::now();
     let formulation = build_formulation(scene)?;
     let preprocessing_seconds = clock.elapsed().as_secs_f64();
@@ -248,6 +250,7 @@ fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
             formulation: formulation_name,
             inertia,
             stiffening,
+            plan,
             preprocessing_seconds,
             static_seconds: 0.0,
             static_iterations: 0,
@@ -264,17 +267,16 @@ struct StartFailure {
 }
 
 impl StartFailure {
-    /// The summary (`status = "failed"` at t = 0) and the empty history of the failed start.
-    fn report(self: Box<Self>) -> (Summary, History) {
+    /// The summary of the failed start: `status = "failed"` at t = 0, no row.
+    fn report(self: Box<Self>) -> Summary {
         let f = &self.compiled.formulation;
         let mut summary = self
             .compiled
             .setup
             .summary(f.n_coordinates(), f.n_constraints());
         summary.cpu_seconds = self.compiled.setup.start_seconds;
-        let history = History::with_columns(f.sensor_names(), 0);
         summary.fail(0.0, self.error);
-        (summary, history)
+        summary
     }
 }
 
@@ -451,80 +453,5 @@ impl Simulation {
     /// If the checkpoint was taken from a simulation of another size.
     pub fn restore(&mut self, checkpoint: &IntegratorCheckpoint) {
         self.integrator.restore(checkpoint);
-    }
-
-    /// Run from the current state to the scene's duration (or to the first failed step),
-    /// recording the sensors at the current state and then at the output interval, and
-    /// summarise the run. `progress` is called with the fraction done now and then.
-    pub fn run(&mut self, mut progress: impl FnMut(f64)) -> (Summary, History) {
-        let h = self.setup.solver.step;
-        let steps = (self.setup.solver.duration / h).round().max(1.0) as usize;
-        let every = self
-            .setup
-            .solver
-            .output_interval
-            .map_or(1, |o| ((o / h).round() as usize).max(1));
-        let mut summary = self
-            .setup
-            .summary(self.n_coordinates(), self.n_constraints());
-        let mut history = History::with_columns(self.sensor_names(), steps / every + 2);
-        self.record(&mut history);
-        let mut cpu = self.setup.start_seconds;
-        let report_every = (steps / 200).max(1);
-        for k in self.integrator.stats.steps + 1..=steps {
-            let clock = Instant::now();
-            let r = self.step();
-            cpu += clock.elapsed().as_secs_f64();
-            if let Err(e) = r {
-                summary.fail(e.failed_at().unwrap_or(self.time()), e);
-                break;
-            }
-            if k % every == 0 || k == steps {
-                self.record(&mut history);
-            }
-            if k % report_every == 0 {
-                progress(k as f64 / steps as f64);
-            }
-        }
-        let st = &self.integrator.stats;
-        summary.steps = st.steps;
-        summary.newton_iterations = st.newton_iterations;
-        summary.factorizations = st.factorizations;
-        summary.accepted_unconverged = st.accepted_unconverged;
-        summary.failed_steps = st.failed_steps;
-        summary.simulated_seconds = st.steps as f64 * h;
-        summary.cpu_seconds = cpu;
-        summary.realtime_factor = if cpu > 0.0 {
-            summary.simulated_seconds / cpu
-        } else {
-            0.0
-        };
-        summary.time_evaluation = st.time_evaluation;
-        summary.time_factorization = st.time_factorization;
-        summary.time_projection = st.time_projection;
-        summary.rows = history.rows.len();
-        (summary, history)
-    }
-
-    /// Append a row (t, then the sensors) at the current state.
-    fn record(&mut self, history: &mut History) {
-        let mut row = vec![0.0; self.sensor_names().len() + 1];
-        row[0] = self.time();
-        self.read_sensors(&mut row[1..]);
-        history.rows.push(row);
-    }
-}
-
-/// Run a scene to its duration (or to the first failure): [`Simulation::new`] then
-/// [`Simulation::run`]. `progress` is called with the fraction done now and then.
-///
-/// A scene that does not compile is an `Err`; a run that fails to start (no static
-/// equilibrium, no consistent initial conditions) or fails a step is an `Ok` whose summary
-/// says `status = "failed"` with the time, the message and the typed error, and whose
-/// history keeps the rows computed so far.
-pub fn run(scene: &Scene, progress: impl FnMut(f64)) -> Result<(Summary, History), Error> {
-    match Simulation::start(compile_scene(scene)?) {
-        Ok(mut simulation) => Ok(simulation.run(progress)),
-        Err(failure) => Ok(failure.report()),
     }
 }
