@@ -3,39 +3,39 @@
 //! - `flexmbd modes MODEL.ron [--json]` prints the mode inventory of a flexible body:
 //!   each static mode with the boundary DOF it belongs to, each normal mode with its
 //!   frequency, and the DOFs the floating frame takes.
-//! - `flexmbd simulate SCENE.ron [options]` runs a scene and writes the sensor
-//!   histories as CSV and a run summary.
+//! - `flexmbd simulate SCENE.ron [options]` runs a scene, streams the sensor histories to
+//!   a CSV file as they are computed and prints a run summary; Ctrl-C or SIGTERM ends the
+//!   run between two steps with status `interrupted`.
+//!
+//! Each kind of outcome has its exit code ([`exit`]); a panic is reported as one line
+//! with [`exit::INTERNAL_ERROR`].
 
 #![warn(missing_docs)]
 
-use std::io::IsTerminal;
+mod csv_output;
+mod exit;
+
+use std::io::{IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use csv_output::CsvFile;
 use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
-use flexmbd::simulation::{self, History, Summary};
-
-/// Write a history as CSV: the header, then one row per output instant. `{:?}` prints the
-/// shortest representation of an f64 that reads back bit for bit.
-fn write_csv(history: &History, w: impl std::io::Write) -> csv::Result<()> {
-    let mut out = csv::Writer::from_writer(w);
-    out.write_record(&history.header)?;
-    for r in &history.rows {
-        out.write_record(r.iter().map(|v| format!("{v:?}")))?;
-    }
-    out.flush()?;
-    Ok(())
-}
+use flexmbd::output::{Discard, RowSink};
+use flexmbd::simulation::{self, Summary};
 
 #[derive(Parser)]
 #[command(
     name = "flexmbd",
     version,
-    about = "Real-time flexible multibody dynamics"
+    about = "Real-time flexible multibody dynamics",
+    after_help = exit::HELP
 )]
 struct Cli {
     #[command(subcommand)]
@@ -65,6 +65,7 @@ enum Command {
         json: bool,
     },
     /// Run a scene and write its sensor histories.
+    #[command(after_help = exit::HELP)]
     Simulate(SimulateArgs),
 }
 
@@ -92,7 +93,8 @@ struct SimulateArgs {
     /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
     #[arg(long = "set", value_name = "PATH=VALUE")]
     sets: Vec<String>,
-    /// CSV output (default: no CSV).
+    /// CSV output (default: no CSV), written row by row as the run goes. Checked before
+    /// the scene is loaded; an existing file is replaced when the run writes its header.
     #[arg(long)]
     output: Option<PathBuf>,
     /// Print the run summary as one JSON object on stdout.
@@ -101,32 +103,49 @@ struct SimulateArgs {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Modes { model, json } => modes(&model, json),
-        Command::Simulate(args) => simulate(&args),
-    };
-    match result {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
+    std::panic::set_hook(Box::new(exit::report_panic));
+    let code = std::panic::catch_unwind(|| {
+        // Only for the test of the panic path: a panic no input can be relied on to cause.
+        if std::env::var_os("FLEXMBD_TEST_INTERNAL_ERROR").is_some() {
+            panic!("FLEXMBD_TEST_INTERNAL_ERROR is set");
         }
-    }
+        let cli = match Cli::try_parse() {
+            Ok(cli) => cli,
+            Err(e) => {
+                let _ = e.print();
+                return if e.use_stderr() {
+                    exit::USAGE
+                } else {
+                    exit::SUCCESS
+                };
+            }
+        };
+        let result = match cli.command {
+            Command::Modes { model, json } => modes(&model, json),
+            Command::Simulate(args) => simulate(&args),
+        };
+        result.unwrap_or_else(|e| {
+            eprintln!("error: {e}");
+            exit::INVALID_INPUT
+        })
+    });
+    ExitCode::from(code.unwrap_or(exit::INTERNAL_ERROR))
 }
 
-type CliResult = Result<ExitCode, Box<dyn std::error::Error>>;
+/// The exit code of a command that ran, or why its input was refused ([`exit::INVALID_INPUT`]).
+type CliResult = Result<u8, Box<dyn std::error::Error>>;
 
 fn modes(model: &Path, json: bool) -> CliResult {
     let spec = BeamBodySpec::from_file(model)?;
     let body = reduce(&spec).map_err(|e| format!("{}: {e}", model.display()))?;
     let inv = Inventory::of(&model.display().to_string(), &body);
+    let mut stdout = std::io::stdout().lock();
     if json {
-        println!("{}", serde_json::to_string(&inv)?);
+        writeln!(stdout, "{}", serde_json::to_string(&inv)?)?;
     } else {
-        print!("{}", inv.to_text());
+        write!(stdout, "{}", inv.to_text())?;
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(exit::SUCCESS)
 }
 
 fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
@@ -149,26 +168,48 @@ fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
     })
 }
 
-/// `flexmbd simulate`: load the scene, apply the command line to it, run it, write
-/// the CSV and report the summary. Exit code 2 when the run stopped before the end.
+/// `flexmbd simulate`: check the output path, load the scene, apply the command line to
+/// it, run it with the rows streamed to the CSV file and Ctrl-C / SIGTERM as a stop
+/// request, and report the summary. The exit code is the summary's status's
+/// ([`exit::of_status`]).
 fn simulate(args: &SimulateArgs) -> CliResult {
+    let mut csv = args
+        .output
+        .as_deref()
+        .map(|out| CsvFile::check(out, &args.scene))
+        .transpose()?;
     let mut scene = load_scene(&args.scene)?;
     args.apply_to(&mut scene)?;
     scene.validate()?;
-    let (summary, history) = run_with_progress_bar(&scene, args.json)?;
-    if let Some(out) = &args.output {
-        write_csv_file(&history, out)?;
-    }
+    let stop = stop_on_signals()?;
+    let sink: &mut dyn RowSink = match &mut csv {
+        Some(csv) => csv,
+        None => &mut Discard,
+    };
+    let summary = run_with_progress_bar(&scene, args.json, sink, &stop)?;
     if args.json {
-        println!("{}", serde_json::to_string(&summary)?);
+        writeln!(std::io::stdout(), "{}", serde_json::to_string(&summary)?)?;
     } else {
         print_summary(&summary, args.output.as_deref());
     }
-    Ok(if summary.status == "ok" {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
-    })
+    Ok(exit::of_status(&summary.status))
+}
+
+/// A flag that the first SIGINT or SIGTERM sets (the run stops at the next step); a
+/// second one ends the program at once with [`exit::INTERRUPTED`].
+fn stop_on_signals() -> std::io::Result<Arc<AtomicBool>> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [SIGINT, SIGTERM] {
+        // The shutdown first: it acts only once the flag is already set.
+        signal_hook::flag::register_conditional_shutdown(
+            signal,
+            exit::INTERRUPTED.into(),
+            Arc::clone(&stop),
+        )?;
+        signal_hook::flag::register(signal, Arc::clone(&stop))?;
+    }
+    Ok(stop)
 }
 
 /// Load the scene at `path`. When it does not load but is a body model (the input
@@ -228,9 +269,15 @@ impl SimulateArgs {
     }
 }
 
-/// Run `scene`, showing a progress bar on stderr for a long run (over 2·10⁴ steps)
-/// when stderr is a terminal and the summary is not going to stdout as JSON.
-fn run_with_progress_bar(scene: &Scene, json: bool) -> Result<(Summary, History), flexmbd::Error> {
+/// Run `scene` with its rows into `sink` until `stop` is set, showing a progress bar on
+/// stderr for a long run (over 2·10⁴ steps) when stderr is a terminal and the summary is
+/// not going to stdout as JSON.
+fn run_with_progress_bar(
+    scene: &Scene,
+    json: bool,
+    sink: &mut dyn RowSink,
+    stop: &AtomicBool,
+) -> Result<Summary, flexmbd::Error> {
     let bar = (!json
         && std::io::stderr().is_terminal()
         && scene.solver.duration / scene.solver.step > 2e4)
@@ -244,7 +291,7 @@ fn run_with_progress_bar(scene: &Scene, json: bool) -> Result<(Summary, History)
             );
             pb
         });
-    let result = simulation::run(scene, |frac| {
+    let result = simulation::run_into(scene, sink, stop, |frac| {
         if let Some(pb) = &bar {
             pb.set_position((frac * 1000.0) as u64);
         }
@@ -253,14 +300,6 @@ fn run_with_progress_bar(scene: &Scene, json: bool) -> Result<(Summary, History)
         pb.finish_and_clear();
     }
     result
-}
-
-/// Write the sensor histories to the CSV file `out`, naming it when it cannot be created.
-fn write_csv_file(history: &History, out: &Path) -> Result<(), Box<dyn std::error::Error>> {
-    let file =
-        std::fs::File::create(out).map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-    write_csv(history, std::io::BufWriter::new(file))?;
-    Ok(())
 }
 
 /// The run summary for a reader, on stderr: outcome and model size, speed, where
@@ -293,6 +332,11 @@ fn print_summary(summary: &Summary, output: Option<&Path>) {
     );
     if let (Some(t), Some(m)) = (summary.failed_at, &summary.message) {
         eprintln!("  failed at t = {t:.6} s: {m}");
+    } else if let Some(m) = &summary.message {
+        eprintln!("  {m}");
+    }
+    for w in &summary.warnings {
+        eprintln!("  warning: {w}");
     }
     if let Some(out) = output {
         eprintln!("  {} rows written to {}", summary.rows, out.display());
