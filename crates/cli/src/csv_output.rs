@@ -116,3 +116,51 @@ impl RowSink for CsvFile {
         written
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A CSV of `rows` as the program wrote it before rows were streamed: the csv crate,
+    /// `{:?}` of each value.
+    fn as_csv_crate_writes(columns: &[String], rows: &[Vec<f64>]) -> Vec<u8> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(columns).unwrap();
+        for r in rows {
+            w.write_record(r.iter().map(|v| format!("{v:?}"))).unwrap();
+        }
+        w.into_inner().unwrap()
+    }
+
+    /// The streamed CSV is byte for byte the csv crate's, quoting of odd sensor names and
+    /// the extreme values included; once the line buffer has grown, a row allocates nothing.
+    #[test]
+    fn rows_are_the_csv_crates_bytes_and_allocate_nothing() {
+        let dir = std::env::temp_dir().join(format!("flexmbd-csv-output-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("out.csv");
+        let columns: Vec<String> = ["t", "tip x", "a,b", "say \"hi\""]
+            .map(String::from)
+            .to_vec();
+        let rows = vec![
+            vec![0.0, -0.0, 1.0 / 3.0, 5e-324],
+            vec![0.001, f64::NAN, f64::INFINITY, f64::NEG_INFINITY],
+            vec![1.0010000000000001, 1e300, -1.5e-7, 123456789.0],
+        ];
+        let mut sink = CsvFile::check(&path, Path::new("no-scene.ron")).unwrap();
+        sink.header(&columns, rows.len()).unwrap();
+        let mut most = 0;
+        for row in &rows {
+            sink.row(row).unwrap(); // grows the line buffer to a row's length
+            let made = flexmbd_test_support::allocations_in(|| sink.row(row).unwrap());
+            most = most.max(made);
+        }
+        assert_eq!(most, 0, "allocations in a row");
+        let doubled: Vec<Vec<f64>> = rows.iter().flat_map(|r| [r.clone(), r.clone()]).collect();
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            as_csv_crate_writes(&columns, &doubled)
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

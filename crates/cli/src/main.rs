@@ -15,6 +15,10 @@
 mod csv_output;
 mod exit;
 
+#[cfg(test)]
+#[global_allocator]
+static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
+
 use std::io::{IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -1,4 +1,6 @@
-//! The `flexmbd modes` command: table, JSON, and errors that name the file.
+//! The `flexmbd` program: `modes` (table, JSON, errors that name the file), `simulate`
+//! (CSV and JSON summary, failures), its exit codes, its panic report, and the checks of
+//! `--output` made before a run starts.
 
 use std::process::Command;
 
@@ -221,4 +223,251 @@ fn simulate_names_a_body_model_given_as_a_scene() {
             && err.contains("flexmbd modes"),
         "{err}"
     );
+}
+
+/// The exit code of a finished command (not killed by a signal).
+fn code(out: &std::process::Output) -> i32 {
+    out.status.code().expect("the program exited by itself")
+}
+
+/// One exit code per kind of outcome: 2 usage, 3 invalid input (a refused value, a bad
+/// `--set`, a missing file, a body model given as a scene, an unknown output directory),
+/// 4 a failed run, 0 success; `--help` lists them.
+#[test]
+fn exit_codes_name_the_outcome() {
+    assert_eq!(code(&run(["simulate", "--no-such-option"])), 2);
+    assert_eq!(code(&run(["simulate"])), 2);
+    let scene = model("double_four_bar.ron");
+    for args in [
+        vec!["simulate", &scene, "--step", "-1"],
+        vec!["simulate", &scene, "--set", "bodies.crank9.flexible=true"],
+        vec!["simulate", &scene, "--set", "solver.step"],
+        vec!["simulate", "no/such/scene.ron"],
+        vec!["simulate", &model("cantilever_2d.ron")],
+        vec!["simulate", &scene, "--output", "no/such/dir/out.csv"],
+        vec!["modes", "no/such/model.ron"],
+    ] {
+        let out = flexmbd().args(&args).output().unwrap();
+        assert_eq!(
+            code(&out),
+            3,
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    // The four-bar's first singular passage defeats a 0.3 s step: the run failed.
+    let out = run(["simulate", &scene, "--step", "0.3", "--json"]);
+    assert_eq!(code(&out), 4);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "failed");
+    assert_eq!(code(&run(["simulate", &scene, "--duration", "0.01"])), 0);
+    for help in [run(["--help"]), run(["simulate", "--help"])] {
+        assert_eq!(code(&help), 0);
+        let text = String::from_utf8(help.stdout).unwrap();
+        for line in [
+            "Exit codes:",
+            "  0   success",
+            "  2   usage error",
+            "  3   invalid input",
+            "  4   the run failed",
+            "  5   interrupted",
+            "  70  internal error",
+        ] {
+            assert!(text.contains(line), "--help lacks {line:?}:\n{text}");
+        }
+    }
+}
+
+/// A panic is one line on stderr, "flexmbd: internal error, please report: MESSAGE (at
+/// FILE:LINE)", and exit code 70 (no backtrace hint, no exit 101).
+#[test]
+fn a_panic_is_an_internal_error_in_one_line() {
+    let out = flexmbd()
+        .args(["simulate", &model("double_four_bar.ron")])
+        .env("FLEXMBD_TEST_INTERNAL_ERROR", "1")
+        .output()
+        .unwrap();
+    assert_eq!(code(&out), 70);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("flexmbd: internal error, please report: ")
+            && err.contains("(at crates/cli/src/main.rs:"),
+        "{err}"
+    );
+}
+
+/// Issue 12: `--duration 1e17` panicked ("capacity overflow") and `--duration 1e8`
+/// aborted allocating 240 GB. Both are refused as invalid input naming solver.duration,
+/// the number of steps and the limit.
+#[test]
+fn duration_1e17_is_refused_not_a_panic() {
+    for (duration, steps) in [("1e17", "1e20 steps"), ("1e8", "100000000000 steps")] {
+        let out = run([
+            "simulate",
+            &model("double_four_bar.ron"),
+            "--duration",
+            duration,
+        ]);
+        assert_eq!(code(&out), 3);
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(
+            err.contains("double_four_bar.ron")
+                && err.contains("solver.duration")
+                && err.contains(steps)
+                && err.contains("1000000000 steps"),
+            "{err}"
+        );
+    }
+}
+
+/// Issue 12: `--output /dev/full` was found only after the whole run, without the path.
+/// The header is written and flushed before the first step: a run of 10⁸ steps is refused
+/// at once, naming the file, with no summary.
+#[test]
+fn output_dev_full_is_refused_before_the_run() {
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--duration",
+        "100000",
+        "--json",
+        "--output",
+        "/dev/full",
+    ]);
+    assert_eq!(code(&out), 3);
+    assert!(out.stdout.is_empty(), "no summary: the run did not start");
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("cannot write /dev/full") && err.contains("No space left"),
+        "{err}"
+    );
+}
+
+/// Issue 12: an output in a directory that does not exist is refused before the scene is
+/// even loaded (the scene here is a body model, which would be refused too), naming it.
+#[test]
+fn output_missing_directory_is_refused_before_loading() {
+    let dir = temp_dir("missing-dir");
+    let out_path = dir.join("no-such-dir").join("out.csv");
+    let out = run([
+        "simulate",
+        &model("cantilever_2d.ron"),
+        "--output",
+        out_path.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&out), 3);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains(out_path.to_str().unwrap())
+            && err.contains("does not exist")
+            && !err.contains("body model"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 12: a read-only output file is refused before the run (for root as for anyone)
+/// and left as it was.
+#[test]
+fn output_read_only_file_is_refused_and_left_untouched() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = temp_dir("read-only");
+    let csv = dir.join("old.csv");
+    std::fs::write(&csv, "an earlier run\n").unwrap();
+    std::fs::set_permissions(&csv, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let out = run([
+        "simulate",
+        &model("double_four_bar.ron"),
+        "--output",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&out), 3);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains(csv.to_str().unwrap()) && err.contains("read-only"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "an earlier run\n");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 12: `--output` equal to the scene's path overwrote the scene. The paths are
+/// compared canonicalised, so another spelling of the same file is refused too, and the
+/// scene is left as it was.
+#[test]
+fn output_equal_to_scene_is_refused() {
+    let dir = temp_dir("scene-as-output");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let scene = dir.join("scene.ron");
+    let text = std::fs::read_to_string(model("double_four_bar.ron")).unwrap();
+    std::fs::write(&scene, &text).unwrap();
+    let same = dir.join("sub").join("..").join("scene.ron");
+    for output in [&scene, &same] {
+        let out = run([
+            "simulate",
+            scene.to_str().unwrap(),
+            "--output",
+            output.to_str().unwrap(),
+        ]);
+        assert_eq!(code(&out), 3);
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains("is the scene file itself"), "{err}");
+    }
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 12: an existing output file is replaced only when the run writes its header, so
+/// a run refused at validation (a negative step) or when compiling (FS0 refuses a flexible
+/// crank) leaves an earlier run's file as it was; a run that starts replaces it.
+#[test]
+fn refused_scene_leaves_existing_output_untouched() {
+    let dir = temp_dir("untouched");
+    let csv = dir.join("old.csv");
+    std::fs::write(&csv, "an earlier run\n").unwrap();
+    let scene = model("double_four_bar.ron");
+    let path = csv.to_str().unwrap();
+    for refused in [
+        vec!["simulate", &scene, "--step", "-1", "--output", path],
+        vec![
+            "simulate",
+            &scene,
+            "--set",
+            "bodies.crank1.flexible=true",
+            "--stiffening",
+            "foreshortening",
+            "--output",
+            path,
+        ],
+    ] {
+        let out = flexmbd().args(&refused).output().unwrap();
+        assert_eq!(code(&out), 3, "{refused:?}");
+        assert_eq!(std::fs::read_to_string(&csv).unwrap(), "an earlier run\n");
+    }
+    let out = run(["simulate", &scene, "--duration", "0.02", "--output", path]);
+    assert_eq!(code(&out), 0);
+    assert!(std::fs::read_to_string(&csv).unwrap().starts_with("t,B0_x"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Issue 12: the duration was rounded to whole steps without notice. The summary names
+/// it in `warnings` (JSON) and on stderr (text).
+#[test]
+fn duration_rounded_to_whole_steps_is_warned() {
+    let scene = model("double_four_bar.ron");
+    let out = run(["simulate", &scene, "--duration", "0.0206", "--json"]);
+    assert_eq!(code(&out), 0);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["steps"], 21);
+    assert_eq!(
+        v["warnings"][0],
+        "solver.duration 0.0206 s is not a whole number of 0.001 s steps: the run is 21 steps, to t = 0.021 s"
+    );
+    let out = run(["simulate", &scene, "--duration", "0.0206"]);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("warning: solver.duration 0.0206 s"), "{err}");
+    let out = run(["simulate", &scene, "--duration", "0.02", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["warnings"], serde_json::json!([]));
 }

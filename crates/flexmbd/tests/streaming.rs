@@ -139,12 +139,8 @@ fn duration_1e17_is_refused_not_a_panic() {
         e => panic!("not a refusal of solver.duration: {e}"),
     };
     refusal(Simulation::new(&scene).err().expect("refused"));
-    refusal(run(&scene, |_| {}).err().expect("refused"));
-    refusal(
-        run_into(&scene, &mut Discard, &AtomicBool::new(false), |_| {})
-            .err()
-            .expect("refused"),
-    );
+    refusal(run(&scene, |_| {}).expect_err("refused"));
+    refusal(run_into(&scene, &mut Discard, &AtomicBool::new(false), |_| {}).expect_err("refused"));
 }
 
 /// Issue 12: `--duration 1e8` aborted trying to allocate 240 GB. A run within MAX_STEPS

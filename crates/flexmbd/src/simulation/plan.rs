@@ -34,7 +34,8 @@ impl RunPlan {
         let h = s.step;
         let ratio = s.duration / h;
         let steps = ratio.round().max(1.0);
-        if !(steps <= MAX_STEPS as f64) {
+        // `max` makes a NaN ratio 1 step: `steps` is a number, possibly infinite.
+        if steps > MAX_STEPS as f64 {
             return Err(ModelError::Invalid {
                 file: scene.origin.clone(),
                 error: InvalidValue::new(
