@@ -14,6 +14,8 @@
 
 mod csv_output;
 mod exit;
+mod jsonl_output;
+mod output_file;
 
 #[cfg(test)]
 #[global_allocator]
@@ -31,8 +33,10 @@ use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
-use flexmbd::output::{Discard, RowSink};
+use flexmbd::output::RowSink;
 use flexmbd::simulation::{self, Summary};
+use jsonl_output::JsonlFile;
+use output_file::OutputFile;
 
 #[derive(Parser)]
 #[command(
@@ -101,6 +105,10 @@ struct SimulateArgs {
     /// the scene is loaded; an existing file is replaced when the run writes its header.
     #[arg(long)]
     output: Option<PathBuf>,
+    /// JSON-lines output (default: none): one object {"t":…,"sensor":…} per row, written
+    /// as the run goes (non-finite values as null). Checked and replaced as --output is.
+    #[arg(long)]
+    jsonl: Option<PathBuf>,
     /// Print the run summary as one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -177,24 +185,16 @@ fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
 /// request, and report the summary. The exit code is the summary's status's
 /// ([`exit::of_status`]).
 fn simulate(args: &SimulateArgs) -> CliResult {
-    let mut csv = args
-        .output
-        .as_deref()
-        .map(|out| CsvFile::check(out, &args.scene))
-        .transpose()?;
+    let mut sinks = args.output_files()?;
     let mut scene = load_scene(&args.scene)?;
     args.apply_to(&mut scene)?;
     scene.validate()?;
     let stop = stop_on_signals()?;
-    let sink: &mut dyn RowSink = match &mut csv {
-        Some(csv) => csv,
-        None => &mut Discard,
-    };
-    let summary = run_with_progress_bar(&scene, args.json, sink, &stop)?;
+    let summary = run_with_progress_bar(&scene, args.json, &mut sinks, &stop)?;
     if args.json {
         writeln!(std::io::stdout(), "{}", serde_json::to_string(&summary)?)?;
     } else {
-        print_summary(&summary, args.output.as_deref());
+        print_summary(&summary, [args.output.as_deref(), args.jsonl.as_deref()]);
     }
     Ok(exit::of_status(&summary.status))
 }
@@ -237,6 +237,23 @@ fn load_scene(path: &Path) -> Result<Scene, Box<dyn std::error::Error>> {
 }
 
 impl SimulateArgs {
+    /// The output files asked for, checked before the scene is loaded: neither is the
+    /// scene, nor the other.
+    fn output_files(&self) -> Result<Sinks, String> {
+        let mut sinks = Sinks(Vec::new());
+        if let Some(out) = &self.output {
+            let file = OutputFile::check("--output", out, &[("the scene file", &self.scene)])?;
+            sinks.0.push(Box::new(CsvFile::new(file)));
+        }
+        if let Some(out) = &self.jsonl {
+            let mut others = vec![("the scene file", self.scene.as_path())];
+            others.extend(self.output.as_deref().map(|o| ("the --output file", o)));
+            let file = OutputFile::check("--jsonl", out, &others)?;
+            sinks.0.push(Box::new(JsonlFile::new(file)));
+        }
+        Ok(sinks)
+    }
+
     /// Apply the `--set` overrides to `scene`, then the named options, so that
     /// `--step` and the like win over a `--set` of the same field. Every `--set`
     /// is parsed before any is applied. The scene is not validated here.
@@ -270,6 +287,19 @@ impl SimulateArgs {
             solver.duration = d;
         }
         Ok(())
+    }
+}
+
+/// The output files of a run, each handed every row (none: the rows are dropped).
+struct Sinks(Vec<Box<dyn RowSink>>);
+
+impl RowSink for Sinks {
+    fn header(&mut self, columns: &[String], rows: usize) -> Result<(), flexmbd::Error> {
+        self.0.iter_mut().try_for_each(|s| s.header(columns, rows))
+    }
+
+    fn row(&mut self, values: &[f64]) -> Result<(), flexmbd::Error> {
+        self.0.iter_mut().try_for_each(|s| s.row(values))
     }
 }
 
@@ -307,8 +337,9 @@ fn run_with_progress_bar(
 }
 
 /// The run summary for a reader, on stderr: outcome and model size, speed, where
-/// the CPU time went, the failure if any, and the CSV written (`output`).
-fn print_summary(summary: &Summary, output: Option<&Path>) {
+/// the CPU time went, the failure or interruption if any, the warnings, and the files
+/// written (`outputs`).
+fn print_summary(summary: &Summary, outputs: [Option<&Path>; 2]) {
     eprintln!(
         "{}: {} — {} coordinates, {} constraints, {} {} {}",
         summary.scene,
@@ -342,7 +373,7 @@ fn print_summary(summary: &Summary, output: Option<&Path>) {
     for w in &summary.warnings {
         eprintln!("  warning: {w}");
     }
-    if let Some(out) = output {
+    for out in outputs.iter().flatten() {
         eprintln!("  {} rows written to {}", summary.rows, out.display());
     }
 }
