@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Observe as _;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{BodyModel, Driver, Force, MotionLaw, Scene, SensorKind};
 use nalgebra::DVector;
@@ -84,11 +84,11 @@ fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
     };
     let mut s = Ali3p::new(&mut f, 0.0, settings).unwrap();
     let mut row = vec![0.0; f.sensor_names().len()];
-    f.sensors(0.0, &s.q, &s.qd, &mut row);
+    f.sensors(State::new(0.0, &s.q, &s.qd), &mut row);
     let mut rows = vec![row.clone()];
     for _ in 0..(duration / h).round() as usize {
         s.step(&mut f).unwrap();
-        f.sensors(s.t, &s.q, &s.qd, &mut row);
+        f.sensors(s.state(), &mut row);
         rows.push(row.clone());
     }
     rows
@@ -120,7 +120,11 @@ fn derivative_errors(scene: &Scene) -> (f64, f64, f64) {
     let phi = |f: &mut flexmbd_absolute::Absolute, t: f64, q: &DVector<f64>| {
         let mut s = SystemTerms::new(n, m);
         s.clear(Request::CONSTRAINTS);
-        f.evaluate(t, q, &DVector::zeros(n), Request::CONSTRAINTS, &mut s);
+        f.evaluate(
+            State::new(t, q, &DVector::zeros(n)),
+            Request::CONSTRAINTS,
+            &mut s,
+        );
         s.phi
     };
     let (mut e_jac, mut e_t, mut e_bias) = (0.0f64, 0.0f64, 0.0f64);
@@ -204,7 +208,7 @@ fn spring_forces_are_the_gradient_of_the_spring_energy() {
         let z = DVector::zeros(n);
         let energy = |f: &mut flexmbd_absolute::Absolute, q: &DVector<f64>| {
             let mut out = vec![0.0; scene.sensors.len()];
-            f.sensors(0.0, q, &z, &mut out);
+            f.sensors(State::new(0.0, q, &z), &mut out);
             out[ie]
         };
         for k in 0..3 {

@@ -12,8 +12,8 @@
 mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
-use flexmbd_core::Formulation;
 use flexmbd_core::Observe as _;
+use flexmbd_core::{Formulation, State};
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
@@ -40,13 +40,13 @@ fn run_with(scene: &Scene, h: f64, duration: f64, tol: f64) -> RunOut {
     };
     let mut s = Ali3p::new(&mut f, 0.0, settings).unwrap();
     let mut row = vec![0.0; f.sensor_names().len()];
-    f.sensors(0.0, &s.q, &s.qd, &mut row);
+    f.sensors(State::new(0.0, &s.q, &s.qd), &mut row);
     let mut rows = vec![row.clone()];
     let mut max_phi = 0.0f64;
     for _ in 0..(duration / h).round() as usize {
         s.step(&mut f).unwrap();
         max_phi = max_phi.max(s.terms().phi.amax());
-        f.sensors(s.t, &s.q, &s.qd, &mut row);
+        f.sensors(s.state(), &mut row);
         rows.push(row.clone());
     }
     RunOut {

@@ -113,7 +113,7 @@ pub fn run_spin_up_with(
     let mut sens = vec![0.0; cable.sensor_names().len()];
     let d = cable.dim_components();
     let mut record = |s: &Ali3p, cable: &mut Cable, hist: &mut History| {
-        cable.sensors(s.t, &s.q, &s.qd, &mut sens);
+        cable.sensors(s.state(), &mut sens);
         let mut tip = [0.0; 3];
         tip[..d].copy_from_slice(&sens[..d]);
         hist.t.push(s.t);

@@ -6,7 +6,7 @@
 mod common;
 use common::*;
 use flexmbd_core::Observe as _;
-use flexmbd_core::{Formulation, SystemTerms};
+use flexmbd_core::{Formulation, State, SystemTerms};
 use flexmbd_model::{FormulationKind, Scene};
 use nalgebra::DVector;
 
@@ -36,7 +36,7 @@ fn spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let zero = DVector::zeros(n);
     let energy = |f: &mut flexmbd_relative::Relative, q: &DVector<f64>| {
         let mut out = vec![0.0; with.sensors.len()];
-        f.sensors(0.0, q, &zero, &mut out);
+        f.sensors(State::new(0.0, q, &zero), &mut out);
         out[ie]
     };
     let dq = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;

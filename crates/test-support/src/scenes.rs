@@ -4,7 +4,7 @@
 //! the difference of two runs' sensor columns, and the checks of spring forces against the
 //! spring energy (Q = −∂V/∂q) and of their damping (C = −∂Q/∂q̇).
 
-use flexmbd_core::{CompiledScene, Formulation, Request, SystemTerms};
+use flexmbd_core::{CompiledScene, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{
     BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
@@ -144,7 +144,7 @@ pub fn run_with<F: CompiledScene>(
 ) -> (Vec<Vec<f64>>, f64) {
     let mut integrator = Ali3p::new(formulation, 0.0, settings(scene, h)).unwrap();
     let mut row = vec![0.0; formulation.sensor_names().len()];
-    formulation.sensors(0.0, &integrator.q, &integrator.qd, &mut row);
+    formulation.sensors(State::new(0.0, &integrator.q, &integrator.qd), &mut row);
     let mut rows = vec![row.clone()];
     let steps = (duration / h).round() as usize;
     let mut phi_max = 0.0f64;
@@ -153,10 +153,10 @@ pub fn run_with<F: CompiledScene>(
         integrator.step(formulation).unwrap();
         if k % every == 0 {
             let (t, q, qd) = (integrator.t, &integrator.q, &integrator.qd);
-            formulation.sensors(t, q, qd, &mut row);
+            formulation.sensors(State::new(t, q, qd), &mut row);
             rows.push(row.clone());
             terms.clear(Request::CONSTRAINTS);
-            formulation.evaluate(t, q, qd, Request::CONSTRAINTS, &mut terms);
+            formulation.evaluate(State::new(t, q, qd), Request::CONSTRAINTS, &mut terms);
             phi_max = phi_max.max(terms.phi.amax());
         }
     }

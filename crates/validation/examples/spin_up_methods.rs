@@ -130,7 +130,7 @@ fn ancf_from_rest(spec: &CableSpec, h: f64, duration: f64, every_s: f64) -> Hist
             s.step(&mut cable).expect("ANCF step");
         }
         if k % every == 0 {
-            cable.sensors(s.t, &s.q, &s.qd, &mut sens);
+            cable.sensors(s.state(), &mut sens);
             let mut tip = [0.0; 3];
             tip[..d].copy_from_slice(&sens[..d]);
             hist.t.push(s.t);

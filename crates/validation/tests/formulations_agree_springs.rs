@@ -13,7 +13,7 @@
 mod common;
 use common::*;
 use flexmbd_core::Observe as _;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_model::{Force, FormulationKind, Marker, Scene, Sensor, SensorKind, V3};
 use nalgebra::DVector;
 
@@ -163,7 +163,7 @@ fn springs_and_sensors_agree_with_the_relative_formulation_3d() {
 fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
     let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
     t.clear(Request::ALL);
-    f.evaluate(0.0, q, qd, Request::ALL, &mut t);
+    f.evaluate(State::new(0.0, q, qd), Request::ALL, &mut t);
     t
 }
 
@@ -182,7 +182,7 @@ fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let zero = DVector::zeros(n);
     let energy = |f: &mut flexmbd_absolute::Absolute, q: &DVector<f64>| {
         let mut out = vec![0.0; with.sensors.len()];
-        f.sensors(0.0, q, &zero, &mut out);
+        f.sensors(State::new(0.0, q, &zero), &mut out);
         out[energy_column]
     };
     let q_springs = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;

@@ -246,10 +246,10 @@ mod tests {
         let mut scene = model("slider_crank.ron");
         scene.bodies[0].flexible = true;
         let planar = compiled(&scene);
-        let n = planar.q0.len();
+        let q0 = &planar.coordinates.q0;
         let wobble = |k: usize, s: f64| (0.7 * k as f64 + s).sin();
-        let q = DVector::from_fn(n, |k, _| planar.q0[k] + 0.05 * wobble(k, 0.3));
-        let qd = DVector::from_fn(n, |k, _| wobble(k, 1.1));
+        let q = DVector::from_fn(q0.len(), |k, _| q0[k] + 0.05 * wobble(k, 0.3));
+        let qd = DVector::from_fn(q.len(), |k, _| wobble(k, 1.1));
         (planar, q, qd)
     }
 

@@ -5,7 +5,7 @@
 
 use flexmbd_absolute::Absolute;
 use flexmbd_body::InertiaMethod;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{MotionLaw, Scene};
 use nalgebra::DVector;
@@ -24,7 +24,7 @@ pub fn absolute(scene: &Scene) -> Absolute {
 pub fn eval(f: &mut impl Formulation, t: f64, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
     let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
     terms.clear(Request::ALL);
-    f.evaluate(t, q, qd, Request::ALL, &mut terms);
+    f.evaluate(State::new(t, q, qd), Request::ALL, &mut terms);
     terms
 }
 

@@ -3,7 +3,7 @@
 //! state, the test states, and the Lagrange right-hand side.
 #![allow(dead_code, unused_imports)]
 
-use flexmbd_core::{Request, SystemTerms};
+use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::{FormulationKind, Scene};
 use flexmbd_relative::Relative;
 pub use flexmbd_test_support::scenes::*;
@@ -30,7 +30,7 @@ pub fn terms_at(
 ) -> SystemTerms {
     let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
     terms.clear(Request::ALL);
-    f.evaluate(t, z, zd, Request::ALL, &mut terms);
+    f.evaluate(State::new(t, z, zd), Request::ALL, &mut terms);
     terms
 }
 
