@@ -3,7 +3,6 @@
 //! state, the test states, and the Lagrange right-hand side.
 #![allow(dead_code, unused_imports)]
 
-use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::{FormulationKind, Scene};
 use flexmbd_relative::Relative;
 pub use flexmbd_test_support::scenes::*;
@@ -19,19 +18,6 @@ pub fn relative(scene: &Scene) -> Relative {
 pub fn run_relative(scene: &Scene, h: f64, secs: f64, every: usize) -> (Vec<Vec<f64>>, f64) {
     let kind = FormulationKind::Relative;
     run_as(scene, kind, flexmbd_relative::compile, h, secs, every)
-}
-
-/// All the system terms of `f` at (t, z, ż).
-pub fn terms_at(
-    f: &mut impl flexmbd_core::Formulation,
-    t: f64,
-    z: &DVector<f64>,
-    zd: &DVector<f64>,
-) -> SystemTerms {
-    let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    terms.clear(Request::ALL);
-    f.evaluate(State::new(t, z, zd), Request::ALL, &mut terms);
-    terms
 }
 
 /// The k-th test state (z, ż) of n coordinates: smooth, all components non-zero.
