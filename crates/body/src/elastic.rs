@@ -7,6 +7,8 @@
 //! without changing the body's interface. Only the linear model is implemented here.
 
 use flexmbd_fe::ReducedBody;
+
+use crate::FlexibleBody;
 use nalgebra::{DMatrix, DMatrixViewMut};
 
 /// Generalized elastic + damping force on the modal coordinates, `Q_el(y, ẏ)`.
@@ -40,6 +42,31 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
     /// True when the stiffness tangent is symmetric (FNL1's is not).
     fn is_symmetric(&self) -> bool {
         true
+    }
+}
+
+/// What the elastic models of a system's bodies let the integrator assume of its tangents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ElasticTangents {
+    /// Every model's tangents are constant ([`ElasticModel::is_linear`]).
+    pub linear: bool,
+    /// Every model's stiffness tangent is symmetric ([`ElasticModel::is_symmetric`]).
+    pub symmetric: bool,
+}
+
+impl ElasticTangents {
+    /// Of the elastic models of `bodies` (both true for none).
+    pub fn of<'a>(bodies: impl IntoIterator<Item = &'a FlexibleBody>) -> Self {
+        let mut tangents = ElasticTangents {
+            linear: true,
+            symmetric: true,
+        };
+        for body in bodies {
+            let model = body.elastic_model();
+            tangents.linear &= model.is_linear();
+            tangents.symmetric &= model.is_symmetric();
+        }
+        tangents
     }
 }
 

@@ -60,7 +60,7 @@ mod natural_points;
 mod shape;
 mod state;
 
-pub use elastic::{ElasticModel, LinearElastic};
+pub use elastic::{ElasticModel, ElasticTangents, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;

@@ -13,7 +13,7 @@
 //! and Q. M_w is never cleared (its structural non-zeros are rewritten every pass) and
 //! its z × z block is written into M in place.
 
-use flexmbd_body::{FlexibleBody, InertiaMethod};
+use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod};
 use flexmbd_core::{Coordinates, Dim, Request, State, SystemTerms};
 use flexmbd_model::ModelError;
 use flexmbd_model::force_elements::ForceElements;
@@ -139,16 +139,12 @@ impl flexmbd_core::Formulation for Relative {
         &self.coordinates
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
     fn constant_tangents(&self) -> bool {
         // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
         // linear elasticity, state-dependent for the stiffening models.
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_linear())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
             && self.force_elements.is_empty()
     }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {

@@ -50,7 +50,7 @@ mod energy;
 mod kinematics;
 mod sensors;
 
-use flexmbd_body::InertiaMethod;
+use flexmbd_body::{ElasticTangents, InertiaMethod};
 use flexmbd_core::{Coordinates, MarkerKinematics, Request, State, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
@@ -109,15 +109,10 @@ impl flexmbd_core::Formulation for Planar {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
         self.force_elements.is_empty()
-            && self
-                .bodies
-                .iter()
-                .all(|b| b.body.elastic_model().is_linear())
+            && ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
 }
 

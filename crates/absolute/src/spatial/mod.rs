@@ -80,7 +80,7 @@ mod kinematics;
 mod lookup;
 mod sensors;
 
-use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalWorkspace};
+use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod, NaturalWorkspace};
 use flexmbd_core::{Coordinates, Request, State, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -159,15 +159,10 @@ impl flexmbd_core::Formulation for Spatial {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
         self.force_elements.is_empty()
-            && self
-                .bodies
-                .iter()
-                .all(|b| b.body.elastic_model().is_linear())
+            && ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
 }
 
