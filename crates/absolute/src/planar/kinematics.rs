@@ -312,31 +312,29 @@ mod tests {
     #[test]
     fn rates_and_biases_are_the_derivatives_along_a_straight_path() {
         let (planar, q, qd) = slider_crank();
-        let h = 1e-4;
-        let (qp, qm) = (&q + &qd * h, &q - &qd * h);
         for marker in markers(&planar) {
-            let (r, v, bias) = planar.marker_motion(&marker, &q, &qd);
-            let (rp, rm) = (
-                planar.marker_motion(&marker, &qp, &qd).0,
-                planar.marker_motion(&marker, &qm, &qd).0,
-            );
-            assert!(((rp - rm) / (2.0 * h) - v).norm() < 1e-7, "{marker:?} rate");
-            let second = (rp - 2.0 * r + rm) / (h * h);
-            assert!(
-                (second - bias).norm() < 1e-5,
-                "{marker:?}: {second} vs {bias}"
-            );
+            let label = format!("{marker:?}");
+            along_path(&label, &q, &qd, |q| planar.marker_motion(&marker, q, &qd));
         }
         for d in directions(&planar) {
-            let (x, xd, bias) = planar.direction(&d, &q, &qd);
-            let (xp, xm) = (
-                planar.direction(&d, &qp, &qd).0,
-                planar.direction(&d, &qm, &qd).0,
-            );
-            assert!(((xp - xm) / (2.0 * h) - xd).norm() < 1e-7, "{d:?} rate");
-            let second = (xp - 2.0 * x + xm) / (h * h);
-            assert!((second - bias).norm() < 1e-5, "{d:?}: {second} vs {bias}");
+            along_path(&format!("{d:?}"), &q, &qd, |q| planar.direction(&d, q, &qd));
         }
+    }
+
+    /// `motion(q)` = (x, ẋ, bias) at (q, q̇): ẋ and the bias against the first and second
+    /// central differences of x along q + t q̇.
+    fn along_path(
+        label: &str,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        motion: impl Fn(&DVector<f64>) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>),
+    ) {
+        let h = 1e-4;
+        let (x, xd, bias) = motion(q);
+        let (xp, xm) = (motion(&(q + qd * h)).0, motion(&(q - qd * h)).0);
+        assert!(((xp - xm) / (2.0 * h) - xd).norm() < 1e-7, "{label} rate");
+        let second = (xp - 2.0 * x + xm) / (h * h);
+        assert!((second - bias).norm() < 1e-5, "{label}: {second} vs {bias}");
     }
 
     #[test]
