@@ -3,7 +3,7 @@
 //! The body calls its elastic model through the [`ElasticModel`] trait, so that the
 //! geometric-stiffening models of §6 (FNL1 with `StiffeningIntegrals::k_g`, FNL2,
 //! …, in the `flexmbd-stiffening` crate) plug in later through
-//! [`FlexibleBody::set_elastic_model`](crate::FlexibleBody::set_elastic_model)
+//! [`FlexibleBody::set_elastic_model`]
 //! without changing the body's interface. Only the linear model is implemented here.
 
 use flexmbd_fe::ReducedBody;
@@ -32,7 +32,7 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
     /// Strain energy U(y) whose gradient the conservative part of `Q_el` is (½yᵀK_ff y for
     /// linear elasticity); the `Energy` sensors of the formulations add it.
     fn strain_energy(&self, y: &[f64]) -> f64;
-    /// A boxed copy (lets [`FlexibleBody`](crate::FlexibleBody) be `Clone`).
+    /// A boxed copy (lets [`FlexibleBody`] be `Clone`).
     fn clone_box(&self) -> Box<dyn ElasticModel>;
     /// True when the tangents do not depend on (y, ẏ) (formulations then report
     /// `constant_tangents`). Nonlinear stiffening models return false.
