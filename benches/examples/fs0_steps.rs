@@ -57,7 +57,7 @@ fn main() {
     }
     let mut s = vec![0.0; f.sensor_names().len()];
     let t = integ.t;
-    f.sensors(t, &integ.q, &integ.qd, &mut s);
+    f.sensors(integ.state(), &mut s);
     println!(
         "t = {t:.3}, {} coordinates, sensors {:?}",
         f.n_coordinates(),

@@ -109,7 +109,7 @@ fn main() {
     );
     let names = f.sensor_names().to_vec();
     let mut vals = vec![0.0; names.len()];
-    f.sensors(integ.t, &integ.q, &integ.qd, &mut vals);
+    f.sensors(integ.state(), &mut vals);
     let shown: Vec<String> = names
         .iter()
         .zip(&vals)

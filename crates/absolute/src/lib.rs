@@ -9,9 +9,8 @@ mod flex;
 pub mod planar;
 pub mod spatial;
 
-use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
+use flexmbd_core::{Coordinates, Dim, Formulation, Request, State, SystemTerms};
 use flexmbd_model::{ModelError, PreparedScene};
-use nalgebra::DVector;
 
 pub use planar::Planar;
 pub use spatial::Spatial;
@@ -66,27 +65,11 @@ macro_rules! both {
 }
 
 impl Formulation for Absolute {
-    fn n_coordinates(&self) -> usize {
-        both!(self, f => f.n_coordinates())
+    fn coordinates(&self) -> &Coordinates {
+        both!(self, f => f.coordinates())
     }
-    fn n_constraints(&self) -> usize {
-        both!(self, f => f.n_constraints())
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        both!(self, f => f.initial_guess(q, qd))
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        both!(self, f => f.specified_coordinates())
-    }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
-        both!(self, f => f.evaluate(t, q, qd, req, out))
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        both!(self, f => f.evaluate(state, req, out))
     }
     fn symmetric_tangent(&self) -> bool {
         both!(self, f => f.symmetric_tangent())
@@ -103,7 +86,7 @@ impl flexmbd_core::Observe for Absolute {
     fn sensor_names(&self) -> &[String] {
         both!(self, f => f.sensor_names())
     }
-    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        both!(self, f => f.sensors(t, q, qd, out))
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
+        both!(self, f => f.sensors(state, out))
     }
 }

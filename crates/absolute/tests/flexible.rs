@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Observe as _;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{BodyModel, Orientation, Scene};
 use flexmbd_test_support::scenes::{four_bar, model};
@@ -25,11 +25,11 @@ fn run(scene: &Scene, h: f64, duration: f64) -> Vec<Vec<f64>> {
     let ns = f.sensor_names().len();
     let mut rows = Vec::new();
     let mut row = vec![0.0; ns];
-    f.sensors(0.0, &s.q, &s.qd, &mut row);
+    f.sensors(State::new(0.0, &s.q, &s.qd), &mut row);
     rows.push(row.clone());
     for _ in 0..(duration / h).round() as usize {
         s.step(&mut f).unwrap();
-        f.sensors(s.t, &s.q, &s.qd, &mut row);
+        f.sensors(s.state(), &mut row);
         rows.push(row.clone());
     }
     rows
@@ -115,8 +115,8 @@ fn inertia_routes_give_the_same_system_terms() {
             let qd = DVector::from_fn(n, |i, _| 0.8 * ((i * 3 + k * 5) as f64 * 0.91).cos());
             ta.clear(Request::ALL);
             tb.clear(Request::ALL);
-            a.evaluate(0.1, &q, &qd, Request::ALL, &mut ta);
-            b.evaluate(0.1, &q, &qd, Request::ALL, &mut tb);
+            a.evaluate(State::new(0.1, &q, &qd), Request::ALL, &mut ta);
+            b.evaluate(State::new(0.1, &q, &qd), Request::ALL, &mut tb);
             let dm = (&ta.mass - &tb.mass).amax() / ta.mass.amax();
             let dq = (&ta.forces - &tb.forces).amax() / ta.forces.amax();
             assert!(
@@ -172,7 +172,7 @@ fn linearised_modes(scene: &Scene) -> Vec<(f64, DVector<f64>)> {
     let zero = DVector::zeros(n);
     let mut potential = |p: &DVector<f64>| {
         let mut out = vec![0.0; ns];
-        f.sensors(0.0, &q_of(p), &zero, &mut out);
+        f.sensors(State::new(0.0, &q_of(p), &zero), &mut out);
         out[ie]
     };
     let mut p0 = DVector::zeros(np);
@@ -201,9 +201,7 @@ fn linearised_modes(scene: &Scene) -> Vec<(f64, DVector<f64>)> {
     let mut terms = SystemTerms::new(n, f.n_constraints());
     let q = q_of(&p0);
     f.evaluate(
-        0.0,
-        &q,
-        &zero,
+        State::new(0.0, &q, &zero),
         Request {
             dynamics: true,
             ..Default::default()

@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
-use flexmbd_core::Formulation;
 use flexmbd_core::Observe as _;
+use flexmbd_core::{Formulation, State};
 use flexmbd_model::Scene;
 
 /// Converged rigid N = 2 values at t = 10 s [S3 via docs/scenes.md §1 "Reference values"].
@@ -28,16 +28,16 @@ fn run(h: f64, duration: f64) -> Run {
     let mut f = absolute(&scene);
     let mut s = ali3p_at(&mut f, h);
     let mut out = vec![0.0; 3];
-    f.sensors(0.0, &s.q, &s.qd, &mut out);
+    f.sensors(State::new(0.0, &s.q, &s.qd), &mut out);
     let e0 = out[2];
     let (mut max_phi, mut drift) = (0.0f64, 0.0f64);
     for _ in 0..(duration / h).round() as usize {
         s.step(&mut f).unwrap();
         max_phi = max_phi.max(s.terms().phi.amax());
-        f.sensors(s.t, &s.q, &s.qd, &mut out);
+        f.sensors(s.state(), &mut out);
         drift = drift.max((out[2] - e0).abs());
     }
-    f.sensors(s.t, &s.q, &s.qd, &mut out);
+    f.sensors(s.state(), &mut out);
     Run {
         b0: [out[0], out[1]],
         max_phi,

@@ -13,7 +13,6 @@ mod common;
 use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Formulation;
-use flexmbd_core::Observe as _;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
 use flexmbd_model::{BodyModel, JointKind, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
@@ -39,16 +38,11 @@ fn run_with(scene: &Scene, h: f64, duration: f64, tol: f64) -> RunOut {
         ..Default::default()
     };
     let mut s = Ali3p::new(&mut f, 0.0, settings).unwrap();
-    let mut row = vec![0.0; f.sensor_names().len()];
-    f.sensors(0.0, &s.q, &s.qd, &mut row);
-    let mut rows = vec![row.clone()];
     let mut max_phi = 0.0f64;
-    for _ in 0..(duration / h).round() as usize {
-        s.step(&mut f).unwrap();
+    let steps = (duration / h).round() as usize;
+    let rows = record(&mut f, &mut s, steps, 1, |_, s| {
         max_phi = max_phi.max(s.terms().phi.amax());
-        f.sensors(s.t, &s.q, &s.qd, &mut row);
-        rows.push(row.clone());
-    }
+    });
     RunOut {
         rows,
         max_phi,
@@ -150,10 +144,9 @@ fn move_rigidly(scene: &Scene, q: &mut DVector<f64>) {
 fn check_derivatives(scene: &Scene, name: &str) -> (usize, f64, f64, f64) {
     let mut f = absolute(scene);
     let (n, m) = (f.n_coordinates(), f.n_constraints());
-    let (mut q0, mut qd0) = (DVector::zeros(n), DVector::zeros(n));
-    f.initial_guess(&mut q0, &mut qd0);
+    let (mut q0, qd0) = (f.coordinates().q0.clone(), f.coordinates().qd0.clone());
     move_rigidly(scene, &mut q0);
-    let at0 = eval(&mut f, 0.0, &q0, &qd0);
+    let at0 = terms_at(&mut f, 0.0, &q0, &qd0);
     assert!(
         at0.phi.amax() < 1e-12,
         "{name}: Φ = {:e} at the initial configuration",
@@ -165,25 +158,27 @@ fn check_derivatives(scene: &Scene, name: &str) -> (usize, f64, f64, f64) {
         let q = DVector::from_fn(n, |i, _| q0[i] + 0.05 * noise(i + 100 * trial));
         let qd = DVector::from_fn(n, |i, _| noise(i + 100 * trial + 50));
         let t = 0.3 + 0.1 * trial as f64;
-        let base = eval(&mut f, t, &q, &qd);
+        let base = terms_at(&mut f, t, &q, &qd);
         let eps = 1e-6;
         let mut num = DMatrix::zeros(m, n);
         for j in 0..n {
             let (mut qp, mut qm) = (q.clone(), q.clone());
             qp[j] += eps;
             qm[j] -= eps;
-            let d = (eval(&mut f, t, &qp, &qd).phi - eval(&mut f, t, &qm, &qd).phi) / (2.0 * eps);
+            let d = (terms_at(&mut f, t, &qp, &qd).phi - terms_at(&mut f, t, &qm, &qd).phi)
+                / (2.0 * eps);
             num.set_column(j, &d);
         }
         e_jac = e_jac.max((&num - &base.phi_q).amax());
-        let phi_t =
-            (eval(&mut f, t + eps, &q, &qd).phi - eval(&mut f, t - eps, &q, &qd).phi) / (2.0 * eps);
+        let phi_t = (terms_at(&mut f, t + eps, &q, &qd).phi
+            - terms_at(&mut f, t - eps, &q, &qd).phi)
+            / (2.0 * eps);
         e_t = e_t.max((&phi_t - &base.phi_t).amax());
         // Along q(s) = q + s q̇, t(s) = t + s: Φ'' = Φ_q q̈ + c with q̈ = 0.
         // Richardson-extrapolated second difference (error O(ε⁴)).
         let mut second_diff = |e2: f64| {
-            let p = eval(&mut f, t + e2, &(&q + &qd * e2), &qd).phi;
-            let mm = eval(&mut f, t - e2, &(&q - &qd * e2), &qd).phi;
+            let p = terms_at(&mut f, t + e2, &(&q + &qd * e2), &qd).phi;
+            let mm = terms_at(&mut f, t - e2, &(&q - &qd * e2), &qd).phi;
             (p - &base.phi * 2.0 + mm) / (e2 * e2)
         };
         let (d1, d2) = (second_diff(1e-3), second_diff(5e-4));
@@ -490,10 +485,8 @@ fn flexible_pendulum_3d_conserves_energy_and_routes_agree() {
 fn flexible_tangents_are_the_modal_blocks() {
     let scene = model("flexible_pendulum_3d.ron");
     let mut f = absolute(&scene);
-    let n = f.n_coordinates();
-    let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
-    f.initial_guess(&mut q, &mut qd);
-    let out = eval(&mut f, 0.0, &q, &qd);
+    let (q, qd) = (f.coordinates().q0.clone(), f.coordinates().qd0.clone());
+    let out = terms_at(&mut f, 0.0, &q, &qd);
     let prepared = flexmbd_model::PreparedScene::new(&scene).unwrap();
     let k = &prepared.bodies()[0].reduced.k_ff;
     assert!((out.stiffness.view((12, 12), (6, 6)) - k).amax() < 1e-9 * k.amax());

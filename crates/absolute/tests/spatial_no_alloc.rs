@@ -56,10 +56,10 @@ fn spatial_steps_do_not_allocate() {
         for _ in 0..100 {
             s.step(&mut f).unwrap();
         }
-        f.sensors(s.t, &s.q, &s.qd, &mut sens);
+        f.sensors(s.state(), &mut sens);
         for req in [Request::ALL, Request::CONSTRAINTS] {
             out.clear(req);
-            f.evaluate(s.t, &s.q, &s.qd, req, &mut out);
+            f.evaluate(s.state(), req, &mut out);
         }
         let n = flexmbd_test_support::allocations() - before;
         assert_eq!(n, 0, "{}: {n} allocations in 100 steps", scene.name);

@@ -19,7 +19,7 @@
 //! energy ½ q̇ᵀMq̇ + U(q) − Q_gᵀq (`energy`; the hub does work on it through the
 //! constraint, dE/dt = λᵀΦ_t).
 
-use flexmbd_core::{Dim, Formulation, InvalidValue, Request, SystemTerms};
+use flexmbd_core::{Coordinates, Dim, Formulation, InvalidValue, Request, State, SystemTerms};
 use flexmbd_model::MotionLaw;
 use nalgebra::{DMatrix, DVector};
 
@@ -61,13 +61,12 @@ pub struct StaticReport {
 pub struct Cable {
     spec: CableSpec,
     d: usize,
-    n: usize,
-    m: usize,
+    /// n, m, the initial positions (straight, or the static equilibrium) at rest.
+    coordinates: Coordinates,
     law: MotionLaw,
     rule: ElementRule,
     mass: DMatrix<f64>,
     gravity: DVector<f64>,
-    q0: DVector<f64>,
     names: Vec<String>,
     /// Element gradient and Hessian workspaces.
     grad: [f64; NE],
@@ -121,8 +120,7 @@ impl Cable {
         Ok(Cable {
             spec: spec.clone(),
             d,
-            n,
-            m,
+            coordinates: Coordinates::new(q0, DVector::zeros(n), m),
             law: MotionLaw::SpinUp {
                 omega_s: spec.omega_s,
                 t_s: spec.t_s,
@@ -130,7 +128,6 @@ impl Cable {
             rule,
             mass,
             gravity,
-            q0,
             names,
             grad: [0.0; NE],
             hess: [[0.0; NE]; NE],
@@ -156,11 +153,11 @@ impl Cable {
     /// The initial positions used by [`Formulation::initial_guess`] (straight, or the
     /// static equilibrium after [`Cable::solve_static`]).
     pub fn initial_positions(&self) -> &DVector<f64> {
-        &self.q0
+        &self.coordinates.q0
     }
     /// Replace the initial positions.
     pub fn set_initial_positions(&mut self, q: &DVector<f64>) {
-        self.q0.copy_from(q);
+        self.coordinates.q0.copy_from(q);
     }
     /// Index of the row r₁′·n₁(θ) = 0 (the driven one) among the constraints.
     pub fn driven_row(&self) -> usize {
@@ -225,10 +222,11 @@ impl Cable {
 
     /// Total energy ½ q̇ᵀMq̇ + U(q) − Q_gᵀq.
     pub fn energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
+        let n = self.coordinates.len();
         let mut kin = 0.0;
-        for j in 0..self.n {
+        for j in 0..n {
             let mut col = 0.0;
-            for i in 0..self.n {
+            for i in 0..n {
                 col += self.mass[(i, j)] * qd[i];
             }
             kin += col * qd[j];
@@ -238,10 +236,10 @@ impl Cable {
 
     /// Angular momentum about the hub axis z, ∫ ρA (r × ṙ)·e_z dx = Σ M̂ᵢⱼ (xᵢ ẏⱼ − yᵢ ẋⱼ).
     pub fn angular_momentum_z(&self, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
-        let d = self.d;
+        let (d, n) = (self.d, self.coordinates.len());
         let mut h = 0.0;
-        for i in (0..self.n).step_by(d) {
-            for j in (0..self.n).step_by(d) {
+        for i in (0..n).step_by(d) {
+            for j in (0..n).step_by(d) {
                 let mij = self.mass[(i, j)];
                 if mij != 0.0 {
                     h += mij * (q[i] * qd[j + 1] - q[i + 1] * qd[j]);
@@ -292,8 +290,8 @@ impl Cable {
     /// failure and doubled again (up to 1/`load_steps`) after a step that took ≤ 5
     /// iterations (docs/methods.md §5.4 item 4). Starts from and updates the initial positions.
     pub fn solve_static(&mut self, t: f64, load_steps: usize) -> Result<StaticReport, StaticError> {
-        let (n, m) = (self.n, self.m);
-        let mut q = self.q0.clone();
+        let (n, m) = (self.coordinates.len(), self.coordinates.n_constraints);
+        let mut q = self.coordinates.q0.clone();
         let mut lambda = DVector::zeros(m);
         let mut grad = DVector::zeros(n);
         let mut k = DMatrix::zeros(n, n);
@@ -376,33 +374,17 @@ impl Cable {
         res.gemv_tr(1.0, &phi_q, &lambda, 1.0);
         report.residual = res.amax().max(phi.amax());
         report.lambda = lambda.iter().copied().collect();
-        self.q0 = q;
+        self.coordinates.q0 = q;
         Ok(report)
     }
 }
 
 impl Formulation for Cable {
-    fn n_coordinates(&self) -> usize {
-        self.n
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        self.m
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from(&self.q0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        let State { t, q, qd } = state;
         let d = self.d;
         if req.dynamics {
             out.mass.copy_from(&self.mass);
@@ -453,7 +435,8 @@ impl flexmbd_core::Observe for Cable {
     fn sensor_names(&self) -> &[String] {
         &self.names
     }
-    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
+        let State { t, q, qd } = state;
         let tip = self.tip_displacement(t, q);
         let d = self.d;
         out[..d].copy_from_slice(&tip[..d]);

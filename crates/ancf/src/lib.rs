@@ -8,7 +8,8 @@
 //! - [`Cable`]: the [`flexmbd_core::Formulation`] with the driven-hub root
 //!   constraints, exact Φ_t and bias (§7.3), sensors `tip_ux`, `tip_uy` (`tip_uz`),
 //!   `energy`, and a static-equilibrium solver with load stepping (§5.4 item 4).
-//! - [`run_spin_up`]: the spin-up run with ALI3-P (§5) returning a [`History`].
+//! - [`run_spin_up`]: the spin-up run with ALI3-P (§5) returning a [`History`]; [`run_cable`]
+//!   the same from a cable's own start, without the static equilibrium.
 //!
 //! Choices recorded: curvature measure with |r′|² (Exudyn-compatible, §7.2 correction);
 //! Gauss orders 9/5 (5 and 3 points); analytic tangent (checked against finite
@@ -26,5 +27,5 @@ mod run;
 mod spec;
 
 pub use cable::{Cable, StaticError, StaticReport};
-pub use run::{AncfError, History, run_spin_up, run_spin_up_with};
+pub use run::{AncfError, History, run_cable, run_spin_up, run_spin_up_with};
 pub use spec::CableSpec;

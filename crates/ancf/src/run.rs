@@ -90,15 +90,32 @@ pub fn run_spin_up_with(
     duration: f64,
     output_interval: f64,
 ) -> Result<History, AncfError> {
-    let h = settings.step;
-    validate_run(h, duration, output_interval)?;
+    validate_run(settings.step, duration, output_interval)?;
     let mut cable = Cable::new(spec)?;
     let static_start = if spec.gravity.iter().any(|&g| g != 0.0) {
         Some(cable.solve_static(0.0, 10)?)
     } else {
         None
     };
-    let mut s = Ali3p::new(&mut cable, 0.0, settings)?;
+    let hist = run_cable(&mut cable, settings, duration, output_interval)?;
+    Ok(History {
+        static_start,
+        ..hist
+    })
+}
+
+/// Integrate `cable` from its initial positions ([`Cable::initial_positions`]) at rest for
+/// `duration` seconds, recording every `output_interval` (rounded to a whole number of
+/// steps); no static start (`static_start` is `None`).
+pub fn run_cable(
+    cable: &mut Cable,
+    settings: Ali3pSettings,
+    duration: f64,
+    output_interval: f64,
+) -> Result<History, AncfError> {
+    let h = settings.step;
+    validate_run(h, duration, output_interval)?;
+    let mut s = Ali3p::new(cable, 0.0, settings)?;
     let steps = (duration / h).round() as usize;
     let every = ((output_interval / h).round() as usize).max(1);
     let cap = steps / every + 1;
@@ -108,24 +125,24 @@ pub fn run_spin_up_with(
         energy: Vec::with_capacity(cap),
         stats: Stats::default(),
         cpu_seconds: 0.0,
-        static_start,
+        static_start: None,
     };
     let mut sens = vec![0.0; cable.sensor_names().len()];
     let d = cable.dim_components();
     let mut record = |s: &Ali3p, cable: &mut Cable, hist: &mut History| {
-        cable.sensors(s.t, &s.q, &s.qd, &mut sens);
+        cable.sensors(s.state(), &mut sens);
         let mut tip = [0.0; 3];
         tip[..d].copy_from_slice(&sens[..d]);
         hist.t.push(s.t);
         hist.tip.push(tip);
         hist.energy.push(sens[d]);
     };
-    record(&s, &mut cable, &mut hist);
+    record(&s, cable, &mut hist);
     let t0 = Instant::now();
     for k in 1..=steps {
-        s.step(&mut cable)?;
+        s.step(cable)?;
         if k % every == 0 {
-            record(&s, &mut cable, &mut hist);
+            record(&s, cable, &mut hist);
         }
     }
     hist.cpu_seconds = t0.elapsed().as_secs_f64();

@@ -4,7 +4,7 @@
 //! Euler–Bernoulli values.
 
 use flexmbd_ancf::{Cable, CableSpec};
-use flexmbd_core::{Dim, Formulation, Request, SystemTerms};
+use flexmbd_core::{Dim, Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector, Rotation3, SymmetricEigen, Vector3};
 
 fn spec(dim: Dim, elements: usize) -> CableSpec {
@@ -43,9 +43,7 @@ fn forces(c: &mut Cable, q: &DVector<f64>, tangents: bool) -> SystemTerms {
     let mut t = SystemTerms::new(n, m);
     let qd = DVector::zeros(n);
     c.evaluate(
-        0.3,
-        q,
-        &qd,
+        State::new(0.3, q, &qd),
         Request {
             dynamics: true,
             tangents,
@@ -197,13 +195,17 @@ fn constraint_rates_match_finite_differences_along_a_motion() {
         let mut terms = SystemTerms::new(n, m);
         let phi = |c: &mut Cable, t: f64| {
             let mut tt = SystemTerms::new(n, m);
-            c.evaluate(t, &q_at(t), &qd_at(t), Request::CONSTRAINTS, &mut tt);
+            c.evaluate(
+                State::new(t, &q_at(t), &qd_at(t)),
+                Request::CONSTRAINTS,
+                &mut tt,
+            );
             tt.phi
         };
         // During the spin-up (θ̈ ≠ 0), at T_s and after it.
         for t in [0.7, 1.3, 2.0, 2.9] {
             terms.clear(Request::ALL);
-            c.evaluate(t, &q_at(t), &qd_at(t), Request::ALL, &mut terms);
+            c.evaluate(State::new(t, &q_at(t), &qd_at(t)), Request::ALL, &mut terms);
             // Rate with dt = 1e-5 (truncation ~1e-10), acceleration with dt = 1e-4.
             let e = 1e-5;
             let rate_fd = (phi(&mut c, t + e) - phi(&mut c, t - e)) / (2.0 * e);
@@ -225,8 +227,8 @@ fn constraint_rates_match_finite_differences_along_a_motion() {
                 qm[j] -= dx;
                 let mut tp = SystemTerms::new(n, m);
                 let mut tm = SystemTerms::new(n, m);
-                c.evaluate(t, &qp, &qd_at(t), Request::CONSTRAINTS, &mut tp);
-                c.evaluate(t, &qm, &qd_at(t), Request::CONSTRAINTS, &mut tm);
+                c.evaluate(State::new(t, &qp, &qd_at(t)), Request::CONSTRAINTS, &mut tp);
+                c.evaluate(State::new(t, &qm, &qd_at(t)), Request::CONSTRAINTS, &mut tm);
                 let col = (tp.phi - tm.phi) / (2.0 * dx);
                 assert!((col - terms.phi_q.column(j)).amax() < 1e-9);
             }

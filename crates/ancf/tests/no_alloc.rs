@@ -33,7 +33,7 @@ fn steps_allocate_nothing() {
         let before = flexmbd_test_support::allocations();
         for _ in 0..300 {
             s.step(&mut cable).unwrap();
-            cable.sensors(s.t, &s.q, &s.qd, &mut out);
+            cable.sensors(s.state(), &mut out);
         }
         let after = flexmbd_test_support::allocations();
         assert_eq!(after - before, 0, "{dim}: {} allocations", after - before);

@@ -3,10 +3,12 @@
 //! The body calls its elastic model through the [`ElasticModel`] trait, so that the
 //! geometric-stiffening models of §6 (FNL1 with `StiffeningIntegrals::k_g`, FNL2,
 //! …, in the `flexmbd-stiffening` crate) plug in later through
-//! [`FlexibleBody::set_elastic_model`](crate::FlexibleBody::set_elastic_model)
+//! [`FlexibleBody::set_elastic_model`]
 //! without changing the body's interface. Only the linear model is implemented here.
 
 use flexmbd_fe::ReducedBody;
+
+use crate::FlexibleBody;
 use nalgebra::{DMatrix, DMatrixViewMut};
 
 /// Generalized elastic + damping force on the modal coordinates, `Q_el(y, ẏ)`.
@@ -30,7 +32,7 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
     /// Strain energy U(y) whose gradient the conservative part of `Q_el` is (½yᵀK_ff y for
     /// linear elasticity); the `Energy` sensors of the formulations add it.
     fn strain_energy(&self, y: &[f64]) -> f64;
-    /// A boxed copy (lets [`FlexibleBody`](crate::FlexibleBody) be `Clone`).
+    /// A boxed copy (lets [`FlexibleBody`] be `Clone`).
     fn clone_box(&self) -> Box<dyn ElasticModel>;
     /// True when the tangents do not depend on (y, ẏ) (formulations then report
     /// `constant_tangents`). Nonlinear stiffening models return false.
@@ -40,6 +42,31 @@ pub trait ElasticModel: Send + Sync + std::fmt::Debug {
     /// True when the stiffness tangent is symmetric (FNL1's is not).
     fn is_symmetric(&self) -> bool {
         true
+    }
+}
+
+/// What the elastic models of a system's bodies let the integrator assume of its tangents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ElasticTangents {
+    /// Every model's tangents are constant ([`ElasticModel::is_linear`]).
+    pub linear: bool,
+    /// Every model's stiffness tangent is symmetric ([`ElasticModel::is_symmetric`]).
+    pub symmetric: bool,
+}
+
+impl ElasticTangents {
+    /// Of the elastic models of `bodies` (both true for none).
+    pub fn of<'a>(bodies: impl IntoIterator<Item = &'a FlexibleBody>) -> Self {
+        let mut tangents = ElasticTangents {
+            linear: true,
+            symmetric: true,
+        };
+        for body in bodies {
+            let model = body.elastic_model();
+            tangents.linear &= model.is_linear();
+            tangents.symmetric &= model.is_symmetric();
+        }
+        tangents
     }
 }
 

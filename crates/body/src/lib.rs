@@ -60,7 +60,7 @@ mod natural_points;
 mod shape;
 mod state;
 
-pub use elastic::{ElasticModel, LinearElastic};
+pub use elastic::{ElasticModel, ElasticTangents, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;
@@ -132,6 +132,16 @@ impl Workspace {
             fs: fs_shape::FsScratch::default(),
             points: PointScratch::default(),
         }
+    }
+
+    /// Zero the sums every B-matrix route accumulates over the cloud: Σ w A X_k (`sy`), the
+    /// modal mass (`yy`) and the modal inertia force (`qy`). Each route zeroes its own
+    /// rotational coupling sums (`wy` or `l`).
+    #[inline]
+    fn clear_bmatrix_sums(&mut self) {
+        self.sy.fill(0.0);
+        self.yy.fill(0.0);
+        self.qy.fill(0.0);
     }
 
     /// Sized for n modes, with the FS0 scratch when `fs0`.

@@ -108,6 +108,21 @@ fn virtual_power_residual(
     (lhs - &rhs).amax() / scale
 }
 
+/// The virtual power of the cloud accelerations `rddot` along each mode j,
+/// `Σ_k w_k (∂r_k/∂y_j) · r̈_k` ([`modal_column`] at (r0, A, y)), into `out` (n).
+fn modal_virtual_power(
+    rb: &ReducedBody,
+    r0: Vector3<f64>,
+    a: Matrix3<f64>,
+    y: &[f64],
+    rddot: &DVector<f64>,
+    out: &mut [f64],
+) {
+    for (j, power) in out.iter_mut().enumerate() {
+        *power = weighted_dot(rb, &modal_column(rb, r0, a, y, j), rddot);
+    }
+}
+
 /// `Σ_k w_k u_k · v_k` over the cloud points of two stacked position-sized vectors.
 fn weighted_dot(rb: &ReducedBody, u: &DVector<f64>, v: &DVector<f64>) -> f64 {
     let mut sum = 0.0;
@@ -127,13 +142,20 @@ fn positions(rb: &ReducedBody, r0: Vector3<f64>, a: Matrix3<f64>, y: &[f64]) -> 
     out
 }
 
+/// The spin-up beam of 8 elements with `modes` modes (and its FS0 data), built, and the test
+/// motion of its frame and modes.
+fn spin_up_fs0(dim: Dim, modes: usize) -> (ReducedBody, FlexibleBody, Motion) {
+    let (rb, _) = spin_up_body(dim, 8, modes);
+    let body = FlexibleBody::new(&rb).unwrap();
+    let m = Motion::new(dim, rb.n_modes());
+    (rb, body, m)
+}
+
 /// Largest relative residual of the virtual-power equations and of the kinetic energy.
 fn lagrange(dim: Dim, modes: usize) -> (f64, f64) {
-    let (rb, _) = spin_up_body(dim, 8, modes);
+    let (rb, mut body, m) = spin_up_fs0(dim, modes);
     let n = rb.n_modes();
-    let mut body = FlexibleBody::new(&rb).unwrap();
     assert!(body.has_foreshortening());
-    let m = Motion::new(dim, n);
     let (h, nc, np) = (1e-3, body.n_coords(), rb.cloud.len());
     let (mut worst, mut worst_t) = (0.0_f64, 0.0_f64);
     for &t in &[0.0, 0.37, 1.1] {
@@ -370,10 +392,8 @@ fn node_helper_matches_kinematics_and_routes() {
 #[test]
 fn gravity_and_first_moment_include_the_shortening() {
     for (dim, modes) in [(Dim::Planar, 4), (Dim::Spatial, 8)] {
-        let (rb, _) = spin_up_body(dim, 8, modes);
+        let (rb, body, m) = spin_up_fs0(dim, modes);
         let n = rb.n_modes();
-        let body = FlexibleBody::new(&rb).unwrap();
-        let m = Motion::new(dim, n);
         let (r0, a, y) = (m.r0(0.3), m.a(0.3), m.y(0.3));
         let g = match dim {
             Dim::Planar => Vector3::new(3.0, -9.81, 0.0),
@@ -485,11 +505,9 @@ fn fs0_evaluation_allocates_nothing() {
 /// (∂r/∂r0 = I, ∂r/∂u = r̄1 I + r̄2 E, ∂r/∂y by differences).
 #[test]
 fn natural_planar_inertia_matches_virtual_power() {
-    let (rb, _) = spin_up_body(Dim::Planar, 8, 4);
+    let (rb, body, m) = spin_up_fs0(Dim::Planar, 4);
     let n = rb.n_modes();
-    let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion::new(Dim::Planar, n);
     let uvec = |t: f64| {
         let (s, c) = f(0.5, 1.7, 0.9, t).sin_cos();
         nalgebra::Vector2::new(c, s) * (1.0 + 0.1 * (2.0 * t).sin())
@@ -535,9 +553,7 @@ fn natural_planar_inertia_matches_virtual_power() {
             lhs[2] += w * (rbk.x * acc.x + rbk.y * acc.y);
             lhs[3] += w * (-rbk.y * acc.x + rbk.x * acc.y);
         }
-        for j in 0..n {
-            lhs[4 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
-        }
+        modal_virtual_power(&rb, r0, a, &y, &rddot, &mut lhs.as_mut_slice()[4..]);
         worst = worst.max(virtual_power_residual(&lhs, &mm, &qdd, &qv));
     }
     eprintln!("FS0 natural planar: virtual power residual {worst:.2e}");
@@ -549,11 +565,9 @@ fn natural_planar_inertia_matches_virtual_power() {
 /// law (∂r/∂r0 = I, ∂r/∂e_a = r̄_a I, ∂r/∂y by differences) and r̈_k, q̇, q̈ by differencing.
 #[test]
 fn natural_spatial_inertia_matches_virtual_power() {
-    let (rb, _) = spin_up_body(Dim::Spatial, 8, 8);
+    let (rb, body, m) = spin_up_fs0(Dim::Spatial, 8);
     let n = rb.n_modes();
-    let body = FlexibleBody::new(&rb).unwrap();
     let mut nws = body.natural_workspace();
-    let m = Motion::new(Dim::Spatial, n);
     let amat = |t: f64| {
         let s = Matrix3::new(
             (1.1 * t).sin(),
@@ -604,9 +618,7 @@ fn natural_spatial_inertia_matches_virtual_power() {
                 }
             }
         }
-        for j in 0..n {
-            lhs[12 + j] = weighted_dot(&rb, &modal_column(&rb, r0, a, &y, j), &rddot);
-        }
+        modal_virtual_power(&rb, r0, a, &y, &rddot, &mut lhs.as_mut_slice()[12..]);
         for (r, method) in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals]
             .into_iter()
             .enumerate()

@@ -12,90 +12,20 @@
 //! * the rigid uniform bar from two points gives m/3, m/6, m/3 (§3.1), and a general
 //!   rigid planar cloud gives the §3.1 integrals;
 //! * gravity rows against `Σ w_k B_kᵀ g` and against `−∂V/∂q` of the potential helper;
-//! * body points: Jacobian, velocity, bias and point-force rows against differences;
-//! * one evaluation allocates nothing (thread-local counting allocator, so the
-//!   parallel tests of this binary do not interfere).
+//! * body points: Jacobian, velocity, bias and point-force rows against differences.
+//!
+//! That one evaluation allocates nothing is held in `no_alloc.rs`.
 
 mod common;
 use common::*;
 use flexmbd_body::NaturalWorkspace;
 use flexmbd_body::{BodyPoint, BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState};
 use flexmbd_fe::ReducedBody;
-use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
-use rand::Rng;
-
-// ---------------------------------------------------------------- allocator
-
-#[global_allocator]
-static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
-fn allocs() -> usize {
-    flexmbd_test_support::allocations()
-}
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2, Vector3};
 
 // ---------------------------------------------------------------- helpers
 
 const E: Matrix2<f64> = Matrix2::new(0.0, -1.0, 1.0, 0.0);
-
-fn n_rigid(dim: Dim) -> usize {
-    if dim == Dim::Planar { 4 } else { 12 }
-}
-
-/// Coordinates and velocities of one body in the natural set.
-#[derive(Clone)]
-struct Q {
-    dim: Dim,
-    q: DVector<f64>,
-    qd: DVector<f64>,
-}
-
-impl Q {
-    fn view(&self) -> NaturalState<'_> {
-        NaturalState::from_coords(self.dim, self.q.as_slice(), self.qd.as_slice())
-    }
-    fn with_q(&self, q: DVector<f64>) -> Q {
-        Q {
-            dim: self.dim,
-            q,
-            qd: self.qd.clone(),
-        }
-    }
-}
-
-/// A random state off the manifold: 3D `A = R (I + N)`, |N_ij| ≤ 0.25; 2D `|u| ∈ [0.7, 1.3]`.
-fn random_q<R: Rng>(r: &mut R, dim: Dim, n: usize, y_scale: f64) -> Q {
-    let nr = n_rigid(dim);
-    let mut q = DVector::zeros(nr + n);
-    let mut qd = DVector::zeros(nr + n);
-    match dim {
-        Dim::Spatial => {
-            let pert = Matrix3::from_fn(|_, _| uni(r, -0.25, 0.25));
-            let a = rand_rotation(r) * (Matrix3::identity() + pert);
-            let ad = Matrix3::from_fn(|_, _| uni(r, -2.0, 2.0));
-            q.fixed_rows_mut::<3>(0).copy_from(&rand_vec(r, 2.0));
-            qd.fixed_rows_mut::<3>(0).copy_from(&rand_vec(r, 2.0));
-            for c in 0..3 {
-                q.fixed_rows_mut::<3>(3 + 3 * c).copy_from(&a.column(c));
-                qd.fixed_rows_mut::<3>(3 + 3 * c).copy_from(&ad.column(c));
-            }
-        }
-        Dim::Planar => {
-            let t = uni(r, -3.0, 3.0);
-            let s = uni(r, 0.7, 1.3);
-            q[0] = uni(r, -2.0, 2.0);
-            q[1] = uni(r, -2.0, 2.0);
-            q[2] = s * t.cos();
-            q[3] = s * t.sin();
-            for i in 0..4 {
-                qd[i] = uni(r, -2.0, 2.0);
-            }
-        }
-    }
-    for j in 0..n {
-        q[nr + j] = y_scale * uni(r, -0.5, 0.5);
-        qd[nr + j] = uni(r, -2.0, 2.0);
-    }
-    Q { dim, q, qd }
-}
 
 /// `∂f/∂q` at q by central differences with step h.
 fn central_gradient(
@@ -632,51 +562,5 @@ fn coords_round_trip() {
         s.view().to_coords(dim, &mut q, &mut qd);
         assert_eq!(q.as_slice(), s.q.as_slice());
         assert_eq!(qd.as_slice(), s.qd.as_slice());
-    }
-}
-
-// ---------------------------------------------------------------- allocation, timing
-
-#[test]
-fn natural_evaluation_allocates_nothing() {
-    let g = Vector3::new(0.0, -9.81, 0.0);
-    for (dim, n) in [
-        (Dim::Spatial, 8),
-        (Dim::Spatial, 0),
-        (Dim::Planar, 5),
-        (Dim::Planar, 0),
-    ] {
-        let mut r = rng(80);
-        let rb = random_body(&mut r, dim, n, 40);
-        let body = FlexibleBody::new(&rb).unwrap();
-        let mut ws = body.natural_workspace();
-        let s = random_q(&mut r, dim, n, 1.0);
-        let nc = body.n_natural_coords();
-        let mut m = DMatrix::zeros(nc, nc);
-        let mut q = DVector::zeros(nc);
-        let mut qg = vec![0.0; nc];
-        let p = BodyPoint::rigid(Vector3::new(0.5, 0.1, 0.0), n);
-        let mut jac = DMatrix::zeros(dim.n_trans(), nc);
-        let before = allocs();
-        let mut sink = 0.0;
-        for _ in 0..3 {
-            let st = NaturalState::from_coords(dim, s.q.as_slice(), s.qd.as_slice());
-            body.inertia_natural(&st, InertiaMethod::BMatrix, &mut ws, &mut m, &mut q);
-            body.inertia_natural(&st, InertiaMethod::ShapeIntegrals, &mut ws, &mut m, &mut q);
-            body.gravity_natural(&st, &g, &mut qg);
-            sink += body.natural_potential_energy(&st, &g);
-            body.point_jacobian(&st, &p, &mut jac);
-            sink += body.point_position(&st, &p).x
-                + body.point_velocity(&st, &p).x
-                + body.point_bias(&st, &p).x;
-            body.add_point_force(&st, &p, &g, &mut qg);
-        }
-        let after = allocs();
-        assert!(sink.is_finite());
-        assert_eq!(
-            after - before,
-            0,
-            "{dim} n={n}: allocations in the evaluation path"
-        );
     }
 }

@@ -1,10 +1,11 @@
-//! One inertia evaluation (both routes, 2D and 3D), the elastic forces and gravity
-//! allocate nothing after set-up (counting global allocator).
+//! One inertia evaluation (both routes, 2D and 3D, relative and natural sets), the elastic
+//! forces, gravity, the potential energy and the body-point queries allocate nothing after
+//! set-up (counting global allocator, counting per thread).
 //!
 
 mod common;
 use common::*;
-use flexmbd_body::{Dim, FlexibleBody, InertiaMethod};
+use flexmbd_body::{BodyPoint, Dim, FlexibleBody, InertiaMethod, NaturalState};
 use nalgebra::{DMatrix, DVector, Vector3};
 
 #[global_allocator]
@@ -30,18 +31,13 @@ fn evaluation_allocates_nothing() {
         let mut qg = vec![0.0; nc];
         let g = Vector3::new(0.0, -9.81, 0.0);
         let mut nws = body.natural_workspace();
+        let nat = random_q(&mut r, dim, n, 1.0);
         let nn = body.n_natural_coords();
-        let mut mn = DMatrix::zeros(nn, nn);
-        let mut qn = DVector::zeros(nn);
+        let (mut mn, mut qn) = (DMatrix::zeros(nn, nn), DVector::zeros(nn));
         let mut gn = vec![0.0; nn];
-        let nat = flexmbd_body::NaturalState {
-            r0: view.r0,
-            a: view.a,
-            r0_dot: view.s_dot,
-            a_dot: view.a,
-            y: view.y,
-            y_dot: view.y_dot,
-        };
+        let p = BodyPoint::rigid(Vector3::new(0.5, 0.1, 0.0), n);
+        let mut jac = DMatrix::zeros(dim.n_trans(), nn);
+        let mut sink = 0.0;
         let before = flexmbd_test_support::allocations();
         for _ in 0..3 {
             body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
@@ -49,17 +45,20 @@ fn evaluation_allocates_nothing() {
             body.inertia_origin(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
             body.elastic_forces(view.y, view.y_dot, &mut qel);
             body.gravity_forces(&view, &g, &mut qg);
-            body.inertia_natural(&nat, InertiaMethod::BMatrix, &mut nws, &mut mn, &mut qn);
-            body.inertia_natural(
-                &nat,
-                InertiaMethod::ShapeIntegrals,
-                &mut nws,
-                &mut mn,
-                &mut qn,
-            );
-            body.gravity_natural(&nat, &g, &mut gn);
+            let st = NaturalState::from_coords(dim, nat.q.as_slice(), nat.qd.as_slice());
+            for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
+                body.inertia_natural(&st, method, &mut nws, &mut mn, &mut qn);
+            }
+            body.gravity_natural(&st, &g, &mut gn);
+            sink += body.natural_potential_energy(&st, &g);
+            body.point_jacobian(&st, &p, &mut jac);
+            sink += body.point_position(&st, &p).x
+                + body.point_velocity(&st, &p).x
+                + body.point_bias(&st, &p).x;
+            body.add_point_force(&st, &p, &g, &mut gn);
         }
         let after = flexmbd_test_support::allocations();
+        assert!(sink.is_finite());
         assert_eq!(
             after - before,
             0,

@@ -1,7 +1,7 @@
 //! The contract between a formulation (absolute or relative coordinates) and the
 //! integrators (ARCHITECTURE.md, "The `Formulation` trait"; docs/methods.md §5).
 //!
-//! At a trial state (t, q, q̇) a formulation computes, in **one pass** over its
+//! At a trial [`State`] (t, q, q̇) a formulation computes, in **one pass** over its
 //! bodies, whatever [`Request`] asks for, into the [`SystemTerms`] that the
 //! integrator sized once:
 //!
@@ -11,12 +11,84 @@
 //! - the constraints **Φ**, their Jacobian **Φ_q**, **Φ_t**, and the acceleration term
 //!   **c** = Φ̇_q q̇ + Φ̇_t.
 //!
-//! Coordinates update additively, q ← q + Δq.
+//! Coordinates update additively, q ← q + Δq. What every formulation knows of its
+//! coordinates apart from the physics — how many, how many constraint equations bind them,
+//! where they start, which the user specified — is one [`Coordinates`] value it holds; the
+//! trait's questions about them are answered from it once, here.
 //!
 //! What a simulation reads at output instants, the sensors, is a separate trait
 //! ([`Observe`]); a compiled scene is both ([`CompiledScene`]).
 
 use nalgebra::{DMatrix, DVector};
+
+/// A trial state: the time and the coordinates and rates there, borrowed from whoever holds
+/// them (the integrator, a test).
+#[derive(Clone, Copy, Debug)]
+pub struct State<'a> {
+    /// Time t (s).
+    pub t: f64,
+    /// Coordinates q (n).
+    pub q: &'a DVector<f64>,
+    /// Rates q̇ (n).
+    pub qd: &'a DVector<f64>,
+}
+
+impl<'a> State<'a> {
+    /// The state (t, q, q̇).
+    pub fn new(t: f64, q: &'a DVector<f64>, qd: &'a DVector<f64>) -> Self {
+        State { t, q, qd }
+    }
+}
+
+/// The coordinates of a compiled scene, apart from the physics: their number (the length of
+/// `q0`), the number of constraint equations, the user's initial guess, and the coordinates
+/// the user specified. Each formulation holds one and hands it out by
+/// [`Formulation::coordinates`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Coordinates {
+    /// Number of constraint equations m (redundant ones included).
+    pub n_constraints: usize,
+    /// The initial guess of the positions (n; not yet consistent).
+    pub q0: DVector<f64>,
+    /// The initial guess of the rates (n).
+    pub qd0: DVector<f64>,
+    /// Coordinates whose initial position and velocity the user specified (indices into q).
+    pub specified: Vec<usize>,
+}
+
+impl Coordinates {
+    /// `q0` and `qd0` (of one length n) under `n_constraints` equations, none specified.
+    ///
+    /// # Panics
+    /// If `q0` and `qd0` differ in length.
+    pub fn new(q0: DVector<f64>, qd0: DVector<f64>, n_constraints: usize) -> Self {
+        assert_eq!(
+            q0.len(),
+            qd0.len(),
+            "initial positions ({}) and rates ({}) of different lengths",
+            q0.len(),
+            qd0.len()
+        );
+        Coordinates {
+            n_constraints,
+            q0,
+            qd0,
+            specified: Vec::new(),
+        }
+    }
+    /// n coordinates at zero under `n_constraints` equations.
+    pub fn zeros(n: usize, n_constraints: usize) -> Self {
+        Coordinates::new(DVector::zeros(n), DVector::zeros(n), n_constraints)
+    }
+    /// Number of coordinates n.
+    pub fn len(&self) -> usize {
+        self.q0.len()
+    }
+    /// True when there are no coordinates.
+    pub fn is_empty(&self) -> bool {
+        self.q0.is_empty()
+    }
+}
 
 /// Which terms one evaluation pass must write. Terms not requested may be left stale.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -112,25 +184,34 @@ impl SystemTerms {
 }
 
 /// A multibody formulation the integrators can drive.
+///
+/// A formulation implements [`coordinates`](Formulation::coordinates) and
+/// [`evaluate`](Formulation::evaluate); the questions about its coordinates are answered
+/// from the former.
 pub trait Formulation {
+    /// Its coordinates: number, constraint count, initial guess, specified ones.
+    fn coordinates(&self) -> &Coordinates;
     /// Number of coordinates n.
-    fn n_coordinates(&self) -> usize;
+    fn n_coordinates(&self) -> usize {
+        self.coordinates().len()
+    }
     /// Number of constraint equations m (redundant ones included).
-    fn n_constraints(&self) -> usize;
+    fn n_constraints(&self) -> usize {
+        self.coordinates().n_constraints
+    }
     /// The user's initial guess of positions and velocities (not yet consistent).
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>);
+    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
+        let c = self.coordinates();
+        q.copy_from(&c.q0);
+        qd.copy_from(&c.qd0);
+    }
     /// Coordinates whose initial position and velocity the user specified; they are held
     /// while the initial conditions are made consistent (docs/methods.md §5.4).
-    fn specified_coordinates(&self) -> &[usize];
-    /// One pass: set the requested terms of `out` at (t, q, q̇). `out` comes cleared.
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    );
+    fn specified_coordinates(&self) -> &[usize] {
+        &self.coordinates().specified
+    }
+    /// One pass: set the requested terms of `out` at `state`. `out` comes cleared.
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms);
     /// True when K and C do not depend on the state (rigid bodies, linear elasticity, linear
     /// springs): the integrator then asks for them once and keeps them, instead of clearing
     /// and rebuilding two n × n matrices at every Newton iteration.
@@ -155,8 +236,8 @@ pub trait Formulation {
 pub trait Observe {
     /// Names of the sensors, in output order.
     fn sensor_names(&self) -> &[String];
-    /// Sensor values at (t, q, q̇), one per name.
-    fn sensors(&mut self, t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]);
+    /// Sensor values at `state`, one per name.
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]);
 }
 
 /// A compiled scene: the [`Formulation`] an integrator drives and the sensors ([`Observe`])
@@ -164,3 +245,39 @@ pub trait Observe {
 pub trait CompiledScene: Formulation + Observe {}
 
 impl<T: Formulation + Observe + ?Sized> CompiledScene for T {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A formulation that only holds its coordinates.
+    struct Held(Coordinates);
+
+    impl Formulation for Held {
+        fn coordinates(&self) -> &Coordinates {
+            &self.0
+        }
+        fn evaluate(&mut self, _: State<'_>, _: Request, _: &mut SystemTerms) {}
+    }
+
+    #[test]
+    fn the_questions_about_coordinates_are_answered_from_the_coordinates() {
+        let q0 = DVector::from_column_slice(&[1.0, 2.0, 3.0]);
+        let qd0 = DVector::from_column_slice(&[0.5, 0.0, -0.5]);
+        let f = Held(Coordinates {
+            specified: vec![2],
+            ..Coordinates::new(q0.clone(), qd0.clone(), 2)
+        });
+        assert_eq!((f.n_coordinates(), f.n_constraints()), (3, 2));
+        assert_eq!(f.specified_coordinates(), &[2]);
+        let (mut q, mut qd) = (DVector::zeros(3), DVector::zeros(3));
+        f.initial_guess(&mut q, &mut qd);
+        assert_eq!((q, qd), (q0, qd0));
+    }
+
+    #[test]
+    #[should_panic(expected = "different lengths")]
+    fn positions_and_rates_of_different_lengths_are_refused() {
+        Coordinates::new(DVector::zeros(3), DVector::zeros(2), 0);
+    }
+}

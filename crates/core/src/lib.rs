@@ -9,7 +9,9 @@
 pub mod formulation;
 pub mod kinematics;
 
-pub use formulation::{CompiledScene, Formulation, Observe, Request, SystemTerms};
+pub use formulation::{
+    CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
+};
 pub use kinematics::{JointReading, MarkerKinematics, SensorQuery};
 
 use nalgebra::{Matrix3, Vector3};

@@ -409,7 +409,7 @@ impl Simulation {
             self.sensor_names().len()
         );
         let i = &self.integrator;
-        self.formulation.sensors(i.t, &i.q, &i.qd, out);
+        self.formulation.sensors(i.state(), out);
     }
 
     /// The sensors' values at the current state, in [`sensor_names`](Simulation::sensor_names) order (allocates).

@@ -2,6 +2,7 @@
 //! item 4) on floating-frame scenes: the linear cantilever droop against qL⁴/(8EI) in both
 //! formulations, a pendulum that must turn to hang, and the scene option end to end.
 
+use flexmbd::core::State;
 use flexmbd::integrators::{StaticSettings, solve_static};
 use flexmbd::model::{FormulationKind, InitialState, Orientation, Scene, Stiffening};
 use flexmbd::simulation::{compile, run};
@@ -16,7 +17,7 @@ fn sensors_at(scene: &Scene, q: &DVector<f64>) -> Vec<(String, f64)> {
     let mut f = compile(scene).unwrap();
     let mut out = vec![0.0; f.sensor_names().len()];
     let qd = DVector::zeros(q.len());
-    f.sensors(0.0, q, &qd, &mut out);
+    f.sensors(State::new(0.0, q, &qd), &mut out);
     f.sensor_names().iter().cloned().zip(out).collect()
 }
 

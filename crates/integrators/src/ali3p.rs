@@ -39,7 +39,7 @@
 
 use std::time::Instant;
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
 use crate::lu::{DenseLlt, DenseLu};
@@ -278,6 +278,11 @@ impl Ali3p {
         self.pred_err.copy_from_slice(&c.pred_err);
     }
 
+    /// The current state (t, q, q̇), to evaluate the formulation or read its sensors at.
+    pub fn state(&self) -> State<'_> {
+        State::new(self.t, &self.q, &self.qd)
+    }
+
     /// The penalty α in use.
     pub fn penalty(&self) -> f64 {
         self.alpha
@@ -303,7 +308,7 @@ impl Ali3p {
             req
         };
         self.terms.clear(req);
-        f.evaluate(self.t, &self.q, &self.qd, req, &mut self.terms);
+        f.evaluate(State::new(self.t, &self.q, &self.qd), req, &mut self.terms);
         self.stats.evaluations += 1;
         if let Some(t0) = t0 {
             self.stats.time_evaluation += self.time_weight * t0.elapsed().as_secs_f64();

@@ -79,7 +79,7 @@
 //! each trial point being projected onto Φ = 0 (`project`) with its least-squares multipliers
 //! (`estimate_multipliers`) and residual (`residual`) — `trial`.
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
 use crate::lu::DenseLu;
@@ -247,7 +247,7 @@ struct Watchdog {
 impl Solver<'_> {
     fn eval<F: Formulation + ?Sized>(&mut self, f: &mut F, q: &DVector<f64>, req: Request) {
         self.terms.clear(req);
-        f.evaluate(self.t, q, &self.zero_qd, req, &mut self.terms);
+        f.evaluate(State::new(self.t, q, &self.zero_qd), req, &mut self.terms);
         self.evaluations += 1;
     }
 

@@ -1,6 +1,6 @@
 //! The step loop allocates nothing after set-up (counting global allocator).
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Coordinates, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use nalgebra::DVector;
 
@@ -8,30 +8,26 @@ use nalgebra::DVector;
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
 /// Two point masses on rods: a double pendulum in natural coordinates (4 coordinates, 2 constraints).
-struct DoublePendulum;
+struct DoublePendulum {
+    coordinates: Coordinates,
+}
+
+impl DoublePendulum {
+    /// Both rods along x, at rest.
+    fn new() -> Self {
+        let q0 = DVector::from_column_slice(&[1.0, 0.0, 2.0, 0.0]);
+        DoublePendulum {
+            coordinates: Coordinates::new(q0, DVector::zeros(4), 2),
+        }
+    }
+}
 
 impl Formulation for DoublePendulum {
-    fn n_coordinates(&self) -> usize {
-        4
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        2
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&[1.0, 0.0, 2.0, 0.0]);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &[]
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        let (q, qd) = (state.q, state.qd);
         let d = [q[2] - q[0], q[3] - q[1]];
         let dd = [qd[2] - qd[0], qd[3] - qd[1]];
         if req.dynamics {
@@ -62,7 +58,7 @@ impl Formulation for DoublePendulum {
 
 #[test]
 fn steps_allocate_nothing() {
-    let mut f = DoublePendulum;
+    let mut f = DoublePendulum::new();
     let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
     s.step(&mut f).unwrap();
     let before = flexmbd_test_support::allocations();
@@ -81,7 +77,7 @@ fn steps_allocate_nothing() {
 
 #[test]
 fn restoring_a_checkpoint_repeats_the_step_bit_for_bit_without_allocating() {
-    let mut f = DoublePendulum;
+    let mut f = DoublePendulum::new();
     let mut s = Ali3p::new(&mut f, 0.0, Ali3pSettings::default()).unwrap();
     // Past the first steps, so the predictor has a history to restore.
     for _ in 0..50 {

@@ -5,7 +5,9 @@
 
 mod common;
 use common::*;
+use flexmbd_core::Coordinates;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, IntegratorError};
+use nalgebra::DVector;
 
 fn energy(p: &Pendulum, s: &Ali3p) -> f64 {
     0.5 * p.mass * s.qd.norm_squared() + p.mass * G * s.q[1]
@@ -104,13 +106,15 @@ fn second_order_convergence_and_energy() {
 
 #[test]
 fn inconsistent_start_is_projected_holding_the_specified_coordinate() {
+    let q0 = DVector::from_column_slice(&[0.6, -0.9]);
+    let qd0 = DVector::from_column_slice(&[1.0, 0.7]);
     let mut p = Pendulum {
         mass: 1.0,
         length: 1.0,
-        q0: [0.6, -0.9],
-        qd0: [1.0, 0.7],
-        held: vec![0],
-        copies: 1,
+        coordinates: Coordinates {
+            specified: vec![0],
+            ..Coordinates::new(q0, qd0, 1)
+        },
     };
     let s = Ali3p::new(&mut p, 0.0, Ali3pSettings::default()).unwrap();
     assert!((s.q[0] - 0.6).abs() < 1e-12, "held x moved: {}", s.q[0]);
@@ -130,8 +134,7 @@ fn inconsistent_start_is_projected_holding_the_specified_coordinate() {
 #[test]
 fn redundant_constraints_give_the_same_motion() {
     let single = run(&mut pendulum(0.8), 1e-3, 1.0);
-    let mut doubled = pendulum(0.8);
-    doubled.copies = 2;
+    let mut doubled = pendulum(0.8).with_copies(2);
     let double = run(&mut doubled, 1e-3, 1.0);
     assert!((single.q.clone() - double.q.clone()).amax() < 1e-7);
 }

@@ -6,7 +6,7 @@
 
 mod common;
 use common::*;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Coordinates, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, StartFrom, StaticError, StaticSettings, solve_static,
 };
@@ -16,10 +16,7 @@ use nalgebra::DVector;
 fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     for copies in [1, 2] {
         // 60° off the vertical: the tangent is the constraint curvature alone.
-        let mut p = Pendulum {
-            copies,
-            ..pendulum(1.0)
-        };
+        let mut p = pendulum(1.0).with_copies(copies);
         let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
         eprintln!(
             "copies {copies}: q = {:?}, λ = {:?}, {} iterations, {} load steps",
@@ -40,10 +37,7 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
     }
     // With the formulation's K (zero here) the tangent Φ_qᵀαΦ_q is singular along the circle:
     // the error says so instead of returning garbage.
-    let mut p = Pendulum {
-        copies: 1,
-        ..pendulum(1.0)
-    };
+    let mut p = pendulum(1.0);
     let e = solve_static(
         &mut p,
         0.0,
@@ -57,40 +51,34 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
 }
 
 /// Unit masses on springs, unconstrained: `load` writes the forces (and, when asked, the
-/// tangents) at q; `hold` the specified coordinates, `q0` the start.
+/// tangents) at q; the coordinates hold the start and the specified coordinates.
 struct Unconstrained<L: FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
-    hold: Vec<usize>,
-    q0: Vec<f64>,
+    coordinates: Coordinates,
     load: L,
 }
 
+impl<L: FnMut(&DVector<f64>, Request, &mut SystemTerms)> Unconstrained<L> {
+    /// Starting at rest at `q0`, `hold` held.
+    fn new(hold: Vec<usize>, q0: &[f64], load: L) -> Self {
+        let n = q0.len();
+        let coordinates = Coordinates {
+            specified: hold,
+            ..Coordinates::new(DVector::from_column_slice(q0), DVector::zeros(n), 0)
+        };
+        Unconstrained { coordinates, load }
+    }
+}
+
 impl<L: FnMut(&DVector<f64>, Request, &mut SystemTerms)> Formulation for Unconstrained<L> {
-    fn n_coordinates(&self) -> usize {
-        self.q0.len()
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        0
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&self.q0);
-        qd.fill(0.0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.hold
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        _qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         if req.dynamics {
-            for i in 0..self.q0.len() {
+            for i in 0..self.coordinates.len() {
                 out.mass[(i, i)] = 1.0;
             }
-            (self.load)(q, req, out);
+            (self.load)(state.q, req, out);
         }
     }
 }
@@ -103,22 +91,18 @@ fn chain(
     p: f64,
     c: f64,
 ) -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
-    Unconstrained {
-        hold,
-        q0: q0.to_vec(),
-        load: move |q, req, out| {
-            let (f1, k1) = spring(K1, c, q[0]);
-            let (f2, k2) = spring(K2, c, q[1] - q[0]);
-            out.forces[0] = p - f1 + f2;
-            out.forces[1] = p - f2;
-            if req.tangents {
-                out.stiffness[(0, 0)] = k1 + k2;
-                out.stiffness[(0, 1)] = -k2;
-                out.stiffness[(1, 0)] = -k2;
-                out.stiffness[(1, 1)] = k2;
-            }
-        },
-    }
+    Unconstrained::new(hold, &q0, move |q, req, out| {
+        let (f1, k1) = spring(K1, c, q[0]);
+        let (f2, k2) = spring(K2, c, q[1] - q[0]);
+        out.forces[0] = p - f1 + f2;
+        out.forces[1] = p - f2;
+        if req.tangents {
+            out.stiffness[(0, 0)] = k1 + k2;
+            out.stiffness[(0, 1)] = -k2;
+            out.stiffness[(1, 0)] = -k2;
+            out.stiffness[(1, 1)] = k2;
+        }
+    })
 }
 const K1: f64 = 1e3;
 const K2: f64 = 4e2;
@@ -173,17 +157,13 @@ fn hardening_chain_with_both_tangents_and_a_held_coordinate() {
 /// A softening spring k s / (1 + s²) carries at most k/2: above that load there is no
 /// equilibrium, and below it the spring is strongly non-linear.
 fn softening(p: f64) -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
-    Unconstrained {
-        hold: vec![],
-        q0: vec![0.0],
-        load: move |q, req, out| {
-            let s = q[0];
-            out.forces[0] = p - s / (1.0 + s * s);
-            if req.tangents {
-                out.stiffness[(0, 0)] = (1.0 - s * s) / (1.0 + s * s).powi(2);
-            }
-        },
-    }
+    Unconstrained::new(vec![], &[0.0], move |q, req, out| {
+        let s = q[0];
+        out.forces[0] = p - s / (1.0 + s * s);
+        if req.tangents {
+            out.stiffness[(0, 0)] = (1.0 - s * s) / (1.0 + s * s).powi(2);
+        }
+    })
 }
 
 #[test]
@@ -217,11 +197,7 @@ fn no_equilibrium_is_an_error_with_data_and_a_near_limit_load_converges() {
 
 /// A free mass under gravity has no equilibrium and no stiffness: the tangent is singular.
 fn free() -> Unconstrained<impl FnMut(&DVector<f64>, Request, &mut SystemTerms)> {
-    Unconstrained {
-        hold: vec![],
-        q0: vec![0.0],
-        load: |_, _, out| out.forces[0] = -G,
-    }
+    Unconstrained::new(vec![], &[0.0], |_, _, out| out.forces[0] = -G)
 }
 
 #[test]
@@ -234,10 +210,7 @@ fn a_free_body_is_refused_as_singular() {
 /// start carry the weight and nothing moves.
 #[test]
 fn alip3_started_at_the_equilibrium_stays_put() {
-    let mut p = Pendulum {
-        copies: 1,
-        ..pendulum(0.3)
-    };
+    let mut p = pendulum(0.3);
     let sol = solve_static(&mut p, 0.0, &StaticSettings::default()).unwrap();
     let settings = Ali3pSettings::default();
     let mut s = Ali3p::new(&mut StartFrom::at_rest(&mut p, &sol), 0.0, settings).unwrap();
@@ -250,4 +223,18 @@ fn alip3_started_at_the_equilibrium_stays_put() {
         s.q
     );
     assert!(s.qd.amax() < 1e-9, "{:?}", s.qd);
+}
+
+#[test]
+fn start_from_replaces_the_initial_guess_and_keeps_constraints_and_specified_coordinates() {
+    let mut p = pendulum(0.3).with_copies(2);
+    p.coordinates.specified = vec![0];
+    let q = DVector::from_column_slice(&[0.0, -LENGTH]);
+    let qd = DVector::from_column_slice(&[0.1, 0.0]);
+    let start = StartFrom::new(&mut p, q.clone(), qd.clone());
+    assert_eq!((start.n_coordinates(), start.n_constraints()), (2, 2));
+    assert_eq!(start.specified_coordinates(), &[0]);
+    let (mut q_start, mut qd_start) = (DVector::zeros(2), DVector::zeros(2));
+    start.initial_guess(&mut q_start, &mut qd_start);
+    assert_eq!((q_start, qd_start), (q, qd));
 }

@@ -83,7 +83,6 @@ impl Relative {
             gravity,
             n_z,
             n_w,
-            n_constraints,
             topology,
             bodies,
             elem_w,
@@ -108,9 +107,7 @@ impl Relative {
             m_w: DMatrix::zeros(n_w, n_w),
             q_w: DVector::zeros(n_w),
             phi_w: DMatrix::zeros(n_constraints, n_w),
-            q0: DVector::zeros(n_z),
-            qd0: DVector::zeros(n_z),
-            specified: Vec::new(),
+            coordinates: flexmbd_core::Coordinates::zeros(n_z, n_constraints),
             sensors: Default::default(),
             coordinate_names,
             last_z: DVector::zeros(n_z),
@@ -150,7 +147,7 @@ impl Relative {
                 }
             }
         }
-        let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
+        let (q0, qd0) = (self.coordinates.q0.clone(), self.coordinates.qd0.clone());
         self.kinematics(&q0, &qd0);
         self.marker_jacobian = MarkerJacobian::new(self.n_w, self.n_z);
         self.force_elements = ForceElements::new(prepared, side_at, &*self, &q0, &qd0, self.n_z)?;

@@ -21,7 +21,7 @@
 //! through the compile-time mass map. A planar scene only has the x, y, θz entries of twists,
 //! 𝕄 and ℙ (the others are exact zeros), so the products run on those three.
 
-use flexmbd_core::SystemTerms;
+use flexmbd_core::{State, SystemTerms};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 use crate::system::Relative;
@@ -83,13 +83,8 @@ impl Relative {
     /// §4.5 steps 4–7: M and Q into `out` (which comes cleared), with the modal tangents
     /// when asked.
     #[inline(never)]
-    pub(crate) fn dynamics(
-        &mut self,
-        z: &DVector<f64>,
-        zd: &DVector<f64>,
-        tangents: bool,
-        out: &mut SystemTerms,
-    ) {
+    pub(crate) fn dynamics(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
+        let (z, zd) = (state.q, state.qd);
         self.evaluate_bodies(z, zd);
         let mass = out.mass.as_mut_slice();
         self.body_rows(mass);

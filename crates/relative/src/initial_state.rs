@@ -17,7 +17,7 @@ impl Relative {
         for (k, b) in scene.bodies.iter().enumerate() {
             let (o, n) = (self.bodies[k].first_mode, self.bodies[k].n_modes);
             for m in 0..n {
-                self.q0[o + m] = b.initial_modes.get(m).copied().unwrap_or(0.0);
+                self.coordinates.q0[o + m] = b.initial_modes.get(m).copied().unwrap_or(0.0);
             }
         }
     }
@@ -26,7 +26,7 @@ impl Relative {
     /// M ż = Σ_k R_kᵀ M̄_k Z*_k (exact when the given velocities are consistent).
     pub(crate) fn initial_velocities(&mut self, scene: &Scene) {
         let n = self.n_z;
-        let q0 = self.q0.clone();
+        let q0 = self.coordinates.q0.clone();
         let zero = DVector::zeros(n);
         self.kinematics(&q0, &zero);
         let mut m = DMatrix::zeros(n, n);
@@ -97,7 +97,7 @@ impl Relative {
         let svd = m.svd(true, true);
         let max_sv: f64 = svd.singular_values.max();
         if let Ok(x) = svd.solve(&b, 1e-12 * max_sv.max(1e-300)) {
-            self.qd0.copy_from(&x);
+            self.coordinates.qd0.copy_from(&x);
         }
     }
 }

@@ -18,7 +18,7 @@
 use flexmbd_body::BodyState;
 use nalgebra::{DVector, Matrix3, Rotation3, Unit, Vector3, Vector6};
 
-use crate::system::Relative;
+use crate::system::{Relative, RunTimeBody};
 use crate::topology::{ElemKind, FrameKind, Side};
 
 /// The angle of a rotation about z, atan2(A₁₀, A₀₀).
@@ -243,13 +243,7 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
     let mut pl = s.rbar;
     let mut vl = Vector3::zeros();
     if let Some(node) = s.node {
-        for m in 0..b.n_modes {
-            let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
-            for i in 0..3 {
-                pl[i] += b.node_rows.t(node, i, m) * y;
-                vl[i] += b.node_rows.t(node, i, m) * yd;
-            }
-        }
+        add_node_modes(rel, b, &mut pl, &mut vl, |i, m| b.node_rows.t(node, i, m));
         // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.first_mode..b.first_mode + b.n_modes;
         let (y, yd) = (
@@ -282,16 +276,28 @@ pub(crate) fn dir_at(
     let w = zr.fixed_rows::<3>(3).into_owned();
     let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
     if let Some(node) = s.node {
-        for m in 0..b.n_modes {
-            let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
-            for i in 0..3 {
-                th[i] += b.node_rows.r(node, i, m) * y;
-                thd[i] += b.node_rows.r(node, i, m) * yd;
-            }
-        }
+        add_node_modes(rel, b, &mut th, &mut thd, |i, m| b.node_rows.r(node, i, m));
     }
     let d = a * (dbar + th.cross(dbar));
     (d, w.cross(&d) + a * thd.cross(dbar))
+}
+
+/// Add Σ_m X_m y_m to `x` and Σ_m X_m ẏ_m to `xd`, over the modes m of body `b` in order, at
+/// the last (z, ż); `rows(i, m)` is component i of X_m, a node's translation or rotation rows.
+fn add_node_modes(
+    rel: &Relative,
+    b: &RunTimeBody,
+    x: &mut Vector3<f64>,
+    xd: &mut Vector3<f64>,
+    rows: impl Fn(usize, usize) -> f64,
+) {
+    for m in 0..b.n_modes {
+        let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
+        for i in 0..3 {
+            x[i] += rows(i, m) * y;
+            xd[i] += rows(i, m) * yd;
+        }
+    }
 }
 
 /// 2D: angle of a marker's direction, θ = angle(A) + X^r_z y, and its rate.

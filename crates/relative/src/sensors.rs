@@ -44,7 +44,7 @@ impl Relative {
         infos: &[BodyInfo],
     ) -> Result<RelativeSensors, ModelError> {
         let scene = prepared.scene();
-        let (q0, qd0) = (self.q0.clone(), self.qd0.clone());
+        let (q0, qd0) = (self.coordinates.q0.clone(), self.coordinates.qd0.clone());
         self.kinematics(&q0, &qd0);
         let this = &*self;
         let side_at = |id: MarkerId| Side::at(prepared, infos, id);

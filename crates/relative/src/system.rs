@@ -13,8 +13,8 @@
 //! and Q. M_w is never cleared (its structural non-zeros are rewritten every pass) and
 //! its z × z block is written into M in place.
 
-use flexmbd_body::{FlexibleBody, InertiaMethod};
-use flexmbd_core::{Dim, Request, SystemTerms};
+use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod};
+use flexmbd_core::{Coordinates, Dim, Request, State, SystemTerms};
 use flexmbd_model::ModelError;
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
@@ -54,9 +54,9 @@ pub struct Relative {
     pub(crate) inertia_method: InertiaMethod,
     /// Gravity (m/s², ground components; z = 0 in 2D).
     pub(crate) gravity: Vector3<f64>,
+    /// Number of coordinates z (the length of `coordinates.q0`) and of velocity entries w.
     pub(crate) n_z: usize,
     pub(crate) n_w: usize,
-    pub(crate) n_constraints: usize,
     pub(crate) topology: Topology,
     pub(crate) bodies: Vec<RunTimeBody>,
     /// w index of each elementary joint.
@@ -102,10 +102,8 @@ pub struct Relative {
     pub(crate) q_w: DVector<f64>,
     pub(crate) phi_w: DMatrix<f64>,
     // Initial state and outputs.
-    pub(crate) q0: DVector<f64>,
-    pub(crate) qd0: DVector<f64>,
-    /// Coordinates the integrator holds (none).
-    pub(crate) specified: Vec<usize>,
+    /// Number, constraint count, z(0) and ż(0), coordinates the integrator holds (none).
+    pub(crate) coordinates: Coordinates,
     pub(crate) sensors: RelativeSensors,
     /// Names of the coordinates.
     pub(crate) coordinate_names: Vec<String>,
@@ -137,52 +135,31 @@ pub(crate) fn unsupported(s: String) -> ModelError {
 }
 
 impl flexmbd_core::Formulation for Relative {
-    fn n_coordinates(&self) -> usize {
-        self.n_z
-    }
-    fn n_constraints(&self) -> usize {
-        self.n_constraints
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from(&self.q0);
-        qd.copy_from(&self.qd0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.specified
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
     fn constant_tangents(&self) -> bool {
         // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
         // linear elasticity, state-dependent for the stiffening models.
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_linear())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
             && self.force_elements.is_empty()
     }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         // Only the work the request needs: positions (and twists) when z changed, velocities
         // and D only for M, Q or c, and when z or ż changed.
-        self.last_zd.copy_from(qd);
-        self.update_positions(q);
+        self.last_zd.copy_from(state.qd);
+        self.update_positions(state.q);
         if req.dynamics || req.accel_term {
             self.update_velocities();
         }
         if req.dynamics {
-            self.dynamics(q, qd, req.tangents, out);
+            self.dynamics(state, req.tangents, out);
         }
         if req.constraints || req.jacobian || req.accel_term {
-            self.constraint_terms(t, req, out);
+            self.constraint_terms(state.t, req, out);
         }
     }
 }
@@ -191,7 +168,7 @@ impl flexmbd_core::Observe for Relative {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }
-    fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
-        self.read_sensors(q, qd, out);
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
+        self.read_sensors(state.q, state.qd, out);
     }
 }

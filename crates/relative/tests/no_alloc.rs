@@ -4,7 +4,7 @@
 mod common;
 use common::*;
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::Ali3p;
 use nalgebra::DVector;
 
@@ -44,7 +44,7 @@ fn steps_and_evaluations_do_not_allocate() {
             s.step(&mut f).unwrap();
         }
         terms.clear(Request::ALL);
-        f.evaluate(0.1, &q, &qd, Request::ALL, &mut terms);
+        f.evaluate(State::new(0.1, &q, &qd), Request::ALL, &mut terms);
         let count = flexmbd_test_support::allocations() - before;
         assert_eq!(count, 0, "{}: {count} allocations in 50 steps", scene.name);
     }

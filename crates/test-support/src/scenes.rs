@@ -1,14 +1,16 @@
 //! The scenes and runs the physics tests share (feature `scenes`): the models of `models/`,
 //! the double four-bar with k flexible bars, the slider-crank with a second spring, the ALI3-P
 //! settings a scene's solver asks for, a compiled formulation, a run that records the sensors,
-//! the difference of two runs' sensor columns, and the checks of spring forces against the
-//! spring energy (Q = −∂V/∂q) and of their damping (C = −∂Q/∂q̇).
+//! all the system terms at a state, the difference of two runs' sensor columns, and the
+//! checks of spring forces against the spring energy (Q = −∂V/∂q) and of their damping
+//! (C = −∂Q/∂q̇).
 
-use flexmbd_core::{CompiledScene, Formulation, Request, SystemTerms};
+use flexmbd_core::{CompiledScene, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{
     BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
 };
+use nalgebra::DVector;
 
 /// The double four-bar's bars, in the order `four_bar(k)` makes them flexible (scenes.md §1).
 pub const FOUR_BAR_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
@@ -133,6 +135,30 @@ pub fn ali3p_at<F: Formulation>(formulation: &mut F, h: f64) -> Ali3p {
     .unwrap()
 }
 
+/// The sensor rows of `formulation` at the integrator's state and every `every` steps of
+/// `steps` steps; `at_row(formulation, integrator)` is called at each row after the first (to
+/// track ‖Φ‖, say).
+pub fn record<F: CompiledScene>(
+    formulation: &mut F,
+    integrator: &mut Ali3p,
+    steps: usize,
+    every: usize,
+    mut at_row: impl FnMut(&mut F, &Ali3p),
+) -> Vec<Vec<f64>> {
+    let mut row = vec![0.0; formulation.sensor_names().len()];
+    formulation.sensors(integrator.state(), &mut row);
+    let mut rows = vec![row.clone()];
+    for k in 1..=steps {
+        integrator.step(formulation).unwrap();
+        if k % every == 0 {
+            formulation.sensors(integrator.state(), &mut row);
+            rows.push(row.clone());
+            at_row(formulation, integrator);
+        }
+    }
+    rows
+}
+
 /// Run a compiled formulation for `duration` at step `h`: the sensor rows every `every`
 /// steps (and at t = 0), and the largest ‖Φ‖∞ seen at those instants.
 pub fn run_with<F: CompiledScene>(
@@ -143,23 +169,20 @@ pub fn run_with<F: CompiledScene>(
     every: usize,
 ) -> (Vec<Vec<f64>>, f64) {
     let mut integrator = Ali3p::new(formulation, 0.0, settings(scene, h)).unwrap();
-    let mut row = vec![0.0; formulation.sensor_names().len()];
-    formulation.sensors(0.0, &integrator.q, &integrator.qd, &mut row);
-    let mut rows = vec![row.clone()];
     let steps = (duration / h).round() as usize;
     let mut phi_max = 0.0f64;
     let mut terms = SystemTerms::new(formulation.n_coordinates(), formulation.n_constraints());
-    for k in 1..=steps {
-        integrator.step(formulation).unwrap();
-        if k % every == 0 {
-            let (t, q, qd) = (integrator.t, &integrator.q, &integrator.qd);
-            formulation.sensors(t, q, qd, &mut row);
-            rows.push(row.clone());
+    let rows = record(
+        formulation,
+        &mut integrator,
+        steps,
+        every,
+        |f, integrator| {
             terms.clear(Request::CONSTRAINTS);
-            formulation.evaluate(t, q, qd, Request::CONSTRAINTS, &mut terms);
+            f.evaluate(integrator.state(), Request::CONSTRAINTS, &mut terms);
             phi_max = phi_max.max(terms.phi.amax());
-        }
-    }
+        },
+    );
     (rows, phi_max)
 }
 
@@ -213,10 +236,76 @@ pub fn worst_difference(a: &[Vec<f64>], b: &[Vec<f64>], cols: &[usize]) -> f64 {
     worst
 }
 
+/// All the system terms of `f` at (t, q, q̇), into fresh storage.
+pub fn terms_at(
+    f: &mut impl Formulation,
+    t: f64,
+    q: &DVector<f64>,
+    qd: &DVector<f64>,
+) -> SystemTerms {
+    let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
+    terms.clear(Request::ALL);
+    f.evaluate(State::new(t, q, qd), Request::ALL, &mut terms);
+    terms
+}
+
+/// The spring–dampers' forces at (q, 0) against their energy: `with` and `without` are a scene
+/// compiled with and without its force elements ([`with_and_without_forces`]), the energy is
+/// its sensor in column `energy_column`. Returns max over j of |Q_j + ∂V/∂q_j| (∂V/∂q_j by
+/// central differences of step `eps(j)`) and |Q|∞, Q the springs' forces (the difference of
+/// the two formulations' forces, as V is of their energies).
+pub fn spring_gradient_error<F: CompiledScene>(
+    with: &mut F,
+    without: &mut F,
+    energy_column: usize,
+    q: &DVector<f64>,
+    eps: impl Fn(usize) -> f64,
+) -> (f64, f64) {
+    let n = q.len();
+    let zero = DVector::zeros(n);
+    let q_spring = terms_at(with, 0.0, q, &zero).forces - terms_at(without, 0.0, q, &zero).forces;
+    let energy = |f: &mut F, q: &DVector<f64>| {
+        let mut out = vec![0.0; f.sensor_names().len()];
+        f.sensors(State::new(0.0, q, &zero), &mut out);
+        out[energy_column]
+    };
+    let err = energy_gradient_error(
+        n,
+        eps,
+        |j| q_spring[j],
+        |j, e| {
+            let mut qe = q.clone();
+            qe[j] += e;
+            (energy(with, &qe), energy(without, &qe))
+        },
+    );
+    (err, q_spring.amax())
+}
+
+/// max over i, j of |C_ij − (−∂Q_i/∂q̇_j)| of the spring–dampers at (q, q̇), `with` and
+/// `without` as in [`spring_gradient_error`] (Q is linear in q̇, so a unit step is exact).
+pub fn spring_damping_error(
+    with: &mut impl Formulation,
+    without: &mut impl Formulation,
+    q: &DVector<f64>,
+    qd: &DVector<f64>,
+) -> f64 {
+    damping_error(q.len(), |j| {
+        let mut qd_step = qd.clone();
+        if let Some(j) = j {
+            qd_step[j] += 1.0;
+        }
+        (
+            terms_at(with, 0.0, q, &qd_step),
+            terms_at(without, 0.0, q, &qd_step),
+        )
+    })
+}
+
 /// max over j of |Q_j + ∂V/∂q_j| for the spring forces `q_spring(j)`, with ∂V/∂q_j the central
 /// difference of step `eps(j)` of the spring energy: `energies(j, e)` is the energy with and
 /// without the springs at q + e·e_j, and V the difference of the two.
-pub fn energy_gradient_error(
+fn energy_gradient_error(
     n: usize,
     eps: impl Fn(usize) -> f64,
     q_spring: impl Fn(usize) -> f64,
@@ -236,7 +325,7 @@ pub fn energy_gradient_error(
 /// max over i, j of |C_ij − (−∂Q_i/∂q̇_j)| for the springs (Q is linear in q̇, so a unit step
 /// is exact): `terms(None)` are the terms with and without the springs at (q, q̇), `terms(Some(j))`
 /// those at (q, q̇ + e_j); Q and C of the springs are the differences of the two.
-pub fn damping_error(
+fn damping_error(
     n: usize,
     mut terms: impl FnMut(Option<usize>) -> (SystemTerms, SystemTerms),
 ) -> f64 {

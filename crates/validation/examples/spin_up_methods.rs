@@ -7,7 +7,7 @@
 
 use flexmbd::model::{FormulationKind, Scene, Stiffening};
 use flexmbd::simulation::run;
-use flexmbd_ancf::{Cable, CableSpec, History, run_spin_up};
+use flexmbd_ancf::{Cable, CableSpec, History, run_cable, run_spin_up};
 use flexmbd_core::Dim;
 
 fn main() {
@@ -105,38 +105,10 @@ fn main() {
 /// The ANCF spin-up started undeformed at rest (as the scene files start), recording the
 /// tip displacement in the turning frame every `every_s` seconds.
 fn ancf_from_rest(spec: &CableSpec, h: f64, duration: f64, every_s: f64) -> History {
-    use flexmbd::integrators::{Ali3p, Ali3pSettings};
-    use flexmbd_core::Observe;
-    let mut cable = Cable::new(spec).expect("cable");
-    let settings = Ali3pSettings {
+    let settings = flexmbd::integrators::Ali3pSettings {
         step: h,
         ..Default::default()
     };
-    let mut s = Ali3p::new(&mut cable, 0.0, settings).expect("initial conditions");
-    let mut sens = vec![0.0; cable.sensor_names().len()];
-    let d = if spec.dim == Dim::Spatial { 3 } else { 2 };
-    let mut hist = History {
-        t: Vec::new(),
-        tip: Vec::new(),
-        energy: Vec::new(),
-        stats: Default::default(),
-        cpu_seconds: 0.0,
-        static_start: None,
-    };
-    let every = ((every_s / h).round() as usize).max(1);
-    let steps = (duration / h).round() as usize;
-    for k in 0..=steps {
-        if k > 0 {
-            s.step(&mut cable).expect("ANCF step");
-        }
-        if k % every == 0 {
-            cable.sensors(s.t, &s.q, &s.qd, &mut sens);
-            let mut tip = [0.0; 3];
-            tip[..d].copy_from_slice(&sens[..d]);
-            hist.t.push(s.t);
-            hist.tip.push(tip);
-            hist.energy.push(sens[d]);
-        }
-    }
-    hist
+    let mut cable = Cable::new(spec).expect("cable");
+    run_cable(&mut cable, settings, duration, every_s).expect("ANCF run")
 }

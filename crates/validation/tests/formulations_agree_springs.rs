@@ -12,10 +12,8 @@
 
 mod common;
 use common::*;
-use flexmbd_core::Observe as _;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::Formulation;
 use flexmbd_model::{Force, FormulationKind, Marker, Scene, Sensor, SensorKind, V3};
-use nalgebra::DVector;
 
 fn spring(name: &str, ends: [(&str, &str); 2], stiffness: f64, damping: f64) -> Force {
     Force::SpringDamper {
@@ -160,58 +158,22 @@ fn springs_and_sensors_agree_with_the_relative_formulation_3d() {
     assert!(d[2] < 1e-3, "{d:?}");
 }
 
-fn eval(f: &mut impl Formulation, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
-    let mut t = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    t.clear(Request::ALL);
-    f.evaluate(0.0, q, qd, Request::ALL, &mut t);
-    t
-}
-
 #[test]
 fn spatial_spring_forces_are_minus_the_energy_gradient_and_c_is_exact() {
     let with = double_pendulum(0.8);
     let (mut a, mut b) = with_and_without_forces(&with, flexmbd_absolute::compile);
     let n = a.n_coordinates();
     let energy_column = sensor_column(&with, "energy");
-    let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
-    a.initial_guess(&mut q, &mut qd);
+    let (mut q, mut qd) = (a.coordinates().q0.clone(), a.coordinates().qd0.clone());
     for i in 0..n {
         q[i] += 0.05 * ((i as f64) * 1.3 + 0.4).sin();
         qd[i] = 0.7 * ((i as f64) * 0.7 + 0.1).cos();
     }
-    let zero = DVector::zeros(n);
-    let energy = |f: &mut flexmbd_absolute::Absolute, q: &DVector<f64>| {
-        let mut out = vec![0.0; with.sensors.len()];
-        f.sensors(0.0, q, &zero, &mut out);
-        out[energy_column]
-    };
-    let q_springs = eval(&mut a, &q, &zero).forces - eval(&mut b, &q, &zero).forces;
-    let err = energy_gradient_error(
-        n,
-        |_| 1e-6,
-        |j| q_springs[j],
-        |j, e| {
-            let mut qe = q.clone();
-            qe[j] += e;
-            (energy(&mut a, &qe), energy(&mut b, &qe))
-        },
-    );
-    eprintln!(
-        "|Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {:.2})",
-        q_springs.amax()
-    );
-    assert!(
-        q_springs.amax() > 0.1 && err < 1e-8 * q_springs.amax(),
-        "{err:e}"
-    );
+    let (err, q_springs) = spring_gradient_error(&mut a, &mut b, energy_column, &q, |_| 1e-6);
+    eprintln!("|Q_spring + ∂V/∂q| {err:.1e} (|Q_spring| {q_springs:.2})");
+    assert!(q_springs > 0.1 && err < 1e-8 * q_springs, "{err:e}");
     // C = −∂Q/∂q̇ of the springs (Q is linear in q̇).
-    let c_err = damping_error(n, |j| {
-        let mut qdp = qd.clone();
-        if let Some(j) = j {
-            qdp[j] += 1.0;
-        }
-        (eval(&mut a, &q, &qdp), eval(&mut b, &q, &qdp))
-    });
+    let c_err = spring_damping_error(&mut a, &mut b, &q, &qd);
     eprintln!("|C_spring − (−∂Q/∂q̇)| {c_err:.1e}");
     assert!(c_err < 1e-9, "{c_err:e}");
 }

@@ -8,7 +8,7 @@ use flexmbd::integrators::{StaticSettings, solve_static};
 use flexmbd::model::{FormulationKind, MotionLaw, Scene, Stiffening};
 use flexmbd::simulation::{compile, run};
 use flexmbd_ancf::{Cable, CableSpec, run_spin_up};
-use flexmbd_core::Dim;
+use flexmbd_core::{Dim, State};
 use nalgebra::DVector;
 
 fn scene(st: Stiffening, f: FormulationKind) -> Scene {
@@ -29,7 +29,7 @@ fn static_tip(st: Stiffening, f: FormulationKind) -> [f64; 3] {
     let names = form.sensor_names().to_vec();
     let mut out = vec![0.0; names.len()];
     let qd = DVector::zeros(sol.q.len());
-    form.sensors(0.0, &sol.q, &qd, &mut out);
+    form.sensors(State::new(0.0, &sol.q, &qd), &mut out);
     let get = |n: &str| out[names.iter().position(|s| s == n).unwrap()];
     eprintln!(
         "{st:?} {f:?}: static tip ({:.3} mm, {:.1e}, {:.6} m), {} iterations, {} load steps, {} evaluations",

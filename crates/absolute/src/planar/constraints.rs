@@ -9,7 +9,7 @@
 //! - Angle: Φ = σ cos θ − κ sin θ = sin(φ − θ) with σ = d₁ × d₂, κ = d₁ · d₂ and
 //!   θ = φ₀ + θ(t), never singular at its root; Φ_t = −θ̇ (σ sin θ + κ cos θ).
 
-use flexmbd_core::{Request, SystemTerms};
+use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::MotionLaw;
 use nalgebra::{DVector, Vector2};
 
@@ -84,14 +84,8 @@ struct Evaluation<'a> {
 
 impl Planar {
     /// Φ, Φ_q, Φ_t and the bias, as requested.
-    pub(super) fn constraints(
-        &self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    pub(super) fn constraints(&self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        let State { t, q, qd } = state;
         let at = Evaluation { t, q, qd, req };
         let mut row = 0;
         for constraint in &self.constraints {

@@ -5,7 +5,7 @@
 //! compile time; flexible bodies' are evaluated each call (`flex::Flex2`) with their elastic
 //! tangents; the spring–dampers add theirs through the shared force elements.
 
-use flexmbd_core::SystemTerms;
+use flexmbd_core::{State, SystemTerms};
 use nalgebra::DVector;
 
 use super::Planar;
@@ -40,13 +40,8 @@ impl Planar {
     }
 
     /// M and Q (and, with `tangents`, K and C) at (q, q̇).
-    pub(super) fn dynamics(
-        &mut self,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        tangents: bool,
-        out: &mut SystemTerms,
-    ) {
+    pub(super) fn dynamics(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
+        let (q, qd) = (state.q, state.qd);
         // Rigid bodies: their constant M and gravity, assembled once at compile time.
         out.mass
             .as_mut_slice()

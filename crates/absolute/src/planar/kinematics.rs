@@ -246,10 +246,10 @@ mod tests {
         let mut scene = model("slider_crank.ron");
         scene.bodies[0].flexible = true;
         let planar = compiled(&scene);
-        let n = planar.q0.len();
+        let q0 = &planar.coordinates.q0;
         let wobble = |k: usize, s: f64| (0.7 * k as f64 + s).sin();
-        let q = DVector::from_fn(n, |k, _| planar.q0[k] + 0.05 * wobble(k, 0.3));
-        let qd = DVector::from_fn(n, |k, _| wobble(k, 1.1));
+        let q = DVector::from_fn(q0.len(), |k, _| q0[k] + 0.05 * wobble(k, 0.3));
+        let qd = DVector::from_fn(q.len(), |k, _| wobble(k, 1.1));
         (planar, q, qd)
     }
 
@@ -312,31 +312,29 @@ mod tests {
     #[test]
     fn rates_and_biases_are_the_derivatives_along_a_straight_path() {
         let (planar, q, qd) = slider_crank();
-        let h = 1e-4;
-        let (qp, qm) = (&q + &qd * h, &q - &qd * h);
         for marker in markers(&planar) {
-            let (r, v, bias) = planar.marker_motion(&marker, &q, &qd);
-            let (rp, rm) = (
-                planar.marker_motion(&marker, &qp, &qd).0,
-                planar.marker_motion(&marker, &qm, &qd).0,
-            );
-            assert!(((rp - rm) / (2.0 * h) - v).norm() < 1e-7, "{marker:?} rate");
-            let second = (rp - 2.0 * r + rm) / (h * h);
-            assert!(
-                (second - bias).norm() < 1e-5,
-                "{marker:?}: {second} vs {bias}"
-            );
+            let label = format!("{marker:?}");
+            along_path(&label, &q, &qd, |q| planar.marker_motion(&marker, q, &qd));
         }
         for d in directions(&planar) {
-            let (x, xd, bias) = planar.direction(&d, &q, &qd);
-            let (xp, xm) = (
-                planar.direction(&d, &qp, &qd).0,
-                planar.direction(&d, &qm, &qd).0,
-            );
-            assert!(((xp - xm) / (2.0 * h) - xd).norm() < 1e-7, "{d:?} rate");
-            let second = (xp - 2.0 * x + xm) / (h * h);
-            assert!((second - bias).norm() < 1e-5, "{d:?}: {second} vs {bias}");
+            along_path(&format!("{d:?}"), &q, &qd, |q| planar.direction(&d, q, &qd));
         }
+    }
+
+    /// `motion(q)` = (x, ẋ, bias) at (q, q̇): ẋ and the bias against the first and second
+    /// central differences of x along q + t q̇.
+    fn along_path(
+        label: &str,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        motion: impl Fn(&DVector<f64>) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>),
+    ) {
+        let h = 1e-4;
+        let (x, xd, bias) = motion(q);
+        let (xp, xm) = (motion(&(q + qd * h)).0, motion(&(q - qd * h)).0);
+        assert!(((xp - xm) / (2.0 * h) - xd).norm() < 1e-7, "{label} rate");
+        let second = (xp - 2.0 * x + xm) / (h * h);
+        assert!((second - bias).norm() < 1e-5, "{label}: {second} vs {bias}");
     }
 
     #[test]

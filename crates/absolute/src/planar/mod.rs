@@ -50,8 +50,8 @@ mod energy;
 mod kinematics;
 mod sensors;
 
-use flexmbd_body::InertiaMethod;
-use flexmbd_core::{MarkerKinematics, Request, SystemTerms};
+use flexmbd_body::{ElasticTangents, InertiaMethod};
+use flexmbd_core::{Coordinates, MarkerKinematics, Request, State, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Vector2, Vector3};
 
@@ -65,10 +65,8 @@ use sensors::PlanarSensors;
 
 /// The compiled planar scene.
 pub struct Planar {
-    /// Number of coordinates n.
-    n_coordinates: usize,
-    /// Number of constraint equations m.
-    n_constraints: usize,
+    /// Number, constraint count, initial coordinates and rates, specified ones (none).
+    coordinates: Coordinates,
     /// Gravity (m/s², ground components).
     gravity: Vector2<f64>,
     bodies: Vec<PlanarBody>,
@@ -79,11 +77,6 @@ pub struct Planar {
     rigid_mass: DMatrix<f64>,
     /// Σ over rigid bodies of Tᵀ Q_gravity, scattered (constant).
     rigid_forces: DVector<f64>,
-    /// Initial coordinates and rates.
-    q0: DVector<f64>,
-    qd0: DVector<f64>,
-    /// Specified coordinates (none).
-    specified: Vec<usize>,
     sensors: PlanarSensors,
     /// Zero rates (n), to evaluate positions alone.
     zero_rates: DVector<f64>,
@@ -97,32 +90,15 @@ pub struct Planar {
 }
 
 impl flexmbd_core::Formulation for Planar {
-    fn n_coordinates(&self) -> usize {
-        self.n_coordinates
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        self.n_constraints
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from(&self.q0);
-        qd.copy_from(&self.qd0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.specified
-    }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         if req.dynamics {
-            self.dynamics(q, qd, req.tangents, out);
+            self.dynamics(state, req.tangents, out);
         }
         if req.constraints || req.jacobian || req.accel_term {
-            self.constraints(t, q, qd, req, out);
+            self.constraints(state, req, out);
         }
     }
     fn constant_mass(&self) -> bool {
@@ -133,15 +109,10 @@ impl flexmbd_core::Formulation for Planar {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
         self.force_elements.is_empty()
-            && self
-                .bodies
-                .iter()
-                .all(|b| b.body.elastic_model().is_linear())
+            && ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
 }
 
@@ -149,9 +120,9 @@ impl flexmbd_core::Observe for Planar {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }
-    fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
         let mut sensors = std::mem::take(&mut self.sensors);
-        sensors.read(self, q, qd, out);
+        sensors.read(self, state.q, state.qd, out);
         self.sensors = sensors;
     }
 }

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use flexmbd_body::{InertiaMethod, NaturalState};
-use flexmbd_core::Dim;
+use flexmbd_core::{Coordinates, Dim};
 use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{Body, FormulationKind, MarkerId, ModelError, PreparedScene};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -60,15 +60,12 @@ impl Spatial {
         let m = constraints.iter().map(Constraint::rows).sum();
         let sensor_terms = sensor_terms(&lookup, prepared)?;
         drop(lookup);
+        let (q0, qd0) = (DVector::from_vec(built.q0), DVector::from_vec(built.qd0));
         let mut spatial = Spatial {
-            n_coordinates: n,
-            n_constraints: m,
+            coordinates: Coordinates::new(q0, qd0, m),
             gravity: g,
             bodies: built.bodies,
             constraints,
-            q0: DVector::from_vec(built.q0),
-            qd0: DVector::from_vec(built.qd0),
-            specified: Vec::new(),
             sensors: Default::default(),
             inertia_method: method,
             force_elements: ForceElements::default(),
@@ -76,7 +73,10 @@ impl Spatial {
         };
         spatial.set_reference_angles();
         spatial.sensors = spatial.build_sensors(prepared, sensor_terms)?;
-        let (q0, qd0) = (spatial.q0.clone(), spatial.qd0.clone());
+        let (q0, qd0) = (
+            spatial.coordinates.q0.clone(),
+            spatial.coordinates.qd0.clone(),
+        );
         spatial.force_elements = ForceElements::new(
             prepared,
             |id| force_markers[&id].clone(),
@@ -90,8 +90,8 @@ impl Spatial {
 
     /// The reference angles φ0 of the angle drivers: their angles at t = 0.
     fn set_reference_angles(&mut self) {
-        let z = DVector::zeros(self.n_coordinates);
-        let q0 = self.q0.clone();
+        let z = DVector::zeros(self.coordinates.len());
+        let q0 = self.coordinates.q0.clone();
         let mut phis = Vec::new();
         for c in &self.constraints {
             if let Constraint::Angle(AngleConstraint { p1, p2, a, .. }) = c {

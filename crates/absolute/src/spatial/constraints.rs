@@ -2,7 +2,7 @@
 //! (docs/methods.md §3.1–§3.2): the six orthonormality conditions of every body frame and
 //! the joint and driver equations, all written over [`Term`]s.
 
-use flexmbd_core::{Request, SystemTerms};
+use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::MotionLaw;
 use nalgebra::{DVector, Vector3};
 
@@ -61,14 +61,8 @@ struct At<'a> {
 
 impl Spatial {
     /// Fill Φ, Φ_q, Φ_t and the acceleration term as `req` asks.
-    pub(super) fn constraint_terms(
-        &self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    pub(super) fn constraint_terms(&self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        let State { t, q, qd } = state;
         let at = At {
             bodies: &self.bodies,
             t,

@@ -4,7 +4,7 @@
 //! over `impl MarkerKinematics for Spatial`.
 
 use flexmbd_body::{InertiaMethod, NaturalState};
-use flexmbd_core::{Dim, SystemTerms};
+use flexmbd_core::{Dim, State, SystemTerms};
 use nalgebra::{DVector, Vector3};
 
 use super::{Spatial, SpatialBody};
@@ -12,13 +12,8 @@ use crate::flex::add_elastic_tangents;
 
 impl Spatial {
     /// Fill M and Q (and K, C when `tangents`).
-    pub(super) fn dynamics(
-        &mut self,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        tangents: bool,
-        out: &mut SystemTerms,
-    ) {
+    pub(super) fn dynamics(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
+        let (q, qd) = (state.q, state.qd);
         let g = self.gravity;
         for b in &mut self.bodies {
             body_dynamics(b, self.inertia_method, &g, q, qd, tangents, out);

@@ -288,7 +288,7 @@ mod tests {
         let spatial = compiled("double_pendulum_3d.ron", |_| {});
         let body = &spatial.bodies[1];
         assert_eq!(body.n_modes, 0);
-        let n = spatial.n_coordinates;
+        let n = spatial.coordinates.len();
         let (mut q, mut qd) = (DVector::zeros(n), DVector::zeros(n));
         let o = body.offset;
         let frame = [1.0, 2.0, 3.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
@@ -322,8 +322,8 @@ mod tests {
     /// rate against J q̇, the bias against a difference of the rate along q̇, and the
     /// `MarkerKinematics` columns against `add_jacobian`.
     fn check_term(spatial: &mut Spatial, term: &Term, label: &str) {
-        let n = spatial.n_coordinates;
-        let q = DVector::from_fn(n, |i, _| spatial.q0[i] + 0.1 * noise(i));
+        let n = spatial.coordinates.len();
+        let q = DVector::from_fn(n, |i, _| spatial.coordinates.q0[i] + 0.1 * noise(i));
         let qd = DVector::from_fn(n, |i, _| noise(i + 1000));
         let zero = DVector::zeros(n);
         let bodies = &spatial.bodies;

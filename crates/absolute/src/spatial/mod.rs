@@ -80,8 +80,8 @@ mod kinematics;
 mod lookup;
 mod sensors;
 
-use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalWorkspace};
-use flexmbd_core::{Request, SystemTerms};
+use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod, NaturalWorkspace};
+use flexmbd_core::{Coordinates, Request, State, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -129,18 +129,13 @@ struct SpatialBody {
 
 /// The compiled spatial scene.
 pub struct Spatial {
-    n_coordinates: usize,
-    n_constraints: usize,
+    /// Number, constraint count, coordinates and rates at t = 0, specified ones (none).
+    coordinates: Coordinates,
     /// Gravity, ground components (m/s²).
     gravity: Vector3<f64>,
     bodies: Vec<SpatialBody>,
     /// Orthonormality blocks of every body, then the joint and driver equations.
     constraints: Vec<Constraint>,
-    /// Coordinates and rates at t = 0.
-    q0: DVector<f64>,
-    qd0: DVector<f64>,
-    /// Specified coordinates (none).
-    specified: Vec<usize>,
     sensors: SpatialSensors,
     inertia_method: InertiaMethod,
     force_elements: ForceElements<Term>,
@@ -149,47 +144,25 @@ pub struct Spatial {
 }
 
 impl flexmbd_core::Formulation for Spatial {
-    fn n_coordinates(&self) -> usize {
-        self.n_coordinates
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        self.n_constraints
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from(&self.q0);
-        qd.copy_from(&self.qd0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.specified
-    }
-    fn evaluate(
-        &mut self,
-        t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         if req.dynamics {
-            self.dynamics(q, qd, req.tangents, out);
+            self.dynamics(state, req.tangents, out);
         }
         if req.constraints || req.jacobian || req.accel_term {
-            self.constraint_terms(t, q, qd, req, out);
+            self.constraint_terms(state, req, out);
         }
     }
     fn constant_tangents(&self) -> bool {
         // Rigid bodies and linear elasticity: K = K_ff and C = C_ff blocks only; spring
         // tangents turn with the spring's direction.
         self.force_elements.is_empty()
-            && self
-                .bodies
-                .iter()
-                .all(|b| b.body.elastic_model().is_linear())
+            && ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
     }
     fn symmetric_tangent(&self) -> bool {
-        self.bodies
-            .iter()
-            .all(|b| b.body.elastic_model().is_symmetric())
+        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
     }
 }
 
@@ -197,9 +170,9 @@ impl flexmbd_core::Observe for Spatial {
     fn sensor_names(&self) -> &[String] {
         self.sensors.names()
     }
-    fn sensors(&mut self, _t: f64, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+    fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
         let mut sensors = std::mem::take(&mut self.sensors);
-        sensors.read(self, q, qd, out);
+        sensors.read(self, state.q, state.qd, out);
         self.sensors = sensors;
     }
 }

@@ -132,7 +132,7 @@ impl Spatial {
         let joint = |_sensor: &str, id: JointId| {
             let mut coordinate = terms.joints[&id].clone();
             if let JointCoordinate::Angle { p1, p2, a, phi0 } = &mut coordinate.0 {
-                *phi0 = self.angle(p1, p2, a, &self.q0, &self.zero_rates);
+                *phi0 = self.angle(p1, p2, a, &self.coordinates.q0, &self.zero_rates);
             }
             Ok(coordinate)
         };

@@ -1,31 +1,23 @@
 //! Shared by the absolute formulation's tests: a scene compiled, all system terms at a
-//! state, the ALI3-P step loop's allocations, a driven coordinate's error against its law, and
+//! state (`terms_at`, from the shared test support), the ALI3-P step loop's allocations, a driven coordinate's error against its law, and
 //! the frequency of a signal.
 #![allow(dead_code, unused_imports)]
 
 use flexmbd_absolute::Absolute;
 use flexmbd_body::InertiaMethod;
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{MotionLaw, Scene};
 use nalgebra::DVector;
 
 /// `scene` prepared and compiled in natural coordinates (panics on an error).
 pub use flexmbd_test_support::scenes::{
-    ali3p_at, drift, energy_gradient_error, flexible_pendulum_energy_drift, largest_difference,
-    with_and_without_forces,
+    ali3p_at, drift, flexible_pendulum_energy_drift, largest_difference, record, sensor_column,
+    spring_gradient_error, terms_at, with_and_without_forces,
 };
 
 pub fn absolute(scene: &Scene) -> Absolute {
     flexmbd_test_support::scenes::compiled(scene, flexmbd_absolute::compile)
-}
-
-/// All the system terms of `f` at (t, q, q̇).
-pub fn eval(f: &mut impl Formulation, t: f64, q: &DVector<f64>, qd: &DVector<f64>) -> SystemTerms {
-    let mut terms = SystemTerms::new(f.n_coordinates(), f.n_constraints());
-    terms.clear(Request::ALL);
-    f.evaluate(t, q, qd, Request::ALL, &mut terms);
-    terms
 }
 
 /// The allocations of `steps` ALI3-P steps (default settings) of `scene`, after a first step.

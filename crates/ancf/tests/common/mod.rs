@@ -47,7 +47,7 @@ pub fn balance(spec: &CableSpec, h: f64, duration: f64) -> Balance {
     };
     let mut power = |cable: &mut Cable, s: &Ali3p| {
         terms.clear(req);
-        cable.evaluate(s.t, &s.q, &s.qd, req, &mut terms);
+        cable.evaluate(s.state(), req, &mut terms);
         s.lambda[row] * terms.phi_t[row]
     };
     let e0 = cable.energy(&s.q, &s.qd);

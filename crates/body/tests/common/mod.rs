@@ -1,4 +1,5 @@
-//! Shared helpers of the body tests: random clouds, rotations and states, the FE beams the
+//! Shared helpers of the body tests: random clouds, rotations and states (relative and
+//! natural sets), the FE beams the
 //! tests reduce, evaluation into fresh storage, cloud-point positions and the finite
 //! differences the physics checks difference motions with.
 #![allow(dead_code)]
@@ -178,6 +179,68 @@ pub fn random_state<R: Rng>(r: &mut R, dim: Dim, n: usize) -> OwnedState {
             }
         }
     }
+}
+
+/// Rigid natural coordinates of one body: 4 in 2D (r0, u), 12 in 3D (r0, u, v, w).
+pub fn n_rigid(dim: Dim) -> usize {
+    if dim == Dim::Planar { 4 } else { 12 }
+}
+
+/// Coordinates and velocities of one body in the natural set.
+#[derive(Clone)]
+pub struct Q {
+    pub dim: Dim,
+    pub q: DVector<f64>,
+    pub qd: DVector<f64>,
+}
+
+impl Q {
+    pub fn view(&self) -> NaturalState<'_> {
+        NaturalState::from_coords(self.dim, self.q.as_slice(), self.qd.as_slice())
+    }
+    pub fn with_q(&self, q: DVector<f64>) -> Q {
+        Q {
+            dim: self.dim,
+            q,
+            qd: self.qd.clone(),
+        }
+    }
+}
+
+/// A random state off the manifold: 3D `A = R (I + N)`, |N_ij| ≤ 0.25; 2D `|u| ∈ [0.7, 1.3]`.
+pub fn random_q<R: Rng>(r: &mut R, dim: Dim, n: usize, y_scale: f64) -> Q {
+    let nr = n_rigid(dim);
+    let mut q = DVector::zeros(nr + n);
+    let mut qd = DVector::zeros(nr + n);
+    match dim {
+        Dim::Spatial => {
+            let pert = Matrix3::from_fn(|_, _| uni(r, -0.25, 0.25));
+            let a = rand_rotation(r) * (Matrix3::identity() + pert);
+            let ad = Matrix3::from_fn(|_, _| uni(r, -2.0, 2.0));
+            q.fixed_rows_mut::<3>(0).copy_from(&rand_vec(r, 2.0));
+            qd.fixed_rows_mut::<3>(0).copy_from(&rand_vec(r, 2.0));
+            for c in 0..3 {
+                q.fixed_rows_mut::<3>(3 + 3 * c).copy_from(&a.column(c));
+                qd.fixed_rows_mut::<3>(3 + 3 * c).copy_from(&ad.column(c));
+            }
+        }
+        Dim::Planar => {
+            let t = uni(r, -3.0, 3.0);
+            let s = uni(r, 0.7, 1.3);
+            q[0] = uni(r, -2.0, 2.0);
+            q[1] = uni(r, -2.0, 2.0);
+            q[2] = s * t.cos();
+            q[3] = s * t.sin();
+            for i in 0..4 {
+                qd[i] = uni(r, -2.0, 2.0);
+            }
+        }
+    }
+    for j in 0..n {
+        q[nr + j] = y_scale * uni(r, -0.5, 0.5);
+        qd[nr + j] = uni(r, -2.0, 2.0);
+    }
+    Q { dim, q, qd }
 }
 
 pub fn eval(

@@ -2,7 +2,7 @@
 //! ALI3-P at a given step.
 #![allow(dead_code)]
 
-use flexmbd_core::{Formulation, Request, SystemTerms};
+use flexmbd_core::{Coordinates, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use nalgebra::DVector;
 
@@ -12,44 +12,35 @@ pub const MASS: f64 = 2.0;
 pub const LENGTH: f64 = 1.5;
 
 /// A point mass on a massless rod from the origin: q = (x, y) of the bob,
-/// Φ = x² + y² − L² (repeated `copies` times to test redundancy), gravity −y, K = 0.
+/// Φ = x² + y² − L² (repeated `coordinates.n_constraints` times to test redundancy),
+/// gravity −y, K = 0.
 pub struct Pendulum {
     pub mass: f64,
     pub length: f64,
-    pub q0: [f64; 2],
-    pub qd0: [f64; 2],
-    pub held: Vec<usize>,
-    pub copies: usize,
+    /// The start, the held coordinates and the number of copies of the rod constraint.
+    pub coordinates: Coordinates,
+}
+
+impl Pendulum {
+    /// The same pendulum with its rod constraint written `copies` times.
+    pub fn with_copies(mut self, copies: usize) -> Self {
+        self.coordinates.n_constraints = copies;
+        self
+    }
 }
 
 impl Formulation for Pendulum {
-    fn n_coordinates(&self) -> usize {
-        2
+    fn coordinates(&self) -> &Coordinates {
+        &self.coordinates
     }
-    fn n_constraints(&self) -> usize {
-        self.copies
-    }
-    fn initial_guess(&self, q: &mut DVector<f64>, qd: &mut DVector<f64>) {
-        q.copy_from_slice(&self.q0);
-        qd.copy_from_slice(&self.qd0);
-    }
-    fn specified_coordinates(&self) -> &[usize] {
-        &self.held
-    }
-    fn evaluate(
-        &mut self,
-        _t: f64,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-        req: Request,
-        out: &mut SystemTerms,
-    ) {
+    fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
+        let (q, qd) = (state.q, state.qd);
         if req.dynamics {
             out.mass[(0, 0)] = self.mass;
             out.mass[(1, 1)] = self.mass;
             out.forces[1] = -self.mass * G;
         }
-        for k in 0..self.copies {
+        for k in 0..self.coordinates.n_constraints {
             if req.constraints {
                 out.phi[k] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
             }
@@ -67,13 +58,11 @@ impl Formulation for Pendulum {
 /// The standard pendulum (mass [`MASS`], length [`LENGTH`], one rod constraint), at rest
 /// `theta0` off the downward vertical.
 pub fn pendulum(theta0: f64) -> Pendulum {
+    let q0 = DVector::from_column_slice(&[LENGTH * theta0.sin(), -LENGTH * theta0.cos()]);
     Pendulum {
         mass: MASS,
         length: LENGTH,
-        q0: [LENGTH * theta0.sin(), -LENGTH * theta0.cos()],
-        qd0: [0.0, 0.0],
-        held: vec![],
-        copies: 1,
+        coordinates: Coordinates::new(q0, DVector::zeros(2), 1),
     }
 }
 

@@ -22,7 +22,7 @@ impl Planar {
         q0: &DVector<f64>,
     ) -> Result<Vec<Constraint>, ModelError> {
         let scene = prepared.scene();
-        let zero = DVector::zeros(self.n_coordinates);
+        let zero = DVector::zeros(self.coordinates.len());
         let mut constraints = Vec::new();
         for (j, &ends) in scene.joints.iter().zip(prepared.joint_markers()) {
             let driver = scene.drivers.iter().find(|d| d.joint == j.name);

@@ -56,17 +56,13 @@ impl Planar {
         let qd0 = initial_velocities(n, &initial_rates);
         let q0 = DVector::from_vec(coordinates.initial);
         let mut planar = Planar {
-            n_coordinates: n,
-            n_constraints: 0,
+            coordinates: flexmbd_core::Coordinates::new(q0.clone(), qd0, 0),
             gravity,
             bodies,
             constraints: Vec::new(),
             force_elements: ForceElements::default(),
             rigid_mass: DMatrix::zeros(0, 0),
             rigid_forces: DVector::zeros(0),
-            q0: q0.clone(),
-            qd0,
-            specified: Vec::new(),
             sensors: Default::default(),
             zero_rates: DVector::zeros(n),
             inertia_method: scene.solver.inertia,
@@ -75,7 +71,7 @@ impl Planar {
             local_to_global: Vec::new(),
         };
         constraints.extend(planar.joint_constraints(prepared, &q0)?);
-        planar.n_constraints = constraints.iter().map(Constraint::rows).sum();
+        planar.coordinates.n_constraints = constraints.iter().map(Constraint::rows).sum();
         planar.constraints = constraints;
         planar.force_elements = planar.build_force_elements(prepared, &q0)?;
         planar.sensors = planar.build_sensors(prepared, &q0)?;
@@ -91,7 +87,14 @@ impl Planar {
     ) -> Result<ForceElements<PlanarMarker>, ModelError> {
         let marker_of_id = |id: MarkerId| self.marker_of(prepared, id);
         let zero = &self.zero_rates;
-        ForceElements::new(prepared, marker_of_id, self, q0, zero, self.n_coordinates)
+        ForceElements::new(
+            prepared,
+            marker_of_id,
+            self,
+            q0,
+            zero,
+            self.coordinates.len(),
+        )
     }
 
     /// The formulation's handle of a marker.
@@ -116,7 +119,7 @@ impl Planar {
         self.local_mass = DMatrix::zeros(max_local, max_local);
         self.local_forces = DVector::zeros(max_local);
         self.local_to_global = vec![None; max_local];
-        let mut rigid = SystemTerms::new(self.n_coordinates, 0);
+        let mut rigid = SystemTerms::new(self.coordinates.len(), 0);
         for body_index in 0..self.bodies.len() {
             if self.bodies[body_index].n_modes == 0 {
                 let b = &self.bodies[body_index];
