@@ -2,20 +2,13 @@
 //! bit for bit, `advance_to` lands on the step grid, a checkpoint restored replays the same
 //! steps, a failed step leaves the last good state, and a step allocates nothing.
 
-use flexmbd::model::{FormulationKind, Scene};
+use flexmbd::model::FormulationKind;
 use flexmbd::simulation::run;
 use flexmbd::{Error, Simulation, integrators::IntegratorError};
+use flexmbd_test_support::scenes::model;
 
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
-
-fn model(name: &str) -> Scene {
-    Scene::load(format!(
-        "{}/../../models/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 /// Stepping by hand and reading the sensors after each step gives `run`'s rows exactly
 /// (output interval = one step), in both formulations.

@@ -5,21 +5,14 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use flexmbd::model::{FormulationKind, ModelError, Scene};
+use flexmbd::model::{FormulationKind, ModelError};
 use flexmbd::output::{Discard, RowSink};
 use flexmbd::simulation::{MAX_STEPS, run, run_into};
 use flexmbd::{Error, Simulation};
+use flexmbd_test_support::scenes::model;
 
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
-
-fn model(name: &str) -> Scene {
-    Scene::load(format!(
-        "{}/../../models/{name}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
 
 /// A sink that keeps its rows and sets `stop` once it has `stop_after` of them.
 struct StopAfter<'a> {
