@@ -93,9 +93,8 @@ pub fn run(plan: &Plan, corpus: &[SeedScene], progress_every: Duration) -> std::
                                 );
                                 log.lock().expect("log").write_all(line.as_bytes())?;
                             }
-                            let context = format!("seed {}, mutant {index}", plan.seed);
                             let mut t = tally.lock().expect("tally");
-                            t.record(&m, f, &outcome, &plan.findings, &context)?;
+                            t.record(&m, (plan.seed, index), f, &outcome, &plan.findings)?;
                             report_progress(&t, start, &last_progress, progress_every);
                         }
                     }
