@@ -22,6 +22,7 @@ impl Scene {
             message: e.code.to_string(),
         })?;
         scene.origin = origin.to_string();
+        scene.source = text.to_string();
         for b in &mut scene.bodies {
             if let BodyModel::Beam(spec) = &mut b.model {
                 spec.origin = format!("{origin}: bodies[{}]", b.name);
@@ -43,9 +44,12 @@ impl Scene {
         Ok(scene)
     }
 
-    fn invalid(&self, e: InvalidValue) -> ModelError {
+    /// The refusal of a value, with the line of its field in the scene text (found by
+    /// [`crate::lines::line_of`] from the field path).
+    pub fn invalid(&self, e: InvalidValue) -> ModelError {
         ModelError::Invalid {
             file: self.origin.clone(),
+            line: crate::lines::line_of(&self.source, &e.field),
             error: e,
         }
     }
@@ -66,20 +70,27 @@ impl Scene {
         Ok(())
     }
 
-    /// Check names, references and values. Errors name the file and the field.
+    /// Check names, references, values and sizes, once for every formulation. Errors name
+    /// the file, the line of the field (when found in the scene text) and the field.
     ///
     /// The parts of the scene are checked in a fixed order (solver, gravity, bodies,
-    /// ground, joints, drivers, forces, sensors) and the first error found is returned,
-    /// so that a scene with several mistakes always reports the same one.
+    /// ground, joints, drivers, forces, sensors, sizes, joined markers) and the first error
+    /// found is returned, so that a scene with several mistakes always reports the same
+    /// one. Every number is checked against its range in [`flexmbd_fe::bounds`] (finite, and
+    /// small enough that the arithmetic stays finite), so no formulation sees a NaN.
     pub fn validate(&self) -> Result<(), ModelError> {
         self.check_solver()?;
         self.check_gravity()?;
         self.check_bodies()?;
         self.unique_marker_names("ground.name", &self.ground)?;
+        self.check_ground_values()?;
         self.check_joints()?;
         self.check_drivers()?;
+        self.check_one_driver_per_joint()?;
         self.check_forces()?;
-        self.check_sensors()
+        self.check_sensors()?;
+        self.check_sizes()?;
+        self.check_joined_markers_coincide()
     }
 
     /// The solver settings: positive step, duration, tolerance and optional output
@@ -106,20 +117,6 @@ impl Scene {
         Ok(())
     }
 
-    /// Every gravity component must be finite.
-    fn check_gravity(&self) -> Result<(), ModelError> {
-        for (i, g) in self.gravity.0.iter().enumerate() {
-            if !g.is_finite() {
-                return Err(self.invalid(InvalidValue::new(
-                    format!("gravity[{i}]"),
-                    g,
-                    "must be finite",
-                )));
-            }
-        }
-        Ok(())
-    }
-
     /// Each body in turn; body names must be unique and none may be `ground`.
     fn check_bodies(&self) -> Result<(), ModelError> {
         let mut body_names = HashSet::new();
@@ -139,6 +136,7 @@ impl Scene {
                 )));
             }
             self.unique_marker_names(&format!("bodies[{}].markers.name", b.name), &b.markers)?;
+            self.check_body_values(b)?;
             self.check_initial_modes(b)?;
             self.check_body_model(b)?;
         }
@@ -150,7 +148,9 @@ impl Scene {
     fn check_initial_modes(&self, b: &Body) -> Result<(), ModelError> {
         let field = format!("bodies[{}].initial_modes", b.name);
         let n_modes = match &b.model {
-            BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
+            BodyModel::Beam(spec) if b.flexible => {
+                spec.boundary.len().saturating_add(spec.normal_modes)
+            }
             _ => 0,
         };
         if b.initial_modes.len() > n_modes {
@@ -187,14 +187,28 @@ impl Scene {
                         format!("the scene is {:?}", self.dim),
                     )));
                 }
-                spec.validate().map_err(|source| ModelError::Fe {
-                    file: self.origin.clone(),
-                    body: b.name.clone(),
-                    source: Box::new(source),
-                })?;
+                spec.validate()
+                    .map_err(|source| self.fe_error(&b.name, source))?;
             }
         }
         Ok(())
+    }
+
+    /// The refusal of body `body`'s FE model, with the line of the refused field.
+    pub(crate) fn fe_error(&self, body: &str, source: flexmbd_fe::FeError) -> ModelError {
+        let line = match &source {
+            flexmbd_fe::FeError::Invalid(e) => crate::lines::line_of(
+                &self.source,
+                &format!("bodies[{body}].model.Beam.{}", e.field),
+            ),
+            _ => None,
+        };
+        ModelError::Fe {
+            file: self.origin.clone(),
+            line,
+            body: body.to_string(),
+            source: Box::new(source),
+        }
     }
 
     /// Each joint in turn; joint names must be unique.
@@ -209,6 +223,7 @@ impl Scene {
                 )));
             }
             self.check_joint(j)?;
+            self.check_joint_axes(&j.name, &j.kind)?;
         }
         Ok(())
     }
@@ -249,7 +264,7 @@ impl Scene {
     }
 
     /// Each driver must drive an existing joint with a single coordinate (not Free),
-    /// and a SpinUp law needs a positive ramp time.
+    /// with its law's parameters in range (a SpinUp law needs a positive ramp time).
     fn check_drivers(&self) -> Result<(), ModelError> {
         for d in &self.drivers {
             let Some(j) = self.joints.iter().find(|j| j.name == d.joint) else {
@@ -262,16 +277,13 @@ impl Scene {
                     "a Free joint has no single coordinate to drive",
                 )));
             }
-            if let crate::scene::MotionLaw::SpinUp { t_s, .. } = d.law {
-                require_positive(&format!("drivers[{}].law.SpinUp.t_s", d.name), t_s)
-                    .map_err(|e| self.invalid(e))?;
-            }
+            self.check_law(&d.name, &d.law)?;
         }
         Ok(())
     }
 
-    /// Each spring-damper: existing markers, and non-negative stiffness, damping and
-    /// (if given) free length.
+    /// Each spring-damper: existing markers, and stiffness, damping and (if given) free
+    /// length non-negative and in range.
     fn check_forces(&self) -> Result<(), ModelError> {
         for force in &self.forces {
             let Force::SpringDamper {
@@ -280,18 +292,12 @@ impl Scene {
                 marker1,
                 body2,
                 marker2,
-                stiffness,
-                damping,
-                free_length,
+                ..
             } = force;
             let item = |f: &str| format!("forces[{name}].{f}");
             self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
             self.check_marker(&item("body2"), body2, &item("marker2"), marker2)?;
-            require_non_negative(&item("stiffness"), *stiffness).map_err(|e| self.invalid(e))?;
-            require_non_negative(&item("damping"), *damping).map_err(|e| self.invalid(e))?;
-            if let Some(l) = free_length {
-                require_non_negative(&item("free_length"), *l).map_err(|e| self.invalid(e))?;
-            }
+            self.check_force_values(force)?;
         }
         Ok(())
     }
@@ -371,9 +377,11 @@ impl Scene {
             return Err(self.missing(item("body"), "body", body));
         };
         let n = match &b.model {
-            BodyModel::Beam(spec) if b.flexible => {
-                spec.boundary.len() + spec.normal_modes + spec.axial_modes
-            }
+            BodyModel::Beam(spec) if b.flexible => spec
+                .boundary
+                .len()
+                .saturating_add(spec.normal_modes)
+                .saturating_add(spec.axial_modes),
             _ => 0,
         };
         if index >= n {
@@ -401,6 +409,7 @@ impl Scene {
         };
         ModelError::Missing {
             file: self.origin.clone(),
+            line: crate::lines::line_of(&self.source, &item),
             item,
             kind,
             name: name.to_string(),
@@ -427,6 +436,7 @@ impl Scene {
             let hint = format!(" (markers of `{body}`: {})", markers.join(", "));
             return Err(ModelError::Missing {
                 file: self.origin.clone(),
+                line: crate::lines::line_of(&self.source, marker_item),
                 item: marker_item.to_string(),
                 kind: "marker",
                 name: marker.to_string(),
@@ -445,7 +455,7 @@ impl Scene {
         if sets.is_empty() {
             return Ok(());
         }
-        let origin = self.origin.clone();
+        let (origin, source) = (self.origin.clone(), self.source.clone());
         let mut tree = serde_json::to_value(&*self).map_err(|e| ModelError::Set {
             path: String::new(),
             message: e.to_string(),
@@ -462,6 +472,7 @@ impl Scene {
             message: e.to_string(),
         })?;
         scene.origin = origin;
+        scene.source = source;
         for b in &mut scene.bodies {
             if let BodyModel::Beam(spec) = &mut b.model {
                 spec.origin = format!("{}: bodies[{}]", scene.origin, b.name);
