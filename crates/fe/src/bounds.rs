@@ -100,7 +100,7 @@ impl std::fmt::Display for Range {
 /// (`1e308`, not 309 digits).
 pub fn number(x: f64) -> String {
     let a = x.abs();
-    if x.is_finite() && a != 0.0 && !(1e-4..1e7).contains(&a) {
+    if x.is_finite() && a != 0.0 && !(1e-4..1e16).contains(&a) {
         format!("{x:e}")
     } else {
         format!("{x}")

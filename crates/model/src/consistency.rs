@@ -43,7 +43,7 @@ impl Scene {
                 continue; // names are checked with the joint
             };
             let gap = (p2 - p1).norm();
-            if !(gap <= COINCIDENCE_TOLERANCE) {
+            if gap.is_nan() || gap > COINCIDENCE_TOLERANCE {
                 let at = |p: nalgebra::Vector3<f64>| match self.dim {
                     Dim::Planar => format!("({:.6}, {:.6})", p.x, p.y),
                     Dim::Spatial => format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z),

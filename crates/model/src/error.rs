@@ -34,7 +34,7 @@ pub enum ModelError {
         /// The file.
         file: String,
         /// 1-based line of the field in the file, when it was found there.
-        line: Option<usize>,
+        line: Option<u32>,
         /// Field path, value and reason.
         error: InvalidValue,
     },
@@ -44,7 +44,7 @@ pub enum ModelError {
         /// The file.
         file: String,
         /// 1-based line of the referring field in the file, when it was found there.
-        line: Option<usize>,
+        line: Option<u32>,
         /// The referring field (e.g. `joints[A0].body2`).
         item: String,
         /// What kind of thing was named (body, marker, joint).
@@ -68,7 +68,7 @@ pub enum ModelError {
         /// The file.
         file: String,
         /// 1-based line of the refused field in the file, when it was found there.
-        line: Option<usize>,
+        line: Option<u32>,
         /// The body.
         body: String,
         /// The cause (boxed: FE errors carry a lot of context).
@@ -81,7 +81,7 @@ pub enum ModelError {
 }
 
 /// `file:line`, or `file` when the line is not known.
-fn at(file: &str, line: Option<usize>) -> String {
+fn at(file: &str, line: Option<u32>) -> String {
     match line {
         Some(l) => format!("{file}:{l}"),
         None => file.to_string(),

@@ -10,7 +10,7 @@
 //! part of the path is not found, the error carries no line rather than a wrong one.
 
 /// The 1-based line of the field `path` in the scene text `text`, if it can be found.
-pub fn line_of(text: &str, path: &str) -> Option<usize> {
+pub fn line_of(text: &str, path: &str) -> Option<u32> {
     if text.is_empty() {
         return None;
     }
@@ -37,13 +37,11 @@ pub fn line_of(text: &str, path: &str) -> Option<usize> {
             },
         }
     }
-    found.map(|at| {
-        text.as_bytes()[..at]
-            .iter()
-            .filter(|&&c| c == b'\n')
-            .count()
-            + 1
-    })
+    let newlines = text.as_bytes()[..found?]
+        .iter()
+        .filter(|&&c| c == b'\n')
+        .count();
+    u32::try_from(newlines + 1).ok()
 }
 
 /// One part of a field path.

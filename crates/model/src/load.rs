@@ -263,18 +263,24 @@ impl Scene {
         Ok(())
     }
 
-    /// Each driver must drive an existing joint with a single coordinate (not Free),
+    /// Each driver must drive an existing joint with a single coordinate (revolute or
+    /// prismatic),
     /// with its law's parameters in range (a SpinUp law needs a positive ramp time).
     fn check_drivers(&self) -> Result<(), ModelError> {
         for d in &self.drivers {
             let Some(j) = self.joints.iter().find(|j| j.name == d.joint) else {
                 return Err(self.missing(format!("drivers[{}].joint", d.name), "joint", &d.joint));
             };
-            if matches!(j.kind, JointKind::Free) {
+            if !has_one_coordinate(&j.kind) {
                 return Err(self.invalid(InvalidValue::new(
                     format!("drivers[{}].joint", d.name),
                     &d.joint,
-                    "a Free joint has no single coordinate to drive",
+                    format!(
+                        "only revolute (angle) and prismatic (distance) joints can be driven; \
+                         `{}` is {}",
+                        d.joint,
+                        kind_name(&j.kind)
+                    ),
                 )));
             }
             self.check_law(&d.name, &d.law)?;
@@ -320,7 +326,7 @@ impl Scene {
     }
 
     /// One sensor: a displacement only from a Position sensor, and what its kind
-    /// measures must exist (marker and frame, joint with one coordinate, modal index).
+    /// measures must exist (marker and frame, a revolute or prismatic joint, modal index).
     fn check_sensor(&self, sn: &Sensor) -> Result<(), ModelError> {
         let item = |f: &str| format!("sensors[{}].{f}", sn.name);
         if sn.displacement && !matches!(sn.kind, SensorKind::Position { .. }) {
@@ -355,11 +361,15 @@ impl Scene {
                 let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
                     return Err(self.missing(item("joint"), "joint", joint));
                 };
-                if matches!(j.kind, JointKind::Free) {
+                if !has_one_coordinate(&j.kind) {
                     return Err(self.invalid(InvalidValue::new(
                         item("joint"),
                         joint,
-                        "a Free joint has no single coordinate; use Position/Velocity sensors on its body",
+                        format!(
+                            "a joint coordinate is defined for revolute (angle) and prismatic \
+                             (slide) joints only; `{joint}` is {} (use Position/Velocity sensors)",
+                            kind_name(&j.kind)
+                        ),
                     )));
                 }
             }
@@ -539,6 +549,28 @@ impl Scene {
                 _ => 0.0,
             })
             .collect()
+    }
+}
+
+/// Whether a joint has the single coordinate a driver or a JointCoordinate sensor names:
+/// a revolute's angle or a prismatic's slide.
+fn has_one_coordinate(kind: &JointKind) -> bool {
+    matches!(
+        kind,
+        JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+    )
+}
+
+/// The variant name of a joint kind, for messages.
+fn kind_name(kind: &JointKind) -> &'static str {
+    match kind {
+        JointKind::Revolute { .. } => "Revolute",
+        JointKind::Spherical => "Spherical",
+        JointKind::Universal { .. } => "Universal",
+        JointKind::Prismatic { .. } => "Prismatic",
+        JointKind::Cylindrical { .. } => "Cylindrical",
+        JointKind::Rigid => "Rigid",
+        JointKind::Free => "Free",
     }
 }
 

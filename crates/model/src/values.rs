@@ -135,16 +135,45 @@ impl Scene {
         Ok(())
     }
 
-    /// The axes a joint names: finite, in range, non-zero.
+    /// The axes a joint names: finite, in range, non-zero; a 3D revolute has one; a
+    /// universal joint's arms are perpendicular at t = 0; a planar sliding axis lies in the
+    /// x–y plane (the tolerances are the absolute formulation's).
     pub(crate) fn check_joint_axes(&self, name: &str, kind: &JointKind) -> Result<(), ModelError> {
         let f = |field: &str| format!("joints[{name}].kind.{field}");
+        let spatial = self.dim == Dim::Spatial;
         match kind {
             JointKind::Revolute { axis: Some(a) } => self.axis(&f("Revolute.axis"), a),
+            JointKind::Revolute { axis: None } if spatial => Err(self.invalid(InvalidValue::new(
+                f("Revolute.axis"),
+                "None",
+                "a revolute joint of a 3D scene needs its axis (`Revolute(axis: Some([x, y, z]))`)",
+            ))),
             JointKind::Universal { axis1, axis2 } => {
                 self.axis(&f("Universal.axis1"), axis1)?;
-                self.axis(&f("Universal.axis2"), axis2)
+                self.axis(&f("Universal.axis2"), axis2)?;
+                let cos = axis1.vec().normalize().dot(&axis2.vec().normalize());
+                if cos.abs() > 1e-6 {
+                    return Err(self.invalid(InvalidValue::new(
+                        f("Universal.axis2"),
+                        format!("{:?}", axis2.0),
+                        format!("the cross arms must be perpendicular at t = 0 (cos = {cos:.3e})"),
+                    )));
+                }
+                Ok(())
             }
-            JointKind::Prismatic { axis } => self.axis(&f("Prismatic.axis"), axis),
+            JointKind::Prismatic { axis } => {
+                self.axis(&f("Prismatic.axis"), axis)?;
+                let in_plane = (axis.0[0].powi(2) + axis.0[1].powi(2)).sqrt();
+                let lies_in_plane = in_plane > 1e-12 && axis.0[2].abs() <= 1e-9 * in_plane;
+                if !spatial && !lies_in_plane {
+                    return Err(self.invalid(InvalidValue::new(
+                        f("Prismatic.axis"),
+                        format!("{:?}", axis.0),
+                        "a planar sliding axis must be a non-zero vector in the x–y plane",
+                    )));
+                }
+                Ok(())
+            }
             JointKind::Cylindrical { axis } => self.axis(&f("Cylindrical.axis"), axis),
             JointKind::Revolute { axis: None }
             | JointKind::Spherical

@@ -268,3 +268,50 @@ fn every_model_still_loads() {
         }
     }
 }
+
+#[test]
+fn joint_kind_mismatches_are_refused_the_same_in_both_formulations() {
+    // Each used to run in one formulation (a driver or sensor silently ignored, an axis
+    // silently projected) and be refused, differently worded, by the other.
+    let e = refusal_in_both(&scene_text("spin_up_beam_2d.ron", |t| {
+        t.replace(
+            r#"kind: Revolute(), body1: "ground""#,
+            r#"kind: Rigid, body1: "ground""#,
+        )
+    }));
+    assert!(
+        e.contains(":61: drivers[spin].joint = hub: only revolute"),
+        "{e}"
+    );
+    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
+        t.replace(
+            r#"kind: JointCoordinate(joint: "hinge")"#,
+            r#"kind: JointCoordinate(joint: "ball")"#,
+        )
+    }));
+    assert!(
+        e.contains(":44: sensors[hinge].joint = ball: a joint coordinate"),
+        "{e}"
+    );
+    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
+        t.replace("Revolute(axis: Some([1.0, 1.0, 0.5]))", "Revolute()")
+    }));
+    assert!(e.contains("joints[hinge].kind.Revolute.axis = None"), "{e}");
+    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
+        t.replace(
+            "Revolute(axis: Some([1.0, 1.0, 0.5]))",
+            "Universal(axis1: [1.0, 0.0, 0.0], axis2: [1.0, 0.1, 0.0])",
+        )
+    }));
+    assert!(e.contains(":38: joints[hinge].kind.Universal.axis2"), "{e}");
+    let e = refusal_in_both(&scene_text("slider_crank.ron", |t| {
+        t.replace(
+            "Prismatic(axis: [1.0, 0.0])",
+            "Prismatic(axis: [1.0, 0.0, 1.0])",
+        )
+    }));
+    assert!(
+        e.contains(":68: joints[rail].kind.Prismatic.axis = [1.0, 0.0, 1.0]"),
+        "{e}"
+    );
+}
