@@ -11,37 +11,59 @@
 
 /// The 1-based line of the field `path` in the scene text `text`, if it can be found.
 pub fn line_of(text: &str, path: &str) -> Option<u32> {
-    if text.is_empty() {
-        return None;
-    }
     let code = Code::new(text);
-    let mut pos = 0;
-    let mut limit = code.bytes.len();
-    let mut found = None;
-    for segment in segments(path) {
-        match segment {
-            Segment::Key(key) => {
-                let at = code.find_key(key, pos, limit)?;
-                pos = at + key.len();
-                found = Some(at);
-            }
-            Segment::Item(name) => match code.find_item(name, pos, limit) {
-                Some(at) => {
-                    limit = code.enclosing_end(at).unwrap_or(limit);
-                    pos = at;
-                    found = Some(at);
-                }
-                // An index into a list of numbers or of unnamed items: stay on the key.
-                None if name.parse::<usize>().is_ok() => {}
-                None => return None,
-            },
-        }
-    }
-    let newlines = text.as_bytes()[..found?]
+    let (found, _, _) = code.locate(path)?;
+    line_at(text, found)
+}
+
+/// The 1-based line of the second item named `name` in the list at `list` (a name given
+/// twice: the line of the repeat, not of the original).
+pub fn line_of_repeated(text: &str, list: &str, name: &str) -> Option<u32> {
+    let code = Code::new(text);
+    let (_, pos, limit) = code.locate(list)?;
+    let first = code.find_item(name, pos, limit)?;
+    let second = code.find_item(name, first + 4, limit)?;
+    line_at(text, second)
+}
+
+/// The 1-based line of byte `at`.
+fn line_at(text: &str, at: usize) -> Option<u32> {
+    let newlines = text.as_bytes()[..at]
         .iter()
         .filter(|&&c| c == b'\n')
         .count();
     u32::try_from(newlines + 1).ok()
+}
+
+impl Code {
+    /// Follow `path`: the start of its last part found, and the range after it that the
+    /// search of a further part is confined to.
+    fn locate(&self, path: &str) -> Option<(usize, usize, usize)> {
+        let code = self;
+        let mut pos = 0;
+        let mut limit = code.bytes.len();
+        let mut found = None;
+        for segment in segments(path) {
+            match segment {
+                Segment::Key(key) => {
+                    let at = code.find_key(key, pos, limit)?;
+                    pos = at + key.len();
+                    found = Some(at);
+                }
+                Segment::Item(name) => match code.find_item(name, pos, limit) {
+                    Some(at) => {
+                        limit = code.enclosing_end(at).unwrap_or(limit);
+                        pos = at;
+                        found = Some(at);
+                    }
+                    // An index into a list of numbers or of unnamed items: stay on the key.
+                    None if name.parse::<usize>().is_ok() => {}
+                    None => return None,
+                },
+            }
+        }
+        Some((found?, pos, limit))
+    }
 }
 
 /// One part of a field path.
@@ -251,5 +273,13 @@ mod tests {
         assert_eq!(line_of(SCENE, "bodies[a].velocity.linear[0]"), None);
         assert_eq!(line_of(SCENE, "bodies[c].origin"), None);
         assert_eq!(line_of("", "solver.step"), None);
+    }
+
+    #[test]
+    fn a_repeated_name_is_found_where_it_repeats() {
+        assert_eq!(line_of_repeated(SCENE, "bodies[b].markers", "P"), None);
+        let twice = SCENE.replace(r#"(name: "Q""#, r#"(name: "P""#);
+        assert_eq!(line_of_repeated(&twice, "bodies[b].markers", "P"), Some(13));
+        assert_eq!(line_of_repeated(&twice, "bodies[a].markers", "P"), None);
     }
 }

@@ -54,17 +54,27 @@ impl Scene {
         }
     }
 
-    /// Refuse the first marker of `markers` (one body's, or the ground's) whose name an
-    /// earlier one already has, as `field`.
-    fn unique_marker_names(&self, field: &str, markers: &[Marker]) -> Result<(), ModelError> {
+    /// The refusal of a name given twice in the list at `list` (e.g. `bodies`,
+    /// `bodies[crank].markers`), with the line where it is given again.
+    fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
+        ModelError::Invalid {
+            file: self.origin.clone(),
+            line: crate::lines::line_of_repeated(&self.source, list, name),
+            error: InvalidValue::new(
+                format!("{list}[{name}].name"),
+                name,
+                format!("duplicate {what} name"),
+            ),
+        }
+    }
+
+    /// Refuse the first marker of `markers` (one body's, or the ground's, in the list at
+    /// `list`) whose name an earlier one already has.
+    fn unique_marker_names(&self, list: &str, markers: &[Marker]) -> Result<(), ModelError> {
         let mut names = HashSet::new();
         for m in markers {
             if !names.insert(m.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    field,
-                    &m.name,
-                    "duplicate marker name",
-                )));
+                return Err(self.repeated_name(list, &m.name, "marker"));
             }
         }
         Ok(())
@@ -82,7 +92,7 @@ impl Scene {
         self.check_solver()?;
         self.check_gravity()?;
         self.check_bodies()?;
-        self.unique_marker_names("ground.name", &self.ground)?;
+        self.unique_marker_names("ground", &self.ground)?;
         self.check_ground_values()?;
         self.check_joints()?;
         self.check_drivers()?;
@@ -123,19 +133,15 @@ impl Scene {
         for b in &self.bodies {
             if b.name == GROUND {
                 return Err(self.invalid(InvalidValue::new(
-                    "bodies.name",
+                    "bodies[ground].name",
                     GROUND,
                     "`ground` is the fixed body; choose another name",
                 )));
             }
             if !body_names.insert(b.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    "bodies.name",
-                    &b.name,
-                    "duplicate body name",
-                )));
+                return Err(self.repeated_name("bodies", &b.name, "body"));
             }
-            self.unique_marker_names(&format!("bodies[{}].markers.name", b.name), &b.markers)?;
+            self.unique_marker_names(&format!("bodies[{}].markers", b.name), &b.markers)?;
             self.check_body_values(b)?;
             self.check_initial_modes(b)?;
             self.check_body_model(b)?;
@@ -216,11 +222,7 @@ impl Scene {
         let mut joint_names = HashSet::new();
         for j in &self.joints {
             if !joint_names.insert(j.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    "joints.name",
-                    &j.name,
-                    "duplicate joint name",
-                )));
+                return Err(self.repeated_name("joints", &j.name, "joint"));
             }
             self.check_joint(j)?;
             self.check_joint_axes(&j.name, &j.kind)?;
@@ -313,12 +315,15 @@ impl Scene {
     fn check_sensors(&self) -> Result<(), ModelError> {
         let mut sensor_names = HashSet::new();
         for sn in &self.sensors {
-            if !sensor_names.insert(sn.name.as_str()) || sn.name == "t" {
+            if sn.name == "t" {
                 return Err(self.invalid(InvalidValue::new(
-                    "sensors.name",
-                    &sn.name,
-                    "duplicate sensor name (or `t`)",
+                    "sensors[t].name",
+                    "t",
+                    "`t` is the time column of the output; choose another name",
                 )));
+            }
+            if !sensor_names.insert(sn.name.as_str()) {
+                return Err(self.repeated_name("sensors", &sn.name, "sensor"));
             }
             self.check_sensor(sn)?;
         }

@@ -86,6 +86,15 @@ fn validation_error_names_the_line() {
         e.starts_with("models/double_four_bar.ron:85: joints[A0].marker2"),
         "{e}"
     );
+    // A name given twice: the line of the repeat.
+    let s = scene_text("double_four_bar.ron", |t| {
+        t.replacen(r#"(name: "B0""#, r#"(name: "A0""#, 1)
+    });
+    let e = refusal_in_both(&s);
+    assert!(
+        e.starts_with("models/double_four_bar.ron:86: joints[A0].name = A0: duplicate joint name"),
+        "{e}"
+    );
 }
 
 #[test]
