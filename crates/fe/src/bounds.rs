@@ -176,6 +176,13 @@ pub const FREQUENCY: Range = Range::symmetric(1e4, "Hz");
 /// A time constant (the spin-up time), s.
 pub const TIME_CONSTANT: Range = Range::positive(1e6, "s");
 
+/// The Newton tolerance ε (relative in q, absolute in Φ): at most 1, a tolerance that
+/// accepts anything.
+pub const NEWTON_TOLERANCE: Range = Range::positive(1.0, "");
+/// An explicit penalty factor α (docs/methods.md §5.3): large enough for any scene, small
+/// enough that α·Φ stays finite.
+pub const PENALTY: Range = Range::positive(1e30, "");
+
 /// The most FE DOFs one beam may have: its dense stiffness and mass matrices (and their
 /// Craig–Bampton blocks) are N × N.
 pub const MAX_FE_DOFS: usize = 2_400;

@@ -103,8 +103,9 @@ impl Scene {
         self.check_joined_markers_coincide()
     }
 
-    /// The solver settings: positive step, duration, tolerance and optional output
-    /// interval and penalty, and at least one Newton iteration.
+    /// The solver settings: positive step, duration and optional output interval (the step
+    /// count is bounded by the run), a tolerance in (0, 1] and a penalty in range, and at
+    /// least one Newton iteration.
     fn check_solver(&self) -> Result<(), ModelError> {
         let s = &self.solver;
         require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
@@ -112,8 +113,11 @@ impl Scene {
         if let Some(o) = s.output_interval {
             require_positive("solver.output_interval", o).map_err(|e| self.invalid(e))?;
         }
-        require_positive("solver.newton_tolerance", s.newton_tolerance)
-            .map_err(|e| self.invalid(e))?;
+        self.in_range(
+            flexmbd_fe::bounds::NEWTON_TOLERANCE,
+            "solver.newton_tolerance",
+            s.newton_tolerance,
+        )?;
         if s.max_iterations == 0 {
             return Err(self.invalid(InvalidValue::new(
                 "solver.max_iterations",
@@ -122,7 +126,7 @@ impl Scene {
             )));
         }
         if let Some(p) = s.penalty {
-            require_positive("solver.penalty", p).map_err(|e| self.invalid(e))?;
+            self.in_range(flexmbd_fe::bounds::PENALTY, "solver.penalty", p)?;
         }
         Ok(())
     }

@@ -101,7 +101,7 @@ fn validation_error_names_the_line() {
 fn out_of_range_values_are_refused_in_both_formulations() {
     let base = model("double_four_bar.ron");
     type Edit = fn(&mut Scene);
-    let cases: [(&str, Edit); 9] = [
+    let cases: [(&str, Edit); 10] = [
         ("bodies[crank1].origin[0] = inf", |s| {
             s.bodies[0].origin.0[0] = f64::INFINITY
         }),
@@ -138,6 +138,9 @@ fn out_of_range_values_are_refused_in_both_formulations() {
         }),
         ("bodies[crank1].initial_modes[0] = NaN", |s| {
             s.bodies[0].initial_modes = vec![f64::NAN]
+        }),
+        ("solver.penalty = 1e300: out of range", |s| {
+            s.solver.penalty = Some(1e300)
         }),
     ];
     for (want, edit) in cases {
