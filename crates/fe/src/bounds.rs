@@ -183,6 +183,10 @@ pub const NEWTON_TOLERANCE: Range = Range::positive(1.0, "");
 /// enough that α·Φ stays finite.
 pub const PENALTY: Range = Range::positive(1e30, "");
 
+/// The largest Newton iteration limit per step: a step that diverges ends after at most this
+/// many iterations.
+pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
+
 /// The most FE DOFs one beam may have: its dense stiffness and mass matrices (and their
 /// Craig–Bampton blocks) are N × N.
 pub const MAX_FE_DOFS: usize = 2_400;

@@ -104,8 +104,9 @@ impl Scene {
     }
 
     /// The solver settings: positive step, duration and optional output interval (the step
-    /// count is bounded by the run), a tolerance in (0, 1] and a penalty in range, and at
-    /// least one Newton iteration.
+    /// count is bounded by the run), a tolerance in (0, 1] and a penalty in range, and a
+    /// Newton iteration limit of at least 1 and at most
+    /// [`flexmbd_fe::bounds::MAX_NEWTON_ITERATIONS`] (a diverging step must end).
     fn check_solver(&self) -> Result<(), ModelError> {
         let s = &self.solver;
         require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
@@ -118,11 +119,12 @@ impl Scene {
             "solver.newton_tolerance",
             s.newton_tolerance,
         )?;
-        if s.max_iterations == 0 {
+        let most = flexmbd_fe::bounds::MAX_NEWTON_ITERATIONS;
+        if !(1..=most).contains(&s.max_iterations) {
             return Err(self.invalid(InvalidValue::new(
                 "solver.max_iterations",
-                0,
-                "must be at least 1",
+                s.max_iterations,
+                format!("must be in 1..={most} (a Newton iteration limit per step)"),
             )));
         }
         if let Some(p) = s.penalty {

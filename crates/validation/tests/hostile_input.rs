@@ -101,7 +101,7 @@ fn validation_error_names_the_line() {
 fn out_of_range_values_are_refused_in_both_formulations() {
     let base = model("double_four_bar.ron");
     type Edit = fn(&mut Scene);
-    let cases: [(&str, Edit); 10] = [
+    let cases: [(&str, Edit); 11] = [
         ("bodies[crank1].origin[0] = inf", |s| {
             s.bodies[0].origin.0[0] = f64::INFINITY
         }),
@@ -142,6 +142,10 @@ fn out_of_range_values_are_refused_in_both_formulations() {
         ("solver.penalty = 1e300: out of range", |s| {
             s.solver.penalty = Some(1e300)
         }),
+        (
+            "solver.max_iterations = 18446744073709551615: must be in 1..=10000",
+            |s| s.solver.max_iterations = usize::MAX,
+        ),
     ];
     for (want, edit) in cases {
         let mut s = base.clone();
