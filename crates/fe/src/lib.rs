@@ -8,6 +8,7 @@
 
 pub mod assembly;
 pub mod beam;
+pub mod bounds;
 pub mod cloud;
 pub mod craig_bampton;
 pub mod error;
@@ -180,11 +181,26 @@ fn select_axial(
             other.push(nb + j);
         }
     }
-    if axial.len() < n_axial || other.len() < n_other {
-        return Err(FeError::TooManyModes {
-            requested: n_other + n_axial,
-            available: other.len() + axial.len(),
-        });
+    if axial.len() < n_axial {
+        return Err(FeError::Invalid(flexmbd_core::InvalidValue::new(
+            "axial_modes",
+            n_axial,
+            format!(
+                "the model has only {} purely axial normal modes (a straight beam along body x \
+                 has one per interior axial DOF)",
+                axial.len()
+            ),
+        )));
+    }
+    if other.len() < n_other {
+        return Err(FeError::Invalid(flexmbd_core::InvalidValue::new(
+            "normal_modes",
+            n_other,
+            format!(
+                "the model has only {} normal modes that are not purely axial",
+                other.len()
+            ),
+        )));
     }
     let mut keep: Vec<usize> = (0..nb).collect();
     let mut dynamic: Vec<usize> = other.into_iter().chain(axial).collect();

@@ -27,11 +27,12 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use flexmbd_core::{Dim, InvalidValue, require_non_negative, require_positive};
+use flexmbd_core::{Dim, InvalidValue};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::assembly::dof_slot;
+use crate::bounds::{self, MAX_FE_DOFS};
 use crate::error::FeError;
 use crate::reduced::{Dof, NodeDof};
 
@@ -282,12 +283,13 @@ impl BeamBodySpec {
     /// Number of FE nodes of the mesh.
     pub fn n_nodes(&self) -> usize {
         let segs = self.geometry.points.len().saturating_sub(1);
-        segs * self.geometry.elements_per_segment + 1
+        segs.saturating_mul(self.geometry.elements_per_segment)
+            .saturating_add(1)
     }
 
     /// Number of DOFs N of the free-floating FE model.
     pub fn n_fe_dofs(&self) -> usize {
-        self.n_nodes() * self.dofs_per_node()
+        self.n_nodes().saturating_mul(self.dofs_per_node())
     }
 
     /// The reference (r) DOFs implied by [`BeamBodySpec::frame`], in order.
@@ -356,12 +358,12 @@ impl BeamBodySpec {
         self.check_damping()
     }
 
-    /// E and ρ positive; at most one of ν and G, each in its physical range; a 3D
+    /// E and ρ positive and in range ([`bounds`]); at most one of ν and G, each in its physical range; a 3D
     /// beam needs one of them for its torsion stiffness.
     fn check_material(&self) -> Result<(), InvalidValue> {
         let m = &self.material;
-        require_positive("material.young_modulus", m.young_modulus)?;
-        require_positive("material.density", m.density)?;
+        bounds::MODULUS.check("material.young_modulus", m.young_modulus)?;
+        bounds::DENSITY.check("material.density", m.density)?;
         if m.poisson_ratio.is_some() && m.shear_modulus.is_some() {
             return Err(InvalidValue::new(
                 "material.shear_modulus",
@@ -379,7 +381,7 @@ impl BeamBodySpec {
             ));
         }
         if let Some(g) = m.shear_modulus {
-            require_positive("material.shear_modulus", g)?;
+            bounds::MODULUS.check("material.shear_modulus", g)?;
         }
         if self.dim == Dim::Spatial && m.poisson_ratio.is_none() && m.shear_modulus.is_none() {
             return Err(InvalidValue::new(
@@ -391,33 +393,38 @@ impl BeamBodySpec {
         Ok(())
     }
 
-    /// Every dimension or section constant positive.
+    /// Every dimension or section constant positive and in range ([`bounds`]).
     fn check_section(&self) -> Result<(), InvalidValue> {
+        let (dimension, area, inertia) = (
+            bounds::SECTION_DIMENSION,
+            bounds::SECTION_AREA,
+            bounds::SECTION_INERTIA,
+        );
         match self.section {
             Section::Rectangle { width, height } => {
-                require_positive("section.width", width)?;
-                require_positive("section.height", height)?;
+                dimension.check("section.width", width)?;
+                dimension.check("section.height", height)?;
             }
             Section::Circle { diameter } => {
-                require_positive("section.diameter", diameter)?;
+                dimension.check("section.diameter", diameter)?;
             }
             Section::General {
-                area,
+                area: a,
                 iy,
                 iz,
                 torsion_j,
             } => {
-                require_positive("section.area", area)?;
-                require_positive("section.iy", iy)?;
-                require_positive("section.iz", iz)?;
-                require_positive("section.torsion_j", torsion_j)?;
+                area.check("section.area", a)?;
+                inertia.check("section.iy", iy)?;
+                inertia.check("section.iz", iz)?;
+                inertia.check("section.torsion_j", torsion_j)?;
             }
         }
         Ok(())
     }
 
-    /// At least two points, each with as many finite components as the dimension
-    /// has translations, and no zero-length segment (its element axes and
+    /// At least two points, each with as many components as the dimension has
+    /// translations, each in [`bounds::POSITION`], and no zero-length segment (its element axes and
     /// lengths would be undefined).
     fn check_polyline(&self) -> Result<(), InvalidValue> {
         let points = &self.geometry.points;
@@ -438,9 +445,7 @@ impl BeamBodySpec {
                     format!("a {} point has {want} components", self.dim),
                 ));
             }
-            if p.iter().any(|x| !x.is_finite()) {
-                return Err(InvalidValue::new(field, format!("{p:?}"), "must be finite"));
-            }
+            bounds::POSITION.check_all(&field, p)?;
         }
         for i in 1..points.len() {
             let len = (self.point(i) - self.point(i - 1)).norm();
@@ -459,32 +464,65 @@ impl BeamBodySpec {
         Ok(())
     }
 
-    /// Each segment is split into at least one element.
+    /// Each segment is split into at least one element, no element shorter than
+    /// [`bounds::ELEMENT_LENGTH`], and the mesh has at most [`MAX_FE_DOFS`] DOFs (its
+    /// dense matrices are N × N; the refusal states their size, counted without overflow).
     fn check_elements_per_segment(&self) -> Result<(), InvalidValue> {
-        if self.geometry.elements_per_segment == 0 {
+        let per = self.geometry.elements_per_segment;
+        let field = "geometry.elements_per_segment";
+        if per == 0 {
+            return Err(InvalidValue::new(field, 0, "must be at least 1"));
+        }
+        let segments = self.geometry.points.len() - 1;
+        let dofs = (segments as u128 * per as u128 + 1) * self.dofs_per_node() as u128;
+        if dofs > MAX_FE_DOFS as u128 {
+            let bytes = dofs.saturating_mul(dofs).saturating_mul(8);
             return Err(InvalidValue::new(
-                "geometry.elements_per_segment",
-                0,
-                "must be at least 1",
+                field,
+                per,
+                format!(
+                    "too large: {segments} segment(s) × {per} elements give {dofs} FE DOFs, \
+                     whose dense stiffness and mass matrices need {} each; at most {MAX_FE_DOFS} \
+                     FE DOFs are allowed",
+                    bounds::human_bytes(bytes)
+                ),
             ));
+        }
+        for i in 1..self.geometry.points.len() {
+            let len = (self.point(i) - self.point(i - 1)).norm() / per as f64;
+            if !bounds::ELEMENT_LENGTH.contains(len) {
+                return Err(InvalidValue::new(
+                    field,
+                    per,
+                    format!(
+                        "segment {} gives elements {len:e} m long: allowed {}",
+                        i - 1,
+                        bounds::ELEMENT_LENGTH
+                    ),
+                ));
+            }
         }
         Ok(())
     }
 
-    /// The orientation vector k̄, when given, is finite and non-zero; in 2D it is
+    /// The orientation vector k̄, when given, is finite, in range and non-zero; in 2D it is
     /// +ē₃ (the element axes of a planar beam are fixed), in 3D it is parallel to
     /// no segment (y_e = k̄ × x_e would vanish).
     fn check_orientation(&self) -> Result<(), InvalidValue> {
         let Some(k) = self.geometry.orientation else {
             return Ok(());
         };
+        bounds::AXIS_COMPONENT.check_all("geometry.orientation", &k)?;
         let kv = Vector3::from(k);
         let kval = format!("{k:?}");
-        if !kv.iter().all(|x| x.is_finite()) || kv.norm() == 0.0 {
+        if kv.norm() < bounds::MIN_AXIS_NORM {
             return Err(InvalidValue::new(
                 "geometry.orientation",
                 kval,
-                "must be a finite non-zero vector",
+                format!(
+                    "must be a non-zero vector (norm at least {:e})",
+                    bounds::MIN_AXIS_NORM
+                ),
             ));
         }
         match self.dim {
@@ -527,13 +565,26 @@ impl BeamBodySpec {
         }
     }
 
-    /// The reference conditions name nodes of the mesh and DOFs of its nodes, and
-    /// take no DOF twice.
+    /// The reference conditions name nodes of the mesh and DOFs of its nodes, take no
+    /// DOF twice, and an explicit r set takes no more DOFs than the rigid-body motions
+    /// (a hyperstatic frame; fewer are refused by the reduction, docs/methods.md §1.4).
     fn check_frame(&self) -> Result<(), InvalidValue> {
         match &self.frame {
             ReferenceFrame::Clamped { node } => self.check_node("frame.node", *node)?,
             ReferenceFrame::Chord { a, b } => self.check_chord(*a, *b)?,
             ReferenceFrame::Dofs(d) => {
+                let rigid = self.dim.n_rigid();
+                if d.len() > rigid {
+                    return Err(InvalidValue::new(
+                        "frame.Dofs",
+                        format!("{} DOFs", d.len()),
+                        format!(
+                            "hyperstatic: an isostatic support takes exactly the {rigid} \
+                             rigid-body DOFs of a {} body (methods.md §1.4)",
+                            self.dim
+                        ),
+                    ));
+                }
                 for (k, nd) in d.iter().enumerate() {
                     self.check_node(&format!("frame.dofs[{k}].node"), nd.node)?;
                     if dof_slot(self.dim, nd.dof).is_none() {
@@ -621,9 +672,12 @@ impl BeamBodySpec {
         Ok(())
     }
 
-    /// No more normal modes than interior DOFs (those neither frame nor boundary).
+    /// No more normal modes (`normal_modes`, then `normal_modes + axial_modes`) than
+    /// interior DOFs (those neither frame nor boundary); each refusal names its own field.
     fn check_normal_modes(&self) -> Result<(), InvalidValue> {
-        let interior = self.n_fe_dofs() - self.frame_dofs().len() - self.boundary.len();
+        let interior = self
+            .n_fe_dofs()
+            .saturating_sub(self.frame_dofs().len() + self.boundary.len());
         if self.normal_modes > interior {
             return Err(InvalidValue::new(
                 "normal_modes",
@@ -631,19 +685,31 @@ impl BeamBodySpec {
                 format!("the model has only {interior} interior DOFs"),
             ));
         }
+        if self.axial_modes > interior - self.normal_modes {
+            return Err(InvalidValue::new(
+                "axial_modes",
+                self.axial_modes,
+                format!(
+                    "the model has {interior} interior DOFs, {} of them left after the {} \
+                     normal modes",
+                    interior - self.normal_modes,
+                    self.normal_modes
+                ),
+            ));
+        }
         Ok(())
     }
 
-    /// Damping coefficients non-negative.
+    /// Damping coefficients non-negative and in range ([`bounds`]).
     fn check_damping(&self) -> Result<(), InvalidValue> {
         match self.damping {
             Damping::None => {}
             Damping::StiffnessProportional { a_k } => {
-                require_non_negative("damping.a_k", a_k)?;
+                bounds::DAMPING_COEFFICIENT.check("damping.a_k", a_k)?;
             }
             Damping::ModalRatio { zeta, a_k_static } => {
-                require_non_negative("damping.zeta", zeta)?;
-                require_non_negative("damping.a_k_static", a_k_static)?;
+                bounds::DAMPING_RATIO.check("damping.zeta", zeta)?;
+                bounds::DAMPING_COEFFICIENT.check("damping.a_k_static", a_k_static)?;
             }
         }
         Ok(())

@@ -99,7 +99,7 @@ fn non_finite_modulus() {
 fn negative_inertia() {
     let mut s = base();
     s.section = general(1e-4, 1e-9, -1e-9, 2e-9);
-    assert_invalid(&s, "section.iz", "-0.000000001");
+    assert_invalid(&s, "section.iz", "-1e-9");
 }
 
 #[test]
@@ -276,4 +276,75 @@ fn ron_with_misspelt_section_field_is_refused() {
     println!("refused: {e}");
     assert!(matches!(e, FeError::Parse { line: 2, .. }));
     assert!(e.to_string().contains("heigth"));
+}
+
+#[test]
+fn axial_modes_error_names_axial_modes() {
+    // 4 elements along x, clamped: 12 interior DOFs, of which 4 axial (Ux of nodes 1–4).
+    // The count of axial modes is known only from the eigen-solution: refused by reduce.
+    let mut s = base();
+    s.axial_modes = 5;
+    let Err(FeError::Invalid(e)) = reduce(&s) else {
+        panic!("5 axial modes of 4 accepted");
+    };
+    assert_eq!((e.field.as_str(), e.value.as_str()), ("axial_modes", "5"));
+    assert!(e.reason.contains("only 4 purely axial"), "{e}");
+    // More than the interior DOFs left after the normal modes: refused before reduction.
+    s.axial_modes = 50;
+    let e = assert_invalid(&s, "axial_modes", "50");
+    assert!(
+        e.reason.contains("12 interior DOFs, 10 of them left"),
+        "{e}"
+    );
+}
+
+#[test]
+fn hyperstatic_frame_is_refused() {
+    // Four DOFs where a planar body has three rigid-body motions.
+    let mut s = base();
+    let at = |node, dof| NodeDof { node, dof };
+    s.frame = ReferenceFrame::Dofs(vec![
+        at(0, Dof::Ux),
+        at(0, Dof::Uy),
+        at(0, Dof::Rz),
+        at(4, Dof::Uy),
+    ]);
+    let e = assert_invalid(&s, "frame.Dofs", "4 DOFs");
+    assert!(e.reason.contains("hyperstatic"), "{e}");
+}
+
+#[test]
+fn out_of_range_material_and_geometry_are_refused_before_reduction() {
+    let mut s = base();
+    s.material.young_modulus = 1e20;
+    let e = assert_invalid(&s, "material.young_modulus", "1e20");
+    assert!(
+        e.reason.contains("out of range") && e.reason.contains("1e15"),
+        "{e}"
+    );
+    let mut s = base();
+    s.geometry.points[1][0] = 1e300;
+    let e = assert_invalid(&s, "geometry.points[1][0]", "1e300");
+    assert!(e.reason.contains("out of range"), "{e}");
+    let mut s = base();
+    s.geometry.points[1][0] = 1e-9;
+    let e = assert_invalid(&s, "geometry.elements_per_segment", "4");
+    assert!(e.reason.contains("elements"), "{e}");
+}
+
+#[test]
+fn element_count_of_u64_max_states_the_memory_without_overflow() {
+    let mut s = base();
+    s.geometry.elements_per_segment = usize::MAX;
+    let e = assert_invalid(&s, "geometry.elements_per_segment", &usize::MAX.to_string());
+    assert!(
+        e.reason.contains("55340232221128654848 FE DOFs") && e.reason.contains("bytes each"),
+        "{e}"
+    );
+    s.geometry.elements_per_segment = 20_000;
+    let e = invalid(&s);
+    assert!(
+        e.reason.contains("60003 FE DOFs") && e.reason.contains("28.8 GB"),
+        "{e}"
+    );
 }

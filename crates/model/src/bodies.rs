@@ -47,11 +47,7 @@ impl Scene {
     }
 
     fn prepare_body(&self, index: usize, b: &Body) -> Result<PreparedBody, ModelError> {
-        let fe_err = |source| ModelError::Fe {
-            file: self.origin.clone(),
-            body: b.name.clone(),
-            source: Box::new(source),
-        };
+        let fe_err = |source| self.fe_error(&b.name, source);
         match &b.model {
             BodyModel::Rigid {
                 mass,
@@ -60,12 +56,11 @@ impl Scene {
             } => {
                 let reduced =
                     ReducedBody::rigid(self.dim, *mass, center_of_mass.vec(), inertia.tensor())
-                        .map_err(|e: InvalidValue| ModelError::Invalid {
-                            file: self.origin.clone(),
-                            error: InvalidValue {
+                        .map_err(|e: InvalidValue| {
+                            self.invalid(InvalidValue {
                                 field: format!("bodies[{}].model.Rigid.{}", b.name, e.field),
                                 ..e
-                            },
+                            })
                         })?;
                 Ok(PreparedBody {
                     index,
@@ -101,14 +96,11 @@ impl Scene {
                         .iter()
                         .position(|n| (n.position - p).norm() <= 1e-9 * length.max(1.0));
                     if b.flexible && node.is_none() {
-                        return Err(ModelError::Invalid {
-                            file: self.origin.clone(),
-                            error: InvalidValue::new(
-                                format!("bodies[{}].markers[{}].position", b.name, m.name),
-                                format!("{:?}", m.position.0),
-                                "a marker of a flexible body must sit on an FE node",
-                            ),
-                        });
+                        return Err(self.invalid(InvalidValue::new(
+                            format!("bodies[{}].markers[{}].position", b.name, m.name),
+                            format!("{:?}", m.position.0),
+                            "a marker of a flexible body must sit on an FE node",
+                        )));
                     }
                     marker_nodes.push(node);
                 }
@@ -131,10 +123,7 @@ impl Scene {
     }
 
     fn run_time_body(&self, reduced: &ReducedBody) -> Result<FlexibleBody, ModelError> {
-        FlexibleBody::new(reduced).map_err(|error| ModelError::Invalid {
-            file: self.origin.clone(),
-            error,
-        })
+        FlexibleBody::new(reduced).map_err(|error| self.invalid(error))
     }
 
     /// Install the elastic model of `solver.stiffening` on a flexible body (a no-op for rigid

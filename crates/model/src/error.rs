@@ -1,4 +1,5 @@
-//! Errors of scene loading: each names the file and the item or field.
+//! Errors of scene loading: each names the file and the item or field, and the validation
+//! errors the line of the field where it can be found in the file ([`crate::lines`]).
 
 use flexmbd_core::InvalidValue;
 use flexmbd_fe::FeError;
@@ -28,18 +29,22 @@ pub enum ModelError {
         message: String,
     },
     /// A value is not physical or not consistent.
-    #[error("{file}: {error}")]
+    #[error("{}: {error}", at(.file, *.line))]
     Invalid {
         /// The file.
         file: String,
+        /// 1-based line of the field in the file, when it was found there.
+        line: Option<u32>,
         /// Field path, value and reason.
         error: InvalidValue,
     },
     /// An item names another that does not exist.
-    #[error("{file}: {item} names {kind} `{name}`, which does not exist{hint}")]
+    #[error("{}: {item} names {kind} `{name}`, which does not exist{hint}", at(.file, *.line))]
     Missing {
         /// The file.
         file: String,
+        /// 1-based line of the referring field in the file, when it was found there.
+        line: Option<u32>,
         /// The referring field (e.g. `joints[A0].body2`).
         item: String,
         /// What kind of thing was named (body, marker, joint).
@@ -58,10 +63,12 @@ pub enum ModelError {
         message: String,
     },
     /// A flexible body's FE model was refused.
-    #[error("{file}: body `{body}`: {source}")]
+    #[error("{}: body `{body}`: {source}", at(.file, *.line))]
     Fe {
         /// The file.
         file: String,
+        /// 1-based line of the refused field in the file, when it was found there.
+        line: Option<u32>,
         /// The body.
         body: String,
         /// The cause (boxed: FE errors carry a lot of context).
@@ -71,4 +78,12 @@ pub enum ModelError {
     /// The requested formulation or option cannot run this scene.
     #[error("{0}")]
     Unsupported(String),
+}
+
+/// `file:line`, or `file` when the line is not known.
+fn at(file: &str, line: Option<u32>) -> String {
+    match line {
+        Some(l) => format!("{file}:{l}"),
+        None => file.to_string(),
+    }
 }

@@ -23,10 +23,7 @@ impl Scene {
         let BodyModel::Beam(spec) = &b.model else {
             return Ok(());
         };
-        let invalid = |error| ModelError::Invalid {
-            file: scene.origin.clone(),
-            error,
-        };
+        let invalid = |error| scene.invalid(error);
         let modes = &prep.reduced.modes;
         // No axial content: FS0 replaces the axial field by the shortening.
         let d = prep.reduced.dim.n_rigid();

@@ -6,14 +6,17 @@
 //! method, its bodies reduced and built, its names resolved into typed ids.
 
 pub mod bodies;
+pub mod consistency;
 pub mod error;
 pub mod force_elements;
 mod foreshortening;
+pub mod lines;
 pub mod load;
 pub mod prepared;
 pub mod rewrite;
 pub mod scene;
 pub mod sensors;
+mod values;
 
 pub use bodies::PreparedBody;
 pub use error::ModelError;

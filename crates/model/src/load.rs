@@ -22,6 +22,7 @@ impl Scene {
             message: e.code.to_string(),
         })?;
         scene.origin = origin.to_string();
+        scene.source = text.to_string();
         for b in &mut scene.bodies {
             if let BodyModel::Beam(spec) = &mut b.model {
                 spec.origin = format!("{origin}: bodies[{}]", b.name);
@@ -43,47 +44,69 @@ impl Scene {
         Ok(scene)
     }
 
-    fn invalid(&self, e: InvalidValue) -> ModelError {
+    /// The refusal of a value, with the line of its field in the scene text (found by
+    /// [`crate::lines::line_of`] from the field path).
+    pub fn invalid(&self, e: InvalidValue) -> ModelError {
         ModelError::Invalid {
             file: self.origin.clone(),
+            line: crate::lines::line_of(&self.source, &e.field),
             error: e,
         }
     }
 
-    /// Refuse the first marker of `markers` (one body's, or the ground's) whose name an
-    /// earlier one already has, as `field`.
-    fn unique_marker_names(&self, field: &str, markers: &[Marker]) -> Result<(), ModelError> {
+    /// The refusal of a name given twice in the list at `list` (e.g. `bodies`,
+    /// `bodies[crank].markers`), with the line where it is given again.
+    fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
+        ModelError::Invalid {
+            file: self.origin.clone(),
+            line: crate::lines::line_of_repeated(&self.source, list, name),
+            error: InvalidValue::new(
+                format!("{list}[{name}].name"),
+                name,
+                format!("duplicate {what} name"),
+            ),
+        }
+    }
+
+    /// Refuse the first marker of `markers` (one body's, or the ground's, in the list at
+    /// `list`) whose name an earlier one already has.
+    fn unique_marker_names(&self, list: &str, markers: &[Marker]) -> Result<(), ModelError> {
         let mut names = HashSet::new();
         for m in markers {
             if !names.insert(m.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    field,
-                    &m.name,
-                    "duplicate marker name",
-                )));
+                return Err(self.repeated_name(list, &m.name, "marker"));
             }
         }
         Ok(())
     }
 
-    /// Check names, references and values. Errors name the file and the field.
+    /// Check names, references, values and sizes, once for every formulation. Errors name
+    /// the file, the line of the field (when found in the scene text) and the field.
     ///
     /// The parts of the scene are checked in a fixed order (solver, gravity, bodies,
-    /// ground, joints, drivers, forces, sensors) and the first error found is returned,
-    /// so that a scene with several mistakes always reports the same one.
+    /// ground, joints, drivers, forces, sensors, sizes, joined markers) and the first error
+    /// found is returned, so that a scene with several mistakes always reports the same
+    /// one. Every number is checked against its range in [`flexmbd_fe::bounds`] (finite, and
+    /// small enough that the arithmetic stays finite), so no formulation sees a NaN.
     pub fn validate(&self) -> Result<(), ModelError> {
         self.check_solver()?;
         self.check_gravity()?;
         self.check_bodies()?;
-        self.unique_marker_names("ground.name", &self.ground)?;
+        self.unique_marker_names("ground", &self.ground)?;
+        self.check_ground_values()?;
         self.check_joints()?;
         self.check_drivers()?;
+        self.check_one_driver_per_joint()?;
         self.check_forces()?;
-        self.check_sensors()
+        self.check_sensors()?;
+        self.check_sizes()?;
+        self.check_joined_markers_coincide()
     }
 
-    /// The solver settings: positive step, duration, tolerance and optional output
-    /// interval and penalty, and at least one Newton iteration.
+    /// The solver settings: positive step, duration and optional output interval (the step
+    /// count is bounded by the run), a tolerance in (0, 1] and a penalty in range, and a
+    /// Newton iteration limit of at least 1 and at most
+    /// [`flexmbd_fe::bounds::MAX_NEWTON_ITERATIONS`] (a diverging step must end).
     fn check_solver(&self) -> Result<(), ModelError> {
         let s = &self.solver;
         require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
@@ -91,31 +114,21 @@ impl Scene {
         if let Some(o) = s.output_interval {
             require_positive("solver.output_interval", o).map_err(|e| self.invalid(e))?;
         }
-        require_positive("solver.newton_tolerance", s.newton_tolerance)
-            .map_err(|e| self.invalid(e))?;
-        if s.max_iterations == 0 {
+        self.in_range(
+            flexmbd_fe::bounds::NEWTON_TOLERANCE,
+            "solver.newton_tolerance",
+            s.newton_tolerance,
+        )?;
+        let most = flexmbd_fe::bounds::MAX_NEWTON_ITERATIONS;
+        if !(1..=most).contains(&s.max_iterations) {
             return Err(self.invalid(InvalidValue::new(
                 "solver.max_iterations",
-                0,
-                "must be at least 1",
+                s.max_iterations,
+                format!("must be in 1..={most} (a Newton iteration limit per step)"),
             )));
         }
         if let Some(p) = s.penalty {
-            require_positive("solver.penalty", p).map_err(|e| self.invalid(e))?;
-        }
-        Ok(())
-    }
-
-    /// Every gravity component must be finite.
-    fn check_gravity(&self) -> Result<(), ModelError> {
-        for (i, g) in self.gravity.0.iter().enumerate() {
-            if !g.is_finite() {
-                return Err(self.invalid(InvalidValue::new(
-                    format!("gravity[{i}]"),
-                    g,
-                    "must be finite",
-                )));
-            }
+            self.in_range(flexmbd_fe::bounds::PENALTY, "solver.penalty", p)?;
         }
         Ok(())
     }
@@ -126,19 +139,16 @@ impl Scene {
         for b in &self.bodies {
             if b.name == GROUND {
                 return Err(self.invalid(InvalidValue::new(
-                    "bodies.name",
+                    "bodies[ground].name",
                     GROUND,
                     "`ground` is the fixed body; choose another name",
                 )));
             }
             if !body_names.insert(b.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    "bodies.name",
-                    &b.name,
-                    "duplicate body name",
-                )));
+                return Err(self.repeated_name("bodies", &b.name, "body"));
             }
-            self.unique_marker_names(&format!("bodies[{}].markers.name", b.name), &b.markers)?;
+            self.unique_marker_names(&format!("bodies[{}].markers", b.name), &b.markers)?;
+            self.check_body_values(b)?;
             self.check_initial_modes(b)?;
             self.check_body_model(b)?;
         }
@@ -150,7 +160,9 @@ impl Scene {
     fn check_initial_modes(&self, b: &Body) -> Result<(), ModelError> {
         let field = format!("bodies[{}].initial_modes", b.name);
         let n_modes = match &b.model {
-            BodyModel::Beam(spec) if b.flexible => spec.boundary.len() + spec.normal_modes,
+            BodyModel::Beam(spec) if b.flexible => {
+                spec.boundary.len().saturating_add(spec.normal_modes)
+            }
             _ => 0,
         };
         if b.initial_modes.len() > n_modes {
@@ -187,14 +199,28 @@ impl Scene {
                         format!("the scene is {:?}", self.dim),
                     )));
                 }
-                spec.validate().map_err(|source| ModelError::Fe {
-                    file: self.origin.clone(),
-                    body: b.name.clone(),
-                    source: Box::new(source),
-                })?;
+                spec.validate()
+                    .map_err(|source| self.fe_error(&b.name, source))?;
             }
         }
         Ok(())
+    }
+
+    /// The refusal of body `body`'s FE model, with the line of the refused field.
+    pub(crate) fn fe_error(&self, body: &str, source: flexmbd_fe::FeError) -> ModelError {
+        let line = match &source {
+            flexmbd_fe::FeError::Invalid(e) => crate::lines::line_of(
+                &self.source,
+                &format!("bodies[{body}].model.Beam.{}", e.field),
+            ),
+            _ => None,
+        };
+        ModelError::Fe {
+            file: self.origin.clone(),
+            line,
+            body: body.to_string(),
+            source: Box::new(source),
+        }
     }
 
     /// Each joint in turn; joint names must be unique.
@@ -202,13 +228,10 @@ impl Scene {
         let mut joint_names = HashSet::new();
         for j in &self.joints {
             if !joint_names.insert(j.name.as_str()) {
-                return Err(self.invalid(InvalidValue::new(
-                    "joints.name",
-                    &j.name,
-                    "duplicate joint name",
-                )));
+                return Err(self.repeated_name("joints", &j.name, "joint"));
             }
             self.check_joint(j)?;
+            self.check_joint_axes(&j.name, &j.kind)?;
         }
         Ok(())
     }
@@ -248,30 +271,33 @@ impl Scene {
         Ok(())
     }
 
-    /// Each driver must drive an existing joint with a single coordinate (not Free),
-    /// and a SpinUp law needs a positive ramp time.
+    /// Each driver must drive an existing joint with a single coordinate (revolute or
+    /// prismatic),
+    /// with its law's parameters in range (a SpinUp law needs a positive ramp time).
     fn check_drivers(&self) -> Result<(), ModelError> {
         for d in &self.drivers {
             let Some(j) = self.joints.iter().find(|j| j.name == d.joint) else {
                 return Err(self.missing(format!("drivers[{}].joint", d.name), "joint", &d.joint));
             };
-            if matches!(j.kind, JointKind::Free) {
+            if !has_one_coordinate(&j.kind) {
                 return Err(self.invalid(InvalidValue::new(
                     format!("drivers[{}].joint", d.name),
                     &d.joint,
-                    "a Free joint has no single coordinate to drive",
+                    format!(
+                        "only revolute (angle) and prismatic (distance) joints can be driven; \
+                         `{}` is {}",
+                        d.joint,
+                        kind_name(&j.kind)
+                    ),
                 )));
             }
-            if let crate::scene::MotionLaw::SpinUp { t_s, .. } = d.law {
-                require_positive(&format!("drivers[{}].law.SpinUp.t_s", d.name), t_s)
-                    .map_err(|e| self.invalid(e))?;
-            }
+            self.check_law(&d.name, &d.law)?;
         }
         Ok(())
     }
 
-    /// Each spring-damper: existing markers, and non-negative stiffness, damping and
-    /// (if given) free length.
+    /// Each spring-damper: existing markers, and stiffness, damping and (if given) free
+    /// length non-negative and in range.
     fn check_forces(&self) -> Result<(), ModelError> {
         for force in &self.forces {
             let Force::SpringDamper {
@@ -280,18 +306,12 @@ impl Scene {
                 marker1,
                 body2,
                 marker2,
-                stiffness,
-                damping,
-                free_length,
+                ..
             } = force;
             let item = |f: &str| format!("forces[{name}].{f}");
             self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
             self.check_marker(&item("body2"), body2, &item("marker2"), marker2)?;
-            require_non_negative(&item("stiffness"), *stiffness).map_err(|e| self.invalid(e))?;
-            require_non_negative(&item("damping"), *damping).map_err(|e| self.invalid(e))?;
-            if let Some(l) = free_length {
-                require_non_negative(&item("free_length"), *l).map_err(|e| self.invalid(e))?;
-            }
+            self.check_force_values(force)?;
         }
         Ok(())
     }
@@ -301,12 +321,15 @@ impl Scene {
     fn check_sensors(&self) -> Result<(), ModelError> {
         let mut sensor_names = HashSet::new();
         for sn in &self.sensors {
-            if !sensor_names.insert(sn.name.as_str()) || sn.name == "t" {
+            if sn.name == "t" {
                 return Err(self.invalid(InvalidValue::new(
-                    "sensors.name",
-                    &sn.name,
-                    "duplicate sensor name (or `t`)",
+                    "sensors[t].name",
+                    "t",
+                    "`t` is the time column of the output; choose another name",
                 )));
+            }
+            if !sensor_names.insert(sn.name.as_str()) {
+                return Err(self.repeated_name("sensors", &sn.name, "sensor"));
             }
             self.check_sensor(sn)?;
         }
@@ -314,7 +337,7 @@ impl Scene {
     }
 
     /// One sensor: a displacement only from a Position sensor, and what its kind
-    /// measures must exist (marker and frame, joint with one coordinate, modal index).
+    /// measures must exist (marker and frame, a revolute or prismatic joint, modal index).
     fn check_sensor(&self, sn: &Sensor) -> Result<(), ModelError> {
         let item = |f: &str| format!("sensors[{}].{f}", sn.name);
         if sn.displacement && !matches!(sn.kind, SensorKind::Position { .. }) {
@@ -349,11 +372,15 @@ impl Scene {
                 let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
                     return Err(self.missing(item("joint"), "joint", joint));
                 };
-                if matches!(j.kind, JointKind::Free) {
+                if !has_one_coordinate(&j.kind) {
                     return Err(self.invalid(InvalidValue::new(
                         item("joint"),
                         joint,
-                        "a Free joint has no single coordinate; use Position/Velocity sensors on its body",
+                        format!(
+                            "a joint coordinate is defined for revolute (angle) and prismatic \
+                             (slide) joints only; `{joint}` is {} (use Position/Velocity sensors)",
+                            kind_name(&j.kind)
+                        ),
                     )));
                 }
             }
@@ -371,9 +398,11 @@ impl Scene {
             return Err(self.missing(item("body"), "body", body));
         };
         let n = match &b.model {
-            BodyModel::Beam(spec) if b.flexible => {
-                spec.boundary.len() + spec.normal_modes + spec.axial_modes
-            }
+            BodyModel::Beam(spec) if b.flexible => spec
+                .boundary
+                .len()
+                .saturating_add(spec.normal_modes)
+                .saturating_add(spec.axial_modes),
             _ => 0,
         };
         if index >= n {
@@ -401,6 +430,7 @@ impl Scene {
         };
         ModelError::Missing {
             file: self.origin.clone(),
+            line: crate::lines::line_of(&self.source, &item),
             item,
             kind,
             name: name.to_string(),
@@ -427,6 +457,7 @@ impl Scene {
             let hint = format!(" (markers of `{body}`: {})", markers.join(", "));
             return Err(ModelError::Missing {
                 file: self.origin.clone(),
+                line: crate::lines::line_of(&self.source, marker_item),
                 item: marker_item.to_string(),
                 kind: "marker",
                 name: marker.to_string(),
@@ -445,7 +476,7 @@ impl Scene {
         if sets.is_empty() {
             return Ok(());
         }
-        let origin = self.origin.clone();
+        let (origin, source) = (self.origin.clone(), self.source.clone());
         let mut tree = serde_json::to_value(&*self).map_err(|e| ModelError::Set {
             path: String::new(),
             message: e.to_string(),
@@ -462,6 +493,7 @@ impl Scene {
             message: e.to_string(),
         })?;
         scene.origin = origin;
+        scene.source = source;
         for b in &mut scene.bodies {
             if let BodyModel::Beam(spec) = &mut b.model {
                 spec.origin = format!("{}: bodies[{}]", scene.origin, b.name);
@@ -528,6 +560,28 @@ impl Scene {
                 _ => 0.0,
             })
             .collect()
+    }
+}
+
+/// Whether a joint has the single coordinate a driver or a JointCoordinate sensor names:
+/// a revolute's angle or a prismatic's slide.
+fn has_one_coordinate(kind: &JointKind) -> bool {
+    matches!(
+        kind,
+        JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+    )
+}
+
+/// The variant name of a joint kind, for messages.
+fn kind_name(kind: &JointKind) -> &'static str {
+    match kind {
+        JointKind::Revolute { .. } => "Revolute",
+        JointKind::Spherical => "Spherical",
+        JointKind::Universal { .. } => "Universal",
+        JointKind::Prismatic { .. } => "Prismatic",
+        JointKind::Cylindrical { .. } => "Cylindrical",
+        JointKind::Rigid => "Rigid",
+        JointKind::Free => "Free",
     }
 }
 

@@ -79,6 +79,10 @@ pub struct Scene {
     /// File the scene was read from (named in errors).
     #[serde(skip)]
     pub origin: String,
+    /// The text the scene was read from (empty for a scene built in code): validation
+    /// errors find the line of their field in it ([`crate::lines`]).
+    #[serde(skip)]
+    pub source: String,
 }
 
 /// A named point of a body, in body-frame components (m). On a flexible body it
@@ -354,6 +358,7 @@ impl Force {
         if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
             return Err(crate::ModelError::Invalid {
                 file: origin.to_string(),
+                line: None,
                 error: flexmbd_core::InvalidValue::new(
                     format!("forces[{name}]"),
                     format!("{body1}.{marker1} – {body2}.{marker2}"),

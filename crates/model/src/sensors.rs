@@ -93,14 +93,11 @@ impl<M, J> Sensors<M, J> {
         for (sensor, target) in scene.sensors.iter().zip(prepared.sensor_targets()) {
             let axis = |component: Axis| {
                 if scene.dim == Dim::Planar && component == Axis::Z {
-                    return Err(ModelError::Invalid {
-                        file: scene.origin.clone(),
-                        error: InvalidValue::new(
-                            format!("sensors[{}].component", sensor.name),
-                            "Z",
-                            "a planar scene has x and y components only",
-                        ),
-                    });
+                    return Err(scene.invalid(InvalidValue::new(
+                        format!("sensors[{}].component", sensor.name),
+                        "Z",
+                        "a planar scene has x and y components only",
+                    )));
                 }
                 Ok(component.index())
             };

@@ -31,7 +31,7 @@ impl Relative {
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
         rel.initial_coordinates(scene);
         rel.mass_map = rel.build_mass_map();
-        rel.initial_velocities(scene);
+        rel.initial_velocities(scene)?;
         rel.sensors = rel.build_sensors(prepared, &infos)?;
         rel.build_force_elements(prepared, &infos)?;
         Ok(rel)

@@ -2,14 +2,19 @@
 //! `initial_modes`) and ż(0) by the kinetic-energy-weighted least-squares fit of the scene's
 //! body velocities, M ż = Σ_k R_kᵀ M̄_k Z*_k, with the columns of R_k from velocity passes
 //! at ż = e_c (docs/methods.md §4.6). The integrator makes both consistent with the
-//! constraints (§5.4).
+//! constraints (§5.4). The fit's SVD sees only a finite, non-empty matrix and runs under an
+//! iteration cap, so no scene can make it panic or loop.
 
 use flexmbd_body::BodyState;
 use flexmbd_core::Dim;
-use flexmbd_model::Scene;
+use flexmbd_model::{ModelError, Scene};
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
 use crate::system::Relative;
+
+/// The SVD's iteration cap in the velocity fit (it converges in a few sweeps per singular
+/// value; the cap only turns a pathological matrix into an error instead of a hang).
+const SVD_MAX_ITERATIONS: usize = 100_000;
 
 impl Relative {
     /// z(0): the joints at their t = 0 placement (z = 0), the modes as given.
@@ -23,14 +28,19 @@ impl Relative {
     }
 
     /// ż(0): the kinetic-energy-weighted least-squares fit of the scene's body velocities,
-    /// M ż = Σ_k R_kᵀ M̄_k Z*_k (exact when the given velocities are consistent).
-    pub(crate) fn initial_velocities(&mut self, scene: &Scene) {
+    /// M ż = Σ_k R_kᵀ M̄_k Z*_k (exact when the given velocities are consistent). Nothing to
+    /// fit without coordinates; a fit whose matrix is not finite or whose SVD does not
+    /// converge is refused, naming the scene.
+    pub(crate) fn initial_velocities(&mut self, scene: &Scene) -> Result<(), ModelError> {
         let n = self.n_z;
+        if n == 0 {
+            return Ok(());
+        }
         let q0 = self.coordinates.q0.clone();
         let zero = DVector::zeros(n);
         self.kinematics(&q0, &zero);
-        let mut m = DMatrix::zeros(n, n);
-        let mut b = DVector::zeros(n);
+        let mut m = DMatrix::<f64>::zeros(n, n);
+        let mut b = DVector::<f64>::zeros(n);
         // Columns of R: velocity pass with ż = e_c.
         let nb = self.bodies.len();
         let mut cols: Vec<Vec<DVector<f64>>> = vec![Vec::new(); nb];
@@ -94,10 +104,25 @@ impl Relative {
                 }
             }
         }
-        let svd = m.svd(true, true);
+        let refuse = |what: &str| {
+            ModelError::Unsupported(format!(
+                "{}: the initial velocity fit (docs/methods.md §4.6) {what}",
+                scene.origin
+            ))
+        };
+        if !(m.iter().all(|x| x.is_finite()) && b.iter().all(|x| x.is_finite())) {
+            return Err(refuse(
+                "has non-finite terms: the placements or velocities are out of range",
+            ));
+        }
+        // The tolerance of `DMatrix::svd`, with a cap on the iterations.
+        let svd = m
+            .try_svd(true, true, 5.0 * f64::EPSILON, SVD_MAX_ITERATIONS)
+            .ok_or_else(|| refuse("did not converge"))?;
         let max_sv: f64 = svd.singular_values.max();
         if let Ok(x) = svd.solve(&b, 1e-12 * max_sv.max(1e-300)) {
             self.coordinates.qd0.copy_from(&x);
         }
+        Ok(())
     }
 }

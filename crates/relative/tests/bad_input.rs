@@ -82,8 +82,8 @@ fn redundant_closures_run_and_inconsistent_ones_are_refused() {
     eprintln!("redundant closure: max |ΔB0| {d:.1e} m over 1 s");
     assert!(d < 1e-8, "{d:e}");
     // Inconsistent: coupler2's far marker at 5 m, so the loop cannot close in any position
-    // (B1 is at most 2 m from A2 and B2 at most 1 m from it); a loop that can be assembled
-    // is moved onto its constraints at t = 0 instead.
+    // (B1 is at most 2 m from A2 and B2 at most 1 m from it): its joined markers do not
+    // coincide at t = 0, which the prepared scene refuses for both formulations alike.
     let mut bad = base;
     let coupler2 = bad
         .bodies
@@ -97,14 +97,13 @@ fn redundant_closures_run_and_inconsistent_ones_are_refused() {
         .unwrap()
         .position
         .0[0] = 5.0;
-    let mut f = relative(&bad);
-    let err = flexmbd_integrators::Ali3p::new(&mut f, 0.0, settings(&bad, 1e-3))
-        .err()
-        .expect("an inconsistent loop must not start")
-        .to_string();
+    let err = match flexmbd_model::PreparedScene::new(&bad) {
+        Ok(_) => panic!("an inconsistent loop must not start"),
+        Err(e) => e.to_string(),
+    };
     eprintln!("{err}");
     assert!(
-        err.to_lowercase().contains("consistent") || err.contains("Φ"),
+        err.contains("joints[B2]") && err.contains("must coincide at t = 0"),
         "{err}"
     );
 }

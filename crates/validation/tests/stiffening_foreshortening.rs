@@ -209,8 +209,15 @@ const ROUTE_TOL: f64 = 1e-13;
 fn fs0_refusals_are_clear() {
     // A joint beyond the root: the tip is a sensor point, not a joint.
     let mut s = scene(0.01);
+    // A ground point where the tip is, so that the joined markers coincide at t = 0.
+    let tip = s.undeformed_position("beam", "tip", None).unwrap();
+    s.ground.push(flexmbd::model::Marker {
+        name: "tip pin".into(),
+        position: flexmbd::model::V3([tip.x, tip.y, 0.0]),
+    });
     let mut j = s.joints[0].clone();
     j.name = "tip pin".into();
+    j.marker1 = "tip pin".into();
     j.marker2 = "tip".into();
     j.kind = flexmbd::model::JointKind::Revolute { axis: None };
     s.joints.push(j);

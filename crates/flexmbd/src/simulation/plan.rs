@@ -36,9 +36,7 @@ impl RunPlan {
         let steps = ratio.round().max(1.0);
         // `max` makes a NaN ratio 1 step: `steps` is a number, possibly infinite.
         if steps > MAX_STEPS as f64 {
-            return Err(ModelError::Invalid {
-                file: scene.origin.clone(),
-                error: InvalidValue::new(
+            return Err(scene.invalid(InvalidValue::new(
                     "solver.duration",
                     number(s.duration),
                     format!(
@@ -46,8 +44,7 @@ impl RunPlan {
                         number(ratio),
                         number(h)
                     ),
-                ),
-            });
+                )));
         }
         let mut warnings = Vec::new();
         if !is_whole(ratio) {

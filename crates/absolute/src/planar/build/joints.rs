@@ -104,14 +104,11 @@ impl Planar {
         let a = Vector2::new(axis.0[0], axis.0[1]);
         let norm = a.norm();
         if !norm.is_finite() || norm <= 1e-12 || axis.0[2].abs() > 1e-9 * norm {
-            return Err(ModelError::Invalid {
-                file: prepared.scene().origin.to_string(),
-                error: flexmbd_core::InvalidValue::new(
-                    format!("joints[{}].kind.Prismatic.axis", j.name),
-                    format!("{:?}", axis.0),
-                    "a planar sliding axis must be a non-zero vector in the x–y plane",
-                ),
-            });
+            return Err(prepared.scene().invalid(flexmbd_core::InvalidValue::new(
+                format!("joints[{}].kind.Prismatic.axis", j.name),
+                format!("{:?}", axis.0),
+                "a planar sliding axis must be a non-zero vector in the x–y plane",
+            )));
         }
         let a = a / a.norm();
         let p1 = self.marker_of(prepared, ends.first);

@@ -1,0 +1,239 @@
+//! The ranges input values must lie in, in one place, for the FE spec and for the scene
+//! (`flexmbd-model` checks its positions, velocities, gravity, drivers and forces against
+//! the same constants).
+//!
+//! A value outside its range is refused when the model is loaded, naming the field, the
+//! value and the range, instead of overflowing later into a NaN state or a singular matrix.
+//! The bounds are wide: they keep every product the formulations form (stiffness
+//! E·I/L³, inertia forces m·ω²·r, penalty terms) finite in `f64`, not physically plausible.
+//! The sizes (elements, FE DOFs) are bounded so that the dense FE matrices fit in memory;
+//! a refusal states what the model would need.
+
+use flexmbd_core::InvalidValue;
+
+/// A closed range `[min, max]` with its unit, as named in refusals.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// Smallest allowed value.
+    pub min: f64,
+    /// Largest allowed value.
+    pub max: f64,
+    /// Whether `min` itself is excluded (a strictly positive quantity).
+    pub open_min: bool,
+    /// SI unit, for the message.
+    pub unit: &'static str,
+}
+
+impl Range {
+    const fn symmetric(max: f64, unit: &'static str) -> Range {
+        Range {
+            min: -max,
+            max,
+            open_min: false,
+            unit,
+        }
+    }
+
+    const fn positive(max: f64, unit: &'static str) -> Range {
+        Range {
+            min: 0.0,
+            max,
+            open_min: true,
+            unit,
+        }
+    }
+
+    const fn non_negative(max: f64, unit: &'static str) -> Range {
+        Range {
+            min: 0.0,
+            max,
+            open_min: false,
+            unit,
+        }
+    }
+
+    /// Whether `x` is finite and in the range.
+    pub fn contains(&self, x: f64) -> bool {
+        x.is_finite()
+            && x <= self.max
+            && if self.open_min {
+                x > self.min
+            } else {
+                x >= self.min
+            }
+    }
+
+    /// `Ok(x)` when `x` is in the range, else a refusal of `field` naming the value and range.
+    pub fn check(&self, field: &str, x: f64) -> Result<f64, InvalidValue> {
+        if self.contains(x) {
+            return Ok(x);
+        }
+        let what = if x.is_finite() {
+            "out of range"
+        } else {
+            "must be finite"
+        };
+        Err(InvalidValue::new(
+            field,
+            number(x),
+            format!("{what}: allowed {self}"),
+        ))
+    }
+
+    /// Each component of `v` (named `field[k]`) in the range.
+    pub fn check_all(&self, field: &str, v: &[f64]) -> Result<(), InvalidValue> {
+        for (k, x) in v.iter().enumerate() {
+            self.check(&format!("{field}[{k}]"), *x)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Range {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let open = if self.open_min { '(' } else { '[' };
+        write!(f, "{open}{:e}, {:e}] {}", self.min, self.max, self.unit)
+    }
+}
+
+/// `x` as written in a refusal: plain when of moderate size, else in scientific notation
+/// (`1e308`, not 309 digits).
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if x.is_finite() && a != 0.0 && !(1e-4..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Coordinates of a point (markers, ground markers, body origins, centres of mass, polyline
+/// points) and lengths (free length of a spring), m.
+pub const POSITION: Range = Range::symmetric(1e6, "m");
+/// The length of one finite element (segment length / elements per segment), m: above zero
+/// by enough that E·I/L³ stays finite.
+pub const ELEMENT_LENGTH: Range = Range {
+    min: 1e-6,
+    max: 2e6,
+    open_min: false,
+    unit: "m",
+};
+/// A body's initial linear velocity components, m/s.
+pub const VELOCITY: Range = Range::symmetric(1e4, "m/s");
+/// A body's initial angular velocity components and driver rates, rad/s.
+pub const ANGULAR_VELOCITY: Range = Range::symmetric(1e4, "rad/s");
+/// Gravity components, m/s².
+pub const GRAVITY: Range = Range::symmetric(1e4, "m/s²");
+/// Angles (orientations, driver phases), rad.
+pub const ANGLE: Range = Range::symmetric(1e6, "rad");
+/// Components of a direction vector (axes); its norm must also reach [`MIN_AXIS_NORM`].
+pub const AXIS_COMPONENT: Range = Range::symmetric(1e6, "");
+/// The smallest norm of a direction vector that is normalised on use.
+pub const MIN_AXIS_NORM: f64 = 1e-6;
+/// Young's and shear moduli, Pa.
+pub const MODULUS: Range = Range::positive(1e15, "Pa");
+/// Density, kg/m³.
+pub const DENSITY: Range = Range::positive(1e6, "kg/m³");
+/// Section dimensions (width, height, diameter), m.
+pub const SECTION_DIMENSION: Range = Range {
+    min: 1e-6,
+    max: 1e3,
+    open_min: false,
+    unit: "m",
+};
+/// Section area, m².
+pub const SECTION_AREA: Range = Range {
+    min: 1e-12,
+    max: 1e6,
+    open_min: false,
+    unit: "m²",
+};
+/// Section second moments and torsion constant, m⁴.
+pub const SECTION_INERTIA: Range = Range {
+    min: 1e-24,
+    max: 1e12,
+    open_min: false,
+    unit: "m⁴",
+};
+/// Stiffness-proportional damping coefficients a_K, s.
+pub const DAMPING_COEFFICIENT: Range = Range::non_negative(1e3, "s");
+/// Modal damping ratio ζ.
+pub const DAMPING_RATIO: Range = Range::non_negative(1e3, "");
+/// The mass of a rigid body, kg.
+pub const MASS: Range = Range::positive(1e12, "kg");
+/// Components of an inertia tensor, kg·m².
+pub const INERTIA: Range = Range::symmetric(1e15, "kg·m²");
+/// Spring stiffness, N/m.
+pub const SPRING_STIFFNESS: Range = Range::non_negative(1e15, "N/m");
+/// Damper coefficient, N·s/m.
+pub const SPRING_DAMPING: Range = Range::non_negative(1e15, "N·s/m");
+/// Initial modal coordinates (their scale is that of the modes: metres for the static modes).
+pub const MODAL_COORDINATE: Range = Range::symmetric(1e6, "");
+/// A driver's amplitude, rad or m.
+pub const AMPLITUDE: Range = Range::symmetric(1e6, "rad or m");
+/// A driver's frequency, Hz.
+pub const FREQUENCY: Range = Range::symmetric(1e4, "Hz");
+/// A time constant (the spin-up time), s.
+pub const TIME_CONSTANT: Range = Range::positive(1e6, "s");
+
+/// The Newton tolerance ε (relative in q, absolute in Φ): at most 1, a tolerance that
+/// accepts anything.
+pub const NEWTON_TOLERANCE: Range = Range::positive(1.0, "");
+/// An explicit penalty factor α (docs/methods.md §5.3): large enough for any scene, small
+/// enough that α·Φ stays finite.
+pub const PENALTY: Range = Range::positive(1e30, "");
+
+/// The largest Newton iteration limit per step: a step that diverges ends after at most this
+/// many iterations.
+pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
+
+/// The most FE DOFs one beam may have: its dense stiffness and mass matrices (and their
+/// Craig–Bampton blocks) are N × N.
+pub const MAX_FE_DOFS: usize = 2_400;
+
+/// Bytes of one dense N × N matrix of `f64`, saturating (for messages).
+pub fn dense_matrix_bytes(n: usize) -> u128 {
+    let n = n as u128;
+    n.saturating_mul(n).saturating_mul(8)
+}
+
+/// A byte count in words: "3.2 GB", "512 MB", "12 kB".
+pub fn human_bytes(bytes: u128) -> String {
+    const UNITS: [(&str, f64); 4] = [("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)];
+    let b = bytes as f64;
+    if b >= 1e15 {
+        return format!("{b:.1e} bytes");
+    }
+    for (unit, size) in UNITS {
+        if b >= size {
+            return format!("{:.1} {unit}", b / size);
+        }
+    }
+    format!("{bytes} B")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_refuses_non_finite_and_outside_values_naming_the_range() {
+        assert!(MODULUS.check("E", 2.1e11).is_ok());
+        let e = MODULUS.check("E", 1e20).unwrap_err().to_string();
+        assert_eq!(e, "E = 1e20: out of range: allowed (0e0, 1e15] Pa");
+        let e = POSITION.check("p", f64::NAN).unwrap_err().to_string();
+        assert!(e.contains("must be finite"), "{e}");
+        assert!(MODULUS.check("E", 0.0).is_err());
+        assert!(SPRING_STIFFNESS.check("k", 0.0).is_ok());
+    }
+
+    #[test]
+    fn byte_counts_read_in_units() {
+        assert_eq!(human_bytes(dense_matrix_bytes(100_000)), "80.0 GB");
+        assert_eq!(human_bytes(12), "12 B");
+        assert_eq!(dense_matrix_bytes(usize::MAX), u128::MAX);
+        assert_eq!(human_bytes(u128::MAX), "3.4e38 bytes");
+        assert_eq!(number(1e308), "1e308");
+        assert_eq!(number(-9.81), "-9.81");
+    }
+}
