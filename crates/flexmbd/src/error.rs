@@ -10,9 +10,10 @@ use flexmbd_model::ModelError;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// The scene was refused: unreadable, malformed, inconsistent, or a formulation cannot
-    /// run it (names the file, item and field).
+    /// run it (names the file, line, item and field). Boxed: a scene error carries its
+    /// file, field and names, and the error of every step need not be that large.
     #[error(transparent)]
-    Model(#[from] ModelError),
+    Model(Box<ModelError>),
     /// FE preprocessing refused a body model (e.g. [`crate::fe::reduce`] of a model file).
     #[error(transparent)]
     Fe(#[from] FeError),
@@ -51,6 +52,12 @@ pub enum Error {
         /// rows × columns × 8.
         bytes: u128,
     },
+}
+
+impl From<ModelError> for Error {
+    fn from(error: ModelError) -> Self {
+        Error::Model(Box::new(error))
+    }
 }
 
 impl Error {

@@ -120,16 +120,19 @@ fn a_streamed_run_allocates_nothing_per_row() {
 fn duration_1e17_is_refused_not_a_panic() {
     let mut scene = model("double_four_bar.ron");
     scene.solver.duration = 1e17;
-    let refusal = |e: Error| match e {
-        Error::Model(ModelError::Invalid { error, .. }) => {
-            assert_eq!(error.field, "solver.duration");
-            let text = error.to_string();
-            assert!(
-                text.contains("1e20 steps") && text.contains(&MAX_STEPS.to_string()),
-                "{text}"
-            );
-        }
-        e => panic!("not a refusal of solver.duration: {e}"),
+    let refusal = |e: Error| {
+        let Error::Model(model) = e else {
+            panic!("not a refusal of the scene: {e}")
+        };
+        let ModelError::Invalid { error, .. } = *model else {
+            panic!("not a refusal of solver.duration: {model}")
+        };
+        assert_eq!(error.field, "solver.duration");
+        let text = error.to_string();
+        assert!(
+            text.contains("1e20 steps") && text.contains(&MAX_STEPS.to_string()),
+            "{text}"
+        );
     };
     refusal(Simulation::new(&scene).err().expect("refused"));
     refusal(run(&scene, |_| {}).expect_err("refused"));
