@@ -92,7 +92,20 @@ impl Range {
 impl std::fmt::Display for Range {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let open = if self.open_min { '(' } else { '[' };
-        write!(f, "{open}{:e}, {:e}] {}", self.min, self.max, self.unit)
+        let bound = |x: f64| {
+            if x == 0.0 {
+                "0".into()
+            } else {
+                format!("{x:e}")
+            }
+        };
+        write!(
+            f,
+            "{open}{}, {}] {}",
+            bound(self.min),
+            bound(self.max),
+            self.unit
+        )
     }
 }
 
@@ -175,6 +188,9 @@ pub const AMPLITUDE: Range = Range::symmetric(1e6, "rad or m");
 pub const FREQUENCY: Range = Range::symmetric(1e4, "Hz");
 /// A time constant (the spin-up time), s.
 pub const TIME_CONSTANT: Range = Range::positive(1e6, "s");
+/// The solver's times: step, duration, output interval, s (a step of 1e308 s made
+/// t = 1e308 s and a singular leading matrix instead of a refusal).
+pub const SOLVER_TIME: Range = Range::positive(1e6, "s");
 
 /// The Newton tolerance ε (relative in q, absolute in Φ): at most 1, a tolerance that
 /// accepts anything.
@@ -220,7 +236,7 @@ mod tests {
     fn a_range_refuses_non_finite_and_outside_values_naming_the_range() {
         assert!(MODULUS.check("E", 2.1e11).is_ok());
         let e = MODULUS.check("E", 1e20).unwrap_err().to_string();
-        assert_eq!(e, "E = 1e20: out of range: allowed (0e0, 1e15] Pa");
+        assert_eq!(e, "E = 1e20: out of range: allowed (0, 1e15] Pa");
         let e = POSITION.check("p", f64::NAN).unwrap_err().to_string();
         assert!(e.contains("must be finite"), "{e}");
         assert!(MODULUS.check("E", 0.0).is_err());

@@ -109,10 +109,11 @@ impl Scene {
     /// [`flexmbd_fe::bounds::MAX_NEWTON_ITERATIONS`] (a diverging step must end).
     fn check_solver(&self) -> Result<(), ModelError> {
         let s = &self.solver;
-        require_positive("solver.step", s.step).map_err(|e| self.invalid(e))?;
-        require_positive("solver.duration", s.duration).map_err(|e| self.invalid(e))?;
+        let time = flexmbd_fe::bounds::SOLVER_TIME;
+        self.in_range(time, "solver.step", s.step)?;
+        self.in_range(time, "solver.duration", s.duration)?;
         if let Some(o) = s.output_interval {
-            require_positive("solver.output_interval", o).map_err(|e| self.invalid(e))?;
+            self.in_range(time, "solver.output_interval", o)?;
         }
         self.in_range(
             flexmbd_fe::bounds::NEWTON_TOLERANCE,

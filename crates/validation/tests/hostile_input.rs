@@ -331,3 +331,19 @@ fn joint_kind_mismatches_are_refused_the_same_in_both_formulations() {
         "{e}"
     );
 }
+
+#[test]
+fn huge_solver_step_is_refused_not_a_singular_matrix() {
+    // A step of 1e308 s used to run one step to t = 1e308 s and fail with a singular
+    // leading matrix; the solver's times are refused at load, naming the field and range.
+    let mut s = model("double_four_bar.ron");
+    s.solver.step = 1e308;
+    let e = refusal_in_both(&s);
+    assert!(
+        e.ends_with("solver.step = 1e308: out of range: allowed (0, 1e6] s"),
+        "{e}"
+    );
+    let mut s = model("double_four_bar.ron");
+    s.solver.duration = f64::INFINITY;
+    assert!(refusal_in_both(&s).contains("solver.duration = inf: must be finite"));
+}
