@@ -298,26 +298,34 @@ fn a_panic_is_an_internal_error_in_one_line() {
 }
 
 /// Issue 12: `--duration 1e17` panicked ("capacity overflow") and `--duration 1e8`
-/// aborted allocating 240 GB. Both are refused as invalid input naming solver.duration,
-/// the number of steps and the limit.
+/// aborted allocating 240 GB. Both are refused as invalid input: a duration beyond the
+/// solver's time range naming solver.duration and the range, and a duration within it but
+/// of more steps than a run may take naming the number of steps and the limit.
 #[test]
 fn duration_1e17_is_refused_not_a_panic() {
-    for (duration, steps) in [("1e17", "1e20 steps"), ("1e8", "100000000000 steps")] {
+    let cases = [
+        (["1e17", "1e-3"], "solver.duration = 1e17: out of range"),
+        (["1e8", "1e-3"], "solver.duration = 100000000: out of range"),
+        (["1e5", "1e-5"], "10000000000 steps"),
+    ];
+    for ([duration, step], refusal) in cases {
         let out = run([
             "simulate",
             &model("double_four_bar.ron"),
             "--duration",
             duration,
+            "--step",
+            step,
         ]);
         assert_eq!(code(&out), 3);
         let err = String::from_utf8(out.stderr).unwrap();
         assert!(
-            err.contains("double_four_bar.ron")
-                && err.contains("solver.duration")
-                && err.contains(steps)
-                && err.contains("1000000000 steps"),
+            err.contains("double_four_bar.ron") && err.contains(refusal),
             "{err}"
         );
+        if refusal.ends_with("steps") {
+            assert!(err.contains("limit of 1000000000 steps"), "{err}");
+        }
     }
 }
 
