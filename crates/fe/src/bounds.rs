@@ -93,8 +93,8 @@ impl std::fmt::Display for Range {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let open = if self.open_min { '(' } else { '[' };
         let bound = |x: f64| {
-            if x == 0.0 {
-                "0".into()
+            if x == 0.0 || x.abs() == 1.0 {
+                format!("{x}")
             } else {
                 format!("{x:e}")
             }
@@ -143,10 +143,22 @@ pub const ANGLE: Range = Range::symmetric(1e6, "rad");
 pub const AXIS_COMPONENT: Range = Range::symmetric(1e6, "");
 /// The smallest norm of a direction vector that is normalised on use.
 pub const MIN_AXIS_NORM: f64 = 1e-6;
-/// Young's and shear moduli, Pa.
-pub const MODULUS: Range = Range::positive(1e15, "Pa");
-/// Density, kg/m³.
-pub const DENSITY: Range = Range::positive(1e6, "kg/m³");
+/// Young's and shear moduli, Pa. Bounded below as well: a modulus or density near the
+/// smallest `f64` (1e-308) makes the FE matrices subnormal, and the eigensolver then spends
+/// seconds in subnormal arithmetic before it gives up (found by the fuzzer).
+pub const MODULUS: Range = Range {
+    min: 1.0,
+    max: 1e15,
+    open_min: false,
+    unit: "Pa",
+};
+/// Density, kg/m³ (bounded below as [`MODULUS`] is).
+pub const DENSITY: Range = Range {
+    min: 1e-3,
+    max: 1e6,
+    open_min: false,
+    unit: "kg/m³",
+};
 /// Section dimensions (width, height, diameter), m.
 pub const SECTION_DIMENSION: Range = Range {
     min: 1e-6,
@@ -173,7 +185,12 @@ pub const DAMPING_COEFFICIENT: Range = Range::non_negative(1e3, "s");
 /// Modal damping ratio ζ.
 pub const DAMPING_RATIO: Range = Range::non_negative(1e3, "");
 /// The mass of a rigid body, kg.
-pub const MASS: Range = Range::positive(1e12, "kg");
+pub const MASS: Range = Range {
+    min: 1e-9,
+    max: 1e12,
+    open_min: false,
+    unit: "kg",
+};
 /// Components of an inertia tensor, kg·m².
 pub const INERTIA: Range = Range::symmetric(1e15, "kg·m²");
 /// Spring stiffness, N/m.
@@ -236,7 +253,7 @@ mod tests {
     fn a_range_refuses_non_finite_and_outside_values_naming_the_range() {
         assert!(MODULUS.check("E", 2.1e11).is_ok());
         let e = MODULUS.check("E", 1e20).unwrap_err().to_string();
-        assert_eq!(e, "E = 1e20: out of range: allowed (0, 1e15] Pa");
+        assert_eq!(e, "E = 1e20: out of range: allowed [1, 1e15] Pa");
         let e = POSITION.check("p", f64::NAN).unwrap_err().to_string();
         assert!(e.contains("must be finite"), "{e}");
         assert!(MODULUS.check("E", 0.0).is_err());

@@ -347,3 +347,18 @@ fn huge_solver_step_is_refused_not_a_singular_matrix() {
     s.solver.duration = f64::INFINITY;
     assert!(refusal_in_both(&s).contains("solver.duration = inf: must be finite"));
 }
+
+#[test]
+fn subnormal_density_is_refused_not_a_slow_eigensolver() {
+    // Found by the fuzzer (seed 2026): a density of 1e-308 made the FE matrices subnormal
+    // and the eigensolver spent seconds before failing; moduli, densities and masses are
+    // bounded below as well as above.
+    let s = scene_text("flexible_pendulum_3d.ron", |t| {
+        t.replacen("7850.0", "1e-308", 1)
+    });
+    let e = refusal_in_both(&s);
+    assert!(
+        e.contains("density = 1e-308: out of range: allowed [1e-3, 1e6] kg/m³"),
+        "{e}"
+    );
+}
