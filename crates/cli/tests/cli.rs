@@ -2,16 +2,8 @@
 //! (CSV and JSON summary, failures), its exit codes, its panic report, and the checks of
 //! `--output` made before a run starts.
 
-use std::process::Command;
-
-fn flexmbd() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-}
-
-/// Run the binary with `args` and wait for its output.
-fn run<const N: usize>(args: [&str; N]) -> std::process::Output {
-    flexmbd().args(args).output().unwrap()
-}
+mod common;
+use common::{assert_contains_all, code, flexmbd, model, refused, run};
 
 /// The command succeeded (else its standard error is the message).
 fn assert_success(out: &std::process::Output) {
@@ -20,10 +12,6 @@ fn assert_success(out: &std::process::Output) {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-fn model(name: &str) -> String {
-    format!("{}/../../models/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 #[test]
@@ -62,14 +50,10 @@ fn a_bad_model_is_refused_with_file_and_field() {
         text.replace("young_modulus: 2.1e11", "young_modulus: -2.1e11"),
     )
     .unwrap();
-    let out = run(["modes", bad.to_str().unwrap()]);
-    assert!(!out.status.success());
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains("negative_modulus.ron")
-            && err.contains("young_modulus")
-            && err.contains("-210000000000"),
-        "{err}"
+    let err = refused(&["modes", bad.to_str().unwrap()]);
+    assert_contains_all(
+        &err,
+        &["negative_modulus.ron", "young_modulus", "-210000000000"],
     );
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -80,19 +64,21 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
     dir
 }
 
+/// `flexmbd simulate models/double_four_bar.ron ARGS… --output CSV`, waited for.
+fn four_bar_into(csv: &std::path::Path, args: &[&str]) -> std::process::Output {
+    flexmbd()
+        .args(["simulate", &model("double_four_bar.ron")])
+        .args(args)
+        .args(["--output", csv.to_str().unwrap()])
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn simulate_writes_csv_and_json_summary() {
     let dir = temp_dir("sim");
     let csv = dir.join("out.csv");
-    let out = run([
-        "simulate",
-        &model("double_four_bar.ron"),
-        "--duration",
-        "1",
-        "--json",
-        "--output",
-        csv.to_str().unwrap(),
-    ]);
+    let out = four_bar_into(&csv, &["--duration", "1", "--json"]);
     assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in [
@@ -129,15 +115,7 @@ fn simulate_is_deterministic_bit_for_bit() {
     let dir = temp_dir("det");
     let csv_of_a_run = |name: &str| {
         let p = dir.join(name);
-        let st = run([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--duration",
-            "2",
-            "--output",
-            p.to_str().unwrap(),
-        ])
-        .status;
+        let st = four_bar_into(&p, &["--duration", "2"]).status;
         assert!(st.success());
         std::fs::read(p).unwrap()
     };
@@ -150,17 +128,16 @@ fn simulate_failure_keeps_rows_and_reports_time_and_residual() {
     let dir = temp_dir("fail");
     let csv = dir.join("fail.csv");
     // A 0.3 s step cannot follow the mechanism through its first singular passage.
-    let out = run([
-        "simulate",
-        &model("double_four_bar.ron"),
-        "--step",
-        "0.3",
-        "--set",
-        "solver.output_interval=0.3",
-        "--json",
-        "--output",
-        csv.to_str().unwrap(),
-    ]);
+    let out = four_bar_into(
+        &csv,
+        &[
+            "--step",
+            "0.3",
+            "--set",
+            "solver.output_interval=0.3",
+            "--json",
+        ],
+    );
     assert!(!out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["status"], "failed");
@@ -177,57 +154,30 @@ fn simulate_failure_keeps_rows_and_reports_time_and_residual() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A flexible crank under foreshortening: FS0 refuses it when compiling (its tip static
+/// modes have axial content).
+const FS0_FLEXIBLE_CRANK: [&str; 4] = [
+    "--set",
+    "bodies.crank1.flexible=true",
+    "--stiffening",
+    "foreshortening",
+];
+
 #[test]
 fn simulate_refuses_unknown_set_paths_and_unsupported_options() {
-    let out = run([
-        "simulate",
-        &model("double_four_bar.ron"),
-        "--set",
-        "bodies.crank9.flexible=true",
-    ]);
-    assert!(!out.status.success());
-    let err = String::from_utf8(out.stderr).unwrap();
+    let scene = model("double_four_bar.ron");
+    let err = refused(&["simulate", &scene, "--set", "bodies.crank9.flexible=true"]);
     assert!(err.contains("crank9"), "{err}");
-    let out = run([
-        "simulate",
-        &model("double_four_bar.ron"),
-        "--set",
-        "bodies.crank1.flexible=true",
-        "--stiffening",
-        "foreshortening",
-    ]);
-    // FS0 refuses the flexible crank (its tip static modes have axial content).
-    assert!(!out.status.success());
-    assert!(
-        String::from_utf8(out.stderr)
-            .unwrap()
-            .contains("foreshortening (FS0)")
-    );
-    let out = run(["simulate", &model("double_four_bar.ron"), "--step", "-1"]);
-    assert!(!out.status.success());
-    assert!(
-        String::from_utf8(out.stderr)
-            .unwrap()
-            .contains("solver.step")
-    );
+    let err = refused(&[&["simulate", &scene][..], &FS0_FLEXIBLE_CRANK].concat());
+    assert!(err.contains("foreshortening (FS0)"), "{err}");
+    let err = refused(&["simulate", &scene, "--step", "-1"]);
+    assert!(err.contains("solver.step"), "{err}");
 }
 
 #[test]
 fn simulate_names_a_body_model_given_as_a_scene() {
-    let out = run(["simulate", &model("cantilever_2d.ron")]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("cantilever_2d.ron")
-            && err.contains("body model")
-            && err.contains("flexmbd modes"),
-        "{err}"
-    );
-}
-
-/// The exit code of a finished command (not killed by a signal).
-fn code(out: &std::process::Output) -> i32 {
-    out.status.code().expect("the program exited by itself")
+    let err = refused(&["simulate", &model("cantilever_2d.ron")]);
+    assert_contains_all(&err, &["cantilever_2d.ron", "body model", "flexmbd modes"]);
 }
 
 /// One exit code per kind of outcome: 2 usage, 3 invalid input (a refused value, a bad
@@ -247,13 +197,7 @@ fn exit_codes_name_the_outcome() {
         vec!["simulate", &scene, "--output", "no/such/dir/out.csv"],
         vec!["modes", "no/such/model.ron"],
     ] {
-        let out = flexmbd().args(&args).output().unwrap();
-        assert_eq!(
-            code(&out),
-            3,
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        refused(&args);
     }
     // The four-bar's first singular passage defeats a 0.3 s step: the run failed.
     let out = run(["simulate", &scene, "--step", "0.3", "--json"]);
@@ -308,21 +252,10 @@ fn duration_1e17_is_refused_not_a_panic() {
         (["1e8", "1e-3"], "solver.duration = 100000000: out of range"),
         (["1e5", "1e-5"], "10000000000 steps"),
     ];
+    let scene = model("double_four_bar.ron");
     for ([duration, step], refusal) in cases {
-        let out = run([
-            "simulate",
-            &model("double_four_bar.ron"),
-            "--duration",
-            duration,
-            "--step",
-            step,
-        ]);
-        assert_eq!(code(&out), 3);
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(
-            err.contains("double_four_bar.ron") && err.contains(refusal),
-            "{err}"
-        );
+        let err = refused(&["simulate", &scene, "--duration", duration, "--step", step]);
+        assert_contains_all(&err, &["double_four_bar.ron", refusal]);
         if refusal.ends_with("steps") {
             assert!(err.contains("limit of 1000000000 steps"), "{err}");
         }
@@ -334,7 +267,8 @@ fn duration_1e17_is_refused_not_a_panic() {
 /// at once, naming the file, with no summary.
 #[test]
 fn output_dev_full_is_refused_before_the_run() {
-    let out = run([
+    // `refused` checks that nothing is on standard output: no summary, the run did not start.
+    let err = refused(&[
         "simulate",
         &model("double_four_bar.ron"),
         "--duration",
@@ -343,13 +277,7 @@ fn output_dev_full_is_refused_before_the_run() {
         "--output",
         "/dev/full",
     ]);
-    assert_eq!(code(&out), 3);
-    assert!(out.stdout.is_empty(), "no summary: the run did not start");
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains("cannot write /dev/full") && err.contains("No space left"),
-        "{err}"
-    );
+    assert_contains_all(&err, &["cannot write /dev/full", "No space left"]);
 }
 
 /// Issue 12: an output in a directory that does not exist is refused before the scene is
@@ -358,21 +286,28 @@ fn output_dev_full_is_refused_before_the_run() {
 fn output_missing_directory_is_refused_before_loading() {
     let dir = temp_dir("missing-dir");
     let out_path = dir.join("no-such-dir").join("out.csv");
-    let out = run([
+    let out_path = out_path.to_str().unwrap();
+    let err = refused(&[
         "simulate",
         &model("cantilever_2d.ron"),
         "--output",
-        out_path.to_str().unwrap(),
+        out_path,
     ]);
-    assert_eq!(code(&out), 3);
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains(out_path.to_str().unwrap())
-            && err.contains("does not exist")
-            && !err.contains("body model"),
-        "{err}"
-    );
+    assert_contains_all(&err, &[out_path, "does not exist"]);
+    assert!(!err.contains("body model"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// What an earlier run left in its output, which a refused run leaves as it was.
+const EARLIER_RUN: &str = "an earlier run\n";
+
+/// A scratch directory (see [`temp_dir`]) holding an earlier run's output `old.csv`:
+/// (the directory, the file).
+fn with_earlier_output(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = temp_dir(tag);
+    let csv = dir.join("old.csv");
+    std::fs::write(&csv, EARLIER_RUN).unwrap();
+    (dir, csv)
 }
 
 /// Issue 12: a read-only output file is refused before the run (for root as for anyone)
@@ -380,23 +315,12 @@ fn output_missing_directory_is_refused_before_loading() {
 #[test]
 fn output_read_only_file_is_refused_and_left_untouched() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = temp_dir("read-only");
-    let csv = dir.join("old.csv");
-    std::fs::write(&csv, "an earlier run\n").unwrap();
+    let (dir, csv) = with_earlier_output("read-only");
     std::fs::set_permissions(&csv, std::fs::Permissions::from_mode(0o444)).unwrap();
-    let out = run([
-        "simulate",
-        &model("double_four_bar.ron"),
-        "--output",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(code(&out), 3);
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains(csv.to_str().unwrap()) && err.contains("read-only"),
-        "{err}"
-    );
-    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "an earlier run\n");
+    let path = csv.to_str().unwrap();
+    let err = refused(&["simulate", &model("double_four_bar.ron"), "--output", path]);
+    assert_contains_all(&err, &[path, "read-only"]);
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), EARLIER_RUN);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -412,14 +336,8 @@ fn output_equal_to_scene_is_refused() {
     std::fs::write(&scene, &text).unwrap();
     let same = dir.join("sub").join("..").join("scene.ron");
     for output in [&scene, &same] {
-        let out = run([
-            "simulate",
-            scene.to_str().unwrap(),
-            "--output",
-            output.to_str().unwrap(),
-        ]);
-        assert_eq!(code(&out), 3);
-        let err = String::from_utf8(out.stderr).unwrap();
+        let (scene, output) = (scene.to_str().unwrap(), output.to_str().unwrap());
+        let err = refused(&["simulate", scene, "--output", output]);
         assert!(err.contains("is the scene file"), "{err}");
     }
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
@@ -431,27 +349,20 @@ fn output_equal_to_scene_is_refused() {
 /// crank) leaves an earlier run's file as it was; a run that starts replaces it.
 #[test]
 fn refused_scene_leaves_existing_output_untouched() {
-    let dir = temp_dir("untouched");
-    let csv = dir.join("old.csv");
-    std::fs::write(&csv, "an earlier run\n").unwrap();
+    let (dir, csv) = with_earlier_output("untouched");
     let scene = model("double_four_bar.ron");
     let path = csv.to_str().unwrap();
-    for refused in [
+    for args in [
         vec!["simulate", &scene, "--step", "-1", "--output", path],
-        vec![
-            "simulate",
-            &scene,
-            "--set",
-            "bodies.crank1.flexible=true",
-            "--stiffening",
-            "foreshortening",
-            "--output",
-            path,
-        ],
+        [
+            &["simulate", &scene][..],
+            &FS0_FLEXIBLE_CRANK,
+            &["--output", path],
+        ]
+        .concat(),
     ] {
-        let out = flexmbd().args(&refused).output().unwrap();
-        assert_eq!(code(&out), 3, "{refused:?}");
-        assert_eq!(std::fs::read_to_string(&csv).unwrap(), "an earlier run\n");
+        refused(&args);
+        assert_eq!(std::fs::read_to_string(&csv).unwrap(), EARLIER_RUN);
     }
     let out = run(["simulate", &scene, "--duration", "0.02", "--output", path]);
     assert_eq!(code(&out), 0);
@@ -526,16 +437,8 @@ fn jsonl_rows_are_the_csv_rows() {
             assert_eq!(a.to_bits(), b.to_bits(), "{line}");
         }
     }
-    let out = run([
-        "simulate",
-        &scene,
-        "--output",
-        csv.to_str().unwrap(),
-        "--jsonl",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(code(&out), 3);
-    let err = String::from_utf8(out.stderr).unwrap();
+    let csv = csv.to_str().unwrap();
+    let err = refused(&["simulate", &scene, "--output", csv, "--jsonl", csv]);
     assert!(err.contains("is the --output file"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -25,31 +25,29 @@ pub struct Range {
 }
 
 impl Range {
-    const fn symmetric(max: f64, unit: &'static str) -> Range {
+    /// The closed range `[min, max]`.
+    const fn closed(min: f64, max: f64, unit: &'static str) -> Range {
         Range {
-            min: -max,
+            min,
             max,
             open_min: false,
             unit,
         }
+    }
+
+    const fn symmetric(max: f64, unit: &'static str) -> Range {
+        Range::closed(-max, max, unit)
     }
 
     const fn positive(max: f64, unit: &'static str) -> Range {
         Range {
-            min: 0.0,
-            max,
             open_min: true,
-            unit,
+            ..Range::closed(0.0, max, unit)
         }
     }
 
     const fn non_negative(max: f64, unit: &'static str) -> Range {
-        Range {
-            min: 0.0,
-            max,
-            open_min: false,
-            unit,
-        }
+        Range::closed(0.0, max, unit)
     }
 
     /// Whether `x` is finite and in the range.
@@ -125,12 +123,7 @@ pub fn number(x: f64) -> String {
 pub const POSITION: Range = Range::symmetric(1e6, "m");
 /// The length of one finite element (segment length / elements per segment), m: above zero
 /// by enough that E·I/L³ stays finite.
-pub const ELEMENT_LENGTH: Range = Range {
-    min: 1e-6,
-    max: 2e6,
-    open_min: false,
-    unit: "m",
-};
+pub const ELEMENT_LENGTH: Range = Range::closed(1e-6, 2e6, "m");
 /// A body's initial linear velocity components, m/s.
 pub const VELOCITY: Range = Range::symmetric(1e4, "m/s");
 /// A body's initial angular velocity components and driver rates, rad/s.
@@ -160,26 +153,11 @@ pub const DENSITY: Range = Range {
     unit: "kg/m³",
 };
 /// Section dimensions (width, height, diameter), m.
-pub const SECTION_DIMENSION: Range = Range {
-    min: 1e-6,
-    max: 1e3,
-    open_min: false,
-    unit: "m",
-};
+pub const SECTION_DIMENSION: Range = Range::closed(1e-6, 1e3, "m");
 /// Section area, m².
-pub const SECTION_AREA: Range = Range {
-    min: 1e-12,
-    max: 1e6,
-    open_min: false,
-    unit: "m²",
-};
+pub const SECTION_AREA: Range = Range::closed(1e-12, 1e6, "m²");
 /// Section second moments and torsion constant, m⁴.
-pub const SECTION_INERTIA: Range = Range {
-    min: 1e-24,
-    max: 1e12,
-    open_min: false,
-    unit: "m⁴",
-};
+pub const SECTION_INERTIA: Range = Range::closed(1e-24, 1e12, "m⁴");
 /// Stiffness-proportional damping coefficients a_K, s.
 pub const DAMPING_COEFFICIENT: Range = Range::non_negative(1e3, "s");
 /// Modal damping ratio ζ.

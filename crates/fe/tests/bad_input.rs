@@ -57,91 +57,93 @@ fn coincident_polyline_points() {
     );
 }
 
-#[test]
-fn zero_area() {
-    let mut s = base();
-    s.section = general(0.0, 1e-9, 1e-9, 2e-9);
-    assert_invalid(&s, "section.area", "0");
+/// One node DOF.
+fn at(node: usize, dof: Dof) -> NodeDof {
+    NodeDof { node, dof }
 }
 
+/// Each edit of the base cantilever is refused naming one field with its value:
+/// (case, edit, field, value), the case named as its test was.
 #[test]
-fn negative_width() {
-    let mut s = base();
-    s.section = Section::Rectangle {
-        width: -0.01,
-        height: 0.01,
-    };
-    assert_invalid(&s, "section.width", "-0.01");
-}
-
-#[test]
-fn negative_density() {
-    let mut s = base();
-    s.material.density = -7850.0;
-    assert_invalid(&s, "material.density", "-7850");
-}
-
-#[test]
-fn zero_modulus() {
-    let mut s = base();
-    s.material.young_modulus = 0.0;
-    assert_invalid(&s, "material.young_modulus", "0");
-}
-
-#[test]
-fn non_finite_modulus() {
-    let mut s = base();
-    s.material.young_modulus = f64::INFINITY;
-    assert_invalid(&s, "material.young_modulus", "inf");
-}
-
-#[test]
-fn negative_inertia() {
-    let mut s = base();
-    s.section = general(1e-4, 1e-9, -1e-9, 2e-9);
-    assert_invalid(&s, "section.iz", "-1e-9");
-}
-
-#[test]
-fn zero_elements() {
-    let mut s = base();
-    s.geometry.elements_per_segment = 0;
-    assert_invalid(&s, "geometry.elements_per_segment", "0");
-}
-
-#[test]
-fn boundary_on_missing_node() {
-    let mut s = base();
-    s.boundary = vec![NodeDof {
-        node: 5,
-        dof: Dof::Uy,
-    }];
-    assert_invalid(&s, "boundary[0].node", "5");
-}
-
-#[test]
-fn boundary_dof_invalid_in_2d() {
-    let mut s = base();
-    s.boundary = vec![NodeDof {
-        node: 4,
-        dof: Dof::Uz,
-    }];
-    assert_invalid(&s, "boundary[0].dof", "Uz");
+fn one_bad_value_is_refused_naming_field_and_value() {
+    type Edit = fn(&mut BeamBodySpec);
+    let cases: [(&str, Edit, &str, &str); 9] = [
+        (
+            "zero_area",
+            |s| s.section = general(0.0, 1e-9, 1e-9, 2e-9),
+            "section.area",
+            "0",
+        ),
+        (
+            "negative_width",
+            |s| {
+                s.section = Section::Rectangle {
+                    width: -0.01,
+                    height: 0.01,
+                }
+            },
+            "section.width",
+            "-0.01",
+        ),
+        (
+            "negative_density",
+            |s| s.material.density = -7850.0,
+            "material.density",
+            "-7850",
+        ),
+        (
+            "zero_modulus",
+            |s| s.material.young_modulus = 0.0,
+            "material.young_modulus",
+            "0",
+        ),
+        (
+            "non_finite_modulus",
+            |s| s.material.young_modulus = f64::INFINITY,
+            "material.young_modulus",
+            "inf",
+        ),
+        (
+            "negative_inertia",
+            |s| s.section = general(1e-4, 1e-9, -1e-9, 2e-9),
+            "section.iz",
+            "-1e-9",
+        ),
+        (
+            "zero_elements",
+            |s| s.geometry.elements_per_segment = 0,
+            "geometry.elements_per_segment",
+            "0",
+        ),
+        (
+            "boundary_on_missing_node",
+            |s| s.boundary = vec![at(5, Dof::Uy)],
+            "boundary[0].node",
+            "5",
+        ),
+        (
+            "boundary_dof_invalid_in_2d",
+            |s| s.boundary = vec![at(4, Dof::Uz)],
+            "boundary[0].dof",
+            "Uz",
+        ),
+    ];
+    for (case, edit, field, value) in cases {
+        let mut s = base();
+        edit(&mut s);
+        let e = invalid(&s);
+        assert_eq!(
+            (e.field.as_str(), e.value.as_str()),
+            (field, value),
+            "{case}"
+        );
+    }
 }
 
 #[test]
 fn duplicate_boundary_dof() {
     let mut s = base();
-    s.boundary = vec![
-        NodeDof {
-            node: 4,
-            dof: Dof::Uy,
-        },
-        NodeDof {
-            node: 4,
-            dof: Dof::Uy,
-        },
-    ];
+    s.boundary = vec![at(4, Dof::Uy), at(4, Dof::Uy)];
     let e = invalid(&s);
     assert_eq!(e.field, "boundary[1]");
     assert!(e.value.contains("node: 4") && e.value.contains("Uy"));
@@ -150,10 +152,7 @@ fn duplicate_boundary_dof() {
 #[test]
 fn boundary_dof_that_is_a_frame_dof() {
     let mut s = base();
-    s.boundary = vec![NodeDof {
-        node: 0,
-        dof: Dof::Rz,
-    }];
+    s.boundary = vec![at(0, Dof::Rz)];
     let e = invalid(&s);
     assert_eq!(e.field, "boundary[0]");
     assert!(e.reason.contains("frame"));
@@ -163,10 +162,7 @@ fn boundary_dof_that_is_a_frame_dof() {
 fn more_modes_than_the_model_has() {
     // 4 elements, 2D: 15 DOFs, 3 frame, 1 boundary → 11 interior.
     let mut s = base();
-    s.boundary = vec![NodeDof {
-        node: 4,
-        dof: Dof::Uy,
-    }];
+    s.boundary = vec![at(4, Dof::Uy)];
     s.normal_modes = 12;
     let e = assert_invalid(&s, "normal_modes", "12");
     assert!(e.reason.contains("11"));
@@ -193,20 +189,8 @@ fn chord_frame_in_3d_has_singular_interior() {
 fn pin_only_frame_makes_a_rigid_static_mode() {
     // methods.md §1.4 Pitfall: r = pin at A, b = {v_B}: the v_B "static mode" is a rigid rotation.
     let mut s = base();
-    s.frame = ReferenceFrame::Dofs(vec![
-        NodeDof {
-            node: 0,
-            dof: Dof::Ux,
-        },
-        NodeDof {
-            node: 0,
-            dof: Dof::Uy,
-        },
-    ]);
-    s.boundary = vec![NodeDof {
-        node: 4,
-        dof: Dof::Uy,
-    }];
+    s.frame = ReferenceFrame::Dofs(vec![at(0, Dof::Ux), at(0, Dof::Uy)]);
+    s.boundary = vec![at(4, Dof::Uy)];
     s.origin = "pitfall".into();
     match reduce(&s) {
         Err(e @ FeError::RigidStaticMode { .. }) => {
@@ -302,7 +286,6 @@ fn axial_modes_error_names_axial_modes() {
 fn hyperstatic_frame_is_refused() {
     // Four DOFs where a planar body has three rigid-body motions.
     let mut s = base();
-    let at = |node, dof| NodeDof { node, dof };
     s.frame = ReferenceFrame::Dofs(vec![
         at(0, Dof::Ux),
         at(0, Dof::Uy),

@@ -7,6 +7,9 @@ use flexmbd::simulation::run;
 use flexmbd::{Error, Simulation, integrators::IntegratorError};
 use flexmbd_test_support::scenes::model;
 
+mod common;
+use common::flexible_pendulums;
+
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
@@ -14,11 +17,8 @@ static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::C
 /// (output interval = one step), in both formulations.
 #[test]
 fn stepping_by_hand_reproduces_run() {
-    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
-        let mut scene = model("flexible_pendulum.ron");
-        scene.solver.formulation = form;
-        scene.solver.duration = 0.05;
-        scene.solver.output_interval = None;
+    for scene in flexible_pendulums(0.05, None) {
+        let form = scene.solver.formulation;
         let (summary, history) = run(&scene, |_| {}).unwrap();
         assert_eq!(summary.status, "ok");
         let mut sim = Simulation::new(&scene).unwrap();

@@ -5,34 +5,33 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use flexmbd::model::{FormulationKind, ModelError};
-use flexmbd::output::{Discard, RowSink};
+use flexmbd::model::ModelError;
+use flexmbd::output::{Discard, History, RowSink};
 use flexmbd::simulation::{MAX_STEPS, run, run_into};
 use flexmbd::{Error, Simulation};
 use flexmbd_test_support::scenes::model;
 
+mod common;
+use common::flexible_pendulums;
+
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
 
-/// A sink that keeps its rows and sets `stop` once it has `stop_after` of them.
-struct StopAfter<'a> {
-    header: Vec<String>,
-    rows: Vec<Vec<f64>>,
-    stop: &'a AtomicBool,
-    stop_after: usize,
+/// A sink that passes each row to `inner`, then to `watch` (which may set a stop flag or
+/// count allocations).
+struct Watched<S, F> {
+    inner: S,
+    watch: F,
 }
 
-impl RowSink for StopAfter<'_> {
-    fn header(&mut self, columns: &[String], _rows: usize) -> Result<(), Error> {
-        self.header = columns.to_vec();
-        Ok(())
+impl<S: RowSink, F: FnMut(&[f64])> RowSink for Watched<S, F> {
+    fn header(&mut self, columns: &[String], rows: usize) -> Result<(), Error> {
+        self.inner.header(columns, rows)
     }
 
     fn row(&mut self, values: &[f64]) -> Result<(), Error> {
-        self.rows.push(values.to_vec());
-        if self.rows.len() == self.stop_after {
-            self.stop.store(true, Ordering::Relaxed);
-        }
+        self.inner.row(values)?;
+        (self.watch)(values);
         Ok(())
     }
 }
@@ -42,25 +41,28 @@ impl RowSink for StopAfter<'_> {
 /// 7 of an uninterrupted run, in both formulations.
 #[test]
 fn a_stop_flag_interrupts_the_run_between_steps() {
-    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
-        let mut scene = model("flexible_pendulum.ron");
-        scene.solver.formulation = form;
-        scene.solver.duration = 0.1;
+    for scene in flexible_pendulums(0.1, Some(0.01)) {
+        let form = scene.solver.formulation;
         let (full, history) = run(&scene, |_| {}).unwrap();
         assert_eq!(full.status, "ok");
         let stop = AtomicBool::new(false);
-        let mut sink = StopAfter {
-            header: Vec::new(),
-            rows: Vec::new(),
-            stop: &stop,
-            stop_after: 7,
+        let mut rows = 0;
+        let mut sink = Watched {
+            inner: History::default(),
+            watch: |_: &[f64]| {
+                rows += 1;
+                if rows == 7 {
+                    stop.store(true, Ordering::Relaxed);
+                }
+            },
         };
         let summary = run_into(&scene, &mut sink, &stop, |_| {}).unwrap();
+        let kept = sink.inner;
         assert_eq!(summary.status, "interrupted", "{form:?}");
         assert_eq!(summary.rows, 7);
-        assert_eq!(sink.header, history.header);
-        assert_eq!(sink.rows, history.rows[..7], "{form:?}");
-        let t = sink.rows[6][0];
+        assert_eq!(kept.header, history.header);
+        assert_eq!(kept.rows, history.rows[..7], "{form:?}");
+        let t = kept.rows[6][0];
         assert_eq!(summary.simulated_seconds.to_bits(), t.to_bits(), "{form:?}");
         let message = summary.message.unwrap();
         assert!(message.contains(&format!("t = {t} s")), "{message}");
@@ -68,48 +70,29 @@ fn a_stop_flag_interrupts_the_run_between_steps() {
     }
 }
 
-/// Counts the allocations made between one row and the next (the steps, the sensors and
-/// the sink included), from the 4th row on.
-struct AllocationsPerRow {
-    last: usize,
-    rows: usize,
-    most: usize,
-}
-
-impl RowSink for AllocationsPerRow {
-    fn header(&mut self, _columns: &[String], _rows: usize) -> Result<(), Error> {
-        Ok(())
-    }
-
-    fn row(&mut self, _values: &[f64]) -> Result<(), Error> {
-        let now = flexmbd_test_support::allocations();
-        if self.rows >= 3 {
-            self.most = self.most.max(now - self.last);
-        }
-        self.rows += 1;
-        self.last = now;
-        Ok(())
-    }
-}
-
 /// The streaming loop adds no allocation to the steps': between two rows (one step each),
-/// nothing is allocated once the first steps have sized everything.
+/// nothing is allocated once the first steps have sized everything (counted from the 4th
+/// row on, the steps, the sensors and the sink included).
 #[test]
 fn a_streamed_run_allocates_nothing_per_row() {
-    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
-        let mut scene = model("flexible_pendulum.ron");
-        scene.solver.formulation = form;
-        scene.solver.duration = 0.03;
-        scene.solver.output_interval = None;
-        let mut sink = AllocationsPerRow {
-            last: 0,
-            rows: 0,
-            most: 0,
+    for scene in flexible_pendulums(0.03, None) {
+        let (mut last, mut rows, mut most) = (0, 0, 0);
+        let mut sink = Watched {
+            inner: Discard,
+            watch: |_: &[f64]| {
+                let now = flexmbd_test_support::allocations();
+                if rows >= 3 {
+                    most = most.max(now - last);
+                }
+                rows += 1;
+                last = now;
+            },
         };
         let summary = run_into(&scene, &mut sink, &AtomicBool::new(false), |_| {}).unwrap();
         assert_eq!(summary.status, "ok");
-        assert_eq!(sink.rows, 31);
-        assert_eq!(sink.most, 0, "{form:?}: allocations between two rows");
+        assert_eq!(rows, 31);
+        let form = scene.solver.formulation;
+        assert_eq!(most, 0, "{form:?}: allocations between two rows");
     }
 }
 

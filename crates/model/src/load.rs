@@ -8,9 +8,7 @@ use flexmbd_fe::reduced::Dof;
 use serde_json::Value;
 
 use crate::error::ModelError;
-use crate::scene::{
-    Body, BodyModel, Force, GROUND, Joint, JointKind, Marker, Scene, Sensor, SensorKind,
-};
+use crate::scene::{Body, BodyModel, GROUND, Joint, JointKind, Marker, Scene, Sensor, SensorKind};
 
 impl Scene {
     /// Parse RON text; `origin` names the file in errors. Not validated.
@@ -301,15 +299,8 @@ impl Scene {
     /// length non-negative and in range.
     fn check_forces(&self) -> Result<(), ModelError> {
         for force in &self.forces {
-            let Force::SpringDamper {
-                name,
-                body1,
-                marker1,
-                body2,
-                marker2,
-                ..
-            } = force;
-            let item = |f: &str| format!("forces[{name}].{f}");
+            let [(body1, marker1), (body2, marker2)] = force.ends();
+            let item = |f: &str| format!("forces[{}].{f}", force.name());
             self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
             self.check_marker(&item("body2"), body2, &item("marker2"), marker2)?;
             self.check_force_values(force)?;
@@ -348,27 +339,16 @@ impl Scene {
                 "only a Position sensor can report a displacement",
             )));
         }
+        if let Some((body, marker, frame)) = sn.kind.marker() {
+            self.check_marker(&item("body"), body, &item("marker"), marker)?;
+            if let Some(fr) = frame
+                && fr != GROUND
+                && !self.bodies.iter().any(|b| b.name == fr)
+            {
+                return Err(self.missing(item("frame"), "body", fr));
+            }
+        }
         match &sn.kind {
-            SensorKind::Position {
-                body,
-                marker,
-                frame,
-                ..
-            }
-            | SensorKind::Velocity {
-                body,
-                marker,
-                frame,
-                ..
-            } => {
-                self.check_marker(&item("body"), body, &item("marker"), marker)?;
-                if let Some(fr) = frame
-                    && fr != GROUND
-                    && !self.bodies.iter().any(|b| &b.name == fr)
-                {
-                    return Err(self.missing(item("frame"), "body", fr));
-                }
-            }
             SensorKind::JointCoordinate { joint } => {
                 let Some(j) = self.joints.iter().find(|j| &j.name == joint) else {
                     return Err(self.missing(item("joint"), "joint", joint));
@@ -386,7 +366,7 @@ impl Scene {
                 }
             }
             SensorKind::Modal { body, index } => self.check_modal_sensor(&sn.name, body, *index)?,
-            SensorKind::Energy => {}
+            SensorKind::Position { .. } | SensorKind::Velocity { .. } | SensorKind::Energy => {}
         }
         Ok(())
     }

@@ -376,32 +376,19 @@ fn repoint_to_substructures(
         }
     }
     for s in out.sensors.iter_mut() {
-        match &mut s.kind {
-            SensorKind::Position {
-                body,
-                marker,
-                frame,
-                ..
-            }
-            | SensorKind::Velocity {
-                body,
-                marker,
-                frame,
-                ..
-            } => {
-                split.remap(body, marker);
-                split.remap_frame(frame);
-            }
-            SensorKind::Modal { body, .. } if split.is_split(body) => {
-                return Err(refuse_substructuring(
-                    scene,
-                    format!(
-                        "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
-                        s.name
-                    ),
-                ));
-            }
-            _ => {}
+        if let Some((body, marker, frame)) = s.kind.marker_mut() {
+            split.remap(body, marker);
+            split.remap_frame(frame);
+        } else if let SensorKind::Modal { body, .. } = &s.kind
+            && split.is_split(body)
+        {
+            return Err(refuse_substructuring(
+                scene,
+                format!(
+                    "sensor `{}`: modal coordinates of a split beam do not exist under substructuring",
+                    s.name
+                ),
+            ));
         }
     }
     Ok(())

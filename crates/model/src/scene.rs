@@ -524,6 +524,47 @@ pub enum SensorKind {
     Energy,
 }
 
+impl SensorKind {
+    /// The marker a Position or Velocity sensor reads, (body, marker), and the body whose
+    /// frame its components are taken in (`None`: ground); `None` for the other kinds.
+    pub fn marker(&self) -> Option<(&str, &str, Option<&str>)> {
+        match self {
+            SensorKind::Position {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            } => Some((body, marker, frame.as_deref())),
+            _ => None,
+        }
+    }
+
+    /// The same, to rename them (a scene rewrite).
+    pub fn marker_mut(&mut self) -> Option<(&mut String, &mut String, &mut Option<String>)> {
+        match self {
+            SensorKind::Position {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            } => Some((body, marker, frame)),
+            _ => None,
+        }
+    }
+}
+
 /// Which formulation runs the scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum FormulationKind {

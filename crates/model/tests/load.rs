@@ -11,12 +11,23 @@ fn four_bar_text() -> String {
     std::fs::read_to_string(models_dir().join("double_four_bar.ron")).unwrap()
 }
 
-/// The validation error of the scene `text` (which parses).
-fn refused(text: &str) -> ModelError {
-    Scene::from_ron_str(text, "f.ron")
+/// The validation error of the double four-bar with `from` in its text replaced by `to`
+/// (the text still parses).
+fn refused_after(from: &str, to: &str) -> ModelError {
+    let text = four_bar_text();
+    assert!(text.contains(from), "the four-bar lacks {from:?}");
+    Scene::from_ron_str(&text.replace(from, to), "f.ron")
         .unwrap()
         .validate()
         .unwrap_err()
+}
+
+/// The message of `e` names each of `parts`.
+fn assert_names_all(e: &ModelError, parts: &[&str]) {
+    let msg = e.to_string();
+    for part in parts {
+        assert!(msg.contains(part), "lacks {part:?}: {msg}");
+    }
 }
 
 #[test]
@@ -50,31 +61,21 @@ fn misspelt_field_names_file_line_and_field() {
 
 #[test]
 fn joint_naming_a_missing_body_is_refused() {
-    let text = four_bar_text().replace(
+    let e = refused_after(
         "body2: \"coupler2\", marker2: \"B\"",
         "body2: \"coupler9\", marker2: \"B\"",
     );
-    let e = refused(&text);
     assert!(matches!(e, ModelError::Missing { kind: "body", .. }), "{e}");
-    let msg = e.to_string();
-    assert!(
-        msg.contains("joints[B2].body2") && msg.contains("coupler9"),
-        "{msg}"
-    );
+    assert_names_all(&e, &["joints[B2].body2", "coupler9"]);
 }
 
 #[test]
 fn sensor_on_a_missing_marker_is_refused() {
-    let text = four_bar_text().replace(
+    let e = refused_after(
         "(body: \"crank1\", marker: \"B\", component: Y)",
         "(body: \"crank1\", marker: \"C\", component: Y)",
     );
-    let e = refused(&text);
-    let msg = e.to_string();
-    assert!(
-        msg.contains("sensors[B0_y].marker") && msg.contains("`C`"),
-        "{msg}"
-    );
+    assert_names_all(&e, &["sensors[B0_y].marker", "`C`"]);
 }
 
 #[test]
@@ -83,11 +84,8 @@ fn non_positive_step_and_duration_are_refused() {
         ("step: 1e-3", "step: 0.0"),
         ("duration: 5.0", "duration: -1.0"),
     ] {
-        let text = four_bar_text().replace(field, bad);
-        let e = refused(&text);
-        let msg = e.to_string();
         let name = field.split(':').next().unwrap();
-        assert!(msg.contains(&format!("solver.{name}")), "{msg}");
+        assert_names_all(&refused_after(field, bad), &[&format!("solver.{name}")]);
     }
 }
 

@@ -27,11 +27,23 @@ fn refusal_in_both(scene: &Scene) -> String {
     std::mem::take(&mut messages[0])
 }
 
-/// The scene of `models/NAME` text after `edit`, parsed (not validated) with its source.
-fn scene_text(name: &str, edit: impl Fn(String) -> String) -> Scene {
+/// [`refusal_in_both`], checked to contain each of `parts`.
+fn refused_with(scene: &Scene, parts: &[&str]) -> String {
+    let e = refusal_in_both(scene);
+    for part in parts {
+        assert!(e.contains(part), "lacks {part:?}: {e}");
+    }
+    e
+}
+
+/// The refusal ([`refusal_in_both`]) of `models/NAME` with the first `from` in its text
+/// replaced by `to`, parsed (not validated) with its source.
+fn refusal_of_edit(name: &str, from: &str, to: &str) -> String {
     let path = models_dir().join(name);
-    let text = edit(std::fs::read_to_string(&path).unwrap());
-    Scene::from_ron_str(&text, &format!("models/{name}")).unwrap()
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains(from), "{name} lacks {from:?}");
+    let edited = text.replacen(from, to, 1);
+    refusal_in_both(&Scene::from_ron_str(&edited, &format!("models/{name}")).unwrap())
 }
 
 fn beam_of<'a>(scene: &'a mut Scene, body: &str) -> &'a mut flexmbd_fe::BeamBodySpec {
@@ -44,14 +56,11 @@ fn beam_of<'a>(scene: &'a mut Scene, body: &str) -> &'a mut flexmbd_fe::BeamBody
 
 #[test]
 fn nan_marker_position_is_refused_in_both_formulations() {
-    let s = scene_text("double_four_bar.ron", |t| {
-        t.replacen(
-            r#"(name: "A", position: [0.0, 0.0])"#,
-            r#"(name: "A", position: [NaN, 0.0])"#,
-            1,
-        )
-    });
-    let e = refusal_in_both(&s);
+    let e = refusal_of_edit(
+        "double_four_bar.ron",
+        r#"(name: "A", position: [0.0, 0.0])"#,
+        r#"(name: "A", position: [NaN, 0.0])"#,
+    );
     assert_eq!(
         e,
         "models/double_four_bar.ron:33: bodies[crank1].markers[A].position[0] = NaN: \
@@ -61,40 +70,38 @@ fn nan_marker_position_is_refused_in_both_formulations() {
 
 #[test]
 fn validation_error_names_the_line() {
-    // Each refusal names the line of its field in the file; a field the file omits has none.
-    let s = scene_text("double_four_bar.ron", |t| {
-        t.replace("gravity: [0.0, -9.81]", "gravity: [0.0, -1e308]")
-    });
-    let e = refusal_in_both(&s);
-    assert!(
-        e.starts_with("models/double_four_bar.ron:16: gravity[1] = -1e308"),
-        "{e}"
-    );
-    let s = scene_text("spin_up_beam_2d.ron", |t| {
-        t.replace("t_s: 15.0", "t_s: -1.0")
-    });
-    let e = refusal_in_both(&s);
-    assert!(
-        e.starts_with("models/spin_up_beam_2d.ron:61: drivers[spin].law.SpinUp.t_s"),
-        "{e}"
-    );
-    let s = scene_text("double_four_bar.ron", |t| {
-        t.replacen(r#"marker2: "A"),"#, r#"marker2: "Z"),"#, 1)
-    });
-    let e = refusal_in_both(&s);
-    assert!(
-        e.starts_with("models/double_four_bar.ron:85: joints[A0].marker2"),
-        "{e}"
-    );
-    // A name given twice: the line of the repeat.
-    let s = scene_text("double_four_bar.ron", |t| {
-        t.replacen(r#"(name: "B0""#, r#"(name: "A0""#, 1)
-    });
-    let e = refusal_in_both(&s);
-    assert!(
-        e.starts_with("models/double_four_bar.ron:86: joints[A0].name = A0: duplicate joint name"),
-        "{e}"
-    );
+    // Each refusal names the line of its field in the file; a field the file omits has none:
+    // (model, text, edited, the refusal's start).
+    for (name, from, to, start) in [
+        (
+            "double_four_bar.ron",
+            "gravity: [0.0, -9.81]",
+            "gravity: [0.0, -1e308]",
+            "models/double_four_bar.ron:16: gravity[1] = -1e308",
+        ),
+        (
+            "spin_up_beam_2d.ron",
+            "t_s: 15.0",
+            "t_s: -1.0",
+            "models/spin_up_beam_2d.ron:61: drivers[spin].law.SpinUp.t_s",
+        ),
+        (
+            "double_four_bar.ron",
+            r#"marker2: "A"),"#,
+            r#"marker2: "Z"),"#,
+            "models/double_four_bar.ron:85: joints[A0].marker2",
+        ),
+        // A name given twice: the line of the repeat.
+        (
+            "double_four_bar.ron",
+            r#"(name: "B0""#,
+            r#"(name: "A0""#,
+            "models/double_four_bar.ron:86: joints[A0].name = A0: duplicate joint name",
+        ),
+    ] {
+        let e = refusal_of_edit(name, from, to);
+        assert!(e.starts_with(start), "{e}");
+    }
 }
 
 #[test]
@@ -162,11 +169,7 @@ fn relative_with_no_bodies_does_not_panic() {
     s.bodies.clear();
     s.joints.clear();
     s.sensors.retain(|x| x.name == "energy");
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("bodies = []: the scene has no moving body"),
-        "{e}"
-    );
+    refused_with(&s, &["bodies = []: the scene has no moving body"]);
 }
 
 #[test]
@@ -193,10 +196,9 @@ fn second_driver_on_a_joint_is_refused() {
     second.name = "again".into();
     second.law = MotionLaw::ConstantRate(1.0);
     s.drivers.push(second);
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("drivers[again].joint = hub: joint `hub` is already driven by `spin`"),
-        "{e}"
+    refused_with(
+        &s,
+        &["drivers[again].joint = hub: joint `hub` is already driven by `spin`"],
     );
 }
 
@@ -205,11 +207,12 @@ fn non_coincident_joint_markers_refused_in_both_formulations() {
     let mut s = model("double_four_bar.ron");
     let coupler2 = s.bodies.iter_mut().find(|b| b.name == "coupler2").unwrap();
     coupler2.origin.0[1] += 0.01; // joined at B1b (its marker A) and B2
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("joints[B1b].marker2 = coupler2.A at (1.000000, 1.010000)")
-            && e.contains("joined markers must coincide at t = 0"),
-        "{e}"
+    refused_with(
+        &s,
+        &[
+            "joints[B1b].marker2 = coupler2.A at (1.000000, 1.010000)",
+            "joined markers must coincide at t = 0",
+        ],
     );
 }
 
@@ -223,23 +226,20 @@ fn hyperstatic_frame_is_refused() {
         at(0, Dof::Rz),
         at(10, Dof::Uy),
     ]);
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("body `bar`: frame.Dofs = 4 DOFs: hyperstatic"),
-        "{e}"
-    );
+    refused_with(&s, &["body `bar`: frame.Dofs = 4 DOFs: hyperstatic"]);
 }
 
 #[test]
 fn substructuring_100000_is_refused_with_memory() {
     let mut s = model("spin_up_beam_3d.ron");
     s.solver.stiffening = Stiffening::Substructuring(100_000);
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("solver.stiffening = Substructuring(100000): too many substructures")
-            && e.contains("about 1400000 coordinates")
-            && e.contains("15.7 TB each"),
-        "{e}"
+    refused_with(
+        &s,
+        &[
+            "solver.stiffening = Substructuring(100000): too many substructures",
+            "about 1400000 coordinates",
+            "15.7 TB each",
+        ],
     );
 }
 
@@ -247,28 +247,20 @@ fn substructuring_100000_is_refused_with_memory() {
 fn elements_per_segment_of_u64_max_is_refused_with_memory() {
     let mut s = model("flexible_pendulum.ron");
     beam_of(&mut s, "bar").geometry.elements_per_segment = usize::MAX;
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("55340232221128654848 FE DOFs") && e.contains("bytes each"),
-        "{e}"
-    );
+    refused_with(&s, &["55340232221128654848 FE DOFs", "bytes each"]);
 }
 
 #[test]
 fn axial_modes_error_names_axial_modes() {
     let mut s = model("spin_up_beam_2d.ron");
     beam_of(&mut s, "beam").axial_modes = 50;
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("axial_modes = 50") && !e.contains("normal modes requested"),
-        "{e}"
-    );
+    let e = refused_with(&s, &["axial_modes = 50"]);
+    assert!(!e.contains("normal modes requested"), "{e}");
     // Within the interior DOFs but more than the beam's 20 axial ones: found by the reduction.
     beam_of(&mut s, "beam").axial_modes = 25;
-    let e = refusal_in_both(&s);
-    assert!(
-        e.contains("axial_modes = 25: the model has only 20 purely axial"),
-        "{e}"
+    refused_with(
+        &s,
+        &["axial_modes = 25: the model has only 20 purely axial"],
     );
 }
 
@@ -289,47 +281,42 @@ fn every_model_still_loads() {
 fn joint_kind_mismatches_are_refused_the_same_in_both_formulations() {
     // Each used to run in one formulation (a driver or sensor silently ignored, an axis
     // silently projected) and be refused, differently worded, by the other.
-    let e = refusal_in_both(&scene_text("spin_up_beam_2d.ron", |t| {
-        t.replace(
+    // (model, text, edited, in the refusal).
+    for (name, from, to, refusal) in [
+        (
+            "spin_up_beam_2d.ron",
             r#"kind: Revolute(), body1: "ground""#,
             r#"kind: Rigid, body1: "ground""#,
-        )
-    }));
-    assert!(
-        e.contains(":61: drivers[spin].joint = hub: only revolute"),
-        "{e}"
-    );
-    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
-        t.replace(
+            ":61: drivers[spin].joint = hub: only revolute",
+        ),
+        (
+            "double_pendulum_3d.ron",
             r#"kind: JointCoordinate(joint: "hinge")"#,
             r#"kind: JointCoordinate(joint: "ball")"#,
-        )
-    }));
-    assert!(
-        e.contains(":44: sensors[hinge].joint = ball: a joint coordinate"),
-        "{e}"
-    );
-    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
-        t.replace("Revolute(axis: Some([1.0, 1.0, 0.5]))", "Revolute()")
-    }));
-    assert!(e.contains("joints[hinge].kind.Revolute.axis = None"), "{e}");
-    let e = refusal_in_both(&scene_text("double_pendulum_3d.ron", |t| {
-        t.replace(
+            ":44: sensors[hinge].joint = ball: a joint coordinate",
+        ),
+        (
+            "double_pendulum_3d.ron",
+            "Revolute(axis: Some([1.0, 1.0, 0.5]))",
+            "Revolute()",
+            "joints[hinge].kind.Revolute.axis = None",
+        ),
+        (
+            "double_pendulum_3d.ron",
             "Revolute(axis: Some([1.0, 1.0, 0.5]))",
             "Universal(axis1: [1.0, 0.0, 0.0], axis2: [1.0, 0.1, 0.0])",
-        )
-    }));
-    assert!(e.contains(":38: joints[hinge].kind.Universal.axis2"), "{e}");
-    let e = refusal_in_both(&scene_text("slider_crank.ron", |t| {
-        t.replace(
+            ":38: joints[hinge].kind.Universal.axis2",
+        ),
+        (
+            "slider_crank.ron",
             "Prismatic(axis: [1.0, 0.0])",
             "Prismatic(axis: [1.0, 0.0, 1.0])",
-        )
-    }));
-    assert!(
-        e.contains(":68: joints[rail].kind.Prismatic.axis = [1.0, 0.0, 1.0]"),
-        "{e}"
-    );
+            ":68: joints[rail].kind.Prismatic.axis = [1.0, 0.0, 1.0]",
+        ),
+    ] {
+        let e = refusal_of_edit(name, from, to);
+        assert!(e.contains(refusal), "{e}");
+    }
 }
 
 #[test]
@@ -345,7 +332,7 @@ fn huge_solver_step_is_refused_not_a_singular_matrix() {
     );
     let mut s = model("double_four_bar.ron");
     s.solver.duration = f64::INFINITY;
-    assert!(refusal_in_both(&s).contains("solver.duration = inf: must be finite"));
+    refused_with(&s, &["solver.duration = inf: must be finite"]);
 }
 
 #[test]
