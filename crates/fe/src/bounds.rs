@@ -139,19 +139,9 @@ pub const MIN_AXIS_NORM: f64 = 1e-6;
 /// Young's and shear moduli, Pa. Bounded below as well: a modulus or density near the
 /// smallest `f64` (1e-308) makes the FE matrices subnormal, and the eigensolver then spends
 /// seconds in subnormal arithmetic before it gives up (found by the fuzzer).
-pub const MODULUS: Range = Range {
-    min: 1.0,
-    max: 1e15,
-    open_min: false,
-    unit: "Pa",
-};
+pub const MODULUS: Range = Range::closed(1.0, 1e15, "Pa");
 /// Density, kg/m³ (bounded below as [`MODULUS`] is).
-pub const DENSITY: Range = Range {
-    min: 1e-3,
-    max: 1e6,
-    open_min: false,
-    unit: "kg/m³",
-};
+pub const DENSITY: Range = Range::closed(1e-3, 1e6, "kg/m³");
 /// Section dimensions (width, height, diameter), m.
 pub const SECTION_DIMENSION: Range = Range::closed(1e-6, 1e3, "m");
 /// Section area, m².
@@ -163,12 +153,7 @@ pub const DAMPING_COEFFICIENT: Range = Range::non_negative(1e3, "s");
 /// Modal damping ratio ζ.
 pub const DAMPING_RATIO: Range = Range::non_negative(1e3, "");
 /// The mass of a rigid body, kg.
-pub const MASS: Range = Range {
-    min: 1e-9,
-    max: 1e12,
-    open_min: false,
-    unit: "kg",
-};
+pub const MASS: Range = Range::closed(1e-9, 1e12, "kg");
 /// Components of an inertia tensor, kg·m².
 pub const INERTIA: Range = Range::symmetric(1e15, "kg·m²");
 /// Spring stiffness, N/m.
