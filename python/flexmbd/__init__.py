@@ -14,6 +14,8 @@ bit, as ``flexmbd simulate ... --output x.csv`` — or step it by hand::
 Refused input raises :class:`SceneError` (a ``ValueError``) naming the file, line, field
 and value; a failed step of a stepping simulation raises :class:`RunError`.
 
+``sweep`` runs a scene once per set of overrides, in a loop or on Dask distributed.
+
 Not yet here: inputs to a running simulation (driver values, forces, parameters between
 steps, issue 15 item 2) — the Rust API does not have them yet; equilibrium and linearised
 vibration as methods (same).
@@ -42,6 +44,7 @@ __all__ = [
     "load",
     "modes",
     "simulate",
+    "sweep",
 ]
 
 Sets = Union[Mapping[str, Any], Iterable[str], None]
@@ -289,8 +292,8 @@ class Simulation:
     ``step()`` advances one time step, ``advance_to(t)`` to a time; ``sensors()`` and
     ``sensor(name)`` read the sensors in between. A failed step raises :class:`RunError`
     and leaves the simulation at its last good state; ``checkpoint()`` / ``restore()``
-    return to a saved one. Stepping holds the GIL (the Rust simulation is tied to its
-    thread); use it from the thread that made it.
+    return to a saved one. The simulation runs on a thread of its own; a call waits for it
+    with the GIL released, so other Python threads run meanwhile.
 
     TODO (issue 15 item 2): inputs between steps — driver values, external forces and
     torques, parameters — once the Rust ``Simulation`` has them.
@@ -354,3 +357,6 @@ def modes(model: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:
     dict: the ``--json`` output of ``flexmbd modes``. Reduced with the GIL released.
     Raises :class:`SceneError` for a refused model."""
     return json.loads(_native.modes(os.fspath(model)))
+
+
+from .sweep import sweep  # noqa: E402  (it imports the names above)

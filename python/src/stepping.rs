@@ -1,18 +1,23 @@
 //! `Simulation`: a scene under way, stepped by the host — one step, or to a time; the
 //! sensors read between steps; checkpoints to return to.
 //!
-//! The Rust `Simulation` is not `Send` (its formulation is a trait object without that
-//! bound), so the class is `unsendable`: it is used from the thread that made it, and a
-//! step holds the GIL (one step is short; whole runs, `simulate`, release it).
+//! The Rust `Simulation` is not `Send` (its formulation is a `Box<dyn CompiledScene>`
+//! without that bound), while a Python object may be used, and is dropped by the garbage
+//! collector, on any thread. So each simulation lives on a thread of its own ([`serve`]),
+//! made with it; the Python object sends it [`Request`]s and waits for the [`Reply`] with
+//! the GIL released. It ends when the Python object is dropped.
 //!
 //! Inputs between steps (driver values, external forces, parameters: issue 15 item 2) are
 //! not in the Rust API yet, so not here either.
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, Sender, channel};
 
-use flexmbd::Simulation;
 use flexmbd::integrators::Checkpoint;
-use pyo3::exceptions::{PyKeyError, PyValueError};
+use flexmbd::model::Scene;
+use flexmbd::{Error, Simulation};
+use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::errors::to_py;
@@ -22,20 +27,101 @@ use crate::scene::PyScene;
 /// the simulation it was taken from (the Rust restore panics on another size).
 static NEXT_ID: AtomicU64 = AtomicU64::new(0);
 
+/// What the Python object asks of its simulation's thread.
+enum Request {
+    Step,
+    AdvanceTo(f64),
+    Sensors,
+    Checkpoint,
+    Restore(Box<Checkpoint>),
+    Counters,
+}
+
+/// The answer to a [`Request`], with the time after it.
+struct Reply {
+    time: f64,
+    outcome: Outcome,
+}
+
+/// What a [`Request`] gives back.
+enum Outcome {
+    Stepped(Result<(), Error>),
+    Sensors(Vec<f64>),
+    Checkpoint(Box<Checkpoint>),
+    Restored,
+    Counters(usize, usize, usize),
+}
+
+/// What the simulation's thread reports once the simulation is made: its sensor names
+/// and step size, or why it could not be made.
+type Started = Result<(Vec<String>, f64), Error>;
+
+/// The simulation's thread: make the simulation from `scene`, report on `started`, then
+/// answer each request until the Python object (the sender of `requests`) is gone.
+fn serve(
+    scene: Scene,
+    started: Sender<Started>,
+    requests: Receiver<Request>,
+    replies: Sender<Reply>,
+) {
+    let mut simulation = match Simulation::new(&scene) {
+        Ok(s) => s,
+        Err(e) => {
+            let _ = started.send(Err(e));
+            return;
+        }
+    };
+    let names = simulation.sensor_names().to_vec();
+    let mut sensors = vec![0.0; names.len()];
+    if started.send(Ok((names, simulation.step_size()))).is_err() {
+        return;
+    }
+    for request in requests {
+        let outcome = match request {
+            Request::Step => Outcome::Stepped(simulation.step()),
+            Request::AdvanceTo(t) => Outcome::Stepped(simulation.advance_to(t)),
+            Request::Sensors => {
+                simulation.read_sensors(&mut sensors);
+                Outcome::Sensors(sensors.clone())
+            }
+            Request::Checkpoint => Outcome::Checkpoint(Box::new(simulation.checkpoint())),
+            Request::Restore(checkpoint) => {
+                simulation.restore(&checkpoint);
+                Outcome::Restored
+            }
+            Request::Counters => {
+                let s = simulation.stats();
+                Outcome::Counters(s.steps, s.newton_iterations, s.factorizations)
+            }
+        };
+        let reply = Reply {
+            time: simulation.time(),
+            outcome,
+        };
+        if replies.send(reply).is_err() {
+            return;
+        }
+    }
+}
+
 /// A stepping simulation of a scene, at t = 0 in consistent initial conditions when made.
-#[pyclass(name = "Simulation", module = "flexmbd._native", unsendable)]
+#[pyclass(name = "Simulation", module = "flexmbd._native")]
 pub struct PySimulation {
-    simulation: Simulation,
+    requests: Sender<Request>,
+    /// In a mutex only to make the class `Sync` (the object's `&mut self` already
+    /// serialises the requests).
+    replies: Mutex<Receiver<Reply>>,
     id: u64,
-    /// A buffer for the sensors, allocated once.
-    sensors: Vec<f64>,
+    names: Vec<String>,
+    step_size: f64,
+    time: f64,
 }
 
 /// A saved state of one simulation (time, positions, velocities, accelerations,
 /// multipliers and the integrator's history).
 #[pyclass(name = "Checkpoint", module = "flexmbd._native", frozen)]
 pub struct PyCheckpoint {
-    checkpoint: Checkpoint,
+    checkpoint: Box<Checkpoint>,
     simulation: u64,
     time: f64,
 }
@@ -49,93 +135,146 @@ impl PyCheckpoint {
     }
 }
 
+impl PySimulation {
+    /// Send `request` to the simulation's thread and wait for its outcome, the GIL released.
+    fn ask(&mut self, py: Python<'_>, request: Request) -> PyResult<Outcome> {
+        let (requests, replies) = (&self.requests, &self.replies);
+        let reply = py.detach(|| {
+            requests.send(request).ok()?;
+            replies.lock().ok()?.recv().ok()
+        });
+        let reply =
+            reply.ok_or_else(|| PyRuntimeError::new_err("the simulation's thread has ended"))?;
+        self.time = reply.time;
+        Ok(reply.outcome)
+    }
+
+    /// Step as `request` asks; a failed step as `RunError`.
+    fn stepped(&mut self, py: Python<'_>, request: Request) -> PyResult<()> {
+        match self.ask(py, request)? {
+            Outcome::Stepped(result) => result.map_err(|e| to_py(py, &e)),
+            _ => Err(unexpected()),
+        }
+    }
+}
+
+/// The error of a reply that does not answer its request (a defect of this module).
+fn unexpected() -> PyErr {
+    PyRuntimeError::new_err("the simulation's thread answered another request")
+}
+
 #[pymethods]
 impl PySimulation {
     /// Compile `scene`, find its static equilibrium if it asks for one, and make the
-    /// initial conditions consistent.
+    /// initial conditions consistent (on the simulation's thread, the GIL released).
     #[new]
     fn new(py: Python<'_>, scene: &PyScene) -> PyResult<Self> {
-        let simulation = Simulation::new(&scene.scene).map_err(|e| to_py(py, &e))?;
-        let sensors = vec![0.0; simulation.sensor_names().len()];
+        let scene = scene.scene.clone();
+        let (started_tx, started_rx) = channel();
+        let (requests, requests_rx) = channel();
+        let (replies_tx, replies) = channel();
+        std::thread::Builder::new()
+            .name("flexmbd-simulation".into())
+            .spawn(move || serve(scene, started_tx, requests_rx, replies_tx))
+            .map_err(|e| {
+                PyRuntimeError::new_err(format!("cannot start the simulation's thread: {e}"))
+            })?;
+        let started = py
+            .detach(move || started_rx.recv())
+            .map_err(|_| PyRuntimeError::new_err("the simulation's thread has ended"))?;
+        let (names, step_size) = started.map_err(|e| to_py(py, &e))?;
         Ok(PySimulation {
-            simulation,
+            requests,
+            replies: Mutex::new(replies),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
-            sensors,
+            names,
+            step_size,
+            time: 0.0,
         })
     }
 
     /// Advance one time step; a failed step raises `RunError` (with its `time`) and leaves
     /// the simulation at its last good state.
     fn step(&mut self, py: Python<'_>) -> PyResult<()> {
-        self.simulation.step().map_err(|e| to_py(py, &e))
+        self.stepped(py, Request::Step)
     }
 
     /// Step until the time reaches `t` (s), as `flexmbd::Simulation::advance_to`.
     fn advance_to(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        self.simulation.advance_to(t).map_err(|e| to_py(py, &e))
+        self.stepped(py, Request::AdvanceTo(t))
     }
 
     /// The current time (s).
     #[getter]
     fn time(&self) -> f64 {
-        self.simulation.time()
+        self.time
     }
 
     /// The time step h (s).
     #[getter]
     fn step_size(&self) -> f64 {
-        self.simulation.step_size()
+        self.step_size
     }
 
     /// The sensor names, in the order of `sensors()`.
     #[getter]
     fn sensor_names(&self) -> Vec<String> {
-        self.simulation.sensor_names().to_vec()
+        self.names.clone()
     }
 
     /// The sensors at the current state, in `sensor_names` order.
-    fn sensors(&mut self) -> Vec<f64> {
-        self.simulation.read_sensors(&mut self.sensors);
-        self.sensors.clone()
+    fn sensors(&mut self, py: Python<'_>) -> PyResult<Vec<f64>> {
+        match self.ask(py, Request::Sensors)? {
+            Outcome::Sensors(values) => Ok(values),
+            _ => Err(unexpected()),
+        }
     }
 
     /// One sensor at the current state; `KeyError` for a name the scene does not have.
-    fn sensor(&mut self, name: &str) -> PyResult<f64> {
+    fn sensor(&mut self, py: Python<'_>, name: &str) -> PyResult<f64> {
         let k = self
-            .simulation
-            .sensor_names()
+            .names
             .iter()
             .position(|n| n == name)
             .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
-        self.simulation.read_sensors(&mut self.sensors);
-        Ok(self.sensors[k])
+        Ok(self.sensors(py)?[k])
     }
 
     /// Save the current state.
-    fn checkpoint(&self) -> PyCheckpoint {
-        PyCheckpoint {
-            checkpoint: self.simulation.checkpoint(),
-            simulation: self.id,
-            time: self.simulation.time(),
+    fn checkpoint(&mut self, py: Python<'_>) -> PyResult<PyCheckpoint> {
+        match self.ask(py, Request::Checkpoint)? {
+            Outcome::Checkpoint(checkpoint) => Ok(PyCheckpoint {
+                checkpoint,
+                simulation: self.id,
+                time: self.time,
+            }),
+            _ => Err(unexpected()),
         }
     }
 
     /// Return to a state saved by `checkpoint()` of this simulation; the next step is
     /// then the step taken from there before. A checkpoint of another simulation is
     /// refused (`ValueError`).
-    fn restore(&mut self, checkpoint: &PyCheckpoint) -> PyResult<()> {
+    fn restore(&mut self, py: Python<'_>, checkpoint: &PyCheckpoint) -> PyResult<()> {
         if checkpoint.simulation != self.id {
             return Err(PyValueError::new_err(
                 "this checkpoint was taken from another simulation",
             ));
         }
-        self.simulation.restore(&checkpoint.checkpoint);
-        Ok(())
+        let request = Request::Restore(checkpoint.checkpoint.clone());
+        match self.ask(py, request)? {
+            Outcome::Restored => Ok(()),
+            _ => Err(unexpected()),
+        }
     }
 
     /// Steps taken, Newton iterations and factorisations so far.
-    fn counters(&self) -> (usize, usize, usize) {
-        let stats = self.simulation.stats();
-        (stats.steps, stats.newton_iterations, stats.factorizations)
+    fn counters(&mut self, py: Python<'_>) -> PyResult<(usize, usize, usize)> {
+        match self.ask(py, Request::Counters)? {
+            Outcome::Counters(steps, iterations, factorizations) => {
+                Ok((steps, iterations, factorizations))
+            }
+            _ => Err(unexpected()),
+        }
     }
 }

@@ -72,3 +72,31 @@ def test_modes_of_a_missing_model_raises_scene_error():
     with pytest.raises(flexmbd.SceneError) as raised:
         flexmbd.modes("no/such/model.ron")
     assert raised.value.file == "no/such/model.ron"
+
+
+def test_a_simulation_used_and_dropped_on_another_thread_works():
+    # A Python object may be used, and collected, on any thread (Dask workers, the cyclic
+    # garbage collector): the simulation must not be tied to the thread that made it.
+    import threading
+
+    sim = flexmbd.Simulation(model("flexible_pendulum.ron"))
+    alone = flexmbd.Simulation(model("flexible_pendulum.ron"))
+    box, errors = [sim], []
+    del sim
+
+    def worker():
+        try:
+            for _ in range(10):
+                box[0].step()
+            box.append(box[0].sensors())
+            box.pop(0)  # the last reference, dropped here
+        except Exception as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    thread = threading.Thread(target=worker)
+    thread.start()
+    thread.join()
+    assert errors == []
+    for _ in range(10):
+        alone.step()
+    assert np.array_equal(box[0], alone.sensors())
