@@ -1,0 +1,362 @@
+"""flexmbd — real-time flexible multibody dynamics (U. Lugrís, 2008) from Python.
+
+Load a scene (a RON file of ``models/``, or a dict of the same shape), override any of its
+scalars, run it and get the sensor histories as NumPy arrays — the same numbers, bit for
+bit, as ``flexmbd simulate ... --output x.csv`` — or step it by hand::
+
+    import flexmbd
+    result = flexmbd.simulate("models/double_four_bar.ron", formulation="relative")
+    result.status            # "ok", "failed" or "interrupted"
+    result.t, result["B0"]   # NumPy arrays
+    sim = flexmbd.Simulation("models/flexible_pendulum.ron")
+    sim.advance_to(0.5); sim.sensor("tip_y")
+
+Refused input raises :class:`SceneError` (a ``ValueError``) naming the file, line, field
+and value; a failed step of a stepping simulation raises :class:`RunError`.
+
+``sweep`` runs a scene once per set of overrides, in a loop or on Dask distributed.
+
+Not yet here: inputs to a running simulation (driver values, forces, parameters between
+steps, issue 15 item 2) — the Rust API does not have them yet; equilibrium and linearised
+vibration as methods (same).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _native
+from ._errors import FlexmbdError, RunError, SceneError
+
+__all__ = [
+    "FlexmbdError",
+    "RunError",
+    "Result",
+    "Scene",
+    "SceneError",
+    "Simulation",
+    "Checkpoint",
+    "load",
+    "modes",
+    "simulate",
+    "sweep",
+]
+
+Sets = Union[Mapping[str, Any], Iterable[str], None]
+SceneLike = Union["Scene", str, "os.PathLike[str]", Mapping[str, Any]]
+
+
+def _set_text(path: str, value: Any) -> str:
+    """``PATH=VALUE`` with ``value`` written as the scene format reads it."""
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, float):
+        text = repr(value)  # the shortest text that reads back to the same double
+    else:
+        text = str(value)
+    return f"{path}={text}"
+
+
+def _set_list(sets: Sets) -> List[str]:
+    """The overrides as ``PATH=VALUE`` strings, from a dict or a list of strings."""
+    if sets is None:
+        return []
+    if isinstance(sets, Mapping):
+        return [_set_text(p, v) for p, v in sets.items()]
+    if isinstance(sets, str):
+        return [sets]
+    return [str(s) for s in sets]
+
+
+def _non_finite(tree: Any, path: str = "") -> Optional[tuple]:
+    """The first non-finite float in a dict scene: (dotted path, value), else None.
+
+    JSON has no NaN or infinity, so they are refused here, naming the field, before the
+    dict is handed to Rust. Items of a list are named by their ``name`` where they have one.
+    """
+    if isinstance(tree, float) and not math.isfinite(tree):
+        return path, tree
+    if isinstance(tree, Mapping):
+        for key, value in tree.items():
+            found = _non_finite(value, f"{path}.{key}" if path else str(key))
+            if found:
+                return found
+    elif isinstance(tree, (list, tuple)):
+        for i, item in enumerate(tree):
+            name = item.get("name") if isinstance(item, Mapping) else None
+            found = _non_finite(item, f"{path}[{name if name is not None else i}]")
+            if found:
+                return found
+    return None
+
+
+def _from_dict(tree: Mapping[str, Any]) -> "_native.Scene":
+    """A scene from a dict in the RON scene's shape (enums as ``{"Variant": {...}}``)."""
+    found = _non_finite(tree)
+    if found:
+        field, value = found
+        error = SceneError(f"<dict>: {field} = {value!r}: not a finite number")
+        error.file, error.field, error.value = "<dict>", field, repr(value)
+        error.reason = "not a finite number"
+        raise error
+    return _native.from_json(json.dumps(tree))
+
+
+class Scene:
+    """A validated scene: bodies, joints, forces, drivers, sensors and solver settings.
+
+    Made by :func:`load`. ``set`` changes it in place (validated again, unchanged when
+    refused); ``to_ron`` and ``to_dict`` give it back as text or as a dict.
+    """
+
+    __slots__ = ("_scene",)
+
+    def __init__(self, native: "_native.Scene") -> None:
+        self._scene = native
+
+    @property
+    def name(self) -> str:
+        """The scene's name."""
+        return self._scene.name
+
+    @property
+    def origin(self) -> str:
+        """The file it was read from (``"<dict>"`` for a dict)."""
+        return self._scene.origin
+
+    def set(self, path: str, value: Any) -> "Scene":
+        """Override one scalar, as ``--set PATH=VALUE`` does (e.g.
+        ``scene.set("bodies.crank1.flexible", True)``); returns the scene."""
+        self._scene.set_all([_set_text(path, value)])
+        return self
+
+    def update(self, sets: Sets) -> "Scene":
+        """Apply several overrides (a dict ``{path: value}`` or ``"PATH=VALUE"`` strings),
+        all or none; returns the scene."""
+        self._scene.set_all(_set_list(sets))
+        return self
+
+    def copy(self) -> "Scene":
+        """An independent copy."""
+        return Scene(self._scene.copy())
+
+    def to_ron(self) -> str:
+        """The scene as RON text; ``load`` of it gives the same scene."""
+        return self._scene.to_ron()
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The scene as a dict, in the shape :func:`load` reads."""
+        return json.loads(self._scene.to_json())
+
+    def __repr__(self) -> str:
+        return f"<flexmbd.Scene {self.name!r} from {self.origin!r}>"
+
+
+def load(source: SceneLike, sets: Sets = None) -> Scene:
+    """Load and validate a scene.
+
+    ``source`` is a path to a RON scene file, a dict in the scene's shape (as
+    ``Scene.to_dict`` gives it; errors then name ``<dict>``), or a :class:`Scene` (copied).
+    ``sets`` overrides scalars: a dict ``{"solver.step": 5e-4}`` or a list of
+    ``"PATH=VALUE"`` strings, applied as ``flexmbd simulate --set`` applies them.
+
+    Raises :class:`SceneError` for a refused scene or override.
+    """
+    if isinstance(source, Scene):
+        scene = source.copy()
+    elif isinstance(source, Mapping):
+        scene = Scene(_from_dict(source))
+    else:
+        scene = Scene(_native.load_file(os.fspath(source)))
+    if sets is not None:
+        scene.update(sets)
+    return scene
+
+
+class Result:
+    """The outcome of :func:`simulate`.
+
+    - ``status``: ``"ok"``, or ``"failed"`` (a step, the static start or the initial
+      conditions failed; ``failed_at`` and ``message`` say when and why, and the rows stop
+      there);
+    - ``summary``: the run summary, the fields of ``flexmbd simulate --json``;
+    - ``data``: every row, a 2-D float64 array with the columns ``columns`` (``t``, then
+      the sensors); ``t`` its first column, ``sensors`` the others, ``names`` their names;
+    - ``result["name"]``: one column (``"t"`` or a sensor).
+    """
+
+    def __init__(self, summary: Dict[str, Any], columns: List[str], data: np.ndarray) -> None:
+        self.summary = summary
+        self.columns = list(columns)
+        self.data = data
+
+    @property
+    def status(self) -> str:
+        """``"ok"`` or ``"failed"``."""
+        return self.summary["status"]
+
+    @property
+    def failed_at(self) -> Optional[float]:
+        """Time of the failed step (s), ``None`` for a run that did not fail."""
+        return self.summary.get("failed_at")
+
+    @property
+    def message(self) -> Optional[str]:
+        """Why the run failed."""
+        return self.summary.get("message")
+
+    @property
+    def t(self) -> np.ndarray:
+        """The output times (s)."""
+        return self.data[:, 0]
+
+    @property
+    def names(self) -> List[str]:
+        """The sensor names, the columns of ``sensors``."""
+        return self.columns[1:]
+
+    @property
+    def sensors(self) -> np.ndarray:
+        """The sensor histories, one column per sensor, one row per output time."""
+        return self.data[:, 1:]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.data[:, self.columns.index(name)]
+        except ValueError:
+            raise KeyError(name) from None
+
+    def raise_for_status(self) -> "Result":
+        """Raise :class:`RunError` (with ``time``) if the run failed; else return self."""
+        if self.status == "failed":
+            error = RunError(self.message or "the run failed")
+            error.time = self.failed_at
+            raise error
+        return self
+
+    def __repr__(self) -> str:
+        return f"<flexmbd.Result {self.status} {self.data.shape[0]} rows × {self.columns}>"
+
+
+def simulate(
+    source: SceneLike,
+    formulation: Optional[str] = None,
+    inertia: Optional[str] = None,
+    stiffening: Optional[str] = None,
+    step: Optional[float] = None,
+    duration: Optional[float] = None,
+    sets: Sets = None,
+) -> Result:
+    """Run a scene to its duration, as ``flexmbd simulate`` does, and return its
+    :class:`Result` (the same numbers as the program's ``--output`` CSV, bit for bit).
+
+    ``source`` is what :func:`load` takes. The options override the scene's solver settings
+    like the program's: ``formulation`` ``"absolute"`` or ``"relative"``; ``inertia``
+    ``"b-matrix"`` or ``"shape-integrals"``; ``stiffening`` ``"linear"``, ``"fnl1"``,
+    ``"fnl2"``, ``"foreshortening"`` or ``"substructuring:N"``; ``step`` and ``duration``
+    in seconds; ``sets`` as in :func:`load`, applied first. The scene given is not changed.
+
+    The GIL is released during the run. Raises :class:`SceneError` for refused input; a
+    step that fails is reported by ``status == "failed"`` (see ``Result.raise_for_status``).
+    """
+    scene = load(source, sets)
+    scene._scene.set_options(formulation, inertia, stiffening, step, duration)
+    summary, columns, raw, rows = _native.simulate(scene._scene)
+    data = np.frombuffer(raw, dtype=np.float64).reshape(rows, len(columns)).copy()
+    return Result(json.loads(summary), columns, data)
+
+
+class Checkpoint:
+    """A saved state of a :class:`Simulation`, to :meth:`Simulation.restore`."""
+
+    __slots__ = ("_checkpoint",)
+
+    def __init__(self, native: "_native.Checkpoint") -> None:
+        self._checkpoint = native
+
+    @property
+    def time(self) -> float:
+        """The time of the saved state (s)."""
+        return self._checkpoint.time
+
+
+class Simulation:
+    """A scene under way, stepped by the host: at t = 0 in consistent initial conditions
+    (after the static equilibrium when the scene asks for one) when made.
+
+    ``step()`` advances one time step, ``advance_to(t)`` to a time; ``sensors()`` and
+    ``sensor(name)`` read the sensors in between. A failed step raises :class:`RunError`
+    and leaves the simulation at its last good state; ``checkpoint()`` / ``restore()``
+    return to a saved one. The simulation runs on a thread of its own; a call waits for it
+    with the GIL released, so other Python threads run meanwhile.
+
+    TODO (issue 15 item 2): inputs between steps — driver values, external forces and
+    torques, parameters — once the Rust ``Simulation`` has them.
+    """
+
+    __slots__ = ("_sim",)
+
+    def __init__(self, source: SceneLike, sets: Sets = None) -> None:
+        self._sim = _native.Simulation(load(source, sets)._scene)
+
+    def step(self) -> None:
+        """Advance one time step."""
+        self._sim.step()
+
+    def advance_to(self, t: float) -> None:
+        """Step until the time reaches ``t`` (s)."""
+        self._sim.advance_to(t)
+
+    @property
+    def time(self) -> float:
+        """The current time (s)."""
+        return self._sim.time
+
+    @property
+    def step_size(self) -> float:
+        """The time step h (s)."""
+        return self._sim.step_size
+
+    @property
+    def sensor_names(self) -> List[str]:
+        """The sensor names, in the order of ``sensors()``."""
+        return self._sim.sensor_names
+
+    def sensors(self) -> np.ndarray:
+        """The sensors now, a float64 array in ``sensor_names`` order."""
+        return np.array(self._sim.sensors(), dtype=np.float64)
+
+    def sensor(self, name: str) -> float:
+        """One sensor now; ``KeyError`` for a name the scene does not have."""
+        return self._sim.sensor(name)
+
+    def checkpoint(self) -> Checkpoint:
+        """Save the current state."""
+        return Checkpoint(self._sim.checkpoint())
+
+    def restore(self, checkpoint: Checkpoint) -> None:
+        """Return to a state saved by this simulation's ``checkpoint()``; the steps from
+        there are the steps taken from there before. Another simulation's is refused
+        (``ValueError``)."""
+        self._sim.restore(checkpoint._checkpoint)
+
+    @property
+    def counters(self) -> Dict[str, int]:
+        """Steps, Newton iterations and factorisations so far."""
+        steps, iterations, factorizations = self._sim.counters()
+        return {"steps": steps, "newton_iterations": iterations, "factorizations": factorizations}
+
+
+def modes(model: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:
+    """The mode inventory of a flexible body model (e.g. ``models/cantilever_2d.ron``) as a
+    dict: the ``--json`` output of ``flexmbd modes``. Reduced with the GIL released.
+    Raises :class:`SceneError` for a refused model."""
+    return json.loads(_native.modes(os.fspath(model)))
+
+
+from .sweep import sweep  # noqa: E402  (it imports the names above)

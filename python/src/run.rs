@@ -1,0 +1,56 @@
+//! Whole runs and the mode inventory, with the GIL released while Rust computes.
+
+use flexmbd::fe::{BeamBodySpec, FeError, reduce};
+use flexmbd::inventory::Inventory;
+use flexmbd::simulation;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::errors::{SceneFields, fe_fields, scene_error, to_py};
+use crate::scene::PyScene;
+
+/// Values as their native-endian bytes, for `numpy.frombuffer` (no rounding: the bits).
+fn as_bytes(values: impl Iterator<Item = f64>) -> Vec<u8> {
+    values.flat_map(f64::to_ne_bytes).collect()
+}
+
+/// Run `scene` to its duration as `flexmbd simulate` does (`simulation::run`), with the
+/// GIL released. Returns the summary as the program's `--json` text, the columns (`t`,
+/// then the sensors), the rows as the bytes of a row-major float64 array, and the number
+/// of rows. A failed step is not an exception: the summary says `failed` and the rows
+/// stop there. Refusals before the run (e.g. a history too large for memory) raise.
+#[pyfunction]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+) -> PyResult<(String, Vec<String>, Bound<'py, PyBytes>, usize)> {
+    let scene = scene.scene.clone();
+    let outcome = py.detach(move || simulation::run(&scene, |_| {}));
+    let (summary, history) = outcome.map_err(|e| to_py(py, &e))?;
+    let summary_json = serde_json::to_string(&summary)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    let rows = history.rows.len();
+    let bytes = as_bytes(history.rows.iter().flatten().copied());
+    Ok((summary_json, history.header, PyBytes::new(py, &bytes), rows))
+}
+
+/// The mode inventory of the body model at `path` as JSON text (the `--json` output of
+/// `flexmbd modes`), reduced with the GIL released.
+#[pyfunction]
+pub fn modes(py: Python<'_>, path: &str) -> PyResult<String> {
+    let spec = BeamBodySpec::from_file(path)
+        .map_err(|e| scene_error(py, &e.to_string(), file_fields(path, &e)))?;
+    let body = py
+        .detach(|| reduce(&spec))
+        .map_err(|e| scene_error(py, &format!("{path}: {e}"), file_fields(path, &e)))?;
+    let inventory = Inventory::of(path, &body);
+    serde_json::to_string(&inventory)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+}
+
+/// The fields of a body model's refusal, naming `path` when the error does not.
+fn file_fields(path: &str, e: &FeError) -> SceneFields {
+    let mut fields = fe_fields(e);
+    fields.file.get_or_insert_with(|| path.to_string());
+    fields
+}
