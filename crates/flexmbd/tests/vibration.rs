@@ -152,3 +152,65 @@ fn rigid_double_four_bar_has_one_mode_both_formulations_agree() {
     assert!(freq[0] > 0.0);
     assert!(relative_error(freq[0], freq[1]) < 1e-6, "{freq:?}");
 }
+
+/// The flexible pendulum's bar (models/flexible_pendulum.ron: frame clamped at node 0, four
+/// Craig–Bampton normal modes) fixed to the ground by a rigid joint at that node, gravity
+/// off: its free vibration is the reduced body's own, the frequencies of its normal modes.
+#[test]
+fn clamped_flexible_bar_vibrates_at_its_craig_bampton_frequencies() {
+    let mut s = flexmbd_test_support::scenes::model("flexible_pendulum.ron");
+    s.gravity = flexmbd::model::V3([0.0, 0.0, 0.0]);
+    s.joints[0].kind = flexmbd::model::JointKind::Rigid;
+    s.sensors.retain(|sensor| sensor.name != "angle"); // a rigid joint has no angle
+    let flexmbd::model::BodyModel::Beam(spec) = &s.bodies[0].model else {
+        panic!("the bar is a beam");
+    };
+    let body = flexmbd::fe::reduce(spec).unwrap();
+    let cb: Vec<f64> = flexmbd::inventory::Inventory::of("bar", &body)
+        .normal_modes
+        .iter()
+        .map(|m| m.frequency_hz)
+        .collect();
+    assert_eq!(cb.len(), 4);
+    for form in FORMULATIONS {
+        s.solver.formulation = form;
+        let v = vibration(&s).unwrap();
+        eprintln!("{form:?}:\n{}\nCraig–Bampton: {cb:?}", v.to_text());
+        let f = v.frequencies("oscillatory");
+        assert_eq!(f.len(), 4, "{form:?}");
+        for (a, b) in f.iter().zip(&cb) {
+            assert!(
+                relative_error(*a, *b) < 1e-8,
+                "{form:?}: {a} Hz, Craig–Bampton {b} Hz"
+            );
+        }
+    }
+}
+
+/// The flexible pendulum hanging at rest: its first mode is the swing, close to the rigid
+/// bar's √(3g/2L)/2π (the bar is stiff: its first bending mode is at 8.4 Hz in the pinned
+/// frame), and both formulations agree on every frequency.
+#[test]
+fn hanging_flexible_pendulum_swings_near_the_rigid_bar_frequency_in_both_formulations() {
+    let mut s = flexmbd_test_support::scenes::model("flexible_pendulum.ron");
+    s.bodies[0].orientation = flexmbd::model::Orientation::Angle(-std::f64::consts::FRAC_PI_2);
+    let rigid = (3.0_f64 * 9.81 / 2.0).sqrt() / (2.0 * PI);
+    let mut all = Vec::new();
+    for form in FORMULATIONS {
+        s.solver.formulation = form;
+        let v = vibration(&s).unwrap();
+        eprintln!("{form:?}:\n{}", v.to_text());
+        let f = v.frequencies("oscillatory");
+        assert_eq!(f.len(), 5, "{form:?}");
+        assert!(
+            relative_error(f[0], rigid) < 1e-3,
+            "{form:?}: {} Hz, rigid {rigid} Hz",
+            f[0]
+        );
+        assert_eq!(v.modes[0].sensors[0].name, "tip_x", "{form:?}");
+        all.push(f);
+    }
+    for (a, b) in all[0].iter().zip(&all[1]) {
+        assert!(relative_error(*a, *b) < 1e-6, "{all:?}");
+    }
+}

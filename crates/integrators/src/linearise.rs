@@ -329,3 +329,135 @@ impl Linearisation {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_core::Coordinates;
+
+    /// A point mass m in the plane on a rod of length L from the origin (Φ = ½(x² + y² − L²)),
+    /// under gravity −g ŷ and a nonlinear restoring force −k sin(x) along x (its central
+    /// difference is not exact), with a viscous damper c along y.
+    struct RodMass {
+        coords: Coordinates,
+        m: f64,
+        g: f64,
+        k: f64,
+        c: f64,
+        l: f64,
+    }
+
+    impl Formulation for RodMass {
+        fn coordinates(&self) -> &Coordinates {
+            &self.coords
+        }
+        fn evaluate(&mut self, s: State<'_>, req: Request, out: &mut SystemTerms) {
+            let (x, y) = (s.q[0], s.q[1]);
+            if req.dynamics {
+                out.mass[(0, 0)] = self.m;
+                out.mass[(1, 1)] = self.m;
+                out.forces[0] = -self.k * x.sin();
+                out.forces[1] = -self.m * self.g - self.c * s.qd[1];
+            }
+            if req.constraints {
+                out.phi[0] = 0.5 * (x * x + y * y - self.l * self.l);
+            }
+            if req.jacobian {
+                out.phi_q[(0, 0)] = x;
+                out.phi_q[(0, 1)] = y;
+            }
+        }
+    }
+
+    /// Hanging at (0, −L) with λ = m g / L (Q − Φ_qᵀλ = 0): K = diag(k, 0) + λ∇²Φ =
+    /// diag(k + mg/L, mg/L) — λ∇²Φ = λI is the constraint-force stiffness — and C = diag(0, c).
+    #[test]
+    fn central_differences_give_the_tangents_and_the_constraint_force_stiffness() {
+        let (m, g, k, c, l) = (2.0, 9.81, 30.0, 0.7, 1.5);
+        let mut f = RodMass {
+            coords: Coordinates::zeros(2, 1),
+            m,
+            g,
+            k,
+            c,
+            l,
+        };
+        let q = DVector::from_column_slice(&[0.0, -l]);
+        let lambda = DVector::from_column_slice(&[m * g / l]);
+        let lin = linearise(&mut f, 0.0, &q, &lambda).unwrap();
+        // Truncation error of −k sin at x = 0: k d²/6 = 1.8e-10 relative to k.
+        let expected_k = k + m * g / l;
+        assert!((lin.stiffness[(0, 0)] - expected_k).abs() < 1e-9 * expected_k);
+        assert!((lin.stiffness[(1, 1)] - m * g / l).abs() < 1e-9 * expected_k);
+        assert!(lin.stiffness[(0, 1)].abs() + lin.stiffness[(1, 0)].abs() < 1e-9 * expected_k);
+        assert!((lin.damping[(1, 1)] - c).abs() < 1e-9 * c);
+        assert!(lin.damping[(0, 0)].abs() < 1e-12);
+        // The motion the rod allows is along x.
+        assert_eq!(lin.dof(), 1);
+        assert!((lin.basis[(0, 0)].abs() - 1.0).abs() < 1e-15);
+        let modes = lin.modes().unwrap();
+        let omega = (expected_k / m).sqrt();
+        assert_eq!(modes.len(), 1);
+        assert_eq!(modes[0].kind, ModeKind::Oscillatory);
+        assert!((modes[0].frequency_hz * 2.0 * std::f64::consts::PI - omega).abs() < 1e-9 * omega);
+        assert!(modes[0].damping_ratio.abs() < 1e-12);
+    }
+
+    /// Redundant rows lower the rank, not the number of motions: a Jacobian with a row
+    /// repeated and one scaled has a null space of n − (independent rows).
+    #[test]
+    fn redundant_constraint_rows_leave_the_null_space_its_dimension() {
+        let a = DMatrix::from_row_slice(
+            3,
+            4,
+            &[1.0, 2.0, 0.0, 0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 3.0, 1.0],
+        );
+        let r = null_space(&a).unwrap();
+        assert_eq!(r.ncols(), 2);
+        assert!((&a * &r).amax() < 1e-14);
+        assert!((r.transpose() * &r - DMatrix::identity(2, 2)).amax() < 1e-14);
+    }
+
+    /// A free mass (no force, no constraint) has a zero mode; a negative stiffness an
+    /// unstable pair; strong damping an overdamped pair.
+    #[test]
+    fn zero_unstable_and_overdamped_modes_are_flagged() {
+        let lin = |k: f64, c: f64| Linearisation {
+            mass: DMatrix::from_diagonal_element(1, 1, 2.0),
+            stiffness: DMatrix::from_diagonal_element(1, 1, k),
+            damping: DMatrix::from_diagonal_element(1, 1, c),
+            basis: DMatrix::identity(1, 1),
+        };
+        let kinds = |l: Linearisation| {
+            let mut k: Vec<_> = l.modes().unwrap().iter().map(|m| m.kind).collect();
+            k.sort_by_key(|k| *k as u8);
+            k
+        };
+        assert!(kinds(lin(0.0, 0.0)).iter().all(|k| *k == ModeKind::Zero));
+        assert_eq!(
+            kinds(lin(-8.0, 0.0)),
+            [ModeKind::Overdamped, ModeKind::Unstable]
+        );
+        // c = 3 c_crit: two real decaying roots.
+        let c = 3.0 * 2.0 * (8.0_f64 * 2.0).sqrt();
+        assert_eq!(
+            kinds(lin(8.0, c)),
+            [ModeKind::Overdamped, ModeKind::Overdamped]
+        );
+    }
+
+    /// A motion without inertia is refused, not divided by zero.
+    #[test]
+    fn a_massless_motion_is_refused() {
+        let lin = Linearisation {
+            mass: DMatrix::zeros(1, 1),
+            stiffness: DMatrix::from_diagonal_element(1, 1, 1.0),
+            damping: DMatrix::zeros(1, 1),
+            basis: DMatrix::identity(1, 1),
+        };
+        assert!(matches!(
+            lin.modes(),
+            Err(VibrationError::SingularMass { dof: 1, .. })
+        ));
+    }
+}
