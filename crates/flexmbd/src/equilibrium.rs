@@ -5,15 +5,21 @@
 //! run with `solver.initial_state: StaticEquilibrium` starts from (docs/methods.md §5.4 item
 //! 4); this module only compiles the scene, solves and reads the result.
 //!
+//! Each spring–damper's force at the equilibrium is k (l − l₀), tension positive (its damper
+//! carries nothing at rest), l the distance of its two markers there: read by position
+//! probes, sensors added to a copy of the scene for this purpose only (sensors do not enter
+//! the dynamics, so the copy's equilibrium is the scene's).
+//!
 //! The multipliers λ are those of Q − Φ_qᵀλ = 0: the constraint forces on the coordinates
 //! are −Φ_qᵀλ, one multiplier per constraint equation in the formulation's order (the
 //! equations are the formulation's, not the joints': a revolute joint in natural coordinates
 //! is several equations, in relative coordinates none unless it closes a loop).
 
+use flexmbd_core::Dim;
 use flexmbd_core::{CompiledScene, State};
 use flexmbd_integrators::{StaticSettings, StaticSolution, solve_static};
-use flexmbd_model::{FormulationKind, Scene};
-use nalgebra::DVector;
+use flexmbd_model::{Axis, Force, FormulationKind, Scene, Sensor, SensorKind};
+use nalgebra::{DVector, Vector3};
 use serde::Serialize;
 
 use crate::Error;
@@ -25,6 +31,19 @@ pub struct Named {
     pub name: String,
     /// The value (SI units).
     pub value: f64,
+}
+
+/// A spring–damper at the equilibrium.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ElementForce {
+    /// The element's name.
+    pub name: String,
+    /// Distance of its markers l (m).
+    pub length: f64,
+    /// Its free length l₀ (m).
+    pub free_length: f64,
+    /// Force along its line k (l − l₀) (N, tension positive).
+    pub force: f64,
 }
 
 /// The static equilibrium of a scene (module documentation).
@@ -44,6 +63,8 @@ pub struct Equilibrium {
     pub multipliers: Vec<f64>,
     /// The sensors at the equilibrium, in the scene's order.
     pub sensors: Vec<Named>,
+    /// Each force element's state at the equilibrium, in the scene's order.
+    pub forces: Vec<ElementForce>,
     /// Newton iterations.
     pub iterations: usize,
     /// Load levels solved (1: the full load at once).
@@ -100,6 +121,7 @@ impl Equilibrium {
                     value,
                 })
                 .collect(),
+            forces: Vec::new(),
             iterations: solution.iterations,
             load_steps: solution.load_steps,
             evaluations: solution.evaluations,
@@ -133,6 +155,15 @@ impl Equilibrium {
         for n in &self.sensors {
             s += &format!("  {:<24} {:>16.9e}\n", n.name, n.value);
         }
+        if !self.forces.is_empty() {
+            s += "force elements (tension positive):\n";
+            for e in &self.forces {
+                s += &format!(
+                    "  {:<24} {:>16.9e} N   length {:.9e} m, free length {:.9e} m\n",
+                    e.name, e.force, e.length, e.free_length
+                );
+            }
+        }
         s += "coordinates q:\n";
         for (i, v) in self.coordinates.iter().enumerate() {
             s += &format!("  q{i:<23} {v:>16.9e}\n");
@@ -149,5 +180,87 @@ impl Equilibrium {
 /// (module documentation). `scene` should be validated (as [`Scene::load`] does).
 pub fn equilibrium(scene: &Scene) -> Result<Equilibrium, Error> {
     let (mut f, solution) = solve(scene)?;
-    Ok(Equilibrium::of(scene, f.as_mut(), &solution))
+    let mut e = Equilibrium::of(scene, f.as_mut(), &solution);
+    e.forces = element_forces(scene, &solution.q)?;
+    Ok(e)
+}
+
+/// Where a force element's end is at the equilibrium: a ground marker's fixed position, or
+/// the first of the probe sensors that read a body marker's ground components.
+enum End {
+    Fixed(Vector3<f64>),
+    Probe(usize),
+}
+
+/// The spring–dampers' forces at the positions `q` of `scene` (module documentation).
+pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<ElementForce>, Error> {
+    if scene.forces.is_empty() {
+        return Ok(Vec::new());
+    }
+    let axes: &[Axis] = match scene.dim {
+        Dim::Planar => &[Axis::X, Axis::Y],
+        Dim::Spatial => &[Axis::X, Axis::Y, Axis::Z],
+    };
+    let mut probed = scene.clone();
+    let first = probed.sensors.len();
+    let mut ends = Vec::new();
+    for (i, force) in scene.forces.iter().enumerate() {
+        for (e, (body, marker)) in force.ends().into_iter().enumerate() {
+            if body == "ground" {
+                let r = scene
+                    .undeformed_position(body, marker, None)
+                    .unwrap_or_default();
+                ends.push(End::Fixed(r));
+                continue;
+            }
+            ends.push(End::Probe(probed.sensors.len() - first));
+            for (c, axis) in axes.iter().enumerate() {
+                probed.sensors.push(Sensor {
+                    name: format!("__force{i}_end{e}_{c}"),
+                    kind: SensorKind::Position {
+                        body: body.to_string(),
+                        marker: marker.to_string(),
+                        component: *axis,
+                        frame: None,
+                    },
+                    displacement: false,
+                });
+            }
+        }
+    }
+    let mut f = crate::simulation::compile(&probed)?;
+    let values = sensors_at(f.as_mut(), q);
+    let probes = &values[first..];
+    let at = |end: &End| match end {
+        End::Fixed(r) => *r,
+        End::Probe(k) => {
+            let mut r = Vector3::zeros();
+            for c in 0..axes.len() {
+                r[c] = probes[k + c];
+            }
+            r
+        }
+    };
+    scene
+        .forces
+        .iter()
+        .enumerate()
+        .map(|(i, force)| {
+            let Force::SpringDamper {
+                name, stiffness, ..
+            } = force;
+            let [(b1, m1), (b2, m2)] = force.ends();
+            let undeformed =
+                |b: &str, m: &str| scene.undeformed_position(b, m, None).unwrap_or_default();
+            let free_length =
+                force.spring_free_length(&scene.name, &undeformed(b1, m1), &undeformed(b2, m2))?;
+            let length = (at(&ends[2 * i + 1]) - at(&ends[2 * i])).norm();
+            Ok(ElementForce {
+                name: name.clone(),
+                length,
+                free_length,
+                force: stiffness * (length - free_length),
+            })
+        })
+        .collect()
 }

@@ -16,7 +16,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use crate::Error;
-use crate::equilibrium::{Equilibrium, Named, sensors_at, solve};
+use crate::equilibrium::{Equilibrium, Named, element_forces, sensors_at, solve};
 
 /// Contributions listed per mode: those at least this fraction of the largest.
 pub const CONTRIBUTION_FLOOR: f64 = 1e-3;
@@ -174,7 +174,8 @@ impl Vibration {
 /// (as [`Scene::load`] does).
 pub fn vibration(scene: &Scene) -> Result<Vibration, Error> {
     let (mut f, solution) = solve(scene)?;
-    let equilibrium = Equilibrium::of(scene, f.as_mut(), &solution);
+    let mut equilibrium = Equilibrium::of(scene, f.as_mut(), &solution);
+    equilibrium.forces = element_forces(scene, &solution.q)?;
     let lin = linearise(f.as_mut(), 0.0, &solution.q, &solution.lambda)?;
     let modes = lin.modes()?;
     let s = sensitivities(f.as_mut(), &solution.q);

@@ -86,7 +86,7 @@ fn spring_mass(k: f64, c: f64, m: f64) -> String {
 }
 
 #[test]
-fn hanging_mass_on_a_spring_deflects_by_mg_over_k() {
+fn hanging_mass_on_a_spring_deflects_by_mg_over_k_and_the_spring_carries_the_weight() {
     let (k, m, g) = (4000.0, 3.0, 9.81);
     for form in FORMULATIONS {
         let e = equilibrium(&scene(&spring_mass(k, 0.0, m), form)).unwrap();
@@ -99,6 +99,15 @@ fn hanging_mass_on_a_spring_deflects_by_mg_over_k() {
             m * g / k
         );
         assert!(e.residual < 1e-8 && e.phi < 1e-9, "{form:?}");
+        // The spring carries the weight, in tension.
+        assert_eq!(e.forces.len(), 1);
+        assert_eq!(e.forces[0].name, "spring");
+        assert!(
+            relative_error(e.forces[0].force, m * g) < 1e-9,
+            "{form:?}: {:?}",
+            e.forces[0]
+        );
+        assert!(relative_error(e.forces[0].length, 1.0 + m * g / k) < 1e-12);
     }
 }
 
