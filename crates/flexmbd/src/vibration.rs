@@ -1,6 +1,6 @@
 //! The linearised free vibration of a scene about its static equilibrium (`flexmbd
 //! eigen`): the numerics are `flexmbd_integrators::linearise` (docs/methods.md §5.5); this
-//! module finds the equilibrium ([`crate::equilibrium`]), runs them, and says which sensors
+//! module finds the equilibrium ([`crate::equilibrium()`]), runs them, and says which sensors
 //! and coordinates each mode moves most.
 //!
 //! **Contributions.** A mode's shape δq (complex, n) moves sensor i by |S_i δq|, S = ∂s/∂q
@@ -77,7 +77,7 @@ fn sensitivities(f: &mut dyn CompiledScene, q: &DVector<f64>) -> DMatrix<f64> {
 /// out.
 fn ranked(amplitudes: &[f64], name: impl Fn(usize) -> String) -> Vec<Named> {
     let big = amplitudes.iter().copied().fold(0.0, f64::max);
-    if !(big > 0.0) || !big.is_finite() {
+    if big.is_nan() || big <= 0.0 || !big.is_finite() {
         return Vec::new();
     }
     let mut v: Vec<Named> = amplitudes

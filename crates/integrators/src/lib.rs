@@ -1,7 +1,7 @@
 //! Time integrators of flexmbd, generic over [`flexmbd_core::Formulation`]:
 //! ALI3-P on the trapezoidal rule (docs/methods.md §5), its consistent initial conditions, and
 //! the static equilibrium that can start a run (docs/methods.md §5.4 item 4, [`statics`]),
-//! and the linearised free vibration about it ([`linearise`], docs/methods.md §5.5).
+//! and the linearised free vibration about it ([`linearise`](mod@linearise), docs/methods.md §5.5).
 
 #![warn(missing_docs)]
 

@@ -237,7 +237,7 @@ impl Linearisation {
         } else {
             pivots.min() / pivots.max()
         };
-        if !(pivot_ratio > 1e-13) {
+        if pivot_ratio.is_nan() || pivot_ratio <= 1e-13 {
             return Err(VibrationError::SingularMass {
                 dof: r,
                 pivot_ratio,
