@@ -6,6 +6,11 @@
 //! - `flexmbd simulate SCENE.ron [options]` runs a scene, streams the sensor histories to
 //!   a CSV file as they are computed and prints a run summary; Ctrl-C or SIGTERM ends the
 //!   run between two steps with status `interrupted`.
+//! - `flexmbd equilibrium SCENE.ron [--json]` prints the scene's static equilibrium: the
+//!   solve, the sensors, every coordinate and constraint multiplier.
+//! - `flexmbd eigen SCENE.ron [--json]` prints the linearised free vibration about that
+//!   equilibrium: each mode's frequency, damped frequency, damping ratio and kind, and the
+//!   sensors it moves most.
 //!
 //! Each kind of outcome has its exit code ([`exit`]); a panic is reported as one line
 //! with [`exit::INTERNAL_ERROR`].
@@ -75,6 +80,35 @@ enum Command {
     /// Run a scene and write its sensor histories.
     #[command(after_help = exit::HELP)]
     Simulate(SimulateArgs),
+    /// Find a scene's static equilibrium and print its coordinates, constraint multipliers
+    /// and sensors.
+    Equilibrium(StaticArgs),
+    /// Linearise a scene about its static equilibrium and print the modes of its free
+    /// vibration (frequency, damping ratio, the sensors each moves most).
+    Eigen(StaticArgs),
+}
+
+/// The arguments of `flexmbd equilibrium` and `flexmbd eigen`: the scene, the options
+/// that change it, and the output form.
+#[derive(Args)]
+struct StaticArgs {
+    /// A scene file (RON), e.g. models/flexible_pendulum.ron.
+    scene: PathBuf,
+    /// Formulation (default: the scene's).
+    #[arg(long, value_enum)]
+    formulation: Option<FormulationArg>,
+    /// Inertia route of the flexible bodies (default: the scene's).
+    #[arg(long, value_enum)]
+    inertia: Option<InertiaArg>,
+    /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
+    #[arg(long)]
+    stiffening: Option<String>,
+    /// Override any scalar of the scene: PATH=VALUE (e.g. gravity.1=0).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    sets: Vec<String>,
+    /// Print one JSON object on stdout instead of a table.
+    #[arg(long)]
+    json: bool,
 }
 
 /// The arguments of `flexmbd simulate`: the scene, the options that override its
@@ -135,6 +169,8 @@ fn main() -> ExitCode {
         let result = match cli.command {
             Command::Modes { model, json } => modes(&model, json),
             Command::Simulate(args) => simulate(&args),
+            Command::Equilibrium(args) => equilibrium(&args),
+            Command::Eigen(args) => eigen(&args),
         };
         result.unwrap_or_else(|e| {
             eprintln!("error: {e}");
@@ -197,6 +233,107 @@ fn simulate(args: &SimulateArgs) -> CliResult {
         print_summary(&summary, [args.output.as_deref(), args.jsonl.as_deref()]);
     }
     Ok(exit::of_status(&summary.status))
+}
+
+/// The scene of `flexmbd equilibrium` or `flexmbd eigen`, loaded, changed by the command
+/// line and validated.
+fn static_scene(args: &StaticArgs) -> Result<Scene, Box<dyn std::error::Error>> {
+    let mut scene = load_scene(&args.scene)?;
+    let sets = args
+        .sets
+        .iter()
+        .map(|s| parse_set(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    scene.apply_sets(&sets)?;
+    apply_solver_options(
+        &mut scene,
+        args.formulation,
+        args.inertia,
+        args.stiffening.as_deref(),
+    )?;
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// The result of `flexmbd equilibrium` or `flexmbd eigen`; no equilibrium or no modes is
+/// reported on stderr, naming the scene, as a failed run ([`exit::RUN_FAILED`]), a refused
+/// scene as invalid input.
+fn solved<T>(
+    args: &StaticArgs,
+    result: Result<T, flexmbd::Error>,
+) -> Result<Result<T, u8>, flexmbd::Error> {
+    match result {
+        Ok(v) => Ok(Ok(v)),
+        Err(flexmbd::Error::Static(e)) => {
+            eprintln!(
+                "error: {}: no static equilibrium: {e}",
+                args.scene.display()
+            );
+            Ok(Err(exit::RUN_FAILED))
+        }
+        Err(flexmbd::Error::Vibration(e)) => {
+            eprintln!("error: {}: {e}", args.scene.display());
+            Ok(Err(exit::RUN_FAILED))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// `flexmbd equilibrium`: the static equilibrium as a table or one JSON object.
+fn equilibrium(args: &StaticArgs) -> CliResult {
+    let e = match solved(args, flexmbd::equilibrium(&static_scene(args)?))? {
+        Ok(e) => e,
+        Err(code) => return Ok(code),
+    };
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        writeln!(stdout, "{}", serde_json::to_string(&e)?)?;
+    } else {
+        write!(stdout, "{}", e.to_text())?;
+    }
+    Ok(exit::SUCCESS)
+}
+
+/// `flexmbd eigen`: the modes about the static equilibrium as a table or one JSON object.
+fn eigen(args: &StaticArgs) -> CliResult {
+    let v = match solved(args, flexmbd::vibration(&static_scene(args)?))? {
+        Ok(v) => v,
+        Err(code) => return Ok(code),
+    };
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        writeln!(stdout, "{}", serde_json::to_string(&v)?)?;
+    } else {
+        write!(stdout, "{}", v.to_text())?;
+    }
+    Ok(exit::SUCCESS)
+}
+
+/// Set the formulation, inertia route and stiffening of `scene` where the command line
+/// names them.
+fn apply_solver_options(
+    scene: &mut Scene,
+    formulation: Option<FormulationArg>,
+    inertia: Option<InertiaArg>,
+    stiffening: Option<&str>,
+) -> Result<(), String> {
+    let solver = &mut scene.solver;
+    if let Some(f) = formulation {
+        solver.formulation = match f {
+            FormulationArg::Absolute => FormulationKind::Absolute,
+            FormulationArg::Relative => FormulationKind::Relative,
+        };
+    }
+    if let Some(i) = inertia {
+        solver.inertia = match i {
+            InertiaArg::BMatrix => InertiaMethod::BMatrix,
+            InertiaArg::ShapeIntegrals => InertiaMethod::ShapeIntegrals,
+        };
+    }
+    if let Some(s) = stiffening {
+        solver.stiffening = parse_stiffening(s)?;
+    }
+    Ok(())
 }
 
 /// A flag that the first SIGINT or SIGTERM sets (the run stops at the next step); a
@@ -264,22 +401,13 @@ impl SimulateArgs {
             .map(|s| parse_set(s))
             .collect::<Result<Vec<_>, _>>()?;
         scene.apply_sets(&sets)?;
+        apply_solver_options(
+            scene,
+            self.formulation,
+            self.inertia,
+            self.stiffening.as_deref(),
+        )?;
         let solver = &mut scene.solver;
-        if let Some(f) = self.formulation {
-            solver.formulation = match f {
-                FormulationArg::Absolute => FormulationKind::Absolute,
-                FormulationArg::Relative => FormulationKind::Relative,
-            };
-        }
-        if let Some(i) = self.inertia {
-            solver.inertia = match i {
-                InertiaArg::BMatrix => InertiaMethod::BMatrix,
-                InertiaArg::ShapeIntegrals => InertiaMethod::ShapeIntegrals,
-            };
-        }
-        if let Some(s) = &self.stiffening {
-            solver.stiffening = parse_stiffening(s)?;
-        }
         if let Some(h) = self.step {
             solver.step = h;
         }

@@ -3,7 +3,7 @@
 //! (their data, not their message) so a program can match on them.
 
 use flexmbd_fe::FeError;
-use flexmbd_integrators::{IntegratorError, StaticError};
+use flexmbd_integrators::{IntegratorError, StaticError, VibrationError};
 use flexmbd_model::ModelError;
 
 /// Why flexmbd could not load, compile, start or advance a simulation.
@@ -21,6 +21,10 @@ pub enum Error {
     /// (`solver.initial_state: StaticEquilibrium`).
     #[error("static start: {0}")]
     Static(#[from] StaticError),
+    /// The linearised vibration about the static equilibrium could not be computed
+    /// ([`crate::vibration()`]).
+    #[error("linearised vibration: {0}")]
+    Vibration(#[from] VibrationError),
     /// ALI3-P could not make the initial conditions consistent, or a step failed (the
     /// variants of a step carry its time `t`; see [`Error::failed_at`]).
     #[error(transparent)]

@@ -81,7 +81,11 @@
 //! - [`simulation`]: [`Simulation`], [`simulation::run`], [`simulation::run_into`] and
 //!   [`Summary`];
 //! - [`output`]: [`output::RowSink`], where a run's rows go, and [`History`], the sink that
-//!   keeps them in memory.
+//!   keeps them in memory;
+//! - [`equilibrium()`] and [`vibration()`]: a scene's static equilibrium (coordinates,
+//!   multipliers, sensors) and its linearised free vibration about it (frequencies, damping
+//!   ratios, the sensors each mode moves), the `flexmbd equilibrium` and `flexmbd eigen`
+//!   commands.
 //!
 //! `docs/design.md` records the design and its choices.
 
@@ -97,10 +101,14 @@ pub use flexmbd_model as model;
 pub use flexmbd_relative as relative;
 pub use flexmbd_stiffening as stiffening;
 
+pub mod equilibrium;
 mod error;
 pub mod inventory;
 pub mod output;
 pub mod simulation;
+pub mod vibration;
 
+pub use equilibrium::{Equilibrium, equilibrium};
 pub use error::Error;
 pub use simulation::{History, Simulation, Summary, integrator_settings};
+pub use vibration::{Vibration, vibration};

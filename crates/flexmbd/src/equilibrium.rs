@@ -1,0 +1,266 @@
+//! The static equilibrium of a scene as a result of its own (`flexmbd equilibrium`): every
+//! coordinate, the constraint multipliers, the sensors there, and how the solve went.
+//!
+//! The solve is `flexmbd_integrators::statics::solve_static` at t = 0 with q̇ = 0, the one a
+//! run with `solver.initial_state: StaticEquilibrium` starts from (docs/methods.md §5.4 item
+//! 4); this module only compiles the scene, solves and reads the result.
+//!
+//! Each spring–damper's force at the equilibrium is k (l − l₀), tension positive (its damper
+//! carries nothing at rest), l the distance of its two markers there: read by position
+//! probes, sensors added to a copy of the scene for this purpose only (sensors do not enter
+//! the dynamics, so the copy's equilibrium is the scene's).
+//!
+//! The multipliers λ are those of Q − Φ_qᵀλ = 0: the constraint forces on the coordinates
+//! are −Φ_qᵀλ, one multiplier per constraint equation in the formulation's order (the
+//! equations are the formulation's, not the joints': a revolute joint in natural coordinates
+//! is several equations, in relative coordinates none unless it closes a loop).
+
+use flexmbd_core::Dim;
+use flexmbd_core::{CompiledScene, State};
+use flexmbd_integrators::{StaticSettings, StaticSolution, solve_static};
+use flexmbd_model::{Axis, Force, FormulationKind, Scene, Sensor, SensorKind};
+use nalgebra::{DVector, Vector3};
+use serde::Serialize;
+
+use crate::Error;
+
+/// A named value (a sensor at the equilibrium).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Named {
+    /// The name.
+    pub name: String,
+    /// The value (SI units).
+    pub value: f64,
+}
+
+/// A spring–damper at the equilibrium.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ElementForce {
+    /// The element's name.
+    pub name: String,
+    /// Distance of its markers l (m).
+    pub length: f64,
+    /// Its free length l₀ (m).
+    pub free_length: f64,
+    /// Force along its line k (l − l₀) (N, tension positive).
+    pub force: f64,
+}
+
+/// The static equilibrium of a scene (module documentation).
+#[derive(Clone, Debug, Serialize)]
+pub struct Equilibrium {
+    /// The scene's name.
+    pub scene: String,
+    /// `absolute` or `relative`.
+    pub formulation: String,
+    /// Coordinates n.
+    pub n_coordinates: usize,
+    /// Constraint equations m (redundant ones included).
+    pub n_constraints: usize,
+    /// The coordinates q at the equilibrium (n).
+    pub coordinates: Vec<f64>,
+    /// The constraint multipliers λ (m): the constraint forces are −Φ_qᵀλ.
+    pub multipliers: Vec<f64>,
+    /// The sensors at the equilibrium, in the scene's order.
+    pub sensors: Vec<Named>,
+    /// Each force element's state at the equilibrium, in the scene's order.
+    pub forces: Vec<ElementForce>,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Load levels solved (1: the full load at once).
+    pub load_steps: usize,
+    /// Evaluations of the formulation.
+    pub evaluations: usize,
+    /// max |Q − Φ_qᵀλ| at the solution.
+    pub residual: f64,
+    /// max |Φ| at the solution.
+    pub phi: f64,
+}
+
+/// The name of a scene's formulation.
+pub(crate) fn formulation_name(scene: &Scene) -> &'static str {
+    match scene.solver.formulation {
+        FormulationKind::Absolute => "absolute",
+        FormulationKind::Relative => "relative",
+    }
+}
+
+/// Compile `scene` (validated, as [`Scene::load`] leaves it) and find its static
+/// equilibrium at t = 0: the compiled formulation and the solution.
+pub(crate) fn solve(scene: &Scene) -> Result<(Box<dyn CompiledScene>, StaticSolution), Error> {
+    let mut f = crate::simulation::compile(scene)?;
+    let solution = solve_static(f.as_mut(), 0.0, &StaticSettings::default())?;
+    Ok((f, solution))
+}
+
+/// The sensors of `f` at (t = 0, q, q̇ = 0).
+pub(crate) fn sensors_at(f: &mut dyn CompiledScene, q: &DVector<f64>) -> Vec<f64> {
+    let mut out = vec![0.0; f.sensor_names().len()];
+    let qd = DVector::zeros(q.len());
+    f.sensors(State::new(0.0, q, &qd), &mut out);
+    out
+}
+
+impl Equilibrium {
+    /// The report of `solution`, a static equilibrium of `f` compiled from `scene`.
+    pub(crate) fn of(scene: &Scene, f: &mut dyn CompiledScene, solution: &StaticSolution) -> Self {
+        let values = sensors_at(f, &solution.q);
+        Equilibrium {
+            scene: scene.name.clone(),
+            formulation: formulation_name(scene).into(),
+            n_coordinates: f.n_coordinates(),
+            n_constraints: f.n_constraints(),
+            coordinates: solution.q.iter().copied().collect(),
+            multipliers: solution.lambda.iter().copied().collect(),
+            sensors: f
+                .sensor_names()
+                .iter()
+                .zip(values)
+                .map(|(name, value)| Named {
+                    name: name.clone(),
+                    value,
+                })
+                .collect(),
+            forces: Vec::new(),
+            iterations: solution.iterations,
+            load_steps: solution.load_steps,
+            evaluations: solution.evaluations,
+            residual: solution.residual,
+            phi: solution.phi,
+        }
+    }
+
+    /// The value of the sensor `name`, if the scene has one.
+    pub fn sensor(&self, name: &str) -> Option<f64> {
+        self.sensors
+            .iter()
+            .find(|s| s.name == name)
+            .map(|s| s.value)
+    }
+
+    /// A table for a reader: the solve, the sensors, the coordinates and the multipliers.
+    pub fn to_text(&self) -> String {
+        let mut s = format!(
+            "{}: static equilibrium, {} formulation — {} coordinates, {} constraints\n  {} Newton iterations, {} load steps, residual {:.3e}, max |Φ| {:.3e}\n",
+            self.scene,
+            self.formulation,
+            self.n_coordinates,
+            self.n_constraints,
+            self.iterations,
+            self.load_steps,
+            self.residual,
+            self.phi
+        );
+        s += "sensors:\n";
+        for n in &self.sensors {
+            s += &format!("  {:<24} {:>16.9e}\n", n.name, n.value);
+        }
+        if !self.forces.is_empty() {
+            s += "force elements (tension positive):\n";
+            for e in &self.forces {
+                s += &format!(
+                    "  {:<24} {:>16.9e} N   length {:.9e} m, free length {:.9e} m\n",
+                    e.name, e.force, e.length, e.free_length
+                );
+            }
+        }
+        s += "coordinates q:\n";
+        for (i, v) in self.coordinates.iter().enumerate() {
+            s += &format!("  q{i:<23} {v:>16.9e}\n");
+        }
+        s += "multipliers λ (constraint forces −Φ_qᵀλ):\n";
+        for (i, v) in self.multipliers.iter().enumerate() {
+            s += &format!("  λ{i:<23} {v:>16.9e}\n");
+        }
+        s
+    }
+}
+
+/// The static equilibrium of `scene` at t = 0 in the formulation its solver block names
+/// (module documentation). `scene` should be validated (as [`Scene::load`] does).
+pub fn equilibrium(scene: &Scene) -> Result<Equilibrium, Error> {
+    let (mut f, solution) = solve(scene)?;
+    let mut e = Equilibrium::of(scene, f.as_mut(), &solution);
+    e.forces = element_forces(scene, &solution.q)?;
+    Ok(e)
+}
+
+/// Where a force element's end is at the equilibrium: a ground marker's fixed position, or
+/// the first of the probe sensors that read a body marker's ground components.
+enum End {
+    Fixed(Vector3<f64>),
+    Probe(usize),
+}
+
+/// The spring–dampers' forces at the positions `q` of `scene` (module documentation).
+pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<ElementForce>, Error> {
+    if scene.forces.is_empty() {
+        return Ok(Vec::new());
+    }
+    let axes: &[Axis] = match scene.dim {
+        Dim::Planar => &[Axis::X, Axis::Y],
+        Dim::Spatial => &[Axis::X, Axis::Y, Axis::Z],
+    };
+    let mut probed = scene.clone();
+    let first = probed.sensors.len();
+    let mut ends = Vec::new();
+    for (i, force) in scene.forces.iter().enumerate() {
+        for (e, (body, marker)) in force.ends().into_iter().enumerate() {
+            if body == "ground" {
+                let r = scene
+                    .undeformed_position(body, marker, None)
+                    .unwrap_or_default();
+                ends.push(End::Fixed(r));
+                continue;
+            }
+            ends.push(End::Probe(probed.sensors.len() - first));
+            for (c, axis) in axes.iter().enumerate() {
+                probed.sensors.push(Sensor {
+                    name: format!("__force{i}_end{e}_{c}"),
+                    kind: SensorKind::Position {
+                        body: body.to_string(),
+                        marker: marker.to_string(),
+                        component: *axis,
+                        frame: None,
+                    },
+                    displacement: false,
+                });
+            }
+        }
+    }
+    let mut f = crate::simulation::compile(&probed)?;
+    let values = sensors_at(f.as_mut(), q);
+    let probes = &values[first..];
+    let at = |end: &End| match end {
+        End::Fixed(r) => *r,
+        End::Probe(k) => {
+            let mut r = Vector3::zeros();
+            for c in 0..axes.len() {
+                r[c] = probes[k + c];
+            }
+            r
+        }
+    };
+    scene
+        .forces
+        .iter()
+        .enumerate()
+        .map(|(i, force)| {
+            let Force::SpringDamper {
+                name, stiffness, ..
+            } = force;
+            let [(b1, m1), (b2, m2)] = force.ends();
+            let undeformed =
+                |b: &str, m: &str| scene.undeformed_position(b, m, None).unwrap_or_default();
+            let free_length =
+                force.spring_free_length(&scene.name, &undeformed(b1, m1), &undeformed(b2, m2))?;
+            let length = (at(&ends[2 * i + 1]) - at(&ends[2 * i])).norm();
+            Ok(ElementForce {
+                name: name.clone(),
+                length,
+                free_length,
+                force: stiffness * (length - free_length),
+            })
+        })
+        .collect()
+}
