@@ -82,39 +82,18 @@ enum Command {
     Simulate(SimulateArgs),
     /// Find a scene's static equilibrium and print its coordinates, constraint multipliers
     /// and sensors.
+    #[command(after_help = exit::HELP)]
     Equilibrium(StaticArgs),
     /// Linearise a scene about its static equilibrium and print the modes of its free
     /// vibration (frequency, damping ratio, the sensors each moves most).
+    #[command(after_help = exit::HELP)]
     Eigen(StaticArgs),
 }
 
-/// The arguments of `flexmbd equilibrium` and `flexmbd eigen`: the scene, the options
-/// that change it, and the output form.
+/// The scene and the options that change it, shared by `simulate`, `equilibrium` and
+/// `eigen`.
 #[derive(Args)]
-struct StaticArgs {
-    /// A scene file (RON), e.g. models/flexible_pendulum.ron.
-    scene: PathBuf,
-    /// Formulation (default: the scene's).
-    #[arg(long, value_enum)]
-    formulation: Option<FormulationArg>,
-    /// Inertia route of the flexible bodies (default: the scene's).
-    #[arg(long, value_enum)]
-    inertia: Option<InertiaArg>,
-    /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
-    #[arg(long)]
-    stiffening: Option<String>,
-    /// Override any scalar of the scene: PATH=VALUE (e.g. gravity.1=0).
-    #[arg(long = "set", value_name = "PATH=VALUE")]
-    sets: Vec<String>,
-    /// Print one JSON object on stdout instead of a table.
-    #[arg(long)]
-    json: bool,
-}
-
-/// The arguments of `flexmbd simulate`: the scene, the options that override its
-/// solver settings, and where the results go.
-#[derive(Args)]
-struct SimulateArgs {
+struct SceneInput {
     /// A scene file (RON), e.g. models/double_four_bar.ron.
     scene: PathBuf,
     /// Formulation (default: the scene's).
@@ -126,15 +105,34 @@ struct SimulateArgs {
     /// Geometric stiffening: linear, fnl1, fnl2, foreshortening or substructuring:N.
     #[arg(long)]
     stiffening: Option<String>,
+    /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    sets: Vec<String>,
+}
+
+/// The arguments of `flexmbd equilibrium` and `flexmbd eigen`: the scene, the options
+/// that change it, and the output form.
+#[derive(Args)]
+struct StaticArgs {
+    #[command(flatten)]
+    input: SceneInput,
+    /// Print one JSON object on stdout instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The arguments of `flexmbd simulate`: the scene, the options that override its
+/// solver settings, and where the results go.
+#[derive(Args)]
+struct SimulateArgs {
+    #[command(flatten)]
+    input: SceneInput,
     /// Time step (s).
     #[arg(long, allow_negative_numbers = true)]
     step: Option<f64>,
     /// Simulated time (s).
     #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
-    /// Override any scalar of the scene: PATH=VALUE (e.g. bodies.crank1.flexible=true).
-    #[arg(long = "set", value_name = "PATH=VALUE")]
-    sets: Vec<String>,
     /// CSV output (default: no CSV), written row by row as the run goes. Checked before
     /// the scene is loaded; an existing file is replaced when the run writes its header.
     #[arg(long)]
@@ -187,11 +185,20 @@ fn modes(model: &Path, json: bool) -> CliResult {
     let spec = BeamBodySpec::from_file(model)?;
     let body = reduce(&spec).map_err(|e| format!("{}: {e}", model.display()))?;
     let inv = Inventory::of(&model.display().to_string(), &body);
+    print_json_or_table(&inv, json, Inventory::to_text)
+}
+
+/// Print `value` on stdout as one JSON object (`--json`) or as its table.
+fn print_json_or_table<T: serde::Serialize>(
+    value: &T,
+    json: bool,
+    table: impl FnOnce(&T) -> String,
+) -> CliResult {
     let mut stdout = std::io::stdout().lock();
     if json {
-        writeln!(stdout, "{}", serde_json::to_string(&inv)?)?;
+        writeln!(stdout, "{}", serde_json::to_string(value)?)?;
     } else {
-        write!(stdout, "{}", inv.to_text())?;
+        write!(stdout, "{}", table(value))?;
     }
     Ok(exit::SUCCESS)
 }
@@ -222,8 +229,8 @@ fn parse_stiffening(s: &str) -> Result<Stiffening, String> {
 /// ([`exit::of_status`]).
 fn simulate(args: &SimulateArgs) -> CliResult {
     let mut sinks = args.output_files()?;
-    let mut scene = load_scene(&args.scene)?;
-    args.apply_to(&mut scene)?;
+    let mut scene = args.input.load()?;
+    args.apply_to(&mut scene);
     scene.validate()?;
     let stop = stop_on_signals()?;
     let summary = run_with_progress_bar(&scene, args.json, &mut sinks, &stop)?;
@@ -238,19 +245,7 @@ fn simulate(args: &SimulateArgs) -> CliResult {
 /// The scene of `flexmbd equilibrium` or `flexmbd eigen`, loaded, changed by the command
 /// line and validated.
 fn static_scene(args: &StaticArgs) -> Result<Scene, Box<dyn std::error::Error>> {
-    let mut scene = load_scene(&args.scene)?;
-    let sets = args
-        .sets
-        .iter()
-        .map(|s| parse_set(s))
-        .collect::<Result<Vec<_>, _>>()?;
-    scene.apply_sets(&sets)?;
-    apply_solver_options(
-        &mut scene,
-        args.formulation,
-        args.inertia,
-        args.stiffening.as_deref(),
-    )?;
+    let scene = args.input.load()?;
     scene.validate()?;
     Ok(scene)
 }
@@ -267,12 +262,12 @@ fn solved<T>(
         Err(flexmbd::Error::Static(e)) => {
             eprintln!(
                 "error: {}: no static equilibrium: {e}",
-                args.scene.display()
+                args.input.scene.display()
             );
             Ok(Err(exit::RUN_FAILED))
         }
         Err(flexmbd::Error::Vibration(e)) => {
-            eprintln!("error: {}: {e}", args.scene.display());
+            eprintln!("error: {}: {e}", args.input.scene.display());
             Ok(Err(exit::RUN_FAILED))
         }
         Err(e) => Err(e),
@@ -281,32 +276,18 @@ fn solved<T>(
 
 /// `flexmbd equilibrium`: the static equilibrium as a table or one JSON object.
 fn equilibrium(args: &StaticArgs) -> CliResult {
-    let e = match solved(args, flexmbd::equilibrium(&static_scene(args)?))? {
-        Ok(e) => e,
-        Err(code) => return Ok(code),
-    };
-    let mut stdout = std::io::stdout().lock();
-    if args.json {
-        writeln!(stdout, "{}", serde_json::to_string(&e)?)?;
-    } else {
-        write!(stdout, "{}", e.to_text())?;
+    match solved(args, flexmbd::equilibrium(&static_scene(args)?))? {
+        Ok(e) => print_json_or_table(&e, args.json, |e| e.to_text()),
+        Err(code) => Ok(code),
     }
-    Ok(exit::SUCCESS)
 }
 
 /// `flexmbd eigen`: the modes about the static equilibrium as a table or one JSON object.
 fn eigen(args: &StaticArgs) -> CliResult {
-    let v = match solved(args, flexmbd::vibration(&static_scene(args)?))? {
-        Ok(v) => v,
-        Err(code) => return Ok(code),
-    };
-    let mut stdout = std::io::stdout().lock();
-    if args.json {
-        writeln!(stdout, "{}", serde_json::to_string(&v)?)?;
-    } else {
-        write!(stdout, "{}", v.to_text())?;
+    match solved(args, flexmbd::vibration(&static_scene(args)?))? {
+        Ok(v) => print_json_or_table(&v, args.json, |v| v.to_text()),
+        Err(code) => Ok(code),
     }
-    Ok(exit::SUCCESS)
 }
 
 /// Set the formulation, inertia route and stiffening of `scene` where the command line
@@ -379,11 +360,12 @@ impl SimulateArgs {
     fn output_files(&self) -> Result<Sinks, String> {
         let mut sinks = Sinks(Vec::new());
         if let Some(out) = &self.output {
-            let file = OutputFile::check("--output", out, &[("the scene file", &self.scene)])?;
+            let file =
+                OutputFile::check("--output", out, &[("the scene file", &self.input.scene)])?;
             sinks.0.push(Box::new(CsvFile::new(file)));
         }
         if let Some(out) = &self.jsonl {
-            let mut others = vec![("the scene file", self.scene.as_path())];
+            let mut others = vec![("the scene file", self.input.scene.as_path())];
             others.extend(self.output.as_deref().map(|o| ("the --output file", o)));
             let file = OutputFile::check("--jsonl", out, &others)?;
             sinks.0.push(Box::new(JsonlFile::new(file)));
@@ -391,22 +373,9 @@ impl SimulateArgs {
         Ok(sinks)
     }
 
-    /// Apply the `--set` overrides to `scene`, then the named options, so that
-    /// `--step` and the like win over a `--set` of the same field. Every `--set`
-    /// is parsed before any is applied. The scene is not validated here.
-    fn apply_to(&self, scene: &mut Scene) -> Result<(), Box<dyn std::error::Error>> {
-        let sets = self
-            .sets
-            .iter()
-            .map(|s| parse_set(s))
-            .collect::<Result<Vec<_>, _>>()?;
-        scene.apply_sets(&sets)?;
-        apply_solver_options(
-            scene,
-            self.formulation,
-            self.inertia,
-            self.stiffening.as_deref(),
-        )?;
+    /// Apply `--step` and `--duration` to `scene` (after [`SceneInput::load`], so that they
+    /// win over a `--set` of the same field). The scene is not validated here.
+    fn apply_to(&self, scene: &mut Scene) {
         let solver = &mut scene.solver;
         if let Some(h) = self.step {
             solver.step = h;
@@ -414,7 +383,28 @@ impl SimulateArgs {
         if let Some(d) = self.duration {
             solver.duration = d;
         }
-        Ok(())
+    }
+}
+
+impl SceneInput {
+    /// Load the scene, apply the `--set` overrides, then the named options, so that
+    /// `--formulation` and the like win over a `--set` of the same field. Every `--set` is
+    /// parsed before any is applied. The scene is not validated here.
+    fn load(&self) -> Result<Scene, Box<dyn std::error::Error>> {
+        let mut scene = load_scene(&self.scene)?;
+        let sets = self
+            .sets
+            .iter()
+            .map(|s| parse_set(s))
+            .collect::<Result<Vec<_>, _>>()?;
+        scene.apply_sets(&sets)?;
+        apply_solver_options(
+            &mut scene,
+            self.formulation,
+            self.inertia,
+            self.stiffening.as_deref(),
+        )?;
+        Ok(scene)
     }
 }
 
