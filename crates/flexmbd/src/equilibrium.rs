@@ -17,7 +17,7 @@
 
 use flexmbd_core::Dim;
 use flexmbd_core::{CompiledScene, State};
-use flexmbd_integrators::{StaticSettings, StaticSolution, solve_static};
+use flexmbd_integrators::{StaticCounters, StaticSettings, StaticSolution, solve_static};
 use flexmbd_model::{Axis, Force, FormulationKind, Scene, Sensor, SensorKind};
 use nalgebra::{DVector, Vector3};
 use serde::Serialize;
@@ -65,16 +65,9 @@ pub struct Equilibrium {
     pub sensors: Vec<Named>,
     /// Each force element's state at the equilibrium, in the scene's order.
     pub forces: Vec<ElementForce>,
-    /// Newton iterations.
-    pub iterations: usize,
-    /// Load levels solved (1: the full load at once).
-    pub load_steps: usize,
-    /// Evaluations of the formulation.
-    pub evaluations: usize,
-    /// max |Q − Φ_qᵀλ| at the solution.
-    pub residual: f64,
-    /// max |Φ| at the solution.
-    pub phi: f64,
+    /// How the static solve went (flattened into the JSON object).
+    #[serde(flatten)]
+    pub solve: StaticCounters,
 }
 
 /// The name of a scene's formulation.
@@ -122,11 +115,7 @@ impl Equilibrium {
                 })
                 .collect(),
             forces: Vec::new(),
-            iterations: solution.iterations,
-            load_steps: solution.load_steps,
-            evaluations: solution.evaluations,
-            residual: solution.residual,
-            phi: solution.phi,
+            solve: solution.counters,
         }
     }
 
@@ -146,10 +135,10 @@ impl Equilibrium {
             self.formulation,
             self.n_coordinates,
             self.n_constraints,
-            self.iterations,
-            self.load_steps,
-            self.residual,
-            self.phi
+            self.solve.iterations,
+            self.solve.load_steps,
+            self.solve.residual,
+            self.solve.phi
         );
         s += "sensors:\n";
         for n in &self.sensors {

@@ -324,7 +324,7 @@ impl Simulation {
             setup.static_seconds = clock.elapsed().as_secs_f64();
             match solution {
                 Ok(solution) => {
-                    setup.static_iterations = solution.iterations;
+                    setup.static_iterations = solution.counters.iterations;
                     static_solution = Some(solution);
                 }
                 Err(e) => {

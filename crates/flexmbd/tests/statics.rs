@@ -54,10 +54,10 @@ fn linear_cantilever_droop_matches_the_closed_form() {
                 err * 100.0,
                 value(&v, "tip_ux"),
                 value(&v, "tip_uy"),
-                sol.iterations,
-                sol.evaluations,
-                sol.residual,
-                sol.phi
+                sol.counters.iterations,
+                sol.counters.evaluations,
+                sol.counters.residual,
+                sol.counters.phi
             );
             // No axial or in-plane response in the linear model (the eigensolver's mixing of
             // the degenerate v/w pairs leaves ~1e-6 m in-plane with 16 modes).
@@ -88,7 +88,7 @@ fn flexible_pendulum_turns_to_hang() {
         let (x, y, bend) = (value(&v, "tip_x"), value(&v, "tip_y"), value(&v, "tip_v"));
         eprintln!(
             "{form:?}: tip ({x:.3e}, {y:.9}), bending {bend:.1e}; {} iterations, {} load steps",
-            sol.iterations, sol.load_steps
+            sol.counters.iterations, sol.counters.load_steps
         );
         assert!(x.abs() < 1e-9 && (y + 1.0).abs() < 1e-9 && bend.abs() < 1e-9);
     }

@@ -98,7 +98,7 @@ fn hanging_mass_on_a_spring_deflects_by_mg_over_k_and_the_spring_carries_the_wei
             -1.0 - y,
             m * g / k
         );
-        assert!(e.residual < 1e-8 && e.phi < 1e-9, "{form:?}");
+        assert!(e.solve.residual < 1e-8 && e.solve.phi < 1e-9, "{form:?}");
         // The spring carries the weight, in tension.
         assert_eq!(e.forces.len(), 1);
         assert_eq!(e.forces[0].name, "spring");

@@ -16,4 +16,4 @@ pub mod statics;
 pub use ali3p::{Ali3p, Ali3pSettings, Checkpoint, IntegratorError, Stats};
 pub use linearise::{Linearisation, Mode, ModeKind, VibrationError, linearise};
 pub use start_from::StartFrom;
-pub use statics::{StaticError, StaticSettings, StaticSolution, solve_static};
+pub use statics::{StaticCounters, StaticError, StaticSettings, StaticSolution, solve_static};

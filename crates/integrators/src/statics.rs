@@ -127,6 +127,15 @@ pub struct StaticSolution {
     pub q: DVector<f64>,
     /// Multipliers λ (the constraint reaction on the system is −Φ_qᵀλ).
     pub lambda: DVector<f64>,
+    /// How the solve went.
+    pub counters: StaticCounters,
+    /// The penalty α used.
+    pub penalty: f64,
+}
+
+/// How a static solve went: iterations, load levels, evaluations and the final residuals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct StaticCounters {
     /// Newton iterations, all load levels (failed attempts included).
     pub iterations: usize,
     /// Load levels solved (1 when the full load converged directly).
@@ -137,8 +146,6 @@ pub struct StaticSolution {
     pub residual: f64,
     /// Final ‖Φ‖∞.
     pub phi: f64,
-    /// The penalty α used.
-    pub penalty: f64,
 }
 
 /// Why no static equilibrium was found.
@@ -660,11 +667,13 @@ pub fn solve_static<F: Formulation + ?Sized>(
     Ok(StaticSolution {
         q,
         lambda,
-        iterations: s.iterations,
-        load_steps,
-        evaluations: s.evaluations,
-        residual: s.last_residual,
-        phi: s.last_phi,
+        counters: StaticCounters {
+            iterations: s.iterations,
+            load_steps,
+            evaluations: s.evaluations,
+            residual: s.last_residual,
+            phi: s.last_phi,
+        },
         penalty: s.alpha,
     })
 }

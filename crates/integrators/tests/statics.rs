@@ -22,8 +22,8 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
             "copies {copies}: q = {:?}, λ = {:?}, {} iterations, {} load steps",
             sol.q.as_slice(),
             sol.lambda.as_slice(),
-            sol.iterations,
-            sol.load_steps
+            sol.counters.iterations,
+            sol.counters.load_steps
         );
         assert!(sol.q[0].abs() < 1e-10, "{}", sol.q[0]);
         assert!((sol.q[1] + LENGTH).abs() < 1e-10, "{}", sol.q[1]);
@@ -33,7 +33,7 @@ fn pendulum_hangs_down_with_the_weight_in_the_rod() {
             (sum - MASS * G / (2.0 * LENGTH)).abs() < 1e-8 * MASS * G,
             "{sum}"
         );
-        assert!(sol.residual.is_finite() && sol.phi < 1e-10);
+        assert!(sol.counters.residual.is_finite() && sol.counters.phi < 1e-10);
     }
     // With the formulation's K (zero here) the tangent Φ_qᵀαΦ_q is singular along the circle:
     // the error says so instead of returning garbage.
@@ -141,8 +141,8 @@ fn hardening_chain_with_both_tangents_and_a_held_coordinate() {
         eprintln!(
             "fd {fd}: q = {:?} ({} iterations, {} load steps), exact ({s1}, {})",
             sol.q.as_slice(),
-            sol.iterations,
-            sol.load_steps,
+            sol.counters.iterations,
+            sol.counters.load_steps,
             s1 + s2
         );
         assert!((sol.q[0] - s1).abs() < 1e-10 && (sol.q[1] - s1 - s2).abs() < 1e-10);

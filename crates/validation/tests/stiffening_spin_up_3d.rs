@@ -36,9 +36,9 @@ fn static_tip(st: Stiffening, f: FormulationKind) -> [f64; 3] {
         get("tip_ux") * 1e3,
         get("tip_uy"),
         get("tip_uz"),
-        sol.iterations,
-        sol.load_steps,
-        sol.evaluations
+        sol.counters.iterations,
+        sol.counters.load_steps,
+        sol.counters.evaluations
     );
     [get("tip_ux"), get("tip_uy"), get("tip_uz")]
 }
