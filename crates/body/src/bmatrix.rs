@@ -52,8 +52,10 @@ impl FlexibleBody {
         let w_sd = om.cross(&st.s_dot);
         let axis = points.axis();
         let a_axis = a * axis;
-        ws.clear_bmatrix_sums();
+        ws.sy.fill(0.0);
         ws.wy.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
         let mut msum = 0.0;
         let mut gsum = Vector3::zeros();
         let mut psum = Matrix3::zeros();
@@ -109,8 +111,10 @@ impl FlexibleBody {
         let w = st.omega.z;
         let e = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
         let w_sd = w * e(st.s_dot.xy());
-        ws.clear_bmatrix_sums();
+        ws.sy.fill(0.0);
         ws.wy.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
         let mut msum = 0.0;
         let mut gsum = Vector2::zeros();
         let mut jsum = 0.0;

@@ -134,16 +134,6 @@ impl Workspace {
         }
     }
 
-    /// Zero the sums every B-matrix route accumulates over the cloud: Σ w A X_k (`sy`), the
-    /// modal mass (`yy`) and the modal inertia force (`qy`). Each route zeroes its own
-    /// rotational coupling sums (`wy` or `l`).
-    #[inline]
-    fn clear_bmatrix_sums(&mut self) {
-        self.sy.fill(0.0);
-        self.yy.fill(0.0);
-        self.qy.fill(0.0);
-    }
-
     /// Sized for n modes, with the FS0 scratch when `fs0`.
     fn for_body(n: usize, fs0: bool) -> Self {
         let mut w = Self::new(n);

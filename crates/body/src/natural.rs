@@ -414,8 +414,10 @@ impl FlexibleBody {
         let axis = points.axis();
         let a_axis = a * axis;
         // Accumulators: sy (A X̂), l (r̄_b A X̂ for b = 0..3, at 3 n b), yy, qy.
-        ws.clear_bmatrix_sums();
+        ws.sy.fill(0.0);
         ws.l.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
         let mut msum = 0.0;
         let mut rsum = Vector3::zeros();
         let mut psum = Matrix3::zeros();
@@ -489,8 +491,10 @@ impl FlexibleBody {
         let (_, _, a, ad) = planar_frame(st);
         let axis = points.axis().xy();
         let a_axis = a * axis;
-        ws.clear_bmatrix_sums();
+        ws.sy.fill(0.0);
         ws.wy.fill(0.0);
+        ws.yy.fill(0.0);
+        ws.qy.fill(0.0);
         let mut msum = 0.0;
         let mut rsum = Vector2::zeros();
         let mut psum = 0.0;
