@@ -162,6 +162,21 @@ fn rigid_double_four_bar_has_one_mode_both_formulations_agree() {
     assert!(relative_error(freq[0], freq[1]) < 1e-6, "{freq:?}");
 }
 
+/// The vibration of `s` in formulation `form` and the frequencies of its oscillatory modes
+/// (Hz), which must be `count`.
+fn oscillatory_in(
+    s: &mut Scene,
+    form: FormulationKind,
+    count: usize,
+) -> (flexmbd::Vibration, Vec<f64>) {
+    s.solver.formulation = form;
+    let v = vibration(s).unwrap();
+    eprintln!("{form:?}:\n{}", v.to_text());
+    let f = v.frequencies("oscillatory");
+    assert_eq!(f.len(), count, "{form:?}");
+    (v, f)
+}
+
 /// The flexible pendulum's bar (models/flexible_pendulum.ron: frame clamped at node 0, four
 /// Craig–Bampton normal modes) fixed to the ground by a rigid joint at that node, gravity
 /// off: its free vibration is the reduced body's own, the frequencies of its normal modes.
@@ -182,11 +197,7 @@ fn clamped_flexible_bar_vibrates_at_its_craig_bampton_frequencies() {
         .collect();
     assert_eq!(cb.len(), 4);
     for form in FORMULATIONS {
-        s.solver.formulation = form;
-        let v = vibration(&s).unwrap();
-        eprintln!("{form:?}:\n{}\nCraig–Bampton: {cb:?}", v.to_text());
-        let f = v.frequencies("oscillatory");
-        assert_eq!(f.len(), 4, "{form:?}");
+        let (_, f) = oscillatory_in(&mut s, form, 4);
         for (a, b) in f.iter().zip(&cb) {
             assert!(
                 relative_error(*a, *b) < 1e-8,
@@ -206,11 +217,7 @@ fn hanging_flexible_pendulum_swings_near_the_rigid_bar_frequency_in_both_formula
     let rigid = (3.0_f64 * 9.81 / 2.0).sqrt() / (2.0 * PI);
     let mut all = Vec::new();
     for form in FORMULATIONS {
-        s.solver.formulation = form;
-        let v = vibration(&s).unwrap();
-        eprintln!("{form:?}:\n{}", v.to_text());
-        let f = v.frequencies("oscillatory");
-        assert_eq!(f.len(), 5, "{form:?}");
+        let (v, f) = oscillatory_in(&mut s, form, 5);
         assert!(
             relative_error(f[0], rigid) < 1e-3,
             "{form:?}: {} Hz, rigid {rigid} Hz",
