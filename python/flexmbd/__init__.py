@@ -16,9 +16,11 @@ and value; a failed step of a stepping simulation raises :class:`RunError`.
 
 ``sweep`` runs a scene once per set of overrides, in a loop or on Dask distributed.
 
+``equilibrium`` finds a scene's static equilibrium and ``eigen`` its linearised free
+vibration about it (the ``--json`` output of ``flexmbd equilibrium`` and ``flexmbd eigen``).
+
 Not yet here: inputs to a running simulation (driver values, forces, parameters between
-steps, issue 15 item 2) — the Rust API does not have them yet; equilibrium and linearised
-vibration as methods (same).
+steps, issue 15 item 2) — the Rust API does not have them yet.
 """
 
 from __future__ import annotations
@@ -41,6 +43,8 @@ __all__ = [
     "SceneError",
     "Simulation",
     "Checkpoint",
+    "eigen",
+    "equilibrium",
     "load",
     "modes",
     "simulate",
@@ -350,6 +354,60 @@ class Simulation:
         """Steps, Newton iterations and factorisations so far."""
         steps, iterations, factorizations = self._sim.counters()
         return {"steps": steps, "newton_iterations": iterations, "factorizations": factorizations}
+
+
+def _static_scene(
+    source: SceneLike,
+    formulation: Optional[str],
+    inertia: Optional[str],
+    stiffening: Optional[str],
+    sets: Sets,
+) -> Scene:
+    """The scene of :func:`equilibrium` and :func:`eigen`: loaded, overridden, validated."""
+    scene = load(source, sets)
+    scene._scene.set_options(formulation, inertia, stiffening, None, None)
+    return scene
+
+
+def equilibrium(
+    source: SceneLike,
+    formulation: Optional[str] = None,
+    inertia: Optional[str] = None,
+    stiffening: Optional[str] = None,
+    sets: Sets = None,
+) -> Dict[str, Any]:
+    """The static equilibrium of a scene at t = 0, as ``flexmbd equilibrium`` finds it, as
+    a dict: the program's ``--json`` output (the coordinates, the constraint multipliers,
+    the sensors and the spring–dampers' forces at the equilibrium, the solver's counters).
+
+    ``source``, ``formulation``, ``inertia``, ``stiffening`` and ``sets`` are as in
+    :func:`simulate`; the scene given is not changed. Solved with the GIL released.
+    Raises :class:`SceneError` for refused input and :class:`RunError` (``time`` 0.0) when
+    no static equilibrium is found.
+    """
+    scene = _static_scene(source, formulation, inertia, stiffening, sets)
+    return json.loads(_native.equilibrium(scene._scene))
+
+
+def eigen(
+    source: SceneLike,
+    formulation: Optional[str] = None,
+    inertia: Optional[str] = None,
+    stiffening: Optional[str] = None,
+    sets: Sets = None,
+) -> Dict[str, Any]:
+    """The linearised free vibration of a scene about its static equilibrium, as
+    ``flexmbd eigen`` computes it, as a dict: the program's ``--json`` output (the
+    equilibrium, the number of degrees of freedom, and per mode its frequency in Hz, damped
+    frequency, damping ratio, kind — ``"oscillatory"``, ``"rigid"``, … — and the sensors
+    it moves).
+
+    Arguments as in :func:`equilibrium`. Solved with the GIL released. Raises
+    :class:`SceneError` for refused input and :class:`RunError` when no static
+    equilibrium is found or the modes cannot be computed.
+    """
+    scene = _static_scene(source, formulation, inertia, stiffening, sets)
+    return json.loads(_native.eigen(scene._scene))
 
 
 def modes(model: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:

@@ -31,7 +31,8 @@ class SceneError(FlexmbdError, ValueError):
 
 
 class RunError(FlexmbdError):
-    """A time step (or the static start, or the consistent initial conditions) failed.
+    """A time step (or the static start, or the consistent initial conditions) failed, or
+    :func:`flexmbd.equilibrium` / :func:`flexmbd.eigen` found no static equilibrium.
 
     ``time`` is the time of the failed step in seconds (0.0 for the static start, ``None``
     when the failure has no time). A stepping :class:`flexmbd.Simulation` stays at its last

@@ -1,7 +1,8 @@
 //! Rust errors as the Python package's exceptions (`flexmbd._errors`): a refused scene or
 //! body model is a `SceneError` (a `ValueError`) with the `file`, `line`, `column`,
 //! `field`, `value` and `reason` the Rust error knows (`None` for the others), a failed
-//! step or static start a `RunError` with its `time`, anything else a `FlexmbdError`.
+//! step, static start or static equilibrium a `RunError` with its `time`, anything else a
+//! `FlexmbdError`.
 
 use flexmbd::Error;
 use flexmbd::core::InvalidValue;
@@ -178,14 +179,34 @@ pub fn to_py(py: Python<'_>, e: &Error) -> PyErr {
     match e {
         Error::Model(model) => model_error(py, model),
         Error::Fe(fe) => scene_error(py, &e.to_string(), fe_fields(fe)),
-        Error::Static(_) | Error::Integrator(_) => {
-            let time = e
-                .failed_at()
-                .or(matches!(e, Error::Static(_)).then_some(0.0))
-                .into_pyobject(py)
-                .expect("an Option<f64> converts");
-            exception(py, "RunError", &e.to_string(), &[("time", time)])
-        }
+        Error::Static(_) | Error::Integrator(_) => run_error(
+            py,
+            &e.to_string(),
+            e.failed_at()
+                .or(matches!(e, Error::Static(_)).then_some(0.0)),
+        ),
         _ => exception(py, "FlexmbdError", &e.to_string(), &[]),
+    }
+}
+
+/// A `RunError` with `message` and `time` (s; `None` when the failure has no time).
+pub fn run_error(py: Python<'_>, message: &str, time: Option<f64>) -> PyErr {
+    let time = time.into_pyobject(py).expect("an Option<f64> converts");
+    exception(py, "RunError", message, &[("time", time)])
+}
+
+/// An error of the static equilibrium or of the linearised vibration of the scene from
+/// `origin`: no equilibrium found, or no modes computed, is a `RunError` at t = 0 naming
+/// the scene (as `flexmbd equilibrium` and `flexmbd eigen` report it); a refusal is a
+/// `SceneError`, as for any run ([`to_py`]).
+pub fn static_error(py: Python<'_>, origin: &str, e: &Error) -> PyErr {
+    match e {
+        Error::Static(s) => run_error(
+            py,
+            &format!("{origin}: no static equilibrium: {s}"),
+            Some(0.0),
+        ),
+        Error::Vibration(v) => run_error(py, &format!("{origin}: {v}"), Some(0.0)),
+        _ => to_py(py, e),
     }
 }

@@ -1,7 +1,8 @@
 //! `flexmbd._native`, the Rust half of the Python package `flexmbd`: scenes loaded from a
 //! file or from JSON (the Python package turns a dict into it), `--set`-style overrides,
-//! whole runs with the GIL released, a stepping simulation with checkpoints, and the mode
-//! inventory of a body model. The Python package (`python/flexmbd/`) wraps these in
+//! whole runs with the GIL released, a stepping simulation with checkpoints, the static
+//! equilibrium and the linearised free vibration of a scene, and the mode inventory of a
+//! body model. The Python package (`python/flexmbd/`) wraps these in
 //! documented classes that hand out NumPy arrays; errors are raised as its exception
 //! classes (`flexmbd._errors`), filled from the Rust errors' fields ([`errors`]).
 //!
@@ -24,6 +25,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load_file, m)?)?;
     m.add_function(wrap_pyfunction!(scene::from_json, m)?)?;
     m.add_function(wrap_pyfunction!(run::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(run::equilibrium, m)?)?;
+    m.add_function(wrap_pyfunction!(run::eigen, m)?)?;
     m.add_function(wrap_pyfunction!(run::modes, m)?)?;
     Ok(())
 }

@@ -1,4 +1,5 @@
-//! Whole runs and the mode inventory, with the GIL released while Rust computes.
+//! Whole runs, the static equilibrium, the linearised free vibration and the mode
+//! inventory, with the GIL released while Rust computes.
 
 use flexmbd::fe::{BeamBodySpec, FeError, reduce};
 use flexmbd::inventory::Inventory;
@@ -6,7 +7,7 @@ use flexmbd::simulation;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::errors::{SceneFields, fe_fields, scene_error, to_py};
+use crate::errors::{SceneFields, fe_fields, scene_error, static_error, to_py};
 use crate::scene::PyScene;
 
 /// Values as their native-endian bytes, for `numpy.frombuffer` (no rounding: the bits).
@@ -32,6 +33,30 @@ pub fn simulate<'py>(
     let rows = history.rows.len();
     let bytes = as_bytes(history.rows.iter().flatten().copied());
     Ok((summary_json, history.header, PyBytes::new(py, &bytes), rows))
+}
+
+/// The static equilibrium of `scene` at t = 0 as JSON text (the `--json` output of
+/// `flexmbd equilibrium`), solved with the GIL released. No equilibrium found raises
+/// `RunError`.
+#[pyfunction]
+pub fn equilibrium(py: Python<'_>, scene: &PyScene) -> PyResult<String> {
+    let scene = scene.scene.clone();
+    let solved = py.detach(|| flexmbd::equilibrium(&scene));
+    let equilibrium = solved.map_err(|e| static_error(py, &scene.origin, &e))?;
+    serde_json::to_string(&equilibrium)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+}
+
+/// The linearised free vibration of `scene` about its static equilibrium as JSON text (the
+/// `--json` output of `flexmbd eigen`), solved with the GIL released. No equilibrium found,
+/// or no modes computed, raises `RunError`.
+#[pyfunction]
+pub fn eigen(py: Python<'_>, scene: &PyScene) -> PyResult<String> {
+    let scene = scene.scene.clone();
+    let solved = py.detach(|| flexmbd::vibration(&scene));
+    let vibration = solved.map_err(|e| static_error(py, &scene.origin, &e))?;
+    serde_json::to_string(&vibration)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The mode inventory of the body model at `path` as JSON text (the `--json` output of

@@ -1,0 +1,67 @@
+"""`flexmbd.equilibrium` and `flexmbd.eigen`: the physics of a hanging pendulum, the
+`flexmbd equilibrium/eigen --json` output of the program, and no equilibrium as RunError."""
+
+import json
+import math
+
+import pytest
+
+import flexmbd
+from conftest import model, run_cli
+
+G = 9.81  # models/flexible_pendulum.ron's gravity (m/s²)
+LENGTH = 1.0  # its bar (m)
+HANGING = {"bodies.bar.orientation.Angle": -math.pi / 2}
+
+
+def oscillatory(vibration):
+    """The undamped frequencies (Hz) of the oscillatory modes, in order."""
+    return [m["frequency_hz"] for m in vibration["modes"] if m["kind"] == "oscillatory"]
+
+
+def test_hanging_flexible_pendulum_swings_near_the_rigid_bar_frequency_in_both_formulations():
+    rigid = math.sqrt(3 * G / (2 * LENGTH)) / (2 * math.pi)
+    found = {}
+    for formulation in ["absolute", "relative"]:
+        vibration = flexmbd.eigen(model("flexible_pendulum.ron"), formulation=formulation,
+                                  sets=HANGING)
+        assert vibration["equilibrium"]["formulation"].lower() == formulation
+        f = oscillatory(vibration)
+        assert len(f) == 5, (formulation, f)
+        assert abs(f[0] - rigid) / rigid < 1e-3, (formulation, f[0], rigid)
+        found[formulation] = f
+    for a, b in zip(found["absolute"], found["relative"]):
+        assert abs(a - b) / abs(b) < 1e-6, found
+
+
+@pytest.mark.parametrize("command, function", [("equilibrium", flexmbd.equilibrium),
+                                               ("eigen", flexmbd.eigen)])
+def test_spin_up_beam_is_the_clis_json(cli, command, function):
+    scene = model("spin_up_beam_2d.ron")
+    done = run_cli(cli, command, scene, "--json")
+    assert done.returncode == 0, done.stderr
+    assert function(scene) == json.loads(done.stdout)
+
+
+def test_options_and_sets_are_the_clis(cli):
+    scene = model("flexible_pendulum.ron")
+    angle = HANGING["bodies.bar.orientation.Angle"]
+    done = run_cli(cli, "eigen", scene, "--formulation", "relative",
+                   "--set", f"bodies.bar.orientation.Angle={angle!r}", "--json")
+    assert done.returncode == 0, done.stderr
+    assert flexmbd.eigen(scene, formulation="relative", sets=HANGING) == json.loads(done.stdout)
+
+
+@pytest.mark.parametrize("function", [flexmbd.equilibrium, flexmbd.eigen])
+def test_pendulum_released_horizontal_has_no_static_equilibrium(function):
+    scene = model("flexible_pendulum.ron")
+    with pytest.raises(flexmbd.RunError, match="no static equilibrium") as raised:
+        function(scene)
+    assert "flexible_pendulum.ron" in str(raised.value)
+    assert raised.value.time == 0.0
+
+
+def test_a_refused_option_is_a_scene_error():
+    with pytest.raises(flexmbd.SceneError) as raised:
+        flexmbd.equilibrium(model("spin_up_beam_2d.ron"), formulation="floating")
+    assert raised.value.field is not None and "formulation" in raised.value.field
