@@ -3,7 +3,7 @@
 //! formulations, a pendulum that must turn to hang, and the scene option end to end.
 
 use flexmbd::core::State;
-use flexmbd::integrators::{StaticSettings, solve_static};
+use flexmbd::integrators::{StaticError, StaticSettings, solve_static};
 use flexmbd::model::{FormulationKind, InitialState, Orientation, Scene, Stiffening};
 use flexmbd::simulation::{compile, run};
 use nalgebra::DVector;
@@ -121,4 +121,52 @@ fn static_start_stays_put_and_given_start_falls() {
     let uz = h.column("tip_uz").unwrap();
     assert_eq!(uz[0], 0.0);
     assert!(*uz.last().unwrap() < -0.3);
+}
+
+/// A rigid body on a ball joint, released 40° off the vertical: its turn about the vertical
+/// through the pivot changes no force, a neutral direction of the static tangent
+/// (`flexmbd_integrators::statics`, "Neutral directions"). The equilibrium must still be found,
+/// with the centre of mass straight below the pivot (absolute formulation); the relative
+/// formulation may instead meet its Cardan singularity, which must then be refused.
+#[test]
+fn ball_jointed_pendulum_hangs_below_its_pivot_despite_the_free_turn_about_the_vertical() {
+    let text = r#"(
+        name: "spherical pendulum", dim: Spatial, gravity: [0.0, 0.0, -9.81],
+        ground: [(name: "O", position: [0.0, 0.0, 0.0])],
+        bodies: [(name: "bob", orientation: AxisAngle(axis: [0.3, 1.0, 0.0], angle: 0.7),
+            model: Rigid(mass: 2.0, center_of_mass: [0.05, 0.02, -0.5],
+                         inertia: Diagonal([0.05, 0.04, 0.01])),
+            markers: [(name: "O", position: [0.0, 0.0, 0.0]), (name: "c", position: [0.05, 0.02, -0.5])])],
+        joints: [(name: "ball", kind: Spherical, body1: "ground", marker1: "O", body2: "bob", marker2: "O")],
+        sensors: [
+            (name: "cx", kind: Position(body: "bob", marker: "c", component: X)),
+            (name: "cy", kind: Position(body: "bob", marker: "c", component: Y)),
+            (name: "cz", kind: Position(body: "bob", marker: "c", component: Z)),
+        ],
+        solver: (step: 1e-3, duration: 0.01),
+    )"#;
+    let arm = (0.05f64.powi(2) + 0.02f64.powi(2) + 0.25).sqrt();
+    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
+        let mut scene = Scene::from_ron_str(text, "spherical_pendulum.ron").unwrap();
+        scene.solver.formulation = form;
+        let mut f = compile(&scene).unwrap();
+        let sol = match solve_static(f.as_mut(), 0.0, &StaticSettings::default()) {
+            Ok(sol) => sol,
+            // The relative formulation's Cardan angles: Newton reaches their singularity,
+            // where the turn's generalized forces vanish; that must be refused, never
+            // reported as an equilibrium.
+            Err(e @ StaticError::CoordinateSingularity { .. })
+                if form == FormulationKind::Relative =>
+            {
+                eprintln!("{form:?}: {e}");
+                continue;
+            }
+            Err(e) => panic!("{form:?}: {e}"),
+        };
+        let v = sensors_at(&scene, &sol.q);
+        let (x, y, z) = (value(&v, "cx"), value(&v, "cy"), value(&v, "cz"));
+        eprintln!("{form:?}: centre of mass ({x:.3e}, {y:.3e}, {z:.12}), arm {arm:.12}");
+        assert!(x.hypot(y) < 1e-9, "{form:?}: not below the pivot: ({x}, {y})");
+        assert!((z + arm).abs() < 1e-9, "{form:?}: z = {z}, expected {}", -arm);
+    }
 }

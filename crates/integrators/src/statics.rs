@@ -68,6 +68,22 @@
 //! diagonal entry of H without the penalty at the first iterate (or of M, per s², when that
 //! is zero). With the projection α only has to make H regular across the constraints.
 //!
+//! **Neutral directions.** A free vehicle on vertical tyres can be moved forward, sideways or
+//! turned about the vertical without any force changing; a pendulum on a ball joint can be
+//! turned about the vertical. H is singular along such motions (or, with the difference
+//! tangent, has only rounding there), so Newton either stops at the first factorisation or
+//! wanders along them by rounding-sized residuals divided by rounding-sized pivots (the 3D
+//! double pendulum turned 36 rad about the vertical and never met the step test). When the
+//! plain attempt fails, the solve is repeated with H + ρ M(q₀), ρ = 10⁻⁶ k_ref/m_ref: the
+//! Levenberg–Marquardt step in the kinetic metric, which leaves a neutral motion untouched
+//! (the residual has no component along it) and slows Newton elsewhere only by the factor
+//! ρm/(k + ρm), 10⁻⁶ for the stiffest direction. Its steps along a neutral motion are
+//! rounding residuals over ρm, about 10⁻⁷ m, so that attempt is converged on ‖g‖ and ‖Φ‖
+//! alone (the step test cannot hold there, and ‖g‖ ≤ ε_r f_ref is the equilibrium
+//! condition itself). It is a second attempt rather than the
+//! default so that the scenes that converge without it keep their bits. A body that is
+//! really free under a load (a falling body) still fails, with the first attempt's diagnosis.
+//!
 //! **Stop.** ‖g‖∞ ≤ ε_r f_ref on the free coordinates (f_ref the largest |Q_j| met), ‖Φ‖∞ ≤ ε_Φ
 //! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). On failure an error carries the
 //! iteration count, the residual, the constraint error and the load factor reached — never
@@ -179,6 +195,17 @@ pub enum StaticError {
         /// Smallest / largest pivot.
         pivot_ratio: f64,
     },
+    /// The equilibrium found lies where the coordinates stop describing the motion: the
+    /// mass matrix on the motions the constraints allow is singular there (a spherical or
+    /// free joint's Cardan angles at their ±90° singularity, where the generalized forces of
+    /// a turn vanish without the body being in equilibrium).
+    #[error(
+        "the point found is a coordinate singularity, not an equilibrium: the mass matrix on the allowed motions is singular there (pivot ratio {pivot_ratio:.3e}); a spherical or free joint's middle Cardan angle reached ±90° — start from another orientation or use the absolute formulation"
+    )]
+    CoordinateSingularity {
+        /// Smallest / largest pivot of M + α_M Φ_qᵀΦ_q.
+        pivot_ratio: f64,
+    },
     /// The formulation returned non-finite numbers at the initial guess.
     #[error(
         "the forces or constraints are not finite at the initial guess (‖g‖∞ = {residual}); check the scene"
@@ -188,6 +215,10 @@ pub enum StaticError {
         residual: f64,
     },
 }
+
+/// ρ of the regularised attempt, relative to k_ref / m_ref (module documentation, "Neutral
+/// directions").
+const REGULARISATION: f64 = 1e-6;
 
 /// Full Newton steps the watchdog allows before ‖g‖ must fall below its starting level.
 const WATCHDOG: usize = 5;
@@ -203,6 +234,10 @@ struct Solver<'s> {
     terms: SystemTerms,
     zero_qd: DVector<f64>,
     alpha: f64,
+    /// Regularisation ρ of the second attempt (0 in the first): H + ρ M₀.
+    regularisation: f64,
+    /// M(q₀), the metric of the regularisation.
+    mass0: DMatrix<f64>,
     /// Q(q₀), for the homotopy.
     q0_forces: DVector<f64>,
     f_ref: f64,
@@ -305,7 +340,10 @@ impl Solver<'_> {
                 self.mm[(j, i)] = v;
             }
         }
-        let eps = 1e-10
+        // The regularised attempt meets ‖g‖ ≤ ε_r f_ref on the multipliers alone (module
+        // documentation, "Neutral directions"): a smaller ε, whose bias is below that.
+        let relative_eps = if self.mass0.is_empty() { 1e-10 } else { 1e-14 };
+        let eps = relative_eps
             * (0..m)
                 .map(|i| self.mm[(i, i)])
                 .fold(0.0, f64::max)
@@ -397,7 +435,7 @@ impl Solver<'_> {
             }
             if res <= self.s.tol_residual * self.f_ref
                 && phi <= self.s.tol_phi
-                && last_dq <= self.s.tol_q * q.amax().max(1.0)
+                && (last_dq <= self.s.tol_q * q.amax().max(1.0) || self.regularisation > 0.0)
             {
                 return Ok(Level::Converged);
             }
@@ -507,6 +545,9 @@ impl Solver<'_> {
             .fold(0.0, f64::max);
         let k_ref = if k_ref > 0.0 { k_ref } else { m_ref.max(1.0) };
         self.alpha = self.s.penalty.unwrap_or(1e4 * k_ref);
+        if self.mass0.nrows() == n {
+            self.regularisation = REGULARISATION * k_ref / m_ref.max(f64::MIN_POSITIVE);
+        }
     }
 
     /// The Newton correction: H += Φ_qᵀαΦ_q, held rows and columns replaced by the identity,
@@ -516,6 +557,12 @@ impl Solver<'_> {
         let a = self.alpha;
         let phi_q = &self.terms.phi_q;
         self.h.gemm_tr(a, phi_q, phi_q, 1.0);
+        if self.regularisation > 0.0 {
+            let rho = self.regularisation;
+            for (h, m) in self.h.iter_mut().zip(self.mass0.iter()) {
+                *h += rho * m;
+            }
+        }
         for j in 0..self.n {
             if self.held[j] {
                 self.h.row_mut(j).fill(0.0);
@@ -630,6 +677,29 @@ pub fn solve_static<F: Formulation + ?Sized>(
     t: f64,
     settings: &StaticSettings,
 ) -> Result<StaticSolution, StaticError> {
+    let first = attempt(f, t, settings, false);
+    match first {
+        Err(
+            StaticError::Singular { .. }
+            | StaticError::NoConvergence { .. }
+            | StaticError::CoordinateSingularity { .. },
+        ) => {
+            // A neutral direction (module documentation, "Neutral directions"): again with
+            // the regularised tangent; when that fails too, the first diagnosis stands.
+            attempt(f, t, settings, true).or(first)
+        }
+        _ => first,
+    }
+}
+
+/// One solve from the initial guess: the full load, then load stepping; with `regularise`
+/// the tangent gets ρ M(q₀) (module documentation, "Neutral directions").
+fn attempt<F: Formulation + ?Sized>(
+    f: &mut F,
+    t: f64,
+    settings: &StaticSettings,
+    regularise: bool,
+) -> Result<StaticSolution, StaticError> {
     let (n, m) = (f.n_coordinates(), f.n_constraints());
     let mut q0 = DVector::zeros(n);
     let mut qd = DVector::zeros(n);
@@ -638,6 +708,9 @@ pub fn solve_static<F: Formulation + ?Sized>(
     // Q(q₀) for the homotopy, and a finiteness check of the scene at the guess.
     s.eval(f, &q0, REQ_FULL);
     s.q0_forces.copy_from(&s.terms.forces);
+    if regularise {
+        s.mass0 = s.terms.mass.clone();
+    }
     let r0 = s.terms.forces.amax().max(s.terms.phi.amax());
     if !r0.is_finite() {
         return Err(StaticError::NonFinite { residual: r0 });
@@ -664,6 +737,7 @@ pub fn solve_static<F: Formulation + ?Sized>(
             hint: HINT,
         });
     }
+    s.check_coordinates(f, &q)?;
     Ok(StaticSolution {
         q,
         lambda,
@@ -696,6 +770,8 @@ impl<'s> Solver<'s> {
             terms: SystemTerms::new(n, m),
             zero_qd: DVector::zeros(n),
             alpha: 0.0,
+            regularisation: 0.0,
+            mass0: DMatrix::zeros(0, 0),
             q0_forces: DVector::zeros(n),
             f_ref: f64::MIN_POSITIVE,
             evaluations: 0,
@@ -716,6 +792,42 @@ impl<'s> Solver<'s> {
             lu_m: DenseLu::new(m),
             last_residual: f64::INFINITY,
             last_phi: f64::INFINITY,
+        }
+    }
+
+    /// At the converged q: M + α_M Φ_qᵀΦ_q (α_M = the largest diagonal of M per unit of
+    /// Φ_qᵀΦ_q; held coordinates as the identity) must be regular, else the coordinates are
+    /// singular there ([`StaticError::CoordinateSingularity`]).
+    fn check_coordinates<F: Formulation + ?Sized>(
+        &mut self,
+        f: &mut F,
+        q: &DVector<f64>,
+    ) -> Result<(), StaticError> {
+        self.eval(f, q, REQ_FULL);
+        let n = self.n;
+        let m_ref = (0..n)
+            .map(|i| self.terms.mass[(i, i)].abs())
+            .fold(0.0, f64::max);
+        let phi_q = &self.terms.phi_q;
+        let c_ref = (0..n)
+            .map(|j| phi_q.column(j).norm_squared())
+            .fold(0.0, f64::max);
+        self.h.copy_from(&self.terms.mass);
+        if c_ref > 0.0 {
+            self.h.gemm_tr(m_ref / c_ref, phi_q, phi_q, 1.0);
+        }
+        for j in 0..n {
+            if self.held[j] {
+                self.h.row_mut(j).fill(0.0);
+                self.h.column_mut(j).fill(0.0);
+                self.h[(j, j)] = 1.0;
+            }
+        }
+        match self.lu.factor(&self.h) {
+            Ok(()) => Ok(()),
+            Err(e) => Err(StaticError::CoordinateSingularity {
+                pivot_ratio: e.pivot_ratio,
+            }),
         }
     }
 
