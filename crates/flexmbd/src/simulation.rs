@@ -174,6 +174,8 @@ struct Setup {
     static_iterations: usize,
     /// CPU time of the consistent initial conditions (part of the run's `cpu_seconds`).
     start_seconds: f64,
+    /// The scene gives every body a start velocity (`Scene::initial_velocity`).
+    moving_start: bool,
 }
 
 impl Setup {
@@ -255,6 +257,7 @@ fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
             static_seconds: 0.0,
             static_iterations: 0,
             start_seconds: 0.0,
+            moving_start: scene.moves_at_start(),
         },
     })
 }
@@ -338,6 +341,17 @@ impl Simulation {
         let clock = Instant::now();
         let f = compiled.formulation.as_mut();
         let integrator = match &static_solution {
+            Some(solution) if setup.moving_start => {
+                // The equilibrium, every body translating at the scene's initial velocity
+                // (the formulation's guess holds only that: flexmbd_model::initial_velocity).
+                let (mut q, mut qd) = (solution.q.clone(), solution.q.clone());
+                f.initial_guess(&mut q, &mut qd);
+                Ali3p::new(
+                    &mut StartFrom::new(f, solution.q.clone(), qd),
+                    0.0,
+                    settings,
+                )
+            }
             Some(solution) => Ali3p::new(&mut StartFrom::at_rest(f, solution), 0.0, settings),
             None => Ali3p::new(f, 0.0, settings),
         };

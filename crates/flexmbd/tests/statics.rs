@@ -166,7 +166,14 @@ fn ball_jointed_pendulum_hangs_below_its_pivot_despite_the_free_turn_about_the_v
         let v = sensors_at(&scene, &sol.q);
         let (x, y, z) = (value(&v, "cx"), value(&v, "cy"), value(&v, "cz"));
         eprintln!("{form:?}: centre of mass ({x:.3e}, {y:.3e}, {z:.12}), arm {arm:.12}");
-        assert!(x.hypot(y) < 1e-9, "{form:?}: not below the pivot: ({x}, {y})");
-        assert!((z + arm).abs() < 1e-9, "{form:?}: z = {z}, expected {}", -arm);
+        assert!(
+            x.hypot(y) < 1e-9,
+            "{form:?}: not below the pivot: ({x}, {y})"
+        );
+        assert!(
+            (z + arm).abs() < 1e-9,
+            "{form:?}: z = {z}, expected {}",
+            -arm
+        );
     }
 }

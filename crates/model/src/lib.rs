@@ -10,6 +10,7 @@ pub mod consistency;
 pub mod error;
 pub mod force_elements;
 mod foreshortening;
+mod initial_velocity;
 pub mod lines;
 pub mod load;
 pub mod prepared;

@@ -4,7 +4,8 @@
 //! depends on the scene but not on the coordinates it will be run in:
 //!
 //! 1. validation (names, references, values; errors name the file and the field);
-//! 2. the scene rewrites of the stiffening method ([`crate::rewrite`]: FNL2's axial basis,
+//! 2. the scene-wide initial velocity handed to the bodies ([`Scene::with_initial_velocity`]),
+//!    and the scene rewrites of the stiffening method ([`crate::rewrite`]: FNL2's axial basis,
 //!    FS0 without axial modes, substructuring);
 //! 3. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
 //!    elastic model installed and, for FS0, its shortening data ([`PreparedBody`]);
@@ -100,7 +101,8 @@ impl PreparedScene {
     /// and resolve its names.
     pub fn new(scene: &Scene) -> Result<PreparedScene, ModelError> {
         scene.validate()?;
-        let scene = match rewrite_for_stiffening(scene)? {
+        let moving = scene.with_initial_velocity();
+        let scene = match rewrite_for_stiffening(&moving)? {
             Cow::Borrowed(s) => s.clone(),
             Cow::Owned(s) => s,
         };

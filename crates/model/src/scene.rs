@@ -60,6 +60,13 @@ pub struct Scene {
     /// Named points of the fixed ground (ground components, m).
     #[serde(default)]
     pub ground: Vec<Marker>,
+    /// A velocity every body has at the start, beside its own `velocity` (m/s, ground
+    /// components): a whole vehicle driving forward. With `solver.initial_state:
+    /// StaticEquilibrium` the equilibrium is found at rest and then every body moves at
+    /// this velocity ([`Scene::with_initial_velocity`]). `--set initial_velocity.0=10` sets
+    /// its x component.
+    #[serde(default)]
+    pub initial_velocity: V3,
     /// The moving bodies.
     pub bodies: Vec<Body>,
     /// Joints between bodies (or a body and the ground).

@@ -42,7 +42,8 @@ impl Scene {
 
     /// Gravity components in [`bounds::GRAVITY`].
     pub(crate) fn check_gravity(&self) -> Result<(), ModelError> {
-        self.vector_in_range(bounds::GRAVITY, "gravity", &self.gravity)
+        self.vector_in_range(bounds::GRAVITY, "gravity", &self.gravity)?;
+        self.vector_in_range(bounds::VELOCITY, "initial_velocity", &self.initial_velocity)
     }
 
     /// A body's placement, velocity and marker positions in range; its orientation a
