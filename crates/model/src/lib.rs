@@ -6,6 +6,7 @@
 //! method, its bodies reduced and built, its names resolved into typed ids.
 
 pub mod bodies;
+pub mod builder;
 pub mod consistency;
 pub mod error;
 pub mod force_elements;
