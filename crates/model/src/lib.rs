@@ -7,6 +7,7 @@
 
 pub mod bodies;
 pub mod consistency;
+pub mod constraint_equations;
 pub mod error;
 pub mod force_elements;
 mod foreshortening;
@@ -15,6 +16,7 @@ pub mod load;
 pub mod prepared;
 pub mod rewrite;
 pub mod scene;
+pub mod scene_constraints;
 pub mod sensors;
 mod values;
 

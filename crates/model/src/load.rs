@@ -54,7 +54,7 @@ impl Scene {
 
     /// The refusal of a name given twice in the list at `list` (e.g. `bodies`,
     /// `bodies[crank].markers`), with the line where it is given again.
-    fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
+    pub(crate) fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
         ModelError::Invalid {
             file: self.origin.clone(),
             line: crate::lines::line_of_repeated(&self.source, list, name),
@@ -82,7 +82,7 @@ impl Scene {
     /// the file, the line of the field (when found in the scene text) and the field.
     ///
     /// The parts of the scene are checked in a fixed order (solver, gravity, bodies,
-    /// ground, joints, drivers, forces, sensors, sizes, joined markers) and the first error
+    /// ground, joints, drivers, forces, constraints, sensors, sizes, joined markers) and the first error
     /// found is returned, so that a scene with several mistakes always reports the same
     /// one. Every number is checked against its range in [`flexmbd_fe::bounds`] (finite, and
     /// small enough that the arithmetic stays finite), so no formulation sees a NaN.
@@ -96,6 +96,7 @@ impl Scene {
         self.check_drivers()?;
         self.check_one_driver_per_joint()?;
         self.check_forces()?;
+        self.check_constraints()?;
         self.check_sensors()?;
         self.check_sizes()?;
         self.check_joined_markers_coincide()
@@ -419,7 +420,7 @@ impl Scene {
         }
     }
 
-    fn check_marker(
+    pub(crate) fn check_marker(
         &self,
         body_item: &str,
         body: &str,

@@ -78,6 +78,7 @@ mod energy;
 mod joints;
 mod kinematics;
 mod lookup;
+mod marker_constraints;
 mod sensors;
 
 use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod, NaturalWorkspace};
