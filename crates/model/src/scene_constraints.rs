@@ -19,7 +19,7 @@
 //! ]
 //! ```
 //!
-//! Validation ([`Scene::check_constraints`], run by [`Scene::validate`]): existing bodies and
+//! Validation (`Scene::check_constraints`, run by [`Scene::validate`]): existing bodies and
 //! markers, two different bodies, names unique among the joints and the constraints, a
 //! finite positive `length` and a finite non-zero `normal`, `PointInPlane` only in a 3D
 //! scene, and the markers satisfying the constraint at t = 0 to within
@@ -260,17 +260,15 @@ impl Scene {
                 ))),
             Constraint::Distance {
                 length: Some(l), ..
-            } if !((found - l).abs() <= CONSTRAINT_TOLERANCE) => {
-                Err(self.invalid(InvalidValue::new(
-                    field("length"),
-                    bounds::number(*l),
-                    format!(
-                        "{both} are {found:.9} m apart at t = 0 (off by {:.3e} m, tolerance \
+            } if (found - l).abs() > CONSTRAINT_TOLERANCE => Err(self.invalid(InvalidValue::new(
+                field("length"),
+                bounds::number(*l),
+                format!(
+                    "{both} are {found:.9} m apart at t = 0 (off by {:.3e} m, tolerance \
                          {CONSTRAINT_TOLERANCE:e} m): the markers must start at the length",
-                        found - l
-                    ),
-                )))
-            }
+                    found - l
+                ),
+            ))),
             Constraint::PointInPlane { normal, .. } => {
                 let a1 = self.body_rotation(body1);
                 let n = a1 * normal.vec().normalize();

@@ -1,5 +1,6 @@
-//! The constraints of the cut joints and of the drivers (docs/methods.md §4.6), built once at
-//! compile time in the order their rows take in Φ.
+//! The constraints of the cut joints, of the drivers and of the scene's constraints between
+//! markers (docs/methods.md §4.6, §3.4), built once at compile time in the order their rows
+//! take in Φ.
 //!
 //! A cut joint between the markers i and j gives, in their Cartesian positions:
 //!
