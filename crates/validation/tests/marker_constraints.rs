@@ -230,8 +230,18 @@ fn hanging_four_bar_with_a_distance_coupler_vibrates_alike_in_2d_and_3d() {
 
 /// A point mass held by a `PointInPlane` constraint in the plane of a ramp body (turned by α
 /// about y, bolted to the ground), the plane's normal given in the ramp's components as its
-/// z axis, started in the plane with a velocity along the plane.
-fn sliding_block(alpha: f64) -> Scene {
+/// z axis, started in the plane with a velocity along the plane; or (`on_ground`) the same
+/// plane carried by the ground, its normal (sin α, 0, cos α) in ground components.
+fn sliding_block(alpha: f64, on_ground: bool) -> Scene {
+    let plane = if on_ground {
+        format!(
+            r#"PointInPlane(name: "on_ramp", body1: "ground", marker1: "R", normal: ({:?}, 0.0, {:?}), body2: "block", marker2: "c")"#,
+            alpha.sin(),
+            alpha.cos()
+        )
+    } else {
+        r#"PointInPlane(name: "on_ramp", body1: "ramp", marker1: "P", normal: (0.0, 0.0, 1.0), body2: "block", marker2: "c")"#.to_string()
+    };
     parse(&format!(
         r#"(
     name: "sliding block", dim: Spatial, gravity: [0.0, 0.0, -9.81],
@@ -245,7 +255,7 @@ fn sliding_block(alpha: f64) -> Scene {
          markers: [(name: "c", position: [0.0, 0.0, 0.0])],
          velocity: (linear: [0.0, 0.5, 0.0]))],
     joints: [(name: "bolt", kind: Rigid, body1: "ground", marker1: "R", body2: "ramp", marker2: "R")],
-    constraints: [PointInPlane(name: "on_ramp", body1: "ramp", marker1: "P", normal: (0.0, 0.0, 1.0), body2: "block", marker2: "c")],
+    constraints: [{plane}],
     sensors: [(name: "x", kind: Position(body: "block", marker: "c", component: X)),
               (name: "y", kind: Position(body: "block", marker: "c", component: Y)),
               (name: "z", kind: Position(body: "block", marker: "c", component: Z))],
@@ -257,12 +267,16 @@ fn sliding_block(alpha: f64) -> Scene {
 #[test]
 fn block_in_a_tilted_plane_slides_at_g_sin_alpha() {
     let (alpha, h) = (0.4_f64, 1e-3);
-    let scene = sliding_block(alpha);
     // The plane's normal n = (sin α, 0, cos α); gravity's part along the plane is
     // g sin α (cos α, 0, −sin α), and the in-plane start velocity (0, 0.5, 0) is kept.
     let down = Vector::new(alpha.cos(), 0.0, -alpha.sin()) * (G * alpha.sin());
     let start = Vector::new(0.3, 0.2, 0.2);
-    for (name, rows) in both_runs(&scene, h, 1.0) {
+    let runs = [false, true].map(|on_ground| {
+        let [a, r] = both_runs(&sliding_block(alpha, on_ground), h, 1.0);
+        let carrier = if on_ground { "ground" } else { "ramp" };
+        [a, r].map(|(name, rows)| (format!("{name}, plane of the {carrier}"), rows))
+    });
+    for (name, rows) in runs.into_iter().flatten() {
         let mut worst = 0.0f64;
         for (k, r) in rows.iter().enumerate() {
             let t = k as f64 * h;
