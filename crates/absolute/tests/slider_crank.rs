@@ -9,7 +9,7 @@ use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
-use flexmbd_model::{BodyModel, Driver, Force, MotionLaw, Scene, SensorKind};
+use flexmbd_model::{BodyModel, Constraint, Driver, Force, MotionLaw, Scene, SensorKind};
 use nalgebra::DVector;
 
 use std::f64::consts::TAU;
@@ -160,6 +160,42 @@ fn prismatic_jacobians_and_biases_match_finite_differences() {
         assert!(dt < 1e-8, "{}: Φ_t error {dt:e}", scene.name);
         assert!(bias < 1e-5, "{}: bias error {bias:e}", scene.name);
     }
+}
+
+/// A scene `Distance` constraint between two markers, its length left to the start.
+fn distance(
+    name: &str,
+    (body1, marker1): (&str, &str),
+    (body2, marker2): (&str, &str),
+) -> Constraint {
+    Constraint::Distance {
+        name: name.into(),
+        body1: body1.into(),
+        marker1: marker1.into(),
+        body2: body2.into(),
+        marker2: marker2.into(),
+        length: None,
+    }
+}
+
+#[test]
+fn distance_constraint_jacobians_and_biases_match_finite_differences() {
+    // The flexible rod's mid node (normal modes only) held at its distance from a ground
+    // point, and the crank pin at its distance from the slider.
+    let mut scene = slider_crank();
+    scene.constraints = vec![
+        distance("wall_mid", ("ground", "wall"), ("rod", "mid")),
+        distance("pin_pin", ("crank", "B"), ("slider", "pin")),
+    ];
+    scene.validate().unwrap();
+    let (jac, dt, bias) = derivative_errors(&scene);
+    eprintln!("distance constraints: |ΔΦ_q| {jac:.1e}, |ΔΦ_t| {dt:.1e}, |Δc| {bias:.1e}");
+    assert!(jac < 1e-8, "Φ_q error {jac:e}");
+    assert!(dt < 1e-8, "Φ_t error {dt:e}");
+    assert!(bias < 1e-5, "bias error {bias:e}");
+    // Two more rows than without them.
+    let without = absolute(&slider_crank()).n_constraints();
+    assert_eq!(absolute(&scene).n_constraints(), without + 2);
 }
 
 #[test]

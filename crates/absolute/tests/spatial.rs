@@ -4,6 +4,7 @@
 //!   difference of Φ, Φ_t against a time difference, and the mobility (coordinates − rank
 //!   Φ_q) of two free bodies (docs/methods.md §3.2: 9, 7, 8, 8, 7, 6), on rigid and flexible
 //!   bodies (joint node P ≠ R on a beam with static modes, docs/methods.md §3.3);
+//! - the scene's `Distance` and `PointInPlane` constraints alike (docs/methods.md §3.4);
 //! - a rigid 3D double pendulum: second-order energy drift, constraint residuals;
 //! - the double four-bar written as a 3D scene reproduces the planar formulation;
 //! - a flexible 3D pendulum: energy conservation, both inertia routes agree;
@@ -14,7 +15,7 @@ use common::*;
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Formulation;
 use flexmbd_integrators::{Ali3p, Ali3pSettings, Stats};
-use flexmbd_model::{BodyModel, JointKind, Scene, V3};
+use flexmbd_model::{BodyModel, Constraint, JointKind, Marker, Scene, V3};
 use flexmbd_test_support::scenes::{model, planar_scene_in_3d};
 use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
 
@@ -220,6 +221,68 @@ fn joint_derivatives_and_mobility_between_rigid_bodies() {
     for (name, kind, mobility) in JOINTS {
         assert_derivatives(&pair(kind, RIGID_A, None), name, mobility, 1e-8);
     }
+}
+
+/// The pair with its joint replaced by the scene's `Distance` and `PointInPlane`
+/// constraints between a.m and a new marker n of b, off the joint point in the plane through
+/// a.m normal to (0.3, −0.5, 0.8) (body a components).
+fn constrained_pair(body_a: &str) -> Scene {
+    let mut s = pair("Spherical", body_a, None);
+    s.joints.clear();
+    let a = &s.bodies[0];
+    let pa = a.origin.vec() + a.orientation.matrix() * a.markers[0].position.vec();
+    let normal = Vector3::new(0.3, -0.5, 0.8);
+    let n = (a.orientation.matrix() * normal).normalize();
+    let p = pa + n.cross(&Vector3::x()).normalize() * 0.35;
+    let b = &mut s.bodies[1];
+    let local = b.orientation.matrix().transpose() * (p - b.origin.vec());
+    b.markers.push(Marker {
+        name: "n".into(),
+        position: V3([local.x, local.y, local.z]),
+    });
+    let ends = |c: &str| {
+        (
+            c.to_string(),
+            "a".to_string(),
+            "m".to_string(),
+            "b".to_string(),
+        )
+    };
+    let (name, body1, marker1, body2) = ends("rod");
+    s.constraints = vec![
+        Constraint::Distance {
+            name,
+            body1,
+            marker1,
+            body2,
+            marker2: "n".into(),
+            length: None,
+        },
+        Constraint::PointInPlane {
+            name: "plane".into(),
+            body1: "a".into(),
+            marker1: "m".into(),
+            normal: V3([normal.x, normal.y, normal.z]),
+            body2: "b".into(),
+            marker2: "n".into(),
+        },
+    ];
+    s.validate().unwrap();
+    s
+}
+
+#[test]
+fn distance_and_point_in_plane_derivatives_and_mobility() {
+    // Two free bodies (12 freedoms) lose one to each constraint; on the beam the marker is
+    // its tip node (P ≠ R), whose rotation turns the plane's normal, and the beam adds its 7
+    // modal coordinates.
+    assert_derivatives(&constrained_pair(RIGID_A), "distance + plane", 10, 1e-8);
+    assert_derivatives(
+        &constrained_pair(FLEX_A),
+        "distance + plane at a beam tip",
+        17,
+        1e-8,
+    );
 }
 
 #[test]

@@ -3,7 +3,8 @@
 //! (constant rigid-body terms, spherical and revolute joints) and the flexible pendulum
 //! (natural-set inertia, gravity, elastic forces and tangents), and the FS0 spin-up beam
 //! (both inertia routes, tip sensors with the foreshortening shift), and a spring–damper to a
-//! flexible body's node (force elements with their tangents).
+//! flexible body's node (force elements with their tangents), and the scene's distance and
+//! point-in-plane constraints on such a node.
 
 mod common;
 use common::*;
@@ -43,6 +44,8 @@ fn spatial_steps_do_not_allocate() {
         free_length: Some(0.5),
     });
     scenes.push(sprung);
+    // The scene's Distance and PointInPlane constraints on the tip node.
+    scenes.push(flexmbd_test_support::scenes::flexible_pendulum_3d_with_constraints());
     for scene in &scenes {
         let mut f = absolute(scene);
         let mut s = ali3p_at(&mut f, 1e-3);

@@ -38,8 +38,8 @@
 //!
 //! # The principal types
 //!
-//! - [`model::Scene`]: the physics once — bodies, joints, forces, drivers, sensors and
-//!   solver settings, from a RON file in `models/` or built in code; validated on loading.
+//! - [`model::Scene`]: the physics once — bodies, joints, forces, constraints between
+//!   markers (distance, point in plane), drivers, sensors and solver settings, from a RON file in `models/` or built in code; validated on loading.
 //! - [`Simulation`]: a scene compiled and under way — [`Simulation::step`],
 //!   [`Simulation::advance_to`], [`Simulation::read_sensors`] (no allocation),
 //!   [`Simulation::checkpoint`] / [`Simulation::restore`], [`Simulation::run`].

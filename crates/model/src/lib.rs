@@ -8,6 +8,7 @@
 pub mod bodies;
 pub mod builder;
 pub mod consistency;
+pub mod constraint_equations;
 pub mod error;
 pub mod force_elements;
 mod foreshortening;
@@ -17,6 +18,7 @@ pub mod load;
 pub mod prepared;
 pub mod rewrite;
 pub mod scene;
+pub mod scene_constraints;
 pub mod sensors;
 mod values;
 

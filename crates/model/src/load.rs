@@ -54,7 +54,7 @@ impl Scene {
 
     /// The refusal of a name given twice in the list at `list` (e.g. `bodies`,
     /// `bodies[crank].markers`), with the line where it is given again.
-    fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
+    pub(crate) fn repeated_name(&self, list: &str, name: &str, what: &str) -> ModelError {
         ModelError::Invalid {
             file: self.origin.clone(),
             line: crate::lines::line_of_repeated(&self.source, list, name),
@@ -82,7 +82,7 @@ impl Scene {
     /// the file, the line of the field (when found in the scene text) and the field.
     ///
     /// The parts of the scene are checked in a fixed order (solver, gravity, bodies,
-    /// ground, joints, drivers, forces, sensors, sizes, joined markers) and the first error
+    /// ground, joints, drivers, forces, constraints, sensors, sizes, joined markers) and the first error
     /// found is returned, so that a scene with several mistakes always reports the same
     /// one. Every number is checked against its range in [`flexmbd_fe::bounds`] (finite, and
     /// small enough that the arithmetic stays finite), so no formulation sees a NaN.
@@ -96,6 +96,7 @@ impl Scene {
         self.check_drivers()?;
         self.check_one_driver_per_joint()?;
         self.check_forces()?;
+        self.check_constraints()?;
         self.check_sensors()?;
         self.check_sizes()?;
         self.check_joined_markers_coincide()
@@ -419,7 +420,7 @@ impl Scene {
         }
     }
 
-    fn check_marker(
+    pub(crate) fn check_marker(
         &self,
         body_item: &str,
         body: &str,
@@ -449,7 +450,9 @@ impl Scene {
     }
 
     /// Apply `PATH=VALUE` overrides: `PATH` is a dotted path of field names; in a list of
-    /// named items (bodies, joints, sensors, ...) an item is selected by its `name`
+    /// named items (bodies, joints, sensors, forces, constraints, ...) an item is selected by
+    /// its `name` (an enum item by the `name` among its fields, whose fields the path then
+    /// continues with: `constraints.tie_rod.length=0.3`)
     /// (e.g. `bodies.crank1.flexible=true`, `solver.step=5e-4`,
     /// `bodies.bar.model.Beam.material.young_modulus=7e10`). The value must be a scalar of
     /// the field's type. The scene is validated again afterwards.
@@ -577,6 +580,35 @@ pub fn parse_set(arg: &str) -> Result<(String, String), ModelError> {
     }
 }
 
+/// Whether a list item is an enum variant with fields, serialised `{"Variant": {"name": …}}`
+/// (a force, a constraint).
+fn is_named_variant(it: &Value) -> bool {
+    matches!(it, Value::Object(map) if map.len() == 1
+        && !map.contains_key("name")
+        && map.values().all(|v| v.get("name").is_some()))
+}
+
+/// The `name` of a list item, looked for inside a named variant too.
+fn item_name(it: &Value) -> Option<&str> {
+    let fields = match it {
+        Value::Object(map) if is_named_variant(it) => map.values().next()?,
+        _ => it,
+    };
+    fields.get("name").and_then(|n| n.as_str())
+}
+
+/// Whether `map` is a named variant, `{"Variant": {"name": …, …}}`, and `part` one of its
+/// fields rather than the variant's name: the path then continues in the fields (so that
+/// `constraints.rod.length` reaches the `length` of `Distance(name: "rod", …)`, as
+/// `constraints.rod.Distance.length` does).
+fn enters_variant(map: &serde_json::Map<String, Value>, part: &str) -> bool {
+    map.len() == 1
+        && !map.contains_key(part)
+        && map
+            .values()
+            .all(|v| v.is_object() && v.get("name").is_some())
+}
+
 fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError> {
     let err = |m: String| ModelError::Set {
         path: path.to_string(),
@@ -588,6 +620,15 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
         let here = parts[..i].join(".");
         node = match node {
             Value::Object(map) => {
+                // A named variant's fields are reached with or without the variant's name.
+                let map = if enters_variant(map, part) {
+                    match map.values_mut().next() {
+                        Some(Value::Object(fields)) => fields,
+                        _ => unreachable!("a named variant holds its fields"),
+                    }
+                } else {
+                    map
+                };
                 let keys: Vec<String> = map.keys().cloned().collect();
                 map.get_mut(*part).ok_or_else(|| {
                     err(format!(
@@ -600,12 +641,9 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             Value::Array(items) => {
                 let names: Vec<String> = items
                     .iter()
-                    .filter_map(|it| it.get("name").and_then(|n| n.as_str()).map(String::from))
+                    .filter_map(|it| item_name(it).map(String::from))
                     .collect();
-                if let Some(pos) = items
-                    .iter()
-                    .position(|it| it.get("name").and_then(|n| n.as_str()) == Some(part))
-                {
+                if let Some(pos) = items.iter().position(|it| item_name(it) == Some(part)) {
                     &mut items[pos]
                 } else if let Ok(k) = part.parse::<usize>() {
                     let n = items.len();

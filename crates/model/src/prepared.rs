@@ -41,7 +41,7 @@ pub struct MarkerId {
     pub index: usize,
 }
 
-/// The two markers a joint or a two-point force element connects.
+/// The two markers a joint, a two-point force element or a constraint connects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MarkerPair {
     /// Marker on the first body (`body1`, `marker1`).
@@ -91,6 +91,7 @@ pub struct PreparedScene {
     bodies: Vec<PreparedBody>,
     joints: Vec<MarkerPair>,
     forces: Vec<MarkerPair>,
+    constraints: Vec<MarkerPair>,
     drivers: Vec<JointId>,
     sensors: Vec<SensorTarget>,
     sensor_offsets: Vec<f64>,
@@ -120,6 +121,14 @@ impl PreparedScene {
                 scene.marker_pair(body1, marker1, body2, marker2)
             })
             .collect::<Result<_, _>>()?;
+        let constraints = scene
+            .constraints
+            .iter()
+            .map(|c| {
+                let [(body1, marker1), (body2, marker2)] = c.ends();
+                scene.marker_pair(body1, marker1, body2, marker2)
+            })
+            .collect::<Result<_, _>>()?;
         let drivers = scene
             .drivers
             .iter()
@@ -136,6 +145,7 @@ impl PreparedScene {
             bodies,
             joints,
             forces,
+            constraints,
             drivers,
             sensors,
             sensor_offsets,
@@ -166,6 +176,11 @@ impl PreparedScene {
     /// The markers of each force element, in the order of the prepared scene's `forces`.
     pub fn force_markers(&self) -> &[MarkerPair] {
         &self.forces
+    }
+
+    /// The markers of each constraint, in the order of the prepared scene's `constraints`.
+    pub fn constraint_markers(&self) -> &[MarkerPair] {
+        &self.constraints
     }
 
     /// The driven joint of each driver, in the order of the prepared scene's `drivers`.

@@ -358,7 +358,7 @@ fn bracket(b: &Body, k: usize) -> Joint {
     }
 }
 
-/// Re-point joints, forces and Position/Velocity sensors of `out` from the split beams'
+/// Re-point joints, forces, constraints and Position/Velocity sensors of `out` from the split beams'
 /// markers to the substructures that now hold them; refuse `Modal` sensors of a split
 /// beam, whose modal coordinates no longer exist.
 fn repoint_to_substructures(
@@ -372,6 +372,11 @@ fn repoint_to_substructures(
     }
     for f in out.forces.iter_mut() {
         for (body, marker) in f.ends_mut() {
+            split.remap(body, marker);
+        }
+    }
+    for c in out.constraints.iter_mut() {
+        for (body, marker) in c.ends_mut() {
             split.remap(body, marker);
         }
     }

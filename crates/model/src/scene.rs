@@ -8,6 +8,8 @@ use flexmbd_fe::BeamBodySpec;
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
+pub use crate::scene_constraints::{CONSTRAINT_TOLERANCE, Constraint};
+
 /// A vector written with 2 (planar) or 3 numbers; stored with z = 0 in 2D.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "Vec<f64>", into = "Vec<f64>")]
@@ -75,6 +77,10 @@ pub struct Scene {
     /// Force elements.
     #[serde(default)]
     pub forces: Vec<Force>,
+    /// Constraints between two markers that are not joints: distances, points in planes
+    /// ([`crate::scene_constraints`]).
+    #[serde(default)]
+    pub constraints: Vec<Constraint>,
     /// Prescribed joint motions.
     #[serde(default)]
     pub drivers: Vec<Driver>,

@@ -25,7 +25,7 @@ impl Scene {
     }
 
     /// A direction (normalised on use): components in range and a norm that is not zero.
-    fn axis(&self, field: &str, v: &V3) -> Result<(), ModelError> {
+    pub(crate) fn axis(&self, field: &str, v: &V3) -> Result<(), ModelError> {
         self.vector_in_range(bounds::AXIS_COMPONENT, field, v)?;
         if v.vec().norm() < bounds::MIN_AXIS_NORM {
             return Err(self.invalid(InvalidValue::new(

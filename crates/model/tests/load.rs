@@ -1,5 +1,6 @@
 //! Scene loading: the double four-bar parses and validates; bad input is refused
-//! with the file, line and field; `--set` reaches any scalar by its path.
+//! with the file, line and field; `--set` reaches any scalar by its path (list items by
+//! name, the fields of enum items such as constraints and forces too).
 
 use flexmbd_model::{BodyModel, ModelError, Scene, parse_set};
 
@@ -145,4 +146,59 @@ fn initial_state_defaults_to_given_and_is_settable() {
         .apply_sets(&[parse_set("solver.initial_state=Sideways").unwrap()])
         .unwrap_err();
     assert!(e.to_string().contains("Sideways"), "{e}");
+}
+
+/// A scene with a `Distance` constraint (its length given) and a spring–damper, both enum
+/// items of their lists.
+const TIED: &str = r#"(
+    name: "tied", dim: Spatial, gravity: [0.0, 0.0, -9.81],
+    ground: [(name: "O", position: [0.0, 0.0, 0.0]), (name: "P", position: [0.0, 0.0, 0.5])],
+    bodies: [(name: "bob", origin: [0.6, 0.0, 0.0],
+        model: Rigid(mass: 1.0, center_of_mass: [0.0, 0.0, 0.0], inertia: Diagonal([0.01, 0.01, 0.01])),
+        markers: [(name: "c", position: [0.0, 0.0, 0.0])])],
+    forces: [SpringDamper(name: "spring", body1: "ground", marker1: "P", body2: "bob", marker2: "c",
+        stiffness: 10.0, damping: 0.0)],
+    constraints: [
+        Distance(name: "rod", body1: "ground", marker1: "O", body2: "bob", marker2: "c", length: Some(0.6)),
+        PointInPlane(name: "plane", body1: "ground", marker1: "O", normal: (0.0, 1.0, 0.0), body2: "bob", marker2: "c"),
+    ],
+    solver: (step: 1e-3, duration: 1.0),
+)"#;
+
+#[test]
+fn set_reaches_the_fields_of_constraints_and_forces_by_name() {
+    let scene = Scene::from_ron_str(TIED, "tied.ron").unwrap();
+    scene.validate().unwrap();
+    let mut s = scene.clone();
+    // By the item's name, with or without the variant's name; by index.
+    let sets: Vec<_> = [
+        "forces.spring.stiffness=20",
+        "constraints.plane.PointInPlane.marker1=O",
+        "constraints.1.name=in_plane",
+    ]
+    .iter()
+    .map(|a| parse_set(a).unwrap())
+    .collect();
+    s.apply_sets(&sets).unwrap();
+    let flexmbd_model::Force::SpringDamper { stiffness, .. } = &s.forces[0];
+    assert_eq!(*stiffness, 20.0);
+    assert_eq!(s.constraints[1].name(), "in_plane");
+    // A length the markers are not at is refused after the set, naming the field.
+    let e = s
+        .apply_sets(&[parse_set("constraints.rod.length=0.7").unwrap()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("tied.ron:10: constraints[rod].length = 0.7: ")
+            && e.contains("0.600000000 m apart"),
+        "{e}"
+    );
+    let e = s
+        .apply_sets(&[parse_set("constraints.rod.lenght=0.7").unwrap()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("`lenght` is not a field of `constraints.rod`"),
+        "{e}"
+    );
 }

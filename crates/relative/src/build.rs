@@ -12,7 +12,7 @@ use flexmbd_model::{MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Vector3, Vector6};
 
 use crate::constraints::Constraint;
-use crate::cut_joints::{cut_joint_constraints, driver_constraints};
+use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constraints};
 use crate::kinematics::angle_of;
 use crate::marker_kinematics::MarkerJacobian;
 use crate::system::{Relative, RunTimeBody, unsupported};
@@ -27,6 +27,7 @@ impl Relative {
         let coordinates = Coordinates::new(&topology, &infos);
         let mut constraints = cut_joint_constraints(prepared, &infos, &topology)?;
         driver_constraints(prepared, &topology, &mut constraints)?;
+        marker_constraints(prepared, &infos, &mut constraints);
         let mut rel =
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
         rel.initial_coordinates(scene);

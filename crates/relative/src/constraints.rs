@@ -2,7 +2,8 @@
 //!
 //! Every constraint is written in the Cartesian positions of its two markers (point
 //! coincidence r_i − r_j; 2D angle sin(ψ − ψ₀ − s θ(t)); perpendicularity a·b; sliding
-//! n·(r_j − r_i)), or in one tree coordinate (z_c − s θ(t)). Its Jacobian row in w walks
+//! n·(r_j − r_i), which is also the scene's `PointInPlane`; the scene's `Distance`
+//! ½(|r_j − r_i|² − L²)), or in one tree coordinate (z_c − s θ(t)). Its Jacobian row in w walks
 //! each body's path to the root, Φ_w = Σ_k Φ_{Z_k} R_k (plus the node's modal columns), and
 //! is folded into z by Φ_z = Φ_w L; c = Σ_k Φ_{Z_k} {D_k; 0} + the Cartesian
 //! velocity-product terms + Φ̇_t. Redundant closure equations are kept (ALI3-P tolerates
@@ -10,6 +11,7 @@
 
 use flexmbd_core::{Dim, Request, SystemTerms};
 use flexmbd_model::MotionLaw;
+use flexmbd_model::constraint_equations::{Motion, distance};
 use nalgebra::{Vector3, Vector6};
 
 use crate::kinematics::{angle_at, dir_at, point_at};
@@ -44,6 +46,8 @@ pub(crate) enum Constraint {
     },
     /// z_c − s θ(t) = 0 (driven tree joint).
     Coord { z: usize, law: MotionLaw, sign: f64 },
+    /// ½(|r_j − r_i|² − L²) = 0 (a scene `Distance` constraint).
+    Distance { i: Side, j: Side, length: f64 },
 }
 
 impl Constraint {
@@ -92,6 +96,9 @@ impl Relative {
                 }
                 ConstraintData::Coord(zc, law, sign) => {
                     self.coord_constraint(row, zc, law.eval(t), sign, req, out)
+                }
+                ConstraintData::Distance(i, j, length) => {
+                    self.distance_constraint(row, (&i, &j), length, req, out)
                 }
             }
             row += self.constraints[ci].rows(self.dim);
@@ -223,6 +230,37 @@ impl Relative {
             bias += 2.0 * ad.dot(&bd);
             if req.accel_term {
                 out.accel_term[row] = bias;
+            }
+        }
+    }
+
+    /// ½(|r_j − r_i|² − L²) = 0 (`flexmbd_model::constraint_equations::distance`): its
+    /// gradient d = r_j − r_i weights the points' Jacobian rows, and the points' biases come
+    /// from the same walk as d·(bias_j − bias_i).
+    fn distance_constraint(
+        &mut self,
+        row: usize,
+        (i, j): (&Side, &Side),
+        length: f64,
+        req: Request,
+        out: &mut SystemTerms,
+    ) {
+        let (pi, vi) = point_at(self, i);
+        let (pj, vj) = point_at(self, j);
+        let d = Motion {
+            value: pj - pi,
+            rate: vj - vi,
+            bias: Vector3::zeros(), // added below, as d·bias
+        };
+        let equation = distance(&d, length);
+        if req.constraints {
+            out.phi[row] = equation.phi;
+        }
+        if req.jacobian || req.accel_term {
+            let d_bias = self.point_row(row, j, &pj, &vj, &d.value, 1.0)
+                - self.point_row(row, i, &pi, &vi, &d.value, -1.0);
+            if req.accel_term {
+                out.accel_term[row] = equation.accel_term + d_bias;
             }
         }
     }
@@ -407,6 +445,7 @@ pub(crate) enum ConstraintData {
     Slide(Side, Vector3<f64>, Side),
     Perp(Side, Vector3<f64>, Side, Vector3<f64>),
     Coord(usize, MotionLaw, f64),
+    Distance(Side, Side, f64),
 }
 
 impl Constraint {
@@ -423,6 +462,7 @@ impl Constraint {
             Constraint::Slide { i, nbar, j } => ConstraintData::Slide(*i, *nbar, *j),
             Constraint::Perp { i, abar, j, bbar } => ConstraintData::Perp(*i, *abar, *j, *bbar),
             Constraint::Coord { z, law, sign } => ConstraintData::Coord(*z, law.clone(), *sign),
+            Constraint::Distance { i, j, length } => ConstraintData::Distance(*i, *j, *length),
         }
     }
 }

@@ -1,5 +1,6 @@
-//! The constraints of the cut joints and of the drivers (docs/methods.md §4.6), built once at
-//! compile time in the order their rows take in Φ.
+//! The constraints of the cut joints, of the drivers and of the scene's constraints between
+//! markers (docs/methods.md §4.6, §3.4), built once at compile time in the order their rows
+//! take in Φ.
 //!
 //! A cut joint between the markers i and j gives, in their Cartesian positions:
 //!
@@ -22,7 +23,9 @@
 //! runs the joint from body2 to body1).
 
 use flexmbd_core::Dim;
-use flexmbd_model::{Driver, JointKind, ModelError, MotionLaw, PreparedScene};
+use flexmbd_model::{
+    Constraint as SceneConstraint, Driver, JointKind, ModelError, MotionLaw, PreparedScene,
+};
 use nalgebra::{Matrix3, Vector3};
 
 use crate::constraints::Constraint;
@@ -234,6 +237,41 @@ fn spatial_cut_joint(
         }
     }
     Ok(())
+}
+
+/// The scene's constraints between markers (docs/methods.md §3.4), never tree edges, in
+/// their order: a `Distance` ½(|r_j − r_i|² − L²) = 0 and a `PointInPlane` the slide
+/// n·(r_j − r_i) = 0 with n the body1-fixed normal (side i = marker1).
+pub(crate) fn marker_constraints(
+    prepared: &PreparedScene,
+    infos: &[BodyInfo],
+    constraints: &mut Vec<Constraint>,
+) {
+    let scene = prepared.scene();
+    for (c, &ends) in scene.constraints.iter().zip(prepared.constraint_markers()) {
+        let i = Side::at(prepared, infos, ends.first);
+        let j = Side::at(prepared, infos, ends.second);
+        match c {
+            SceneConstraint::Distance { .. } => constraints.push(Constraint::Distance {
+                i,
+                j,
+                length: scene.constraint_length(c).unwrap_or_default(),
+            }),
+            SceneConstraint::PointInPlane { normal, .. } => {
+                // The normal in body1 components, carried into side i's frame at t = 0.
+                let (scene_a1, a0_i) = match ends.first.body {
+                    None => (Matrix3::identity(), Matrix3::identity()),
+                    Some(b) => (scene.bodies[b.0].orientation.matrix(), infos[b.0].a0),
+                };
+                let n = scene_a1 * normal.vec().normalize();
+                constraints.push(Constraint::Slide {
+                    i,
+                    nbar: a0_i.transpose() * n,
+                    j,
+                });
+            }
+        }
+    }
 }
 
 /// z_c − s θ(t) = 0 for every driver of a one-coordinate joint of the tree (drivers of cut

@@ -29,6 +29,8 @@ fn steps_and_evaluations_do_not_allocate() {
             scenes.push(model(extra));
         }
     }
+    // The scene's Distance and PointInPlane constraints as cut rows, on a flexible node.
+    scenes.push(flexmbd_test_support::scenes::flexible_pendulum_3d_with_constraints());
     for scene in scenes {
         let mut f = relative(&scene);
         let (n, m) = (f.n_coordinates(), f.n_constraints());

@@ -1,12 +1,13 @@
 //! 3D: the recursive terms against dense products and Lagrange's equations, cut-joint
-//! Jacobians and bias by differences, energy conservation (docs/methods.md §4 in 3D, §8 items
+//! and scene-constraint (distance, point in plane) Jacobians and bias by differences, energy conservation (docs/methods.md §4 in 3D, §8 items
 //! 6–8); the runs against the spatial natural-coordinate formulation are in
 //! `crates/validation/tests/formulations_agree_spatial.rs`.
 
 mod common;
 use common::*;
 use flexmbd_core::Formulation;
-use flexmbd_model::{BodyModel, JointKind, Scene, V3};
+use flexmbd_model::{BodyModel, Constraint, JointKind, Marker, Scene, V3};
+use nalgebra::Vector3;
 
 /// Two flexible beams in a chain on ball joints: the first carries static modes at its tip
 /// (3 translations, §4.3 node frame), the second hangs there. The stiff axial static mode
@@ -52,6 +53,47 @@ fn flexible_chain_3d() -> Scene {
     s
 }
 
+/// The flexible chain with the scene's constraints as cut rows: the second beam's tip at its
+/// distance from a ground point, and a ground point held in the plane through the first
+/// beam's tip node (static modes) normal to (0.2, 0.5, 1.0) in the beam's axes, which the
+/// node's rotation turns.
+fn constrained_chain_3d() -> Scene {
+    let mut s = flexible_chain_3d();
+    let normal = Vector3::new(0.2, 0.5, 1.0);
+    // The first beam is not turned at t = 0: its tip is at (1, 0, 0) in the ground too.
+    let q = Vector3::x() + normal.normalize().cross(&Vector3::x()).normalize() * 0.4;
+    s.ground.extend([
+        Marker {
+            name: "far".into(),
+            position: V3([1.5, 0.5, 0.3]),
+        },
+        Marker {
+            name: "Q".into(),
+            position: V3([q.x, q.y, q.z]),
+        },
+    ]);
+    s.constraints = vec![
+        Constraint::Distance {
+            name: "rod".into(),
+            body1: "ground".into(),
+            marker1: "far".into(),
+            body2: "beam2".into(),
+            marker2: "tip".into(),
+            length: None,
+        },
+        Constraint::PointInPlane {
+            name: "plane".into(),
+            body1: "beam".into(),
+            marker1: "tip".into(),
+            normal: V3([normal.x, normal.y, normal.z]),
+            body2: "ground".into(),
+            marker2: "Q".into(),
+        },
+    ];
+    s.validate().unwrap();
+    s
+}
+
 fn check_terms(scene: &Scene) {
     at_test_states(scene, 0..3, |f, z, zd, t| {
         let r = dense_r(f, &z);
@@ -81,6 +123,10 @@ fn spatial_terms_match_dense_products_lagrange_and_differences() {
     check_terms(&model("double_pendulum_3d.ron"));
     check_terms(&model("flexible_pendulum_3d.ron"));
     check_terms(&flexible_chain_3d());
+    let constrained = constrained_chain_3d();
+    let rows = |s: &Scene| relative(s).n_constraints();
+    assert_eq!(rows(&constrained), rows(&flexible_chain_3d()) + 2);
+    check_terms(&constrained);
     check_terms(&planar_scene_in_3d(&four_bar(0)));
 }
 

@@ -8,7 +8,8 @@
 use flexmbd_core::{CompiledScene, Formulation, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, Ali3pSettings};
 use flexmbd_model::{
-    BodyModel, Force, FormulationKind, Inertia, JointKind, ModelError, PreparedScene, Scene, V3,
+    BodyModel, Constraint, Force, FormulationKind, Inertia, JointKind, Marker, ModelError,
+    PreparedScene, Scene, V3,
 };
 use nalgebra::DVector;
 
@@ -52,6 +53,43 @@ pub fn slider_crank_with_rod_spring() -> Scene {
         damping: 2.0,
         free_length: Some(1.0),
     });
+    s
+}
+
+/// The flexible 3D pendulum (`models/flexible_pendulum_3d.ron`) with a scene constraint of
+/// each kind on its tip node: a `Distance` to a ground point, and a ground point held in the
+/// plane through the tip normal to the beam's z axis (turned by the node's rotation).
+pub fn flexible_pendulum_3d_with_constraints() -> Scene {
+    let mut s = model("flexible_pendulum_3d.ron");
+    s.ground.extend([
+        Marker {
+            name: "far".into(),
+            position: V3([1.5, 0.5, 0.3]),
+        },
+        Marker {
+            name: "Q".into(),
+            position: V3([1.0, 0.4, 0.0]),
+        },
+    ]);
+    s.constraints = vec![
+        Constraint::Distance {
+            name: "rod".into(),
+            body1: "ground".into(),
+            marker1: "far".into(),
+            body2: "beam".into(),
+            marker2: "tip".into(),
+            length: None,
+        },
+        Constraint::PointInPlane {
+            name: "plane".into(),
+            body1: "beam".into(),
+            marker1: "tip".into(),
+            normal: V3([0.0, 0.0, 1.0]),
+            body2: "ground".into(),
+            marker2: "Q".into(),
+        },
+    ];
+    s.validate().unwrap();
     s
 }
 

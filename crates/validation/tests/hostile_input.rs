@@ -346,3 +346,120 @@ fn subnormal_density_is_refused_not_a_slow_eigensolver() {
         "{e}"
     );
 }
+
+/// The refusal ([`refusal_in_both`]) of `models/NAME` with `constraint` added as its
+/// `constraints:` list, on the line of its `sensors:` list.
+fn refusal_with_constraint(name: &str, constraint: &str) -> String {
+    refusal_of_edit(
+        name,
+        "    sensors: [",
+        &format!("    constraints: [{constraint}],\n    sensors: ["),
+    )
+}
+
+#[test]
+fn bad_constraints_are_refused_by_field_and_value() {
+    // (model, constraint, parts of the refusal); the constraint sits on line 40 of the 3D
+    // double pendulum and line 93 of the double four-bar.
+    let tie =
+        |ends: &str, length: &str| format!(r#"Distance(name: "tie", {ends}, length: {length})"#);
+    let to_tip = r#"body1: "ground", marker1: "O", body2: "link2", marker2: "tip""#;
+    let plane = |normal: &str, at: &str| {
+        format!(
+            r#"PointInPlane(name: "plane", body1: "ground", marker1: "{at}", normal: {normal}, body2: "link2", marker2: "tip")"#
+        )
+    };
+    let pendulum = "double_pendulum_3d.ron";
+    let cases: [(&str, String, &[&str]); 10] = [
+        (
+            pendulum,
+            tie(
+                r#"body1: "ground", marker1: "O", body2: "link2", marker2: "nowhere""#,
+                "None",
+            ),
+            &[":40: ", "constraints[tie].marker2", "nowhere", "J, tip"],
+        ),
+        (
+            pendulum,
+            tie(to_tip, "Some(0.0)"),
+            &[":40: constraints[tie].length = 0: out of range: allowed (0, 2e6] m"],
+        ),
+        (
+            pendulum,
+            tie(to_tip, "Some(-1.0)"),
+            &[":40: constraints[tie].length = -1: out of range"],
+        ),
+        (
+            pendulum,
+            tie(to_tip, "Some(NaN)"),
+            &[":40: constraints[tie].length = NaN: must be finite"],
+        ),
+        // link2.tip is 1.1648209 m from the ground point O at t = 0.
+        (
+            pendulum,
+            tie(to_tip, "Some(1.2)"),
+            &[
+                ":40: constraints[tie].length = 1.2: ",
+                "are 1.164820928 m apart at t = 0 (off by -3.518e-2 m",
+                "the markers must start at the length",
+            ],
+        ),
+        // The hinge's markers coincide: a distance left to the start would be zero.
+        (
+            pendulum,
+            tie(
+                r#"body1: "link1", marker1: "J", body2: "link2", marker2: "J""#,
+                "None",
+            ),
+            &[":40: constraints[tie].length = None: ", "coincide at t = 0"],
+        ),
+        (
+            pendulum,
+            plane("(0.0, 0.0, 0.0)", "O"),
+            &[":40: constraints[plane].normal = [0.0, 0.0, 0.0]: must be a non-zero direction"],
+        ),
+        // The tip is 0.05 m above the ground plane z = 0 through O.
+        (
+            pendulum,
+            plane("(0.0, 0.0, 1.0)", "O"),
+            &[
+                ":40: constraints[plane].marker2 = link2.tip at (1.138791, 0.239713, 0.050000)",
+                "is 5.000e-2 m off the plane",
+            ],
+        ),
+        (
+            pendulum,
+            r#"Distance(name: "hinge", body1: "link1", marker1: "O", body2: "link2", marker2: "tip", length: None)"#.into(),
+            &[":40: constraints[hinge].name = hinge: a joint has this name"],
+        ),
+        (
+            "double_four_bar.ron",
+            r#"PointInPlane(name: "plane", body1: "ground", marker1: "A0", normal: (0.0, 1.0, 0.0), body2: "crank1", marker2: "B")"#.into(),
+            &[":93: constraints[plane] = PointInPlane: a point-in-plane constraint needs a 3D scene"],
+        ),
+    ];
+    for (model_name, constraint, parts) in cases {
+        let e = refusal_with_constraint(model_name, &constraint);
+        for part in parts {
+            assert!(e.contains(part), "{constraint}: lacks {part:?}: {e}");
+        }
+    }
+}
+
+#[test]
+fn constraint_on_one_body_or_named_twice_is_refused() {
+    let e = refusal_with_constraint(
+        "double_pendulum_3d.ron",
+        r#"Distance(name: "tie", body1: "link2", marker1: "J", body2: "link2", marker2: "tip", length: None)"#,
+    );
+    assert!(
+        e.contains(":40: constraints[tie].body2 = link2: a constraint joins markers of two different bodies"),
+        "{e}"
+    );
+    let tie = r#"Distance(name: "tie", body1: "ground", marker1: "O", body2: "link2", marker2: "tip", length: None)"#;
+    let e = refusal_with_constraint("double_pendulum_3d.ron", &format!("{tie},\n        {tie}"));
+    assert!(
+        e.contains(":41: constraints[tie].name = tie: duplicate constraint name"),
+        "{e}"
+    );
+}

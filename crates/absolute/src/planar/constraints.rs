@@ -2,6 +2,8 @@
 //! c = Φ̈|q̈=0 (docs/methods.md §3.1–§3.3).
 //!
 //! - Distance: |r_j − r_i|² − L² = 0 (two-point bases), bias 2 |ṙ_j − ṙ_i|².
+//! - Marker distance (a scene `Distance` constraint): ½(|r_P2 − r_P1|² − L²) = 0, bias
+//!   |ṙ_P2 − ṙ_P1|² + (r_P2 − r_P1)·(bias_P2 − bias_P1) (docs/methods.md §3.4).
 //! - Unit vector: |u|² − 1 = 0 (point-and-vector bases), bias 2 |u̇|².
 //! - Point on a body: r0 + A (r̄_P + X_P y) − r_point = 0 (linear for rigid bodies, bilinear
 //!   for flexible ones).
@@ -11,7 +13,8 @@
 
 use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::MotionLaw;
-use nalgebra::{DVector, Vector2};
+use flexmbd_model::constraint_equations::{Motion, distance};
+use nalgebra::{DVector, Vector2, Vector3};
 
 use super::Planar;
 use super::algebra::{cross, e_mat};
@@ -21,6 +24,7 @@ use super::kinematics::{Direction, PlanarMarker};
 /// A constraint of the planar scene: one equation, or two for a point on a body.
 pub(super) enum Constraint {
     Distance(Distance),
+    MarkerDistance(MarkerDistance),
     UnitVector(UnitVector),
     PointOnBody(PointOnBody),
     Slide(Slide),
@@ -33,6 +37,15 @@ pub(super) struct Distance {
     pub(super) b: PointSlots,
     /// L² (m²).
     pub(super) length_squared: f64,
+}
+
+/// ½(|r_P2 − r_P1|² − L²) = 0 between two markers: a scene `Distance` constraint (the
+/// equation of `flexmbd_model::constraint_equations`).
+pub(super) struct MarkerDistance {
+    pub(super) p1: PlanarMarker,
+    pub(super) p2: PlanarMarker,
+    /// L (m).
+    pub(super) length: f64,
 }
 
 /// |u|² − 1 = 0 for a body's own unit vector.
@@ -91,6 +104,7 @@ impl Planar {
         for constraint in &self.constraints {
             match constraint {
                 Constraint::Distance(c) => c.evaluate(&at, out, row),
+                Constraint::MarkerDistance(c) => c.evaluate(self, &at, out, row),
                 Constraint::UnitVector(c) => c.evaluate(&at, out, row),
                 Constraint::PointOnBody(c) => c.evaluate(self, &at, out, row),
                 Constraint::Slide(c) => c.evaluate(self, &at, out, row),
@@ -125,6 +139,36 @@ impl Distance {
         if req.accel_term {
             let dd = Vector2::new(b.x.rate(qd) - a.x.rate(qd), b.y.rate(qd) - a.y.rate(qd));
             out.accel_term[row] = 2.0 * dd.norm_squared();
+        }
+    }
+}
+
+impl MarkerDistance {
+    fn evaluate(&self, planar: &Planar, at: &Evaluation, out: &mut SystemTerms, row: usize) {
+        let (q, req) = (at.q, at.req);
+        let motion = |m: &PlanarMarker| {
+            let (r, v, bias) = planar.marker_motion(m, q, at.qd);
+            let lift = |x: Vector2<f64>| Vector3::new(x.x, x.y, 0.0);
+            Motion {
+                value: lift(r),
+                rate: lift(v),
+                bias: lift(bias),
+            }
+        };
+        let d = motion(&self.p2).minus(&motion(&self.p1));
+        let equation = distance(&d, self.length);
+        if req.constraints {
+            out.phi[row] = equation.phi;
+        }
+        if req.jacobian {
+            // ∂Φ/∂d = d.
+            let w = Vector2::new(d.value.x, d.value.y);
+            let phi_q = &mut out.phi_q;
+            planar.marker_columns(&self.p2, q, |i, col| phi_q[(row, i)] += w.dot(&col));
+            planar.marker_columns(&self.p1, q, |i, col| phi_q[(row, i)] -= w.dot(&col));
+        }
+        if req.accel_term {
+            out.accel_term[row] = equation.accel_term;
         }
     }
 }

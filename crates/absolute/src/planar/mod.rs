@@ -31,6 +31,11 @@
 //! (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0; the joint-coordinate sensor reports
 //! (r_P2 − r_P1) · d₁ − s₀.
 //!
+//! **Scene constraints** (`Scene::constraints`, docs/methods.md §3.4): a `Distance` between
+//! two markers is the row ½(|r_P2 − r_P1|² − L²) = 0 after the joints and drivers (the
+//! equation of `flexmbd_model::constraint_equations`, through the markers' columns);
+//! `PointInPlane` is 3D only.
+//!
 //! **Spring–dampers** between two markers add Q −= Jᵀ f n with J = ∂(r_P2 − r_P1)/∂q and
 //! f = k (l − l₀) + c l̇, and their (state-dependent) tangents to K and C; they are the
 //! shared `flexmbd_model::force_elements` over `impl MarkerKinematics for Planar`.

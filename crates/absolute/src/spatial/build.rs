@@ -1,6 +1,6 @@
 //! Compiling a prepared scene into [`Spatial`], step by step: the bodies and their natural
 //! coordinates at t = 0 (with a rigid body's constant mass matrix and gravity), the term
-//! lookup, the joints and drivers as constraints, the sensors, the reference angles at
+//! lookup, the joints and drivers as constraints, the scene's marker constraints, the sensors, the reference angles at
 //! t = 0, and the force elements over the marker terms.
 
 use std::collections::HashMap;
@@ -14,6 +14,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use super::constraints::{AngleConstraint, Constraint};
 use super::joints::joint_constraints;
 use super::lookup::TermLookup;
+use super::marker_constraints::marker_constraints;
 use super::sensors::sensor_terms;
 use super::{FlexibleScratch, MarkerSite, Spatial, SpatialBody};
 
@@ -45,6 +46,7 @@ impl Spatial {
         let lookup = TermLookup {
             scene,
             joints: prepared.joint_markers(),
+            constraints: prepared.constraint_markers(),
             bodies: &built.bodies,
             initial_frames: built.initial_frames,
             node_rotations: built.node_rotations,
@@ -57,6 +59,7 @@ impl Spatial {
             .map(|id: MarkerId| (id, lookup.point(id)))
             .collect();
         joint_constraints(&lookup, &mut constraints)?;
+        marker_constraints(&lookup, &mut constraints)?;
         let m = constraints.iter().map(Constraint::rows).sum();
         let sensor_terms = sensor_terms(&lookup, prepared)?;
         drop(lookup);

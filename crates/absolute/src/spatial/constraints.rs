@@ -1,12 +1,14 @@
 //! The constraint equations Φ, their Jacobian Φ_q, Φ_t and the acceleration term
 //! (docs/methods.md §3.1–§3.2): the six orthonormality conditions of every body frame and
-//! the joint and driver equations, all written over [`Term`]s.
+//! the joint and driver equations, then the scene's marker constraints
+//! (`marker_constraints`), all written over [`Term`]s.
 
 use flexmbd_core::{Request, State, SystemTerms};
 use flexmbd_model::MotionLaw;
 use nalgebra::{DVector, Vector3};
 
 use super::kinematics::{Term, frame_of};
+use super::marker_constraints::DistanceConstraint;
 use super::{Spatial, SpatialBody};
 
 /// One block of constraint rows.
@@ -19,6 +21,8 @@ pub(super) enum Constraint {
     Dot(DotConstraint),
     /// A driven relative angle (1 row).
     Angle(AngleConstraint),
+    /// A scene `Distance` constraint (1 row).
+    Distance(DistanceConstraint),
 }
 
 /// `(x − origin)·z − c0 − s(t) = 0` (no `origin`: `x·z − c0 − s(t)`; no law: s = 0).
@@ -51,12 +55,12 @@ impl Constraint {
 }
 
 /// The state a constraint block is evaluated at, and what is asked of it.
-struct At<'a> {
-    bodies: &'a [SpatialBody],
-    t: f64,
-    q: &'a DVector<f64>,
-    qd: &'a DVector<f64>,
-    req: Request,
+pub(super) struct At<'a> {
+    pub(super) bodies: &'a [SpatialBody],
+    pub(super) t: f64,
+    pub(super) q: &'a DVector<f64>,
+    pub(super) qd: &'a DVector<f64>,
+    pub(super) req: Request,
 }
 
 impl Spatial {
@@ -79,6 +83,7 @@ impl Spatial {
                 }
                 Constraint::Dot(dot) => dot.evaluate(&at, row, out),
                 Constraint::Angle(angle) => angle.evaluate(&at, row, out),
+                Constraint::Distance(distance) => distance.evaluate(&at, row, out),
             }
             row += constraint.rows();
         }

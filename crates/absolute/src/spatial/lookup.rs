@@ -14,6 +14,8 @@ pub(super) struct TermLookup<'a> {
     pub(super) scene: &'a Scene,
     /// The markers of each joint (the prepared scene's).
     pub(super) joints: &'a [MarkerPair],
+    /// The markers of each constraint (the prepared scene's).
+    pub(super) constraints: &'a [MarkerPair],
     pub(super) bodies: &'a [SpatialBody],
     /// Origin and rotation of every body at t = 0.
     pub(super) initial_frames: Vec<(Vector3<f64>, Matrix3<f64>)>,

@@ -42,11 +42,16 @@
 //! sliding joint's markers need not coincide). Two free bodies joined by one of these
 //! have mobility 9, 7, 8, 8, 7, 6 (tested by the rank of Φ_q).
 //!
+//! **Scene constraints** (`Scene::constraints`, docs/methods.md §3.4), after the joints and
+//! drivers, one row each: a `Distance` `½(|r_P2 − r_P1|² − L²) = 0`, a `PointInPlane`
+//! `n¹·(r_P2 − r_P1) = 0` (the dot row above, `n¹` the body1-fixed normal at marker P1).
+//!
 //! **Drivers.** A revolute joint is driven by `Φ = σ cos θ(t) − κ sin θ(t) = sin(φ − θ)`
 //! with `σ = (p¹ × p²)·a¹`, `κ = p¹·p²`, `p = n₁` fixed in each body (docs/methods.md §3.2);
 //! a prismatic joint by `(r_P2 − r_P1)·a¹ = s₀ + s(t)`. Other drivers are refused.
 //!
-//! **Coordinate counts.** n = Σ (12 + n_b); m = 6 · (bodies) + Σ joint rows + drivers.
+//! **Coordinate counts.** n = Σ (12 + n_b); m = 6 · (bodies) + Σ joint rows + drivers +
+//! scene constraints.
 //! The rigid 3D double pendulum (spherical + revolute): 24 coordinates, 20 constraints.
 //! The flexible 3D pendulum (6 modes, spherical): 18 and 9. The double four-bar written
 //! in 3D (5 bodies, 7 revolutes about z): 60 and 65 (Φ_q rank 59: each closed planar loop
@@ -66,7 +71,8 @@
 //! **Allocation.** `evaluate` allocates nothing: every workspace is sized at compile time.
 //!
 //! **Layout.** `build` compiles the scene (bodies and their coordinates, then `lookup` for
-//! the marker terms, `joints` for the joint and driver equations, `sensors`, the reference
+//! the marker terms, `joints` for the joint and driver equations,
+//! `marker_constraints` for the scene's distance and point-in-plane rows, `sensors`, the reference
 //! angles, the force elements); `kinematics` evaluates a term (value, rate, bias, Jacobian)
 //! and implements `MarkerKinematics`; `dynamics` fills M, Q, K and C; `constraints` fills
 //! Φ, Φ_q, Φ_t and the acceleration term; `sensors` and `energy` report what is measured.
@@ -78,6 +84,7 @@ mod energy;
 mod joints;
 mod kinematics;
 mod lookup;
+mod marker_constraints;
 mod sensors;
 
 use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod, NaturalWorkspace};

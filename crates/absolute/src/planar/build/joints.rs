@@ -1,7 +1,8 @@
 //! Joints and drivers as constraints (docs/methods.md §3.2, planar joints): revolutes share
 //! their point (no equation here); a rigid joint (bracket) adds the angle lock θ ≡ 0; a
 //! driven revolute the angle driver θ(t); a prismatic joint the slide (r_P2 − r_P1) × d₁ = 0,
-//! the angle lock and, when driven, (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0.
+//! the angle lock and, when driven, (r_P2 − r_P1) · d₁ − s₀ − s(t) = 0. The scene's
+//! `Distance` constraints follow the joints, one row each.
 
 use flexmbd_model::{
     BodyId, Joint, JointKind, MarkerId, MarkerPair, ModelError, MotionLaw, PreparedScene, V3,
@@ -10,7 +11,7 @@ use nalgebra::{DVector, Vector2};
 
 use super::super::Planar;
 use super::super::algebra::e_mat;
-use super::super::constraints::{Angle, Constraint, Slide};
+use super::super::constraints::{Angle, Constraint, MarkerDistance, Slide};
 use super::super::kinematics::{Direction, PlanarMarker};
 
 impl Planar {
@@ -66,6 +67,34 @@ impl Planar {
                 let phi0 = self.angle(&d1, &d2, q0);
                 constraints.push(Constraint::Angle(Angle { d1, d2, phi0, law }));
             }
+        }
+        Ok(constraints)
+    }
+
+    /// The scene's constraints between markers, in their order: a `Distance` is a
+    /// [`MarkerDistance`]; `PointInPlane` is refused (3D only, as validation says).
+    pub(super) fn marker_constraints(
+        &self,
+        prepared: &PreparedScene,
+    ) -> Result<Vec<Constraint>, ModelError> {
+        let scene = prepared.scene();
+        let mut constraints = Vec::new();
+        for (c, &ends) in scene.constraints.iter().zip(prepared.constraint_markers()) {
+            let p1 = self.marker_of(prepared, ends.first);
+            let p2 = self.marker_of(prepared, ends.second);
+            let Some(length) = scene.constraint_length(c) else {
+                return Err(ModelError::Unsupported(format!(
+                    "{}: constraint `{}`: {} is not a planar constraint",
+                    scene.origin,
+                    c.name(),
+                    c.kind_name()
+                )));
+            };
+            constraints.push(Constraint::MarkerDistance(MarkerDistance {
+                p1,
+                p2,
+                length,
+            }));
         }
         Ok(constraints)
     }

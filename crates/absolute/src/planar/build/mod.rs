@@ -26,7 +26,7 @@ impl Planar {
     /// Coordinates come in order of allocation: the shared points, then body by body its
     /// own point and unit vector (when its basis has them) and its modal coordinates.
     /// Constraint rows: body by body its basis constraint and its other joint points, then
-    /// the joints and drivers in joint order.
+    /// the joints and drivers in joint order, then the scene's `Distance` constraints.
     ///
     /// Refused ([`ModelError::Unsupported`] or [`ModelError::Invalid`]): joint kinds other
     /// than revolute, prismatic, rigid and free; joined markers that do not coincide at
@@ -71,6 +71,7 @@ impl Planar {
             local_to_global: Vec::new(),
         };
         constraints.extend(planar.joint_constraints(prepared, &q0)?);
+        constraints.extend(planar.marker_constraints(prepared)?);
         planar.coordinates.n_constraints = constraints.iter().map(Constraint::rows).sum();
         planar.constraints = constraints;
         planar.force_elements = planar.build_force_elements(prepared, &q0)?;
