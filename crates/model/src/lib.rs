@@ -8,18 +8,23 @@
 pub mod bodies;
 pub mod consistency;
 pub mod error;
+mod force_checks;
 pub mod force_elements;
 mod foreshortening;
+pub mod laws;
 pub mod lines;
 pub mod load;
 pub mod prepared;
 pub mod rewrite;
+pub mod roads;
 pub mod scene;
 pub mod sensors;
 mod values;
 
 pub use bodies::PreparedBody;
 pub use error::ModelError;
+pub use laws::Law;
 pub use load::parse_set;
 pub use prepared::{BodyId, JointId, MarkerId, MarkerPair, PreparedScene, SensorTarget};
+pub use roads::{Contact, Profile, Road};
 pub use scene::*;

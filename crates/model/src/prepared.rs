@@ -19,7 +19,7 @@ use std::borrow::Cow;
 use crate::bodies::PreparedBody;
 use crate::error::ModelError;
 use crate::rewrite::rewrite_for_stiffening;
-use crate::scene::{Axis, GROUND, Scene, SensorKind};
+use crate::scene::{Axis, ElementQuantity, GROUND, Scene, SensorKind};
 
 /// A body of the prepared scene: its index in [`PreparedScene::bodies`] (and in the
 /// prepared scene's `bodies`).
@@ -81,6 +81,22 @@ pub enum SensorTarget {
     },
     /// Total mechanical energy (J).
     Energy,
+    /// One intrinsic Cardan angle of a body's rotation R = A(t) A(0)ᵀ since t = 0 (rad).
+    Angle {
+        /// The body.
+        body: BodyId,
+        /// Which angle: X (first), Y (second), Z (third).
+        axis: Axis,
+        /// A(0): the orientation the scene gives the body.
+        reference: nalgebra::Matrix3<f64>,
+    },
+    /// A force element's tension or normal force, or its length.
+    ElementForce {
+        /// Its index in the prepared scene's `forces`.
+        element: usize,
+        /// What to report.
+        quantity: ElementQuantity,
+    },
 }
 
 /// A scene ready for a formulation (see the module documentation).
@@ -90,6 +106,7 @@ pub struct PreparedScene {
     bodies: Vec<PreparedBody>,
     joints: Vec<MarkerPair>,
     forces: Vec<MarkerPair>,
+    force_axes: Vec<Option<MarkerId>>,
     drivers: Vec<JointId>,
     sensors: Vec<SensorTarget>,
     sensor_offsets: Vec<f64>,
@@ -104,6 +121,7 @@ impl PreparedScene {
             Cow::Borrowed(s) => s.clone(),
             Cow::Owned(s) => s,
         };
+        let (scene, axis_markers) = crate::force_elements::add_axis_markers(scene);
         let bodies = scene.prepare_bodies()?;
         let joints = scene
             .joints
@@ -117,6 +135,10 @@ impl PreparedScene {
                 let [(body1, marker1), (body2, marker2)] = f.ends();
                 scene.marker_pair(body1, marker1, body2, marker2)
             })
+            .collect::<Result<_, _>>()?;
+        let force_axes = axis_markers
+            .iter()
+            .map(|m| m.as_ref().map(|(b, m)| scene.marker_id(b, m)).transpose())
             .collect::<Result<_, _>>()?;
         let drivers = scene
             .drivers
@@ -134,6 +156,7 @@ impl PreparedScene {
             bodies,
             joints,
             forces,
+            force_axes,
             drivers,
             sensors,
             sensor_offsets,
@@ -164,6 +187,20 @@ impl PreparedScene {
     /// The markers of each force element, in the order of the prepared scene's `forces`.
     pub fn force_markers(&self) -> &[MarkerPair] {
         &self.forces
+    }
+
+    /// Per force element, the auxiliary marker P1 + a of a link along a body1-fixed axis a
+    /// (added to body1 by [`PreparedScene::new`]), `None` for the others.
+    pub fn force_axis_markers(&self) -> &[Option<MarkerId>] {
+        &self.force_axes
+    }
+
+    /// Every marker the force elements use, the auxiliary axis markers included.
+    pub fn force_marker_ids(&self) -> impl Iterator<Item = MarkerId> + '_ {
+        self.forces
+            .iter()
+            .flat_map(|pair| [pair.first, pair.second])
+            .chain(self.force_axes.iter().flatten().copied())
     }
 
     /// The driven joint of each driver, in the order of the prepared scene's `drivers`.
@@ -284,6 +321,26 @@ impl Scene {
                 index: *index,
             },
             SensorKind::Energy => SensorTarget::Energy,
+            SensorKind::Angle { body, axis } => {
+                let k = self
+                    .body_index(body)
+                    .ok_or_else(|| self.missing("an angle sensor".into(), "body", body))?;
+                SensorTarget::Angle {
+                    body: BodyId(k),
+                    axis: *axis,
+                    reference: self.bodies[k].orientation.matrix(),
+                }
+            }
+            SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
+                element: self
+                    .forces
+                    .iter()
+                    .position(|f| f.name() == force)
+                    .ok_or_else(|| {
+                        self.missing("an element-force sensor".into(), "force element", force)
+                    })?,
+                quantity: *quantity,
+            },
         })
     }
 }

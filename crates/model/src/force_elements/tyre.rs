@@ -1,0 +1,188 @@
+//! The **tyre**: the contact of a wheel-centre marker W with a road z = h(x)
+//! ([`crate::roads`]), and a linear lateral damper (docs/methods.md §2.6, docs/scenes.md
+//! §2.5, §3.2, §3.4).
+//!
+//! With (x_W, y_W, z_W) the wheel centre, h and s = h'(x_W) the road's height and slope under
+//! it, the deflection is δ = R − (z_W − h); the tyre touches the road while δ > 0 and
+//! otherwise carries exactly nothing (it never pulls):
+//!
+//! - `Vertical` (docs/scenes.md §2.5, S9 user_ExtForces.c): F = K δ e_z applied at W;
+//! - `ProfileNormal` (docs/scenes.md §3.2, S9 GroundContact.c): with H = √(1 + s²), the
+//!   force K δ/H along the profile normal n = (−s, 0, 1)/H, applied at W as S9 does (its
+//!   radial force K (R − (z_W − h))/H, with the contact test h > z_W − R); on a flat road
+//!   it is `Vertical`.
+//!
+//! The lateral damper F_y = −c ẏ_W (ground y) acts at the wheel centre (docs/scenes.md §3.4:
+//! the benchmark's contact point, moved to W; on the in-phase bump it only stops drift).
+//!
+//! Q += J_Wᵀ F; tangents K += J_Wᵀ S J_W with S = −∂F/∂r_W ≈ (K/H) n (e_z − s e_x)ᵀ in
+//! contact (the curvature of the road left out; −∂F/∂r = K e_z e_zᵀ on a flat road), and
+//! C += c J_Wᵀ e_y e_yᵀ J_W. A sensor reads the normal force K δ (÷ H) and the deflection δ.
+//! The potential energy is ½ K δ² in contact (exact for `Vertical`; for `ProfileNormal` on a
+//! slope, where the force is not the gradient of a potential, it is this vertical measure).
+
+use flexmbd_core::{ElementReading, MarkerKinematics, SystemTerms};
+use nalgebra::{DVector, Vector3};
+
+use crate::roads::{Contact, Profile, Road};
+use crate::scene::Force;
+
+/// A compiled tyre, `M` being the formulation's marker handle.
+#[derive(Clone, Debug)]
+pub struct Tyre<M> {
+    /// The wheel centre W.
+    pub wheel: M,
+    /// Its road's profile.
+    pub road: Profile,
+    /// Unloaded radius R (m).
+    pub radius: f64,
+    /// Radial stiffness K (N/m).
+    pub stiffness: f64,
+    /// Contact model.
+    pub contact: Contact,
+    /// Lateral damping c (N·s/m).
+    pub lateral_damping: f64,
+}
+
+/// The contact at (q, q̇): the normal force's magnitude and direction, δ, and the slope.
+struct ContactState {
+    normal_force: f64,
+    normal: Vector3<f64>,
+    deflection: f64,
+    slope: f64,
+    lateral_velocity: f64,
+}
+
+impl<M> Tyre<M> {
+    /// Compile `force` (a `Tyre`, its road validated to exist) over W's handle.
+    pub(super) fn new(force: &Force, roads: &[Road], wheel: M) -> Self {
+        let Force::Tyre {
+            road,
+            radius,
+            stiffness,
+            contact,
+            lateral_damping,
+            ..
+        } = force
+        else {
+            unreachable!("Tyre::new is given tyres")
+        };
+        Tyre {
+            wheel,
+            road: roads
+                .iter()
+                .find(|r| &r.name == road)
+                .map(|r| r.profile.clone())
+                .unwrap_or_default(),
+            radius: *radius,
+            stiffness: *stiffness,
+            contact: *contact,
+            lateral_damping: *lateral_damping,
+        }
+    }
+
+    fn state<K>(&self, kinematics: &K, q: &DVector<f64>, qd: &DVector<f64>) -> ContactState
+    where
+        K: MarkerKinematics<Marker = M>,
+    {
+        let (r, v) = kinematics.marker_state(&self.wheel, q, qd);
+        let (h, s) = self.road.eval(r.x);
+        let deflection = self.radius - (r.z - h);
+        let (normal_force, normal) = match (deflection > 0.0, self.contact) {
+            (false, _) => (0.0, Vector3::z()),
+            (true, Contact::Vertical) => (self.stiffness * deflection, Vector3::z()),
+            (true, Contact::ProfileNormal) => {
+                let big_h = (1.0 + s * s).sqrt();
+                (
+                    self.stiffness * deflection / big_h,
+                    Vector3::new(-s, 0.0, 1.0) / big_h,
+                )
+            }
+        };
+        ContactState {
+            normal_force,
+            normal,
+            deflection,
+            slope: s,
+            lateral_velocity: v.y,
+        }
+    }
+
+    /// Q (and K, C) of the tyre at (q, q̇).
+    pub(super) fn add_forces<K>(
+        &self,
+        kinematics: &mut K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        tangents: bool,
+        columns: &mut Vec<(usize, Vector3<f64>)>,
+        out: &mut SystemTerms,
+    ) where
+        K: MarkerKinematics<Marker = M>,
+    {
+        let st = self.state(kinematics, q, qd);
+        let force = st.normal * st.normal_force
+            + Vector3::new(0.0, -self.lateral_damping * st.lateral_velocity, 0.0);
+        columns.clear();
+        kinematics.marker_jacobian(&self.wheel, q, &mut |i, c| columns.push((i, c)));
+        for &(i, c) in columns.iter() {
+            out.forces[i] += c.dot(&force);
+        }
+        if !tangents {
+            return;
+        }
+        let in_contact = st.deflection > 0.0;
+        let scale = match self.contact {
+            Contact::Vertical => self.stiffness,
+            Contact::ProfileNormal => self.stiffness / (1.0 + st.slope * st.slope).sqrt(),
+        };
+        let across = Vector3::new(-st.slope, 0.0, 1.0);
+        for &(i, ci) in columns.iter() {
+            let kc = if in_contact {
+                st.normal * (scale * across.dot(&ci))
+            } else {
+                Vector3::zeros()
+            };
+            let cc = self.lateral_damping * ci.y;
+            for &(j, cj) in columns.iter() {
+                out.stiffness[(j, i)] += cj.dot(&kc);
+                out.damping[(j, i)] += cc * cj.y;
+            }
+        }
+    }
+
+    /// Normal force and deflection at (q, q̇).
+    pub(super) fn reading<K>(
+        &self,
+        kinematics: &K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading
+    where
+        K: MarkerKinematics<Marker = M>,
+    {
+        let st = self.state(kinematics, q, qd);
+        ElementReading {
+            force: st.normal_force,
+            length: st.deflection,
+        }
+    }
+
+    /// ½ K δ² in contact (J).
+    pub(super) fn potential_energy<K>(
+        &self,
+        kinematics: &K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> f64
+    where
+        K: MarkerKinematics<Marker = M>,
+    {
+        let delta = self.state(kinematics, q, qd).deflection;
+        if delta > 0.0 {
+            0.5 * self.stiffness * delta * delta
+        } else {
+            0.0
+        }
+    }
+}
