@@ -63,7 +63,7 @@ impl Scene {
         name: &str,
         spring: &crate::laws::Law,
         damper: &crate::laws::Law,
-        axis: Option<&crate::scene::V3>,
+        axis: Option<&crate::direction::Direction>,
         body1: &str,
     ) -> Result<(), ModelError> {
         let f = |field: &str| format!("forces[{name}].{field}");
@@ -72,11 +72,11 @@ impl Scene {
         let Some(a) = axis else {
             return Ok(());
         };
-        self.check_direction(&f("axis"), a)?;
-        if self.dim == Dim::Planar && a.0[2] != 0.0 {
+        self.check_direction(&f("axis"), &a.0)?;
+        if self.dim == Dim::Planar && a.0.0[2] != 0.0 {
             return Err(self.invalid(InvalidValue::new(
                 f("axis"),
-                format!("{:?}", a.0),
+                format!("{:?}", a.0.0),
                 "a planar link's axis lies in the x–y plane",
             )));
         }

@@ -7,6 +7,7 @@
 
 pub mod bodies;
 pub mod consistency;
+pub mod direction;
 pub mod error;
 mod force_checks;
 pub mod force_elements;
@@ -22,6 +23,7 @@ pub mod sensors;
 mod values;
 
 pub use bodies::PreparedBody;
+pub use direction::Direction;
 pub use error::ModelError;
 pub use laws::Law;
 pub use load::parse_set;

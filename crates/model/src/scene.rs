@@ -331,7 +331,7 @@ pub enum Force {
         /// `None`: along the line of the markers; `Some(a)`: along the axis a fixed in
         /// body1 (body1 components, normalised; body1 rigid or the ground).
         #[serde(default)]
-        axis: Option<V3>,
+        axis: Option<crate::direction::Direction>,
     },
     /// A tyre: the contact of a wheel-centre marker with a road ([`crate::roads`]), and a
     /// lateral damper F_y = −c ẏ_W at the wheel centre (ground y). 3D scenes only.
