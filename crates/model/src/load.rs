@@ -448,8 +448,9 @@ impl Scene {
     }
 
     /// Apply `PATH=VALUE` overrides: `PATH` is a dotted path of field names; in a list of
-    /// named items (bodies, joints, sensors, ...) an item is selected by its `name`
-    /// (e.g. `bodies.crank1.flexible=true`, `solver.step=5e-4`,
+    /// named items (bodies, joints, sensors, force elements, roads, ...) an item is selected
+    /// by its `name`, a force element's fields following its name directly
+    /// (e.g. `bodies.crank1.flexible=true`, `solver.step=5e-4`, `forces.tyre_fl.radius=0.36`,
     /// `bodies.bar.model.Beam.material.young_modulus=7e10`). The value must be a scalar of
     /// the field's type. The scene is validated again afterwards.
     pub fn apply_sets(&mut self, sets: &[(String, String)]) -> Result<(), ModelError> {
@@ -576,6 +577,31 @@ pub fn parse_set(arg: &str) -> Result<(String, String), ModelError> {
     }
 }
 
+/// The `name` of a list item: its own, or that of the one variant an enum item wraps (a
+/// force element `{"Tyre": {"name": …}}`).
+fn item_name(item: &Value) -> Option<&str> {
+    if let Some(name) = item.get("name").and_then(|n| n.as_str()) {
+        return Some(name);
+    }
+    match item.as_object() {
+        Some(map) if map.len() == 1 => map.values().next()?.get("name")?.as_str(),
+        _ => None,
+    }
+}
+
+/// The fields of a named item: the item, or the variant an enum item wraps (so that
+/// `forces.tyre_fl.radius` reaches `{"Tyre": {"radius": …}}`).
+fn named_item(item: &mut Value) -> &mut Value {
+    let wrapped = item.get("name").is_none() && item.as_object().is_some_and(|m| m.len() == 1);
+    if !wrapped {
+        return item;
+    }
+    match item {
+        Value::Object(map) => map.values_mut().next().expect("one variant"),
+        other => other,
+    }
+}
+
 fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError> {
     let err = |m: String| ModelError::Set {
         path: path.to_string(),
@@ -599,13 +625,10 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             Value::Array(items) => {
                 let names: Vec<String> = items
                     .iter()
-                    .filter_map(|it| it.get("name").and_then(|n| n.as_str()).map(String::from))
+                    .filter_map(|it| item_name(it).map(String::from))
                     .collect();
-                if let Some(pos) = items
-                    .iter()
-                    .position(|it| it.get("name").and_then(|n| n.as_str()) == Some(part))
-                {
-                    &mut items[pos]
+                if let Some(pos) = items.iter().position(|it| item_name(it) == Some(part)) {
+                    named_item(&mut items[pos])
                 } else if let Ok(k) = part.parse::<usize>() {
                     let n = items.len();
                     items.get_mut(k).ok_or_else(|| {

@@ -186,3 +186,118 @@ impl<M> Tyre<M> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd_core::Request;
+
+    /// A free point whose coordinates are its position: J = I.
+    struct Point;
+
+    impl MarkerKinematics for Point {
+        type Marker = ();
+        fn marker_state(
+            &self,
+            _: &(),
+            q: &DVector<f64>,
+            qd: &DVector<f64>,
+        ) -> (Vector3<f64>, Vector3<f64>) {
+            (
+                Vector3::new(q[0], q[1], q[2]),
+                Vector3::new(qd[0], qd[1], qd[2]),
+            )
+        }
+        fn marker_jacobian(
+            &mut self,
+            _: &(),
+            _: &DVector<f64>,
+            visit: &mut dyn FnMut(usize, Vector3<f64>),
+        ) {
+            for i in 0..3 {
+                let mut c = Vector3::zeros();
+                c[i] = 1.0;
+                visit(i, c);
+            }
+        }
+    }
+
+    fn bump_tyre(contact: Contact) -> Tyre<()> {
+        Tyre {
+            wheel: (),
+            road: Profile::CosineBump {
+                start: 0.97,
+                length: 5.0,
+                height: 0.2,
+            },
+            radius: 0.364325,
+            stiffness: 460000.0,
+            contact,
+            lateral_damping: 0.0,
+        }
+    }
+
+    fn terms(tyre: &Tyre<()>, q: &DVector<f64>) -> SystemTerms {
+        let mut out = SystemTerms::new(3, 0);
+        out.clear(Request::ALL);
+        let mut columns = Vec::new();
+        let qd = DVector::zeros(3);
+        tyre.add_forces(&mut Point, q, &qd, true, &mut columns, &mut out);
+        out
+    }
+
+    #[test]
+    fn on_the_cosine_bump_the_profile_normal_force_is_normal_to_the_profile() {
+        let tyre = bump_tyre(Contact::ProfileNormal);
+        let x = 2.1;
+        let (h, s) = tyre.road.eval(x);
+        assert!(s > 0.1, "on the rising flank: slope {s}");
+        let q = DVector::from_vec(vec![x, 0.3, h + 0.35]);
+        let f = terms(&tyre, &q).forces;
+        let f = Vector3::new(f[0], f[1], f[2]);
+        // Along (−s, 0, 1): orthogonal to the profile's tangent (1, 0, s).
+        assert!(
+            f.dot(&Vector3::new(1.0, 0.0, s)).abs() < 1e-9 * f.norm(),
+            "{f}"
+        );
+        assert!(f.z > 0.0 && f.x < 0.0, "{f}");
+        let big_h = (1.0 + s * s).sqrt();
+        let expected = 460000.0 * (0.364325 - 0.35) / big_h;
+        assert!(
+            (f.norm() - expected).abs() < 1e-9 * expected,
+            "{} vs {expected}",
+            f.norm()
+        );
+        assert_eq!(tyre.reading(&Point, &q, &DVector::zeros(3)).force, f.norm());
+        // The vertical contact at the same point pushes straight up, K δ.
+        let vertical = terms(&bump_tyre(Contact::Vertical), &q).forces;
+        assert_eq!((vertical[0], vertical[1]), (0.0, 0.0));
+        assert!((vertical[2] - 460000.0 * (0.364325 - 0.35)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn tyre_stiffness_is_minus_the_force_slope_up_to_the_road_curvature() {
+        for contact in [Contact::Vertical, Contact::ProfileNormal] {
+            let tyre = bump_tyre(contact);
+            let x = 2.1;
+            let q = DVector::from_vec(vec![x, 0.0, tyre.road.eval(x).0 + 0.35]);
+            let k = terms(&tyre, &q).stiffness;
+            // z only moves the deflection: −∂Q/∂z is exact.
+            let e = 1e-7;
+            let mut qp = q.clone();
+            qp[2] += e;
+            let mut qm = q.clone();
+            qm[2] -= e;
+            let slope = (terms(&tyre, &qp).forces - terms(&tyre, &qm).forces) / (2.0 * e);
+            for i in 0..3 {
+                assert!(
+                    (k[(i, 2)] + slope[i]).abs() < 1e-5 * 460000.0,
+                    "{contact:?} K[{i}, z] = {} vs {}",
+                    k[(i, 2)],
+                    -slope[i]
+                );
+            }
+            assert!(k[(2, 2)] > 1e5);
+        }
+    }
+}
