@@ -11,7 +11,7 @@
 //! The free length l₀ is the scene's `free_length`, or the markers' distance at the start.
 //!
 //! **Link** (nonlinear laws, [`crate::laws`]) and **tyre** on a road ([`crate::roads`]):
-//! see [`link`] and [`tyre`].
+//! see [`Link`] and [`Tyre`].
 //!
 //! A sensor reads an element's tension and length through [`ForceElements::reading`], the
 //! same code as its forces. Evaluating the elements allocates nothing: the Jacobian scratch
