@@ -604,7 +604,8 @@ pub enum SensorKind {
     /// Total mechanical energy (J): kinetic + gravity + elastic + force elements.
     Energy,
     /// One intrinsic Cardan angle (x, y′, z″) of the body's rotation since t = 0,
-    /// R = A(t) A(0)ᵀ, A(0) the orientation the scene gives the body (rad).
+    /// R = A(t) A(0)ᵀ, A(0) the orientation the scene gives the body (rad; X and Z in
+    /// (−π, π], Y in [−π/2, π/2]; about +y positive nose down).
     Angle {
         /// The body.
         body: String,

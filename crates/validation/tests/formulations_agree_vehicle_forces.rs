@@ -14,6 +14,7 @@ use flexmbd_core::Formulation;
 use flexmbd_model::{
     Axis, Direction, ElementQuantity, Force, Law, Marker, Scene, Sensor, SensorKind, V3,
 };
+use flexmbd_test_support::scenes::VEHICLE_CORNER;
 
 fn sensor(name: &str, kind: SensorKind) -> Sensor {
     Sensor {
@@ -228,4 +229,111 @@ fn a_table_link_equal_to_a_linear_spring_runs_the_spring_damper_trajectory() {
         }
     }
     assert!(column_difference(&a, &ar, 0).1 > 0.1, "the tip moves");
+}
+
+/// The planar slider-crank (rigid rod) with a piecewise link from the crank pin to the wall
+/// and a link along the crank's body y axis to the rod's middle, with their element-force
+/// sensors and the rod's angle: the two formulations agree at O(h²).
+#[test]
+fn planar_links_agree_with_the_relative_formulation() {
+    let mut s = model("slider_crank.ron");
+    s.bodies[1].flexible = false;
+    s.sensors.retain(|sensor| sensor.name != "rod_mode2");
+    s.forces.extend([
+        link(
+            "crank_wall",
+            [("crank", "B"), ("ground", "wall")],
+            Law::Piecewise {
+                breakpoints: vec![1.6],
+                pieces: vec![
+                    polynomial(&[0.0, 30.0], 1.6),
+                    polynomial(&[0.0, 30.0, 200.0], 1.6),
+                ],
+                continuous: true,
+            },
+            polynomial(&[0.0, 0.5], 0.0),
+            None,
+        ),
+        link(
+            "crank_rod",
+            [("crank", "B"), ("rod", "mid")],
+            polynomial(&[2.0, 80.0], 0.0),
+            polynomial(&[0.0, 0.3], 0.0),
+            Some(Direction(V3([0.0, 1.0, 0.0]))),
+        ),
+    ]);
+    s.sensors.extend([
+        sensor(
+            "crank_wall",
+            SensorKind::ElementForce {
+                force: "crank_wall".into(),
+                quantity: ElementQuantity::Force,
+            },
+        ),
+        sensor(
+            "crank_rod",
+            SensorKind::ElementForce {
+                force: "crank_rod".into(),
+                quantity: ElementQuantity::Force,
+            },
+        ),
+        sensor(
+            "rod_angle",
+            SensorKind::Angle {
+                body: "rod".into(),
+                axis: Axis::Z,
+            },
+        ),
+    ]);
+    let cols: Vec<usize> = [
+        "slider_x",
+        "crank_angle",
+        "crank_wall",
+        "crank_rod",
+        "rod_angle",
+    ]
+    .iter()
+    .map(|name| sensor_column(&s, name))
+    .collect();
+    let d: Vec<f64> = [1e-3_f64, 5e-4, 2.5e-4]
+        .iter()
+        .map(|&h| {
+            let every = (0.01 / h).round() as usize;
+            let (a, _) = run_absolute(&s, h, 1.0, every);
+            let (r, _) = run_relative(&s, h, 1.0, every);
+            worst_difference(&a, &r, &cols)
+        })
+        .collect();
+    eprintln!("planar links, relative vs absolute / range: {d:?}");
+    assert!(d[0] / d[1] > 3.0 && d[1] / d[2] > 3.0, "{d:?}");
+    assert!(d[2] < 1e-5, "{d:?}");
+}
+
+/// The vehicle corner of issue 13's syntax (strut, leaf element along the chassis axis, two
+/// tyres in contact on level road), at rest: its force elements' Q is −∂V/∂q of the energy
+/// sensor's potential (the laws' integrals, ½ K δ²) in both formulations.
+#[test]
+fn vehicle_corner_forces_are_minus_their_energy_gradient_in_both_formulations() {
+    let mut s = Scene::from_ron_str(VEHICLE_CORNER, "corner").unwrap();
+    s.sensors = vec![sensor("energy", SensorKind::Energy)];
+    let perturbed = |mut q: nalgebra::DVector<f64>| {
+        for i in 0..q.len() {
+            q[i] += 2e-3 * ((i as f64) * 1.3 + 0.4).sin();
+        }
+        q
+    };
+    let absolute = {
+        let (mut a, mut b) = with_and_without_forces(&s, flexmbd_absolute::compile);
+        let q = perturbed(a.coordinates().q0.clone());
+        spring_gradient_error(&mut a, &mut b, 0, &q, |_| 1e-7)
+    };
+    let relative = {
+        let (mut a, mut b) = with_and_without_forces(&s, flexmbd_relative::compile);
+        let q = perturbed(a.coordinates().q0.clone());
+        spring_gradient_error(&mut a, &mut b, 0, &q, |_| 1e-7)
+    };
+    for (form, (err, q_forces)) in [("absolute", absolute), ("relative", relative)] {
+        eprintln!("{form}: |Q + ∂V/∂q| {err:.1e} (|Q| {q_forces:.0})");
+        assert!(q_forces > 1e3 && err < 1e-6 * q_forces, "{form}: {err:e}");
+    }
 }
