@@ -6,9 +6,11 @@
 //! 1. validation (names, references, values; errors name the file and the field);
 //! 2. the scene rewrites of the stiffening method ([`crate::rewrite`]: FNL2's axial basis,
 //!    FS0 without axial modes, substructuring);
-//! 3. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
+//! 3. the auxiliary marker P1 + a added to body1 of each link along a body-fixed axis a
+//!    (`crate::force_elements::Link`: the axis as the difference of two body points);
+//! 4. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
 //!    elastic model installed and, for FS0, its shortening data ([`PreparedBody`]);
-//! 4. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`].
+//! 5. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`].
 //!
 //! A formulation takes a `&PreparedScene`, never a `Scene`: it cannot be handed a scene
 //! whose stiffening rewrite was skipped, since the only way to make a `PreparedScene` is

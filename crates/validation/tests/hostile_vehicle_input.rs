@@ -247,3 +247,57 @@ fn set_reaches_tyre_fields_and_refuses_bad_values_by_name() {
         "a refused --set leaves the scene as it was"
     );
 }
+
+fn models_dir_scene(name: &str) -> Scene {
+    flexmbd_test_support::scenes::model(name)
+}
+
+#[test]
+fn link_along_the_axis_of_a_flexible_body_is_refused() {
+    let mut s = models_dir_scene("flexible_pendulum_3d.ron");
+    s.forces.push(flexmbd_model::Force::Link {
+        name: "leaf".into(),
+        body1: "beam".into(),
+        marker1: "tip".into(),
+        body2: "ground".into(),
+        marker2: "O".into(),
+        spring: flexmbd_model::Law::Polynomial {
+            coefficients: vec![0.0, 100.0],
+            about: 0.0,
+        },
+        damper: flexmbd_model::Law::Zero,
+        axis: Some(flexmbd_model::Direction(flexmbd_model::V3([0.0, 0.0, 1.0]))),
+    });
+    for f in [FormulationKind::Absolute, FormulationKind::Relative] {
+        s.solver.formulation = f;
+        let e = compile(&s).err().expect("refused").to_string();
+        assert!(
+            e.contains("forces[leaf].body1") && e.contains("beam") && e.contains("rigid body1"),
+            "{f:?}: {e}"
+        );
+    }
+}
+
+#[test]
+fn tyre_in_a_planar_scene_is_refused() {
+    let mut s = models_dir_scene("double_four_bar.ron");
+    s.roads.push(flexmbd_model::Road {
+        name: "flat".into(),
+        profile: flexmbd_model::Profile::Flat,
+    });
+    s.forces.push(flexmbd_model::Force::Tyre {
+        name: "tyre".into(),
+        body: "crank1".into(),
+        marker: "B".into(),
+        road: "flat".into(),
+        radius: 0.3,
+        stiffness: 1e5,
+        contact: flexmbd_model::Contact::Vertical,
+        lateral_damping: 0.0,
+    });
+    let e = compile(&s).err().expect("refused").to_string();
+    assert!(
+        e.contains("forces[tyre]") && e.contains("needs a 3D scene"),
+        "{e}"
+    );
+}
