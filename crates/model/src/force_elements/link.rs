@@ -170,8 +170,8 @@ impl<M> Link<M> {
                 if tangents {
                     for &(i, gi) in gradient.iter() {
                         for &(j, gj) in gradient.iter() {
-                            out.stiffness[(j, i)] += ks * gj * gi;
-                            out.damping[(j, i)] += cd * gj * gi;
+                            out.stiffness[(j, i)] += ks * (gj * gi);
+                            out.damping[(j, i)] += cd * (gj * gi);
                         }
                     }
                 }

@@ -15,9 +15,11 @@
 //! The lateral damper F_y = −c ẏ_W (ground y) acts at the wheel centre (the Iltis specification §3.4:
 //! the benchmark's contact point, moved to W; on the in-phase bump it only stops drift).
 //!
-//! Q += J_Wᵀ F; tangents K += J_Wᵀ S J_W with S = −∂F/∂r_W ≈ (K/H) n (e_z − s e_x)ᵀ in
-//! contact (the curvature of the road left out; −∂F/∂r = K e_z e_zᵀ on a flat road), and
-//! C += c J_Wᵀ e_y e_yᵀ J_W. A sensor reads the normal force K δ (÷ H) and the deflection δ.
+//! Q += J_Wᵀ F; tangents K += J_Wᵀ S J_W with S ≈ −∂F/∂r_W in contact: K e_z e_zᵀ for
+//! `Vertical` (its slope term −K s e_z e_xᵀ left out, so that S stays symmetric: a tangent
+//! only steers Newton, and the integrator may factorise a symmetric one by Cholesky) and
+//! (K/H) n (e_z − s e_x)ᵀ = (K/H²)(−s, 0, 1)(−s, 0, 1)ᵀ for `ProfileNormal` (the road's
+//! curvature left out); and C += c J_Wᵀ e_y e_yᵀ J_W. A sensor reads the normal force K δ (÷ H) and the deflection δ.
 //! The potential energy is ½ K δ² in contact (exact for `Vertical`; for `ProfileNormal` on a
 //! slope, where the force is not the gradient of a potential, it is this vertical measure).
 
@@ -131,22 +133,21 @@ impl<M> Tyre<M> {
         if !tangents {
             return;
         }
-        let in_contact = st.deflection > 0.0;
-        let scale = match self.contact {
-            Contact::Vertical => self.stiffness,
-            Contact::ProfileNormal => self.stiffness / (1.0 + st.slope * st.slope).sqrt(),
+        // S = w m mᵀ, symmetric in both models (the integrator may factorise by Cholesky):
+        // K e_z e_zᵀ, and (K/H) n (−s, 0, 1)ᵀ = (K/H²) m mᵀ with m = (−s, 0, 1).
+        let (w, m) = match (st.deflection > 0.0, self.contact) {
+            (false, _) => (0.0, Vector3::z()),
+            (true, Contact::Vertical) => (self.stiffness, Vector3::z()),
+            (true, Contact::ProfileNormal) => (
+                self.stiffness / (1.0 + st.slope * st.slope),
+                Vector3::new(-st.slope, 0.0, 1.0),
+            ),
         };
-        let across = Vector3::new(-st.slope, 0.0, 1.0);
         for &(i, ci) in columns.iter() {
-            let kc = if in_contact {
-                st.normal * (scale * across.dot(&ci))
-            } else {
-                Vector3::zeros()
-            };
-            let cc = self.lateral_damping * ci.y;
+            let mi = m.dot(&ci);
             for &(j, cj) in columns.iter() {
-                out.stiffness[(j, i)] += cj.dot(&kc);
-                out.damping[(j, i)] += cc * cj.y;
+                out.stiffness[(j, i)] += w * (m.dot(&cj) * mi);
+                out.damping[(j, i)] += self.lateral_damping * (cj.y * ci.y);
             }
         }
     }
@@ -276,7 +277,7 @@ mod tests {
     }
 
     #[test]
-    fn tyre_stiffness_is_minus_the_force_slope_up_to_the_road_curvature() {
+    fn tyre_stiffness_is_symmetric_and_minus_the_force_slope_in_z() {
         for contact in [Contact::Vertical, Contact::ProfileNormal] {
             let tyre = bump_tyre(contact);
             let x = 2.1;
@@ -298,6 +299,7 @@ mod tests {
                 );
             }
             assert!(k[(2, 2)] > 1e5);
+            assert_eq!(k, k.transpose(), "{contact:?}: a symmetric tangent");
         }
     }
 }
