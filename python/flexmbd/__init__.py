@@ -378,7 +378,8 @@ def equilibrium(
 ) -> Dict[str, Any]:
     """The static equilibrium of a scene at t = 0, as ``flexmbd equilibrium`` finds it, as
     a dict: the program's ``--json`` output (the coordinates, the constraint multipliers,
-    the sensors and the spring–dampers' forces at the equilibrium, the solver's counters).
+    the sensors and every force element's force at the equilibrium — a spring–damper's or
+    link's tension and length, a tyre's normal force and deflection — the solver's counters).
 
     ``source``, ``formulation``, ``inertia``, ``stiffening`` and ``sets`` are as in
     :func:`simulate`; the scene given is not changed. Solved with the GIL released.

@@ -245,7 +245,9 @@ fn spring_tangents_match_finite_differences() {
     let mut rigid = slider_crank();
     rigid.bodies[1].flexible = false;
     drop_modal_sensors(&mut rigid);
-    let Force::SpringDamper { damping, .. } = &mut rigid.forces[0];
+    let Force::SpringDamper { damping, .. } = &mut rigid.forces[0] else {
+        unreachable!("the slider-crank's force is a spring–damper")
+    };
     *damping = 0.0;
     // A second spring, off the rail: crank pin to the wall, pre-stressed.
     rigid.forces.push(Force::SpringDamper {
@@ -260,7 +262,9 @@ fn spring_tangents_match_finite_differences() {
     });
     let mut damped = rigid.clone();
     for force in &mut damped.forces {
-        let Force::SpringDamper { damping, .. } = force;
+        let Force::SpringDamper { damping, .. } = force else {
+            unreachable!("both forces are spring–dampers")
+        };
         *damping = 3.0;
     }
     damped.bodies[1].flexible = true;
@@ -414,7 +418,9 @@ fn rigid_driven_slider_follows_the_exact_kinematics() {
 #[test]
 fn undamped_slider_crank_energy_drift_is_second_order() {
     let mut s = slider_crank();
-    let Force::SpringDamper { damping, .. } = &mut s.forces[0];
+    let Force::SpringDamper { damping, .. } = &mut s.forces[0] else {
+        unreachable!("the slider-crank's force is a spring–damper")
+    };
     *damping = 0.0;
     let ie = sensor_column(&s, "energy");
     let drift = |h: f64| {

@@ -57,6 +57,25 @@ pub trait SensorQuery: MarkerKinematics {
 
     /// Total mechanical energy at (q, q̇) (J): kinetic, gravity, elastic, force elements.
     fn total_energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64;
+
+    /// The state of force element `element` (its index in the scene's `forces`) at (q, q̇),
+    /// computed by the same code as its forces.
+    fn element_reading(
+        &self,
+        element: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading;
+}
+
+/// A force element's state as a sensor reads it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ElementReading {
+    /// Tension (N; a tyre: its normal force, ≥ 0).
+    pub force: f64,
+    /// The length its laws are evaluated at (m; a tyre: its deflection δ, negative in the
+    /// air).
+    pub length: f64,
 }
 
 /// A joint coordinate as a formulation reads it.

@@ -160,6 +160,15 @@ pub const INERTIA: Range = Range::symmetric(1e15, "kg·m²");
 pub const SPRING_STIFFNESS: Range = Range::non_negative(1e15, "N/m");
 /// Damper coefficient, N·s/m.
 pub const SPRING_DAMPING: Range = Range::non_negative(1e15, "N·s/m");
+/// The numbers of a force law (polynomial coefficients, table values), in the units of the
+/// law.
+pub const LAW_NUMBER: Range = Range::symmetric(1e15, "");
+/// A tyre's unloaded radius, m.
+pub const TYRE_RADIUS: Range = Range::positive(1e3, "m");
+/// A tyre's radial stiffness, N/m.
+pub const TYRE_STIFFNESS: Range = Range::positive(1e15, "N/m");
+/// A road's lengths (the cosine bump's length), m.
+pub const ROAD_LENGTH: Range = Range::positive(1e6, "m");
 /// Initial modal coordinates (their scale is that of the modes: metres for the static modes).
 pub const MODAL_COORDINATE: Range = Range::symmetric(1e6, "");
 /// A driver's amplitude, rad or m.

@@ -5,21 +5,21 @@
 //! run with `solver.initial_state: StaticEquilibrium` starts from (docs/methods.md §5.4 item
 //! 4); this module only compiles the scene, solves and reads the result.
 //!
-//! Each spring–damper's force at the equilibrium is k (l − l₀), tension positive (its damper
-//! carries nothing at rest), l the distance of its two markers there: read by position
-//! probes, sensors added to a copy of the scene for this purpose only (sensors do not enter
-//! the dynamics, so the copy's equilibrium is the scene's).
+//! Each force element's force at the equilibrium — a spring–damper's or link's tension
+//! (its damper carries nothing at rest) and length, a tyre's normal force and deflection — is
+//! read by `ElementForce` probes, sensors added to a copy of the scene for this purpose only
+//! (sensors do not enter the dynamics, so the copy's equilibrium is the scene's): the same
+//! compiled force elements that load the equilibrium compute what is reported.
 //!
 //! The multipliers λ are those of Q − Φ_qᵀλ = 0: the constraint forces on the coordinates
 //! are −Φ_qᵀλ, one multiplier per constraint equation in the formulation's order (the
 //! equations are the formulation's, not the joints': a revolute joint in natural coordinates
 //! is several equations, in relative coordinates none unless it closes a loop).
 
-use flexmbd_core::Dim;
 use flexmbd_core::{CompiledScene, State};
 use flexmbd_integrators::{StaticCounters, StaticSettings, StaticSolution, solve_static};
-use flexmbd_model::{Axis, Force, FormulationKind, Scene, Sensor, SensorKind};
-use nalgebra::{DVector, Vector3};
+use flexmbd_model::{ElementQuantity, Force, FormulationKind, Scene, Sensor, SensorKind};
+use nalgebra::DVector;
 use serde::Serialize;
 
 use crate::Error;
@@ -33,16 +33,21 @@ pub struct Named {
     pub value: f64,
 }
 
-/// A spring–damper at the equilibrium.
+/// A force element at the equilibrium.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ElementForce {
     /// The element's name.
     pub name: String,
-    /// Distance of its markers l (m).
+    /// Its type: `SpringDamper`, `Link` or `Tyre`.
+    pub kind: &'static str,
+    /// The length its law is evaluated at (m): a spring–damper's or a link's length l (the
+    /// distance of its markers, or a·(r₂ − r₁) along a body-fixed axis); a tyre's deflection
+    /// δ = R − (z_W − h) (negative: off the road).
     pub length: f64,
-    /// Its free length l₀ (m).
-    pub free_length: f64,
-    /// Force along its line k (l − l₀) (N, tension positive).
+    /// A spring–damper's free length l₀ (m); `None` for the other elements.
+    pub free_length: Option<f64>,
+    /// Its force (N): the tension (positive pulling the ends together; the damper carries
+    /// nothing at rest), a tyre's normal force (≥ 0).
     pub force: f64,
 }
 
@@ -147,10 +152,20 @@ impl Equilibrium {
         if !self.forces.is_empty() {
             s += "force elements (tension positive):\n";
             for e in &self.forces {
-                s += &format!(
-                    "  {:<24} {:>16.9e} N   length {:.9e} m, free length {:.9e} m\n",
-                    e.name, e.force, e.length, e.free_length
-                );
+                s += &match (e.kind, e.free_length) {
+                    ("Tyre", _) => format!(
+                        "  {:<24} {:>16.9e} N   normal force, deflection {:.9e} m\n",
+                        e.name, e.force, e.length
+                    ),
+                    (_, Some(free)) => format!(
+                        "  {:<24} {:>16.9e} N   length {:.9e} m, free length {:.9e} m\n",
+                        e.name, e.force, e.length, free
+                    ),
+                    (_, None) => format!(
+                        "  {:<24} {:>16.9e} N   length {:.9e} m\n",
+                        e.name, e.force, e.length
+                    ),
+                };
             }
         }
         s += "coordinates q:\n";
@@ -174,81 +189,56 @@ pub fn equilibrium(scene: &Scene) -> Result<Equilibrium, Error> {
     Ok(e)
 }
 
-/// Where a force element's end is at the equilibrium: a ground marker's fixed position, or
-/// the first of the probe sensors that read a body marker's ground components.
-enum End {
-    Fixed(Vector3<f64>),
-    Probe(usize),
-}
-
-/// The spring–dampers' forces at the positions `q` of `scene` (module documentation).
+/// Every force element's state at the positions `q` of `scene` (module documentation).
 pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<ElementForce>, Error> {
     if scene.forces.is_empty() {
         return Ok(Vec::new());
     }
-    let axes: &[Axis] = match scene.dim {
-        Dim::Planar => &[Axis::X, Axis::Y],
-        Dim::Spatial => &[Axis::X, Axis::Y, Axis::Z],
-    };
     let mut probed = scene.clone();
     let first = probed.sensors.len();
-    let mut ends = Vec::new();
     for (i, force) in scene.forces.iter().enumerate() {
-        for (e, (body, marker)) in force.ends().into_iter().enumerate() {
-            if body == "ground" {
-                let r = scene
-                    .undeformed_position(body, marker, None)
-                    .unwrap_or_default();
-                ends.push(End::Fixed(r));
-                continue;
-            }
-            ends.push(End::Probe(probed.sensors.len() - first));
-            for (c, axis) in axes.iter().enumerate() {
-                probed.sensors.push(Sensor {
-                    name: format!("__force{i}_end{e}_{c}"),
-                    kind: SensorKind::Position {
-                        body: body.to_string(),
-                        marker: marker.to_string(),
-                        component: *axis,
-                        frame: None,
-                    },
-                    displacement: false,
-                });
-            }
+        for (quantity, what) in [
+            (ElementQuantity::Force, "force"),
+            (ElementQuantity::Length, "length"),
+        ] {
+            probed.sensors.push(Sensor {
+                name: format!("__force{i}_{what}"),
+                kind: SensorKind::ElementForce {
+                    force: force.name().to_string(),
+                    quantity,
+                },
+                displacement: false,
+            });
         }
     }
     let mut f = crate::simulation::compile(&probed)?;
     let values = sensors_at(f.as_mut(), q);
     let probes = &values[first..];
-    let at = |end: &End| match end {
-        End::Fixed(r) => *r,
-        End::Probe(k) => {
-            let mut r = Vector3::zeros();
-            for c in 0..axes.len() {
-                r[c] = probes[k + c];
-            }
-            r
-        }
-    };
     scene
         .forces
         .iter()
         .enumerate()
         .map(|(i, force)| {
-            let Force::SpringDamper {
-                name, stiffness, ..
-            } = force;
-            let [(b1, m1), (b2, m2)] = force.ends();
-            let undeformed =
-                |b: &str, m: &str| scene.undeformed_position(b, m, None).unwrap_or_default();
-            let free_length =
-                force.spring_free_length(&scene.name, &undeformed(b1, m1), &undeformed(b2, m2))?;
-            let length = (at(&ends[2 * i + 1]) - at(&ends[2 * i])).norm();
+            let free_length = match force {
+                Force::SpringDamper { .. } => {
+                    let [(b1, m1), (b2, m2)] = force.ends();
+                    let undeformed = |b: &str, m: &str| {
+                        scene.undeformed_position(b, m, None).unwrap_or_default()
+                    };
+                    Some(force.spring_free_length(
+                        &scene.name,
+                        &undeformed(b1, m1),
+                        &undeformed(b2, m2),
+                    )?)
+                }
+                Force::Link { .. } | Force::Tyre { .. } => None,
+            };
             Ok(ElementForce {
-                name: name.clone(),
-                length,
+                name: force.name().to_string(),
+                kind: force.kind_name(),
+                length: probes[2 * i + 1],
                 free_length,
-                force: stiffness * (length - free_length),
+                force: probes[2 * i],
             })
         })
         .collect()

@@ -102,6 +102,45 @@ fn a_failed_step_keeps_the_last_good_state() {
     assert_eq!(summary.message.as_deref(), Some(typed.to_string().as_str()));
 }
 
+/// The vehicle force elements (links of nonlinear laws along their markers and along a body
+/// axis, tyres on a cosine bump and on a stepped table) and their sensors allocate nothing
+/// per step, in either formulation.
+#[test]
+fn vehicle_force_elements_do_not_allocate() {
+    for form in [FormulationKind::Absolute, FormulationKind::Relative] {
+        let mut scene = flexmbd::model::Scene::from_ron_str(
+            flexmbd_test_support::scenes::VEHICLE_CORNER,
+            "corner",
+        )
+        .unwrap();
+        scene.solver.formulation = form;
+        scene.sensors.push(flexmbd::model::Sensor {
+            name: "energy".into(),
+            kind: flexmbd::model::SensorKind::Energy,
+            displacement: false,
+        });
+        let mut sim = Simulation::new(&scene).unwrap();
+        let mut values = vec![0.0; sim.sensor_names().len()];
+        for _ in 0..3 {
+            sim.step().unwrap();
+        }
+        let before = flexmbd_test_support::allocations();
+        for _ in 0..20 {
+            sim.step().unwrap();
+        }
+        sim.read_sensors(&mut values);
+        let made = flexmbd_test_support::allocations() - before;
+        assert_eq!(
+            made, 0,
+            "{form:?}: {made} allocations in 20 steps and a reading"
+        );
+        assert!(
+            values[1] > 0.0,
+            "{form:?}: the tyre carries the corner: {values:?}"
+        );
+    }
+}
+
 /// Neither `step` (after a few steps have sized everything) nor `read_sensors` allocates,
 /// in either formulation (the flexible pendulum reads body-frame positions and the energy).
 #[test]

@@ -59,6 +59,8 @@ impl SceneBuilder {
                 bodies: Vec::new(),
                 joints: Vec::new(),
                 forces: Vec::new(),
+                constraints: Vec::new(),
+                roads: Vec::new(),
                 drivers: Vec::new(),
                 sensors: Vec::new(),
                 solver: Solver::new(1e-3, 1.0),

@@ -1,20 +1,35 @@
-//! Force elements, written once for every formulation over its [`MarkerKinematics`].
+//! Force elements, written once for every formulation over its [`MarkerKinematics`]
+//! (docs/methods.md §2.6). Every element's generalized force is the virtual work of its
+//! marker forces, Q_i += ∂r_P/∂q_i · F_P, through the formulation's marker Jacobians.
 //!
-//! **Spring–damper** between markers P1 and P2 (docs/methods.md §2.6): with d = r_P2 − r_P1,
+//! **Spring–damper** between markers P1 and P2: with d = r_P2 − r_P1,
 //! l = |d|, n = d/l and the tension f = k (l − l₀) + c n·(ṙ_P2 − ṙ_P1), the markers feel −f n
 //! (at P2) and +f n (at P1), so Q += −f Jᵀn with J = ∂d/∂q. Tangents:
 //! K += Jᵀ(k nnᵀ + f/l (I − nnᵀ)) J and C += c Jᵀ nnᵀ J; the terms from ∂J/∂q and the damper's
 //! ∂l̇/∂q are left out (exact for rigid bodies in natural coordinates without a damper; a
 //! tangent only steers Newton). Its potential energy is ½ k (l − l₀)².
-//!
 //! The free length l₀ is the scene's `free_length`, or the markers' distance at the start.
+//!
+//! **Link** (nonlinear laws, [`crate::laws`]) and **tyre** on a road ([`crate::roads`]):
+//! see [`Link`] and [`Tyre`].
+//!
+//! A sensor reads an element's tension and length through [`ForceElements::reading`], the
+//! same code as its forces. Evaluating the elements allocates nothing: the Jacobian scratch
+//! is sized once when they are compiled.
 
-use flexmbd_core::{MarkerKinematics, SystemTerms};
+mod link;
+mod tyre;
+
+use flexmbd_core::{ElementReading, MarkerKinematics, SystemTerms};
 use nalgebra::{DVector, Matrix3, Vector3};
 
 use crate::error::ModelError;
 use crate::prepared::{MarkerId, PreparedScene};
 use crate::scene::Force;
+
+pub use link::Link;
+pub(crate) use link::add_axis_markers;
+pub use tyre::Tyre;
 
 /// A linear spring–damper between two markers, `M` being the formulation's marker handle.
 #[derive(Clone, Debug)]
@@ -31,20 +46,39 @@ pub struct SpringDamper<M> {
     pub free_length: f64,
 }
 
+/// One compiled force element.
+#[derive(Clone, Debug)]
+pub enum Element<M> {
+    /// A linear spring–damper.
+    SpringDamper(SpringDamper<M>),
+    /// A link of nonlinear laws.
+    Link(Link<M>),
+    /// A tyre on a road.
+    Tyre(Tyre<M>),
+}
+
+/// The Jacobian scratch of the element being evaluated.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// (coordinate, ∂d/∂q_i) or (coordinate, ∂r_W/∂q_i).
+    pub(crate) columns: Vec<(usize, Vector3<f64>)>,
+    /// (coordinate, ∂l/∂q_i) of a link along an axis.
+    pub(crate) gradient: Vec<(usize, f64)>,
+}
+
 /// The force elements of a scene, compiled for one formulation, with the scratch their
 /// Jacobians need (sized once: evaluating them allocates nothing).
 #[derive(Clone, Debug)]
 pub struct ForceElements<M> {
-    springs: Vec<SpringDamper<M>>,
-    /// (coordinate, ∂d/∂q_i) of the element being evaluated.
-    columns: Vec<(usize, Vector3<f64>)>,
+    elements: Vec<Element<M>>,
+    scratch: Scratch,
 }
 
 impl<M> Default for ForceElements<M> {
     fn default() -> Self {
         ForceElements {
-            springs: Vec::new(),
-            columns: Vec::new(),
+            elements: Vec::new(),
+            scratch: Scratch::default(),
         }
     }
 }
@@ -65,36 +99,57 @@ impl<M> ForceElements<M> {
         K: MarkerKinematics<Marker = M>,
     {
         let scene = prepared.scene();
-        let mut springs = Vec::with_capacity(scene.forces.len());
-        for (force, pair) in scene.forces.iter().zip(prepared.force_markers()) {
-            let Force::SpringDamper {
-                stiffness, damping, ..
-            } = force;
+        let mut elements = Vec::with_capacity(scene.forces.len());
+        let ends = prepared.force_markers().iter();
+        for ((force, pair), axis) in scene
+            .forces
+            .iter()
+            .zip(ends)
+            .zip(prepared.force_axis_markers())
+        {
             let (first, second) = (marker(pair.first), marker(pair.second));
-            let (r1, _) = kinematics.marker_state(&first, q0, qd0);
-            let (r2, _) = kinematics.marker_state(&second, q0, qd0);
-            springs.push(SpringDamper {
-                first,
-                second,
-                stiffness: *stiffness,
-                damping: *damping,
-                free_length: force.spring_free_length(&scene.origin, &r1, &r2)?,
+            elements.push(match force {
+                Force::SpringDamper {
+                    stiffness, damping, ..
+                } => {
+                    let (r1, _) = kinematics.marker_state(&first, q0, qd0);
+                    let (r2, _) = kinematics.marker_state(&second, q0, qd0);
+                    Element::SpringDamper(SpringDamper {
+                        first,
+                        second,
+                        stiffness: *stiffness,
+                        damping: *damping,
+                        free_length: force.spring_free_length(&scene.origin, &r1, &r2)?,
+                    })
+                }
+                Force::Link { .. } => Element::Link(Link::new(
+                    force,
+                    &scene.origin,
+                    (first, second, axis.map(&mut marker)),
+                    kinematics,
+                    q0,
+                    qd0,
+                )?),
+                Force::Tyre { .. } => Element::Tyre(Tyre::new(force, &scene.roads, first)),
             });
         }
         Ok(ForceElements {
-            springs,
-            columns: Vec::with_capacity(2 * n_coordinates),
+            elements,
+            scratch: Scratch {
+                columns: Vec::with_capacity(3 * n_coordinates),
+                gradient: Vec::with_capacity(3 * n_coordinates),
+            },
         })
     }
 
     /// True when the scene has no force elements.
     pub fn is_empty(&self) -> bool {
-        self.springs.is_empty()
+        self.elements.is_empty()
     }
 
-    /// The spring–dampers.
-    pub fn springs(&self) -> &[SpringDamper<M>] {
-        &self.springs
+    /// The compiled elements, in the order of the scene's `forces`.
+    pub fn elements(&self) -> &[Element<M>] {
+        &self.elements
     }
 
     /// Add the elements' generalized forces Q at (q, q̇) to `out.forces`, and with `tangents`
@@ -109,42 +164,127 @@ impl<M> ForceElements<M> {
     ) where
         K: MarkerKinematics<Marker = M>,
     {
-        let columns = &mut self.columns;
-        for spring in &self.springs {
-            let (r1, v1) = kinematics.marker_state(&spring.first, q, qd);
-            let (r2, v2) = kinematics.marker_state(&spring.second, q, qd);
-            let d = r2 - r1;
-            let l = d.norm();
-            let n = d / l;
-            let f =
-                spring.stiffness * (l - spring.free_length) + spring.damping * n.dot(&(v2 - v1));
-            columns.clear();
-            kinematics.marker_jacobian(&spring.second, q, &mut |i, c| columns.push((i, c)));
-            kinematics.marker_jacobian(&spring.first, q, &mut |i, c| columns.push((i, -c)));
-            for &(i, c) in columns.iter() {
-                out.forces[i] -= f * n.dot(&c);
-            }
-            if tangents {
-                add_tangents(spring, &n, f, l, columns, out);
+        let scratch = &mut self.scratch;
+        for element in &self.elements {
+            match element {
+                Element::SpringDamper(spring) => add_spring(
+                    spring,
+                    kinematics,
+                    q,
+                    qd,
+                    tangents,
+                    &mut scratch.columns,
+                    out,
+                ),
+                Element::Link(link) => link.add_forces(kinematics, q, qd, tangents, scratch, out),
+                Element::Tyre(tyre) => {
+                    tyre.add_forces(kinematics, q, qd, tangents, &mut scratch.columns, out)
+                }
             }
         }
     }
 
-    /// Potential energy of the elements at q (J): Σ ½ k (l − l₀)².
+    /// The tension (a tyre: normal force) and length (a tyre: deflection) of element `k` at
+    /// (q, q̇).
+    pub fn reading<K>(
+        &self,
+        k: usize,
+        kinematics: &K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading
+    where
+        K: MarkerKinematics<Marker = M>,
+    {
+        match &self.elements[k] {
+            Element::SpringDamper(spring) => {
+                let (_, _, l, f) = spring_state(spring, kinematics, q, qd);
+                ElementReading {
+                    force: f,
+                    length: l,
+                }
+            }
+            Element::Link(link) => link.reading(kinematics, q, qd),
+            Element::Tyre(tyre) => tyre.reading(kinematics, q, qd),
+        }
+    }
+
+    /// Potential energy of the elements at q (J): ½ k (l − l₀)² of a spring–damper, the
+    /// integral of a link's spring law from its start length, ½ K δ² of a tyre in contact.
     pub fn potential_energy<K>(&self, kinematics: &K, q: &DVector<f64>, qd: &DVector<f64>) -> f64
     where
         K: MarkerKinematics<Marker = M>,
     {
-        self.springs
+        self.elements
             .iter()
-            .map(|spring| {
-                let (r1, _) = kinematics.marker_state(&spring.first, q, qd);
-                let (r2, _) = kinematics.marker_state(&spring.second, q, qd);
-                let stretch = (r2 - r1).norm() - spring.free_length;
-                0.5 * spring.stiffness * stretch * stretch
+            .map(|element| match element {
+                Element::SpringDamper(spring) => {
+                    let (r1, _) = kinematics.marker_state(&spring.first, q, qd);
+                    let (r2, _) = kinematics.marker_state(&spring.second, q, qd);
+                    let stretch = (r2 - r1).norm() - spring.free_length;
+                    0.5 * spring.stiffness * stretch * stretch
+                }
+                Element::Link(link) => link.potential_energy(kinematics, q, qd),
+                Element::Tyre(tyre) => tyre.potential_energy(kinematics, q, qd),
             })
             .sum()
     }
+}
+
+/// A spring–damper's direction n, distance l... at (q, q̇): (d, n, l, f).
+fn spring_state<M, K>(
+    spring: &SpringDamper<M>,
+    kinematics: &K,
+    q: &DVector<f64>,
+    qd: &DVector<f64>,
+) -> (Vector3<f64>, Vector3<f64>, f64, f64)
+where
+    K: MarkerKinematics<Marker = M>,
+{
+    let (r1, v1) = kinematics.marker_state(&spring.first, q, qd);
+    let (r2, v2) = kinematics.marker_state(&spring.second, q, qd);
+    let d = r2 - r1;
+    let l = d.norm();
+    let n = d / l;
+    let f = spring.stiffness * (l - spring.free_length) + spring.damping * n.dot(&(v2 - v1));
+    (d, n, l, f)
+}
+
+/// A spring–damper's Q (and K, C).
+fn add_spring<M, K>(
+    spring: &SpringDamper<M>,
+    kinematics: &mut K,
+    q: &DVector<f64>,
+    qd: &DVector<f64>,
+    tangents: bool,
+    columns: &mut Vec<(usize, Vector3<f64>)>,
+    out: &mut SystemTerms,
+) where
+    K: MarkerKinematics<Marker = M>,
+{
+    let (_, n, l, f) = spring_state(spring, kinematics, q, qd);
+    line_columns(kinematics, &spring.first, &spring.second, q, columns);
+    for &(i, c) in columns.iter() {
+        out.forces[i] -= f * n.dot(&c);
+    }
+    if tangents {
+        add_tangents(spring, &n, f, l, columns, out);
+    }
+}
+
+/// The columns ∂d/∂q_i of d = r_P2 − r_P1.
+pub(crate) fn line_columns<M, K>(
+    kinematics: &mut K,
+    first: &M,
+    second: &M,
+    q: &DVector<f64>,
+    columns: &mut Vec<(usize, Vector3<f64>)>,
+) where
+    K: MarkerKinematics<Marker = M>,
+{
+    columns.clear();
+    kinematics.marker_jacobian(second, q, &mut |i, c| columns.push((i, c)));
+    kinematics.marker_jacobian(first, q, &mut |i, c| columns.push((i, -c)));
 }
 
 /// K += Jᵀ(k nnᵀ + f/l (I − nnᵀ)) J, C += c Jᵀ nnᵀ J over the element's Jacobian columns.
@@ -156,11 +296,25 @@ fn add_tangents<M>(
     columns: &[(usize, Vector3<f64>)],
     out: &mut SystemTerms,
 ) {
+    add_line_tangents(n, spring.stiffness, f, l, spring.damping, columns, out);
+}
+
+/// K += Jᵀ(k nnᵀ + f/l (I − nnᵀ)) J, C += c Jᵀ nnᵀ J with the slopes k = ∂f/∂l and
+/// c = ∂f/∂l̇ of a force along the line of two markers.
+pub(crate) fn add_line_tangents(
+    n: &Vector3<f64>,
+    k: f64,
+    f: f64,
+    l: f64,
+    c: f64,
+    columns: &[(usize, Vector3<f64>)],
+    out: &mut SystemTerms,
+) {
     let nn = n * n.transpose();
-    let stiffness = nn * spring.stiffness + (Matrix3::identity() - nn) * (f / l);
+    let stiffness = nn * k + (Matrix3::identity() - nn) * (f / l);
     for &(i, ci) in columns {
         let kc = stiffness * ci;
-        let cc = spring.damping * n.dot(&ci);
+        let cc = c * n.dot(&ci);
         for &(j, cj) in columns {
             out.stiffness[(j, i)] += cj.dot(&kc);
             out.damping[(j, i)] += cc * n.dot(&cj);

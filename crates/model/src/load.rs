@@ -95,6 +95,7 @@ impl Scene {
         self.check_joints()?;
         self.check_drivers()?;
         self.check_one_driver_per_joint()?;
+        self.check_roads()?;
         self.check_forces()?;
         self.check_constraints()?;
         self.check_sensors()?;
@@ -296,19 +297,6 @@ impl Scene {
         Ok(())
     }
 
-    /// Each spring-damper: existing markers, and stiffness, damping and (if given) free
-    /// length non-negative and in range.
-    fn check_forces(&self) -> Result<(), ModelError> {
-        for force in &self.forces {
-            let [(body1, marker1), (body2, marker2)] = force.ends();
-            let item = |f: &str| format!("forces[{}].{f}", force.name());
-            self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
-            self.check_marker(&item("body2"), body2, &item("marker2"), marker2)?;
-            self.check_force_values(force)?;
-        }
-        Ok(())
-    }
-
     /// Each sensor in turn; sensor names must be unique and none may be `t` (the time
     /// column of the output).
     fn check_sensors(&self) -> Result<(), ModelError> {
@@ -367,6 +355,16 @@ impl Scene {
                 }
             }
             SensorKind::Modal { body, index } => self.check_modal_sensor(&sn.name, body, *index)?,
+            SensorKind::Angle { body, .. } => {
+                if !self.bodies.iter().any(|b| &b.name == body) {
+                    return Err(self.missing(item("body"), "body", body));
+                }
+            }
+            SensorKind::ElementForce { force, .. } => {
+                if !self.forces.iter().any(|f| f.name() == force) {
+                    return Err(self.missing(item("force"), "force element", force));
+                }
+            }
             SensorKind::Position { .. } | SensorKind::Velocity { .. } | SensorKind::Energy => {}
         }
         Ok(())
@@ -403,6 +401,7 @@ impl Scene {
                 .chain(self.bodies.iter().map(|b| b.name.as_str()))
                 .collect(),
             "joint" => self.joints.iter().map(|j| j.name.as_str()).collect(),
+            "force element" => self.forces.iter().map(|f| f.name()).collect(),
             _ => Vec::new(),
         };
         let hint = if !known.is_empty() && known.len() <= 12 {

@@ -7,9 +7,11 @@
 //! 2. the scene-wide initial velocity handed to the bodies ([`Scene::with_initial_velocity`]),
 //!    and the scene rewrites of the stiffening method ([`crate::rewrite`]: FNL2's axial basis,
 //!    FS0 without axial modes, substructuring);
-//! 3. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
+//! 3. the auxiliary marker P1 + a added to body1 of each link along a body-fixed axis a
+//!    (`crate::force_elements::Link`: the axis as the difference of two body points);
+//! 4. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
 //!    elastic model installed and, for FS0, its shortening data ([`PreparedBody`]);
-//! 4. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`].
+//! 5. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`].
 //!
 //! A formulation takes a `&PreparedScene`, never a `Scene`: it cannot be handed a scene
 //! whose stiffening rewrite was skipped, since the only way to make a `PreparedScene` is
@@ -20,7 +22,7 @@ use std::borrow::Cow;
 use crate::bodies::PreparedBody;
 use crate::error::ModelError;
 use crate::rewrite::rewrite_for_stiffening;
-use crate::scene::{Axis, GROUND, Scene, SensorKind};
+use crate::scene::{Axis, ElementQuantity, GROUND, Scene, SensorKind};
 
 /// A body of the prepared scene: its index in [`PreparedScene::bodies`] (and in the
 /// prepared scene's `bodies`).
@@ -82,6 +84,22 @@ pub enum SensorTarget {
     },
     /// Total mechanical energy (J).
     Energy,
+    /// One intrinsic Cardan angle of a body's rotation R = A(t) A(0)ᵀ since t = 0 (rad).
+    Angle {
+        /// The body.
+        body: BodyId,
+        /// Which angle: X (first), Y (second), Z (third).
+        axis: Axis,
+        /// A(0): the orientation the scene gives the body.
+        reference: nalgebra::Matrix3<f64>,
+    },
+    /// A force element's tension or normal force, or its length.
+    ElementForce {
+        /// Its index in the prepared scene's `forces`.
+        element: usize,
+        /// What to report.
+        quantity: ElementQuantity,
+    },
 }
 
 /// A scene ready for a formulation (see the module documentation).
@@ -92,6 +110,7 @@ pub struct PreparedScene {
     joints: Vec<MarkerPair>,
     forces: Vec<MarkerPair>,
     constraints: Vec<MarkerPair>,
+    force_axes: Vec<Option<MarkerId>>,
     drivers: Vec<JointId>,
     sensors: Vec<SensorTarget>,
     sensor_offsets: Vec<f64>,
@@ -107,6 +126,7 @@ impl PreparedScene {
             Cow::Borrowed(s) => s.clone(),
             Cow::Owned(s) => s,
         };
+        let (scene, axis_markers) = crate::force_elements::add_axis_markers(scene);
         let bodies = scene.prepare_bodies()?;
         let joints = scene
             .joints
@@ -129,6 +149,10 @@ impl PreparedScene {
                 scene.marker_pair(body1, marker1, body2, marker2)
             })
             .collect::<Result<_, _>>()?;
+        let force_axes = axis_markers
+            .iter()
+            .map(|m| m.as_ref().map(|(b, m)| scene.marker_id(b, m)).transpose())
+            .collect::<Result<_, _>>()?;
         let drivers = scene
             .drivers
             .iter()
@@ -146,6 +170,7 @@ impl PreparedScene {
             joints,
             forces,
             constraints,
+            force_axes,
             drivers,
             sensors,
             sensor_offsets,
@@ -181,6 +206,20 @@ impl PreparedScene {
     /// The markers of each constraint, in the order of the prepared scene's `constraints`.
     pub fn constraint_markers(&self) -> &[MarkerPair] {
         &self.constraints
+    }
+
+    /// Per force element, the auxiliary marker P1 + a of a link along a body1-fixed axis a
+    /// (added to body1 by [`PreparedScene::new`]), `None` for the others.
+    pub fn force_axis_markers(&self) -> &[Option<MarkerId>] {
+        &self.force_axes
+    }
+
+    /// Every marker the force elements use, the auxiliary axis markers included.
+    pub fn force_marker_ids(&self) -> impl Iterator<Item = MarkerId> + '_ {
+        self.forces
+            .iter()
+            .flat_map(|pair| [pair.first, pair.second])
+            .chain(self.force_axes.iter().flatten().copied())
     }
 
     /// The driven joint of each driver, in the order of the prepared scene's `drivers`.
@@ -301,6 +340,26 @@ impl Scene {
                 index: *index,
             },
             SensorKind::Energy => SensorTarget::Energy,
+            SensorKind::Angle { body, axis } => {
+                let k = self
+                    .body_index(body)
+                    .ok_or_else(|| self.missing("an angle sensor".into(), "body", body))?;
+                SensorTarget::Angle {
+                    body: BodyId(k),
+                    axis: *axis,
+                    reference: self.bodies[k].orientation.matrix(),
+                }
+            }
+            SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
+                element: self
+                    .forces
+                    .iter()
+                    .position(|f| f.name() == force)
+                    .ok_or_else(|| {
+                        self.missing("an element-force sensor".into(), "force element", force)
+                    })?,
+                quantity: *quantity,
+            },
         })
     }
 }

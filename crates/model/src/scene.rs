@@ -81,6 +81,9 @@ pub struct Scene {
     /// ([`crate::scene_constraints`]).
     #[serde(default)]
     pub constraints: Vec<Constraint>,
+    /// Road profiles the tyres roll on ([`crate::roads`]).
+    #[serde(default)]
+    pub roads: Vec<crate::roads::Road>,
     /// Prescribed joint motions.
     #[serde(default)]
     pub drivers: Vec<Driver>,
@@ -318,17 +321,76 @@ pub enum Force {
         #[serde(default)]
         free_length: Option<f64>,
     },
+    /// A spring and a damper of nonlinear laws ([`crate::laws`]) between two markers,
+    /// tension positive: F = spring(l) + damper(l̇), along the line of the markers
+    /// (l = |r₂ − r₁|) or along a body1-fixed axis a (l = a·(r₂ − r₁)).
+    Link {
+        /// Name.
+        name: String,
+        /// First body.
+        body1: String,
+        /// Marker on the first body.
+        marker1: String,
+        /// Second body.
+        body2: String,
+        /// Marker on the second body.
+        marker2: String,
+        /// The spring's tension F_s(l) (N) of the length l (m).
+        #[serde(default)]
+        spring: crate::laws::Law,
+        /// The damper's tension F_d(l̇) (N) of the rate l̇ (m/s).
+        #[serde(default)]
+        damper: crate::laws::Law,
+        /// `None`: along the line of the markers; `Some(a)`: along the axis a fixed in
+        /// body1 (body1 components, normalised; body1 rigid or the ground).
+        #[serde(default)]
+        axis: Option<crate::direction::Direction>,
+    },
+    /// A tyre: the contact of a wheel-centre marker with a road ([`crate::roads`]), and a
+    /// lateral damper F_y = −c ẏ_W at the wheel centre (ground y). 3D scenes only.
+    Tyre {
+        /// Name.
+        name: String,
+        /// The wheel's body.
+        body: String,
+        /// The wheel-centre marker W.
+        marker: String,
+        /// The road it rolls on.
+        road: String,
+        /// Unloaded radius R (m).
+        radius: f64,
+        /// Radial stiffness K (N/m).
+        stiffness: f64,
+        /// The contact model (`Vertical` when omitted).
+        #[serde(default)]
+        contact: crate::roads::Contact,
+        /// Lateral damping c (N·s/m, 0 when omitted).
+        #[serde(default)]
+        lateral_damping: f64,
+    },
 }
 
 impl Force {
     /// The element's name.
     pub fn name(&self) -> &str {
         match self {
-            Force::SpringDamper { name, .. } => name,
+            Force::SpringDamper { name, .. }
+            | Force::Link { name, .. }
+            | Force::Tyre { name, .. } => name,
         }
     }
 
-    /// The element's two ends, (body, marker) each, first then second.
+    /// The variant's name, for messages and reports.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Force::SpringDamper { .. } => "SpringDamper",
+            Force::Link { .. } => "Link",
+            Force::Tyre { .. } => "Tyre",
+        }
+    }
+
+    /// The element's two ends, (body, marker) each, first then second. A tyre has one end,
+    /// its wheel centre, given twice.
     pub fn ends(&self) -> [(&str, &str); 2] {
         match self {
             Force::SpringDamper {
@@ -337,12 +399,20 @@ impl Force {
                 body2,
                 marker2,
                 ..
+            }
+            | Force::Link {
+                body1,
+                marker1,
+                body2,
+                marker2,
+                ..
             } => [(body1, marker1), (body2, marker2)],
+            Force::Tyre { body, marker, .. } => [(body, marker), (body, marker)],
         }
     }
 
-    /// The element's two ends, to rename them (a scene rewrite).
-    pub fn ends_mut(&mut self) -> [(&mut String, &mut String); 2] {
+    /// The element's ends (each once), to rename them (a scene rewrite).
+    pub fn ends_mut(&mut self) -> Vec<(&mut String, &mut String)> {
         match self {
             Force::SpringDamper {
                 body1,
@@ -350,22 +420,33 @@ impl Force {
                 body2,
                 marker2,
                 ..
-            } => [(body1, marker1), (body2, marker2)],
+            }
+            | Force::Link {
+                body1,
+                marker1,
+                body2,
+                marker2,
+                ..
+            } => vec![(body1, marker1), (body2, marker2)],
+            Force::Tyre { body, marker, .. } => vec![(body, marker)],
         }
     }
 
     /// The free length of a spring–damper whose markers sit at `r1`, `r2` at t = 0: its
-    /// `free_length`, or their distance. Markers that coincide are refused (a spring of zero
-    /// length has no direction), naming the force.
+    /// `free_length`, or their distance (a `Link` along its markers: their distance).
+    /// Markers that coincide are refused (a spring of zero length has no direction), naming
+    /// the force.
     pub fn spring_free_length(
         &self,
         origin: &str,
         r1: &Vector3<f64>,
         r2: &Vector3<f64>,
     ) -> Result<f64, crate::ModelError> {
-        let Force::SpringDamper {
-            name, free_length, ..
-        } = self;
+        let name = self.name();
+        let free_length = match self {
+            Force::SpringDamper { free_length, .. } => *free_length,
+            _ => None,
+        };
         let [(body1, marker1), (body2, marker2)] = self.ends();
         let l = (r2 - r1).norm();
         if l <= 1e-9 * (1.0 + r1.norm().max(r2.norm())) {
@@ -533,8 +614,36 @@ pub enum SensorKind {
         /// Mode index (0-based, static modes first).
         index: usize,
     },
-    /// Total mechanical energy (J): kinetic + gravity + elastic + springs.
+    /// Total mechanical energy (J): kinetic + gravity + elastic + force elements.
     Energy,
+    /// One intrinsic Cardan angle (x, y′, z″) of the body's rotation since t = 0,
+    /// R = A(t) A(0)ᵀ, A(0) the orientation the scene gives the body (rad; X and Z in
+    /// (−π, π], Y in [−π/2, π/2]; about +y positive nose down).
+    Angle {
+        /// The body.
+        body: String,
+        /// Which angle: X (first, about x), Y (second, about y′), Z (third, about z″).
+        axis: Axis,
+    },
+    /// A force element's tension (SpringDamper, Link; N) or normal force (Tyre, ≥ 0; N), or
+    /// with `quantity: Length` its length l (m; a tyre: its deflection δ).
+    ElementForce {
+        /// The force element.
+        force: String,
+        /// What to report (`Force` when omitted).
+        #[serde(default)]
+        quantity: ElementQuantity,
+    },
+}
+
+/// What an `ElementForce` sensor reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ElementQuantity {
+    /// The tension (N) or a tyre's normal force.
+    #[default]
+    Force,
+    /// The length l (m) the element's laws are evaluated at; a tyre's deflection δ (m).
+    Length,
 }
 
 impl SensorKind {

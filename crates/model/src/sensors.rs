@@ -10,7 +10,12 @@
 //!   whole turns is made continuous by counting turns between readings (a jump over π is a
 //!   turn);
 //! - `Modal`: the modal coordinate y_k;
-//! - `Energy`: the formulation's total mechanical energy.
+//! - `Energy`: the formulation's total mechanical energy;
+//! - `Angle`: one intrinsic Cardan angle (x, y′, z″) of R = A(t) A(0)ᵀ, A(t) from
+//!   [`SensorQuery::body_frame`] and A(0) the orientation the scene gives the body: with
+//!   R = R_x(α) R_y(β) R_z(γ), α = atan2(−R₁₂, R₂₂), β = asin R₀₂, γ = atan2(−R₀₁, R₀₀);
+//! - `ElementForce`: a force element's tension (a tyre's normal force) or length (a tyre's
+//!   deflection), from [`SensorQuery::element_reading`], the code of the element's forces.
 //!
 //! A `displacement` sensor reports its value minus the marker's undeformed value
 //! ([`PreparedScene::sensor_offsets`]).
@@ -18,11 +23,11 @@
 use std::f64::consts::{PI, TAU};
 
 use flexmbd_core::{Dim, InvalidValue, JointReading, SensorQuery};
-use nalgebra::DVector;
+use nalgebra::{DVector, Matrix3};
 
 use crate::error::ModelError;
 use crate::prepared::{BodyId, JointId, MarkerId, PreparedScene, SensorTarget};
-use crate::scene::Axis;
+use crate::scene::{Axis, ElementQuantity};
 
 /// One sensor, resolved into a formulation's handles (`M`: marker, `J`: joint coordinate).
 #[derive(Clone, Debug)]
@@ -46,6 +51,15 @@ enum Reading<M, J> {
     /// The coordinate index of the mode (`None`: a body without that mode reads 0).
     Modal(Option<usize>),
     Energy,
+    Angle {
+        body: usize,
+        axis: Axis,
+        reference: Matrix3<f64>,
+    },
+    ElementForce {
+        element: usize,
+        quantity: ElementQuantity,
+    },
 }
 
 /// The sensors of a scene, compiled for one formulation.
@@ -127,6 +141,18 @@ impl<M, J> Sensors<M, J> {
                 },
                 SensorTarget::Modal { body, index } => Reading::Modal((handles.mode)(body, index)),
                 SensorTarget::Energy => Reading::Energy,
+                SensorTarget::Angle {
+                    body,
+                    axis,
+                    reference,
+                } => Reading::Angle {
+                    body: body.0,
+                    axis,
+                    reference,
+                },
+                SensorTarget::ElementForce { element, quantity } => {
+                    Reading::ElementForce { element, quantity }
+                }
             });
         }
         Ok(Sensors {
@@ -182,10 +208,35 @@ impl<M, J> Sensors<M, J> {
                 }
                 Reading::Modal(index) => index.map_or(0.0, |i| q[i]),
                 Reading::Energy => query.total_energy(q, qd),
+                Reading::Angle {
+                    body,
+                    axis,
+                    reference,
+                } => {
+                    let (_, a) = query.body_frame(*body, q);
+                    cardan_angles(&(a * reference.transpose()))[axis.index()]
+                }
+                Reading::ElementForce { element, quantity } => {
+                    let reading = query.element_reading(*element, q, qd);
+                    match quantity {
+                        ElementQuantity::Force => reading.force,
+                        ElementQuantity::Length => reading.length,
+                    }
+                }
             };
             out[k] = value - self.offsets[k];
         }
     }
+}
+
+/// The intrinsic Cardan angles (α, β, γ) about x, y′, z″ of the rotation R =
+/// R_x(α) R_y(β) R_z(γ) (β in [−π/2, π/2]).
+pub fn cardan_angles(r: &Matrix3<f64>) -> [f64; 3] {
+    [
+        (-r[(1, 2)]).atan2(r[(2, 2)]),
+        r[(0, 2)].clamp(-1.0, 1.0).asin(),
+        (-r[(0, 1)]).atan2(r[(0, 0)]),
+    ]
 }
 
 /// The angle `angle` (known up to whole turns) made continuous with the last value reported:
@@ -206,7 +257,22 @@ fn continuous_angle(angle: f64, last: &mut f64, turns: &mut f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::continuous_angle;
+    use super::{cardan_angles, continuous_angle};
+    use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn cardan_angles_undo_the_three_rotations() {
+        let (a, b, c) = (0.3, -0.7, 2.1);
+        let r = Rotation3::from_axis_angle(&Vector3::x_axis(), a)
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), b)
+            * Rotation3::from_axis_angle(&Vector3::z_axis(), c);
+        let [x, y, z] = cardan_angles(r.matrix());
+        assert!((x - a).abs() < 1e-14 && (y - b).abs() < 1e-14 && (z - c).abs() < 1e-14);
+        // Pitch about +y turns the x axis (forward) down: nose down is positive.
+        let pitch = Rotation3::from_axis_angle(&Vector3::y_axis(), 0.1);
+        assert!((pitch * Vector3::x()).z < 0.0);
+        assert!((cardan_angles(pitch.matrix())[1] - 0.1).abs() < 1e-15);
+    }
     use std::f64::consts::{PI, TAU};
 
     #[test]

@@ -207,7 +207,8 @@ impl Scene {
         }
     }
 
-    /// A spring–damper's stiffness, damping and free length in range.
+    /// A spring–damper's stiffness, damping and free length in range; a link's and a
+    /// tyre's numbers ([`Scene::check_new_force_values`]).
     pub(crate) fn check_force_values(&self, force: &Force) -> Result<(), ModelError> {
         let Force::SpringDamper {
             name,
@@ -215,7 +216,10 @@ impl Scene {
             damping,
             free_length,
             ..
-        } = force;
+        } = force
+        else {
+            return self.check_new_force_values(force);
+        };
         let f = |field: &str| format!("forces[{name}].{field}");
         self.in_range(bounds::SPRING_STIFFNESS, &f("stiffness"), *stiffness)?;
         self.in_range(bounds::SPRING_DAMPING, &f("damping"), *damping)?;
@@ -227,6 +231,11 @@ impl Scene {
             self.in_range(range, &f("free_length"), *l)?;
         }
         Ok(())
+    }
+
+    /// A direction at `field` (normalised on use): components in range, a non-zero norm.
+    pub(crate) fn check_direction(&self, field: &str, v: &V3) -> Result<(), ModelError> {
+        self.axis(field, v)
     }
 
     /// A marker's position at t = 0 in ground components (`None` for an unknown name).

@@ -3,7 +3,7 @@
 //! included; a cut prismatic's slide from its t = 0 value; a tree joint's coordinate) and the
 //! [`SensorQuery`] the shared sensors read, answered from one kinematics pass at (z, ż).
 
-use flexmbd_core::{Dim, JointReading, SensorQuery};
+use flexmbd_core::{Dim, ElementReading, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{BodyId, JointId, JointKind, MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{DVector, Matrix3, Vector2, Vector3};
@@ -159,5 +159,14 @@ impl SensorQuery for Relative {
 
     fn total_energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
         self.energy(q, qd)
+    }
+
+    fn element_reading(
+        &self,
+        element: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading {
+        self.force_elements.reading(element, self, q, qd)
     }
 }

@@ -401,3 +401,48 @@ pub fn flexible_pendulum_energy_drift(rows: &[Vec<f64>]) -> (f64, f64) {
     let scale = 1.0 * 9.81 * 0.5;
     (drift, drift / scale)
 }
+
+/// A vehicle corner in the scene syntax of issue 13: two free bodies, a chassis and a wheel
+/// carrier, joined by a strut (polynomial spring, piecewise damper) and a leaf element along
+/// the chassis z axis, the carrier on a tyre on a cosine bump and one on a stepped table road,
+/// with angle and element-force sensors.
+pub const VEHICLE_CORNER: &str = r#"(
+    name: "corner", dim: Spatial, gravity: [0.0, 0.0, -9.81],
+    bodies: [
+        (name: "chassis", origin: [0.0, 0.0, 0.6],
+         model: Rigid(mass: 300.0, center_of_mass: [0.0, 0.0, 0.0], inertia: Diagonal([50.0, 200.0, 220.0])),
+         markers: [(name: "S0_fl", position: [0.1, 0.5, 0.2]), (name: "E_fl", position: [0.0, 0.6, 0.137])]),
+        (name: "carrier_fl", origin: [0.0, 0.7, 0.356],
+         model: Rigid(mass: 57.35, center_of_mass: [0.0, 0.0, 0.0], inertia: Diagonal([1.0, 2.0, 1.0])),
+         markers: [(name: "S1_fl", position: [0.05, -0.1, -0.15]), (name: "U_fl", position: [0.0, -0.1, 0.2]),
+                   (name: "W_fl", position: [0.0, 0.0, 0.0])]),
+    ],
+    joints: [
+        (name: "float", kind: Free, body1: "ground", marker1: "O", body2: "chassis", marker2: "S0_fl"),
+        (name: "float_carrier", kind: Free, body1: "ground", marker1: "W", body2: "carrier_fl", marker2: "W_fl"),
+    ],
+    ground: [(name: "O", position: [0.1, 0.5, 0.8]), (name: "W", position: [0.0, 0.7, 0.356])],
+    forces: [
+        Link(name: "strut_fl", body1: "chassis", marker1: "S0_fl", body2: "carrier_fl", marker2: "S1_fl",
+             spring: Polynomial(coefficients: [-4.0092e6, 2.8397e7, -6.7061e7, 5.2796e7]),
+             damper: Piecewise(breakpoints: [-0.20, 0.21], pieces: [Polynomial(coefficients: [-416.42, 1844.3]), Polynomial(coefficients: [0.0, 9945.627, 33955.72, -59832.25, -395651.0]), Polynomial(coefficients: [1919.1638, 1634.727])]),
+             axis: None),
+        Link(name: "leaf_fl", body1: "chassis", marker1: "E_fl", body2: "carrier_fl", marker2: "U_fl",
+             spring: Piecewise(breakpoints: [0.106], pieces: [Polynomial(about: 0.106, coefficients: [-5242.276, 1.0e7]), Polynomial(about: 0.1, coefficients: [-5457.712, 35906.0])]),
+             damper: Zero,
+             axis: Some((0.0, 0.0, -1.0))),
+        Tyre(name: "tyre_fl", body: "carrier_fl", marker: "W_fl", road: "left", radius: 0.364325, stiffness: 460000.0, contact: Vertical, lateral_damping: 0.0),
+        Tyre(name: "tyre_bump", body: "carrier_fl", marker: "W_fl", road: "ramp", radius: 0.364325, stiffness: 460000.0, contact: ProfileNormal),
+    ],
+    roads: [
+        Road(name: "left", profile: CosineBump(start: 0.97, length: 5.0, height: 0.2)),
+        Road(name: "flat", profile: Flat),
+        Road(name: "ramp", profile: Table(x: [0.0, 3.0, 4.0, 10.0, 10.0, 20.0, 20.0], z: [0.0, 0.0, 0.1, 0.1, 0.0, 0.0, -0.1])),
+    ],
+    sensors: [
+        Sensor(name: "chassis_pitch", kind: Angle(body: "chassis", axis: Y)),
+        Sensor(name: "tyre_fl", kind: ElementForce(force: "tyre_fl")),
+        Sensor(name: "strut_fl", kind: ElementForce(force: "strut_fl")),
+    ],
+    solver: (step: 1e-3, duration: 0.01),
+)"#;

@@ -2,7 +2,7 @@
 //! joint coordinates (the relative angle of two body-fixed directions, or a prismatic slide,
 //! each from its value at q0) and the [`SensorQuery`] the shared sensors read.
 
-use flexmbd_core::{JointReading, SensorQuery};
+use flexmbd_core::{ElementReading, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{BodyId, JointKind, ModelError, PreparedScene};
 use nalgebra::{DVector, Matrix3, Vector2, Vector3};
@@ -107,5 +107,14 @@ impl SensorQuery for Planar {
 
     fn total_energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
         self.energy(q, qd)
+    }
+
+    fn element_reading(
+        &self,
+        element: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading {
+        self.force_elements.reading(element, self, q, qd)
     }
 }

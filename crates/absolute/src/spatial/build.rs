@@ -53,9 +53,7 @@ impl Spatial {
             node_translations: built.node_translations,
         };
         let force_markers: HashMap<_, _> = prepared
-            .force_markers()
-            .iter()
-            .flat_map(|pair| [pair.first, pair.second])
+            .force_marker_ids()
             .map(|id: MarkerId| (id, lookup.point(id)))
             .collect();
         joint_constraints(&lookup, &mut constraints)?;

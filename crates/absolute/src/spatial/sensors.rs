@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use flexmbd_core::{JointReading, SensorQuery};
+use flexmbd_core::{ElementReading, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{
     BodyId, JointId, JointKind, MarkerId, ModelError, PreparedScene, SensorTarget,
@@ -73,7 +73,10 @@ pub(super) fn sensor_terms(
                 let coordinate = joint_coordinate(lookup, &sensor.name, joint)?;
                 terms.joints.insert(joint, coordinate);
             }
-            SensorTarget::Modal { .. } | SensorTarget::Energy => {}
+            SensorTarget::Modal { .. }
+            | SensorTarget::Energy
+            | SensorTarget::Angle { .. }
+            | SensorTarget::ElementForce { .. } => {}
         }
     }
     Ok(terms)
@@ -177,5 +180,14 @@ impl SensorQuery for Spatial {
 
     fn total_energy(&mut self, q: &DVector<f64>, qd: &DVector<f64>) -> f64 {
         self.energy(q, qd)
+    }
+
+    fn element_reading(
+        &self,
+        element: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+    ) -> ElementReading {
+        self.force_elements.reading(element, self, q, qd)
     }
 }
