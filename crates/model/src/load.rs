@@ -695,10 +695,17 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             }
         }
         Value::Object(_) | Value::Array(_) => {
-            // Unit enum variants serialise as strings; anything else is not a scalar.
-            return Err(err(
-                "this path names a structure, not a scalar; extend the path to a field".into(),
-            ));
+            // A structure can be replaced by a unit variant of its enum (`damper=Zero`), which
+            // serialises as its name; whether the enum has it is checked on deserialising.
+            let variant = value.starts_with(|c: char| c.is_ascii_uppercase())
+                && value.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            if !variant {
+                return Err(err(
+                    "this path names a structure, not a scalar; extend the path to a field, or give a unit variant such as Zero"
+                        .into(),
+                ));
+            }
+            Value::String(value.to_string())
         }
     };
     *node = new;
