@@ -54,15 +54,24 @@ fn main() -> Result<(), flexmbd::Error> {
             (GROUND, "O"),
             ("bar", "pin"),
         ))
-        .sensor(Sensor::new("tip_x", SensorKind::position("bar", "tip", Axis::X)))
-        .sensor(Sensor::new("tip_y", SensorKind::position("bar", "tip", Axis::Y)))
+        .sensor(Sensor::new(
+            "tip_x",
+            SensorKind::position("bar", "tip", Axis::X),
+        ))
+        .sensor(Sensor::new(
+            "tip_y",
+            SensorKind::position("bar", "tip", Axis::Y),
+        ))
         .sensor(Sensor::new("energy", SensorKind::Energy))
         .solver(Solver::new(1e-3, 2.0))
         .build()?;
 
     let mut simulation = Simulation::new(&scene)?;
     let mut sensors = vec![0.0; simulation.sensor_names().len()];
-    println!("{:>6} {:>10} {:>10} {:>12}", "t (s)", "tip x (m)", "tip y (m)", "energy (J)");
+    println!(
+        "{:>6} {:>10} {:>10} {:>12}",
+        "t (s)", "tip x (m)", "tip y (m)", "energy (J)"
+    );
     for k in 0..=10 {
         simulation.advance_to(0.2 * k as f64)?;
         simulation.read_sensors(&mut sensors);

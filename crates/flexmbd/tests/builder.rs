@@ -251,5 +251,8 @@ fn a_builder_mistake_is_refused_naming_the_field_and_value() {
         .unwrap_err()
         .to_string();
     eprintln!("{e}");
-    assert!(e.contains("typo") && e.contains("marker") && e.contains("`O`"), "{e}");
+    assert!(
+        e.contains("typo") && e.contains("marker") && e.contains("`O`"),
+        "{e}"
+    );
 }

@@ -4,6 +4,7 @@ use crate::Settings;
 use crate::report::Report;
 
 pub mod four_bar;
+pub mod iltis;
 pub mod inertia_cost;
 pub mod mesh_size;
 pub mod spin_up;
@@ -34,6 +35,11 @@ pub fn all() -> Vec<Study> {
             name: "double-four-bar",
             title: "Double four-bar with 0 to 5 flexible bars (thesis ch. 2, first example)",
             run: four_bar::run,
+        },
+        Study {
+            name: "iltis",
+            title: "The IAVSD Iltis benchmark vehicle: equilibrium, vibration and the cosine bump (thesis ch. 2)",
+            run: iltis::run,
         },
         Study {
             name: "mesh-size",

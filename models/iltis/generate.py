@@ -1,0 +1,263 @@
+#!/usr/bin/env python3
+"""Writes models/iltis_vehicle_benchmark.ron and models/iltis_bump.ron: the IAVSD "Bombardier
+Iltis" benchmark vehicle (scene C0 of docs/scenes.md section 3.3) from the front-left corner of
+docs/scenes.md section 2.3, mirrored to the four corners as section 2.1 says. Every number is
+the one of docs/scenes.md sections 2.2-2.5 and 3.1-3.2 (sources S9: ovankerm/IAVSD_ILTIS at
+commit 18c4286, files Jeep.mbs, main.c, user_LinkForces.c, user_ExtForces.c, GroundContact.c).
+
+Run from the repository root: python3 models/iltis/generate.py (no dependencies). The .ron
+files it writes are committed; edit this script, not them.
+"""
+import math
+
+# docs/scenes.md 2.3, front-left corner (y > 0), vehicle frame V at the nominal position.
+FRONT_LEFT = {
+    "A0": (0.970, 0.259, 0.302),   # A-arm chassis pivot
+    "B": (0.970, 0.572, 0.229),    # ball joint A-arm / carrier
+    "L0": (0.970, 0.1585, 0.600),  # leaf-spring link, chassis pivot
+    "U": (0.970, 0.488, 0.531),    # leaf-spring link outer end = upper carrier joint
+    "W": (0.970, 0.615, 0.356),    # wheel centre
+    "T0": (0.830, 0.070, 0.600),   # tie rod, rack end (rack fixed to the chassis)
+    "T1": (0.830, 0.448, 0.531),   # tie rod, steering-arm end
+    "S0": (1.045, 0.297, 0.632),   # strut top (chassis)
+    "S1": (1.045, 0.500, 0.241),   # strut bottom (A-arm)
+    "E": (0.970, 0.488, 0.707),    # leaf element chassis end, above U (2.4)
+}
+CHASSIS_CG = (0.0, 0.0, 0.570)  # 2.1, 2.2
+X_FRONT, X_REAR = 0.970, -1.047  # 2.3
+# 2.5: unloaded radii front / rear; 460000 N/m; no tyre damping.
+RADIUS = {"f": 0.364325, "r": 0.363812}
+TYRE_STIFFNESS = 460000.0
+# 2.4: the strut (S9 "Bumper") spring and damper, tension positive.
+STRUT_SPRING = [-4.0092e6, 2.8397e7, -6.7061e7, 5.2796e7]
+STRUT_DAMPER_LOW = [-416.42, 1844.3]           # v < -0.20 m/s
+STRUT_DAMPER_MID = [0.0, 9945.627, 33955.72, -59832.25, -395651.0]
+STRUT_DAMPER_HIGH = [1919.1638, 1634.727]      # v > 0.21 m/s
+# 2.4: leaf element, s = z(E) - z(U) along chassis z, l = s - 0.100;
+# F = k (l - 0.152) for l >= 0.006, k (0.006 - 0.152) + k_stop (l - 0.006) below.
+LEAF_K, LEAF_K_STOP = 35906.0, 1.0e7
+
+
+def corner_points(corner):
+    """The hard points of corner fl, fr, rl or rr (2.1: right = y mirrored; rear = x
+    mirrored about the rear axle, x_rear = -1.047 - (x_front - 0.970))."""
+    axle, side = corner[0], corner[1]
+    out = {}
+    for name, (x, y, z) in FRONT_LEFT.items():
+        if axle == "r":
+            x = X_REAR - (x - X_FRONT)
+        if side == "r":
+            y = -y
+        out[name] = (x, y, z)
+    return out
+
+
+def sub(a, b):
+    return tuple(p - q for p, q in zip(a, b))
+
+
+def dot(a, b):
+    return sum(p * q for p, q in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def unit(a):
+    n = math.sqrt(dot(a, a))
+    return tuple(p / n for p in a)
+
+
+def number(c):
+    text = f"{c:.10g}"
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+def vec(v):
+    return "[" + ", ".join(number(c) for c in v) + "]"
+
+
+def marker(name, v):
+    return f'(name: "{name}", position: {vec(v)})'
+
+
+def chassis():
+    markers = [marker("cg", (0.0, 0.0, 0.0))]
+    for c in ["fl", "fr", "rl", "rr"]:
+        p = corner_points(c)
+        for n in ["A0", "L0", "T0", "S0", "E"]:
+            markers.append(marker(f"{n}_{c}", sub(p[n], CHASSIS_CG)))
+    body = f'''        (name: "chassis", origin: {vec(CHASSIS_CG)},
+         // 2.2: 1260 kg at the centre of mass, Ixx 130, Iyy 1620, Izz 1670 kg m^2 [S9 Jeep.mbs].
+         model: Rigid(mass: 1260.0, center_of_mass: [0.0, 0.0, 0.0], inertia: Diagonal([130.0, 1620.0, 1670.0])),
+         markers: [
+            {(","+chr(10)+"            ").join(markers)},
+         ]),'''
+    return body
+
+
+def aarm(c):
+    """Lower A-arm (2.2): 6.0 kg, centre of mass on B->A0 0.16073 m from B; inertias about
+    the longitudinal axis, the arm's own axis B->A0 and the normal to both. Frame: origin B,
+    x forward, y along B->A0 (the arm axes of 2.8)."""
+    p = corner_points(c)
+    ex = (1.0, 0.0, 0.0)
+    ey = unit(sub(p["A0"], p["B"]))
+    ez = cross(ex, ey)
+    local = lambda v: (dot(sub(v, p["B"]), ex), dot(sub(v, p["B"]), ey), dot(sub(v, p["B"]), ez))
+    markers = [marker("B", (0.0, 0.0, 0.0)), marker("A0", local(p["A0"])), marker("S1", local(p["S1"]))]
+    return f'''        (name: "aarm_{c}", origin: {vec(p["B"])}, orientation: Axes(x: {vec(ex)}, y: {vec(ey)}),
+         model: Rigid(mass: 6.0, center_of_mass: [0.0, 0.16073, 0.0], inertia: Diagonal([0.052099, 0.023235, 0.068864])),
+         markers: [{", ".join(markers)}]),'''
+
+
+def carrier(c):
+    """Wheel + carrier lumped (2.2): 57.35 kg at W, Ixx = Izz = 1.2402, Iyy = 1.908 (spin
+    axis), vehicle axes; the wheel welded to the carrier (2.3, "Joints in our model")."""
+    p = corner_points(c)
+    markers = [marker("W", (0.0, 0.0, 0.0))] + [marker(n, sub(p[n], p["W"])) for n in ["B", "U", "T1"]]
+    return f'''        (name: "carrier_{c}", origin: {vec(p["W"])},
+         model: Rigid(mass: 57.35, center_of_mass: [0.0, 0.0, 0.0], inertia: Diagonal([1.2402, 1.908, 1.2402])),
+         markers: [{", ".join(markers)}]),'''
+
+
+def joints(c):
+    return f'''        (name: "aarm_pivot_{c}", kind: Revolute(axis: Some([1.0, 0.0, 0.0])), body1: "chassis", marker1: "A0_{c}", body2: "aarm_{c}", marker2: "A0"),
+        (name: "ball_joint_{c}", kind: Spherical, body1: "aarm_{c}", marker1: "B", body2: "carrier_{c}", marker2: "B"),'''
+
+
+def constraints(c):
+    return f'''        // The massless leaf-spring link L0-U (revolute about chassis x at L0, spherical at U):
+        // U stays at its distance from L0 in the chassis-fixed plane through L0 normal to x.
+        Distance(name: "leaf_link_{c}", body1: "chassis", marker1: "L0_{c}", body2: "carrier_{c}", marker2: "U", length: None),
+        PointInPlane(name: "leaf_link_plane_{c}", body1: "chassis", marker1: "L0_{c}", normal: [1.0, 0.0, 0.0], body2: "carrier_{c}", marker2: "U"),
+        // The massless tie rod T0-T1, the rack fixed (2.3, 3.1).
+        Distance(name: "tie_rod_{c}", body1: "chassis", marker1: "T0_{c}", body2: "carrier_{c}", marker2: "T1", length: None),'''
+
+
+def poly(coefficients, about=None):
+    cs = ", ".join(f"{x!r}" for x in coefficients)
+    if about is None:
+        return f"Polynomial(coefficients: [{cs}])"
+    return f"Polynomial(about: {about!r}, coefficients: [{cs}])"
+
+
+def forces(c, road, contact):
+    k, ks = LEAF_K, LEAF_K_STOP
+    # In s: the stop piece about s = 0.106 (l = 0.006), the leaf about s = 0.100 (l = 0).
+    leaf_stop = poly([round(k * (0.006 - 0.152), 6), ks], about=0.106)
+    leaf = poly([round(-0.152 * k, 6), k], about=0.1)
+    damper = (f"Piecewise(breakpoints: [-0.2, 0.21], pieces: [{poly(STRUT_DAMPER_LOW)}, "
+              f"{poly(STRUT_DAMPER_MID)}, {poly(STRUT_DAMPER_HIGH)}])")
+    return f'''        Link(name: "strut_{c}", body1: "chassis", marker1: "S0_{c}", body2: "aarm_{c}", marker2: "S1",
+             spring: {poly(STRUT_SPRING)},
+             damper: {damper},
+             axis: None),
+        Link(name: "leaf_{c}", body1: "chassis", marker1: "E_{c}", body2: "carrier_{c}", marker2: "U",
+             spring: Piecewise(breakpoints: [0.106], pieces: [{leaf_stop}, {leaf}]),
+             damper: Zero,
+             axis: Some([0.0, 0.0, -1.0])),
+        Tyre(name: "tyre_{c}", body: "carrier_{c}", marker: "W", road: "{road}", radius: {RADIUS[c[0]]}, stiffness: {TYRE_STIFFNESS}, contact: {contact}, lateral_damping: 0.0),'''
+
+
+SENSORS = '''        (name: "chassis_x", kind: Position(body: "chassis", marker: "cg", component: X)),
+        (name: "chassis_z", kind: Position(body: "chassis", marker: "cg", component: Z)),
+        (name: "chassis_pitch", kind: Angle(body: "chassis", axis: Y)),
+        (name: "chassis_roll", kind: Angle(body: "chassis", axis: X)),
+        (name: "wheel_fl_z", kind: Position(body: "carrier_fl", marker: "W", component: Z)),
+        (name: "wheel_rl_z", kind: Position(body: "carrier_rl", marker: "W", component: Z)),
+        (name: "tyre_fl", kind: ElementForce(force: "tyre_fl")),
+        (name: "tyre_fr", kind: ElementForce(force: "tyre_fr")),
+        (name: "tyre_rl", kind: ElementForce(force: "tyre_rl")),
+        (name: "tyre_rr", kind: ElementForce(force: "tyre_rr")),
+        (name: "strut_fl", kind: ElementForce(force: "strut_fl")),
+        (name: "strut_rl", kind: ElementForce(force: "strut_rl")),
+        (name: "leaf_fl", kind: ElementForce(force: "leaf_fl")),
+        (name: "leaf_rl", kind: ElementForce(force: "leaf_rl")),'''
+
+
+def scene(name, description, header, road_block, contact, velocity, solver):
+    corners = ["fl", "fr", "rl", "rr"]
+    bodies = [chassis()] + [aarm(c) for c in corners] + [carrier(c) for c in corners]
+    return f'''{header}
+(
+    name: "{name}",
+    description: "{description}",
+    dim: Spatial,
+    gravity: [0.0, 0.0, -9.81],
+    initial_velocity: {vec(velocity)},
+    ground: [(name: "cg0", position: {vec(CHASSIS_CG)})],
+    bodies: [
+{chr(10).join(bodies)}
+    ],
+    joints: [
+        (name: "chassis_float", kind: Free, body1: "ground", marker1: "cg0", body2: "chassis", marker2: "cg"),
+{chr(10).join(joints(c) for c in corners)}
+    ],
+    constraints: [
+{chr(10).join(constraints(c) for c in corners)}
+    ],
+    forces: [
+{chr(10).join(forces(c, "road", contact) for c in corners)}
+    ],
+    roads: [
+{road_block}
+    ],
+    sensors: [
+{SENSORS}
+    ],
+    solver: {solver},
+)
+'''
+
+
+COMMON = """// Generated by models/iltis/generate.py from docs/scenes.md 2.1-3.3 (edit the script, not this file).
+// The IAVSD "Bombardier Iltis" benchmark vehicle as implemented in Robotran by S9
+// (github ovankerm/IAVSD_ILTIS, commit 18c4286; benchmark: Frik, Leister & Schwartz, Vehicle
+// System Dynamics 22 (1993) 215-253). Vehicle frame: x forward, y left, z up, origin on the flat
+// road below the chassis centre of mass in the nominal position; front-left = the corner at y > 0.
+// Bodies: the chassis (free, 6 DOF), per corner the lower A-arm (revolute about x through A0 to
+// the chassis, ball joint B to the carrier) and the wheel carrier with the wheel welded to it;
+// the leaf-spring link and the tie rod are massless and written as constraints (scenes.md 3.3).
+// Forces per corner: the strut (cubic spring, piecewise-quartic damper), the leaf element along
+// chassis z with its 70 mm bump stop (2.4), the vertical tyre 460 kN/m without damping (2.5).
+// Element forces are tension-positive (2.1)."""
+
+
+def main():
+    flat = '        Road(name: "road", profile: Flat),'
+    bump = ('        // S9 GroundContact.c: h(x) = 0.1 (1 - cos(2 pi (x - 0.97) / 5)) on [0.97, 5.97] m,\n'
+            '        // the same under both tracks (in phase); the front wheels start at its foot.\n'
+            '        Road(name: "road", profile: CosineBump(start: 0.97, length: 5.0, height: 0.2)),')
+    bench = scene(
+        "iltis vehicle benchmark",
+        "scene C0: the IAVSD Iltis benchmark vehicle (S9 masses, massless links as constraints), at rest on a flat road",
+        COMMON + """
+// Checks (scenes.md 2.6, 3.2): nominal loads at the nominal position (solver.initial_state = Given):
+// leaf -2728.9 N, strut -128.0 N, tyres 3829.5 / 3593.5 N; the static equilibrium (this file's
+// start): chassis -7.083 mm (z = 0.5629166 m), pitch 0.1465 deg nose down, tyres 3831.31 / 3591.91 N,
+// struts -335.29 / -241.64 N, leaf elements -3068.62 / -2885.51 N [S9 2_Equilibrium_Report.txt].
+// Run: 1 s at rest from the equilibrium (nothing may move); h = 1 ms CHOSEN (scenes.md 3.6).""",
+        flat, "Vertical", (0.0, 0.0, 0.0),
+        "(step: 1e-3, duration: 1.0, output_interval: Some(0.01), initial_state: StaticEquilibrium)")
+    bump_scene = scene(
+        "iltis bump",
+        "scene C0 over the benchmark cosine bump, in phase, from static equilibrium at 5 m/s",
+        COMMON + """
+// The benchmark cosine bump (scenes.md 3.2, S9 InPhaseCosine_5ms_*.res): 0.20 m high, 5 m long,
+// profile-normal radial tyre contact as S9 GroundContact.c; start from the static equilibrium with
+// every body moving forward at initial_velocity (5 m/s; `--set initial_velocity.0=10` for the
+// 10 m/s run), no longitudinal tyre force, 2.5 s. S9 extremes at 5 m/s: centre-of-mass rise
+// 127.8 mm at 0.725 s, pitch -6.35 deg (0.538 s) and +7.64 deg (1.033 s), front tyre 1300.5 to
+// 6202.4 N, rear 1360.1 to 5664.2 N; at 10 m/s the wheels lift off and the rise peaks near 314.1 mm.""",
+        bump, "ProfileNormal", (5.0, 0.0, 0.0),
+        "(step: 1e-3, duration: 2.5, output_interval: Some(0.005), initial_state: StaticEquilibrium)")
+    for path, text in [("models/iltis_vehicle_benchmark.ron", bench), ("models/iltis_bump.ron", bump_scene)]:
+        with open(path, "w") as f:
+            f.write(text)
+        print("wrote", path)
+
+
+if __name__ == "__main__":
+    main()
