@@ -11,7 +11,7 @@
 //!   **linear extrapolation** beyond the ends along the first and last segments.
 //!
 //! These write S9's strut (cubic spring, piecewise-quartic damper) and leaf element (linear
-//! with a bump stop) exactly as the Iltis specification §2.4 gives them. Evaluating a law allocates
+//! with a bump stop) exactly as docs/scenes.md §2.4 gives them. Evaluating a law allocates
 //! nothing.
 
 use flexmbd_core::InvalidValue;

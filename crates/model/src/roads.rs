@@ -1,5 +1,5 @@
 //! Roads: ground profiles z = h(x) of the ground x coordinate, the same for every y, on
-//! which tyres roll (docs/methods.md §2.6, the Iltis specification §3.2 and §3.5).
+//! which tyres roll (docs/methods.md §2.6, docs/scenes.md §3.2 and §3.5).
 //!
 //! - `Flat`: h = 0.
 //! - `CosineBump { start, length, height }`: h(x) = height/2 · (1 − cos(2π(x − start)/length))
@@ -32,10 +32,10 @@ pub struct Road {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Contact {
     /// A point under the wheel centre W: F = K δ e_z, δ = R − (z_W − h(x_W)), while δ > 0
-    /// (the Iltis specification §2.5).
+    /// (docs/scenes.md §2.5).
     #[default]
     Vertical,
-    /// Radial, normal to the local profile (S9 GroundContact.c, the Iltis specification §3.2):
+    /// Radial, normal to the local profile (S9 GroundContact.c, docs/scenes.md §3.2):
     /// with s = h'(x_W) and H = √(1 + s²), F = K (R − (z_W − h))/H along
     /// n = (−s, 0, 1)/H while h(x_W) > z_W − R; equal to `Vertical` on a flat road.
     ProfileNormal,

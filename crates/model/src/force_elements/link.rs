@@ -13,7 +13,7 @@
 //!   Q = −F [a·(J2 − J1) + d·(J_A − J1)] and l̇ = a·(ṙ_P2 − ṙ_P1) + d·(ṙ_A − ṙ_P1);
 //!   tangents K ≈ F_s'(l) g gᵀ, C ≈ F_d'(l̇) g gᵀ with g = ∂l/∂q.
 //!
-//! **Why the axis link is S9's leaf element** (the Iltis specification §2.4, S9 user_cons_hJ.c,
+//! **Why the axis link is S9's leaf element** (docs/scenes.md §2.4, S9 user_cons_hJ.c,
 //! user_LinkForces.c): S9 joins U to a chassis point E that slides along the chassis y axis,
 //! held by a user constraint at U's chassis y, so the force −F e on U and +F e on E acts
 //! along the chassis axis e = a through U. The sliding E is massless: all it transmits to the

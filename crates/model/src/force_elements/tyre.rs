@@ -6,13 +6,13 @@
 //! it, the deflection is δ = R − (z_W − h); the tyre touches the road while δ > 0 and
 //! otherwise carries exactly nothing (it never pulls):
 //!
-//! - `Vertical` (the Iltis specification §2.5, S9 user_ExtForces.c): F = K δ e_z applied at W;
-//! - `ProfileNormal` (the Iltis specification §3.2, S9 GroundContact.c): with H = √(1 + s²), the
+//! - `Vertical` (docs/scenes.md §2.5, S9 user_ExtForces.c): F = K δ e_z applied at W;
+//! - `ProfileNormal` (docs/scenes.md §3.2, S9 GroundContact.c): with H = √(1 + s²), the
 //!   force K δ/H along the profile normal n = (−s, 0, 1)/H, applied at W as S9 does (its
 //!   radial force K (R − (z_W − h))/H, with the contact test h > z_W − R); on a flat road
 //!   it is `Vertical`.
 //!
-//! The lateral damper F_y = −c ẏ_W (ground y) acts at the wheel centre (the Iltis specification §3.4:
+//! The lateral damper F_y = −c ẏ_W (ground y) acts at the wheel centre (docs/scenes.md §3.4:
 //! the benchmark's contact point, moved to W; on the in-phase bump it only stops drift).
 //!
 //! Q += J_Wᵀ F; tangents K += J_Wᵀ S J_W with S ≈ −∂F/∂r_W in contact: K e_z e_zᵀ for
