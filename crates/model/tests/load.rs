@@ -180,7 +180,9 @@ fn set_reaches_the_fields_of_constraints_and_forces_by_name() {
     .map(|a| parse_set(a).unwrap())
     .collect();
     s.apply_sets(&sets).unwrap();
-    let flexmbd_model::Force::SpringDamper { stiffness, .. } = &s.forces[0];
+    let flexmbd_model::Force::SpringDamper { stiffness, .. } = &s.forces[0] else {
+        panic!("the first force is the spring–damper");
+    };
     assert_eq!(*stiffness, 20.0);
     assert_eq!(s.constraints[1].name(), "in_plane");
     // A length the markers are not at is refused after the set, naming the field.
