@@ -1,5 +1,6 @@
 """`flexmbd.equilibrium` and `flexmbd.eigen`: the physics of a hanging pendulum, the
-`flexmbd equilibrium/eigen --json` output of the program, and no equilibrium as RunError."""
+`flexmbd equilibrium/eigen --json` output of the program, the pendulum released horizontal
+found hanging, and no equilibrium (a falling free body) as RunError."""
 
 import json
 import math
@@ -53,12 +54,19 @@ def test_options_and_sets_are_the_clis(cli):
 
 
 @pytest.mark.parametrize("function", [flexmbd.equilibrium, flexmbd.eigen])
-def test_pendulum_released_horizontal_has_no_static_equilibrium(function):
-    scene = model("flexible_pendulum.ron")
+def test_a_falling_free_body_has_no_static_equilibrium(function):
+    # The floating platform under gravity: a free body, nothing holds it up.
+    scene = model("floating_platform_3d.ron")
     with pytest.raises(flexmbd.RunError, match="no static equilibrium") as raised:
-        function(scene)
-    assert "flexible_pendulum.ron" in str(raised.value)
+        function(scene, sets={"gravity.2": -9.81})
+    assert "floating_platform_3d.ron" in str(raised.value)
     assert raised.value.time == 0.0
+
+
+def test_pendulum_released_horizontal_is_found_hanging():
+    equilibrium = flexmbd.equilibrium(model("flexible_pendulum.ron"))
+    sensors = {s["name"]: s["value"] for s in equilibrium["sensors"]}
+    assert abs(sensors["tip_x"]) < 1e-9 and abs(sensors["tip_y"] + LENGTH) < 1e-6, sensors
 
 
 def test_a_refused_option_is_a_scene_error():
