@@ -136,6 +136,10 @@ def constraints(c):
         Distance(name: "tie_rod_{c}", body1: "chassis", marker1: "T0_{c}", body2: "carrier_{c}", marker2: "T1", length: None),'''
 
 
+def lateral(c, speed):
+    return 0.0 if speed == 0.0 else round(CORNERING[c[0]] / speed, 1)
+
+
 def poly(coefficients, about=None):
     cs = ", ".join(f"{x!r}" for x in coefficients)
     if about is None:
@@ -143,7 +147,14 @@ def poly(coefficients, about=None):
     return f"Polynomial(about: {about!r}, coefficients: [{cs}])"
 
 
-def forces(c, road, contact):
+# scenes.md 3.4: S9's cornering stiffness at the static loads (user_ExtForces.c, 41641 / 40162
+# N/rad) over the forward speed, the linear lateral damper F_y = -(C_alpha / V) v_y that stands
+# for S9's Calspan slip force on the bump (the contact points move sideways as the suspension
+# travels, +0.19 mm per mm of jounce, so the in-phase bump has lateral tyre forces too).
+CORNERING = {"f": 41641.0, "r": 40162.0}
+
+
+def forces(c, road, contact, speed):
     k, ks = LEAF_K, LEAF_K_STOP
     # In s: the stop piece about s = 0.106 (l = 0.006), the leaf about s = 0.100 (l = 0).
     leaf_stop = poly([round(k * (0.006 - 0.152), 6), ks], about=0.106)
@@ -158,7 +169,7 @@ def forces(c, road, contact):
              spring: Piecewise(breakpoints: [0.106], pieces: [{leaf_stop}, {leaf}]),
              damper: Zero,
              axis: Some([0.0, 0.0, -1.0])),
-        Tyre(name: "tyre_{c}", body: "carrier_{c}", marker: "W", road: "{road}", radius: {RADIUS[c[0]]}, stiffness: {TYRE_STIFFNESS}, contact: {contact}, lateral_damping: 0.0),'''
+        Tyre(name: "tyre_{c}", body: "carrier_{c}", marker: "W", road: "{road}", radius: {RADIUS[c[0]]}, stiffness: {TYRE_STIFFNESS}, contact: {contact}, lateral_damping: {lateral(c, speed)}),'''
 
 
 SENSORS = '''        (name: "chassis_x", kind: Position(body: "chassis", marker: "cg", component: X)),
@@ -199,7 +210,7 @@ def scene(name, description, header, road_block, contact, velocity, solver):
 {chr(10).join(constraints(c) for c in corners)}
     ],
     forces: [
-{chr(10).join(forces(c, "road", contact) for c in corners)}
+{chr(10).join(forces(c, "road", contact, velocity[0]) for c in corners)}
     ],
     roads: [
 {road_block}
@@ -250,7 +261,11 @@ def main():
 // every body moving forward at initial_velocity (5 m/s; `--set initial_velocity.0=10` for the
 // 10 m/s run), no longitudinal tyre force, 2.5 s. S9 extremes at 5 m/s: centre-of-mass rise
 // 127.8 mm at 0.725 s, pitch -6.35 deg (0.538 s) and +7.64 deg (1.033 s), front tyre 1300.5 to
-// 6202.4 N, rear 1360.1 to 5664.2 N; at 10 m/s the wheels lift off and the rise peaks near 314.1 mm.""",
+// 6202.4 N, rear 1360.1 to 5664.2 N; at 10 m/s the wheels lift off and the rise peaks near 314.1 mm.
+// S9 adds Calspan lateral tyre forces, which the in-phase bump does excite (the contact points
+// move sideways as the suspension travels): here the linear lateral damper of scenes.md 3.4,
+// C_alpha / V = 41641 / 5 and 40162 / 5 N s/m at the wheel centres. The damping is written for
+// 5 m/s; the 10 m/s run of the report and tests sets it to C_alpha / 10.""",
         bump, "ProfileNormal", (5.0, 0.0, 0.0),
         "(step: 1e-3, duration: 2.5, output_interval: Some(0.005), initial_state: StaticEquilibrium)")
     for path, text in [("models/iltis_vehicle_benchmark.ron", bench), ("models/iltis_bump.ron", bump_scene)]:

@@ -217,8 +217,21 @@ struct BumpRun {
 fn bump_runs(speed: f64, reps: usize) -> Result<Vec<BumpRun>, Failure> {
     let mut out = Vec::new();
     for &(form, name) in &FORMS {
-        let set = format!("initial_velocity.0={speed}");
-        let scene = load("iltis_bump.ron", form, &[set.as_str()])?;
+        // The forward speed and the lateral tyre dampers C_α/V (scenes.md §3.4).
+        let mut sets = vec![format!("initial_velocity.0={speed}")];
+        for (corner, cornering) in [
+            ("fl", 41641.0),
+            ("fr", 41641.0),
+            ("rl", 40162.0),
+            ("rr", 40162.0),
+        ] {
+            sets.push(format!(
+                "forces.tyre_{corner}.lateral_damping={}",
+                cornering / speed
+            ));
+        }
+        let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
+        let scene = load("iltis_bump.ron", form, &sets)?;
         eprintln!("   bump at {speed} m/s, {name}");
         let (summary, history) = measure(&scene, reps)?;
         out.push(BumpRun {
@@ -291,8 +304,8 @@ fn bump_table(report: &mut Report, runs: &[BumpRun], fast: &[BumpRun]) -> StudyR
     report.text(
         "**The benchmark cosine bump** (0.20 m high, 5 m long, both tracks in phase; \
          `models/iltis_bump.ron`: from the static equilibrium, every body moving forward at 5 m/s, \
-         the tyre force radial and normal to the profile as S9's `GroundContact.c`, h = 1 ms, \
-         2.5 s). S9's extremes are read from its output at about 0.02 s intervals (scenes.md §3.2) \
+         the tyre force radial and normal to the profile as S9's `GroundContact.c`, and for S9's \
+         Calspan slip force a lateral damper C_α/V at each wheel (scenes.md §3.4), h = 1 ms, 2.5 s). S9's extremes are read from its output at about 0.02 s intervals (scenes.md §3.2) \
          and S9 integrates with Dopri5: agreement to a few per cent is what the comparison can show.",
     );
     report.table(&["quantity", "S9", "absolute", "relative"], &rows);
