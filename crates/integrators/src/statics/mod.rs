@@ -68,21 +68,9 @@
 //! diagonal entry of H without the penalty at the first iterate (or of M, per s², when that
 //! is zero). With the projection α only has to make H regular across the constraints.
 //!
-//! **Neutral directions.** A free vehicle on vertical tyres can be moved forward, sideways or
-//! turned about the vertical without any force changing; a pendulum on a ball joint can be
-//! turned about the vertical. H is singular along such motions (or, with the difference
-//! tangent, has only rounding there), so Newton either stops at the first factorisation or
-//! wanders along them by rounding-sized residuals divided by rounding-sized pivots (the 3D
-//! double pendulum turned 36 rad about the vertical and never met the step test). When the
-//! plain attempt fails, the solve is repeated with H + ρ M(q₀), ρ = 10⁻⁶ k_ref/m_ref: the
-//! Levenberg–Marquardt step in the kinetic metric, which leaves a neutral motion untouched
-//! (the residual has no component along it) and slows Newton elsewhere only by the factor
-//! ρm/(k + ρm), 10⁻⁶ for the stiffest direction. Its steps along a neutral motion are
-//! rounding residuals over ρm, about 10⁻⁷ m, so that attempt is converged on ‖g‖ and ‖Φ‖
-//! alone (the step test cannot hold there, and ‖g‖ ≤ ε_r f_ref is the equilibrium
-//! condition itself). It is a second attempt rather than the
-//! default so that the scenes that converge without it keep their bits. A body that is
-//! really free under a load (a falling body) still fails, with the first attempt's diagnosis.
+//! **Neutral directions.** When the plain attempt fails it is repeated with the tangent
+//! H + ρ M(q₀), and a converged point is freed of its drift along the motions no force resists,
+//! or refused where the coordinates are singular: the `neutral` module says why and how.
 //!
 //! **Stop.** ‖g‖∞ ≤ ε_r f_ref on the free coordinates (f_ref the largest |Q_j| met), ‖Φ‖∞ ≤ ε_Φ
 //! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). On failure an error carries the
@@ -99,6 +87,8 @@ use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
 use crate::lu::DenseLu;
+
+mod neutral;
 
 /// Settings of [`solve_static`] (CHOSEN defaults).
 #[derive(Clone, Debug, PartialEq)]
@@ -219,6 +209,9 @@ pub enum StaticError {
 /// ρ of the regularised attempt, relative to k_ref / m_ref (module documentation, "Neutral
 /// directions").
 const REGULARISATION: f64 = 1e-6;
+
+/// Passes of taking back the neutral drift (each a linearisation and a Newton polish).
+const NEUTRAL_PASSES: usize = 4;
 
 /// Full Newton steps the watchdog allows before ‖g‖ must fall below its starting level.
 const WATCHDOG: usize = 5;
@@ -741,6 +734,7 @@ fn attempt<F: Formulation + ?Sized>(
             hint: HINT,
         });
     }
+    s.take_back_neutral_drift(f, &q0, &mut q, &mut lambda)?;
     s.check_coordinates(f, &q)?;
     Ok(StaticSolution {
         q,
@@ -796,42 +790,6 @@ impl<'s> Solver<'s> {
             lu_m: DenseLu::new(m),
             last_residual: f64::INFINITY,
             last_phi: f64::INFINITY,
-        }
-    }
-
-    /// At the converged q: M + α_M Φ_qᵀΦ_q (α_M = the largest diagonal of M per unit of
-    /// Φ_qᵀΦ_q; held coordinates as the identity) must be regular, else the coordinates are
-    /// singular there ([`StaticError::CoordinateSingularity`]).
-    fn check_coordinates<F: Formulation + ?Sized>(
-        &mut self,
-        f: &mut F,
-        q: &DVector<f64>,
-    ) -> Result<(), StaticError> {
-        self.eval(f, q, REQ_FULL);
-        let n = self.n;
-        let m_ref = (0..n)
-            .map(|i| self.terms.mass[(i, i)].abs())
-            .fold(0.0, f64::max);
-        let phi_q = &self.terms.phi_q;
-        let c_ref = (0..n)
-            .map(|j| phi_q.column(j).norm_squared())
-            .fold(0.0, f64::max);
-        self.h.copy_from(&self.terms.mass);
-        if c_ref > 0.0 {
-            self.h.gemm_tr(m_ref / c_ref, phi_q, phi_q, 1.0);
-        }
-        for j in 0..n {
-            if self.held[j] {
-                self.h.row_mut(j).fill(0.0);
-                self.h.column_mut(j).fill(0.0);
-                self.h[(j, j)] = 1.0;
-            }
-        }
-        match self.lu.factor(&self.h) {
-            Ok(()) => Ok(()),
-            Err(e) => Err(StaticError::CoordinateSingularity {
-                pivot_ratio: e.pivot_ratio,
-            }),
         }
     }
 
