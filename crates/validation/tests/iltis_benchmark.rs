@@ -205,41 +205,65 @@ fn cosine_bump_at_5_m_s_reproduces_s9_extremes_in_both_formulations() {
         );
         histories.push(history);
     }
-    // The two formulations solve the same equations: their histories agree to the step's
-    // truncation error, far inside the comparison with S9.
+    // From the static start the formulations differ by where each put the equilibrium along
+    // its neutral motions (forward, sideways, yaw): taken back to second order only (3 µm of
+    // chassis x), which bounds the agreement here; from one and the same start, see below.
     for name in ["chassis_z", "chassis_pitch", "wheel_fl_z", "tyre_fl"] {
-        let (a, b) = (column(&histories[0], name), column(&histories[1], name));
-        let range = a.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
-            - a.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-        let diff = a
-            .iter()
-            .zip(&b)
-            .map(|(p, q)| (p.1 - q.1).abs())
-            .fold(0.0, f64::max);
-        eprintln!(
-            "{name}: formulations differ by {:.2e} of the range",
-            diff / range
-        );
-        assert!(diff <= 1e-3 * range, "{name}: {diff} of range {range}");
+        let difference = relative_difference(&histories[0], &histories[1], name);
+        eprintln!("{name}: formulations differ by {difference:.2e} of the range");
+        assert!(difference <= 1e-5, "{name}: {difference} of the range");
     }
 }
 
-/// The bump scene at `speed` (m/s): the forward speed and the lateral tyre dampers C_α/V
-/// (scenes.md §3.4; the model file writes them for 5 m/s).
-fn at_speed(speed: f64) -> Vec<String> {
-    let mut sets = vec![format!("initial_velocity.0={speed}")];
-    for (corner, cornering) in [
-        ("fl", 41641.0),
-        ("fr", 41641.0),
-        ("rl", 40162.0),
-        ("rr", 40162.0),
-    ] {
-        sets.push(format!(
-            "forces.tyre_{corner}.lateral_damping={}",
-            cornering / speed
-        ));
+/// Largest |a − b| of the sensor `name` over the histories, over the range of a.
+fn relative_difference(a: &History, b: &History, name: &str) -> f64 {
+    let (a, b) = (column(a, name), column(b, name));
+    let range = a.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)
+        - a.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    let diff = a
+        .iter()
+        .zip(&b)
+        .map(|(p, q)| (p.1 - q.1).abs())
+        .fold(0.0, f64::max);
+    diff / range
+}
+
+/// From the same start (the nominal position, released at 5 m/s onto the bump), the two
+/// formulations solve the same equations and differ only by their truncation errors: below
+/// 10⁻⁶ of the range at h = 1 ms, and falling as the step does (O(h²): measured 1.7·10⁻⁷ of the
+/// range of the front tyre force at 1 ms, 9.8·10⁻⁹ at 0.25 ms).
+#[test]
+fn the_formulations_agree_on_the_bump_and_converge_together() {
+    let mut worst = Vec::new();
+    for step in [1e-3, 2.5e-4] {
+        let sets = [
+            "solver.initial_state=Given".to_string(),
+            "solver.duration=0.8".to_string(),
+            "solver.output_interval=0.01".to_string(),
+            format!("solver.step={step}"),
+        ];
+        let run = |form| {
+            let s = scene("iltis_bump.ron", form, &sets);
+            let (summary, history) = flexmbd::simulation::run(&s, |_| {}).unwrap();
+            assert_eq!(summary.status, "ok", "{:?}", summary.message);
+            history
+        };
+        let (a, b) = (
+            run(FormulationKind::Absolute),
+            run(FormulationKind::Relative),
+        );
+        let largest = ["chassis_z", "chassis_pitch", "wheel_fl_z", "tyre_fl"]
+            .iter()
+            .map(|n| relative_difference(&a, &b, n))
+            .fold(0.0, f64::max);
+        eprintln!("h = {step}: the formulations differ by {largest:.2e} of the range");
+        assert!(largest <= 1e-6, "h = {step}: {largest}");
+        worst.push(largest);
     }
-    sets
+    assert!(
+        worst[1] < worst[0] / 4.0,
+        "no convergence with the step: {worst:?}"
+    );
 }
 
 #[test]
