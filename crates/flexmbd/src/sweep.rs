@@ -16,8 +16,9 @@
 //! The runs go in parallel over the cores (rayon; the records come back in grid order,
 //! whatever the order of completion). A CPU time measured beside other runs only ranks
 //! the candidates: the runs on the Pareto front are timed again alone, one after another,
-//! and their CPU time is the median of [`RETIME_REPEATS`] such runs ([`RunRecord::timed`]
-//! says which time a record holds).
+//! and their CPU time is the median of [`RETIME_REPEATS`] such runs
+//! ([`RETIME_REPEATS_SHORT`] for a run under [`SHORT_RUN`]; [`RunRecord::timed`] says which
+//! time a record holds).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -32,16 +33,23 @@ mod error;
 pub mod grid;
 mod pareto;
 pub mod reference;
-mod tune;
+pub mod tune;
 
 pub use error::SweepError;
 pub use grid::{Axis, Grid, GridPoint, Setting};
 pub use pareto::pareto_front;
 pub use reference::{ReferenceTable, SensorError};
-pub use tune::{TIMING_TIE, Tuning, tune};
+pub use tune::{TIMING_TIE, Tuning, structurally_cheaper, tune};
 
-/// How many times a Pareto candidate is run alone to time it (the median is kept).
+/// How many times a Pareto candidate is run alone to time it (the median is kept), as the
+/// report's CPU tables do: 3 times, or [`RETIME_REPEATS_SHORT`] when a run takes less than
+/// [`SHORT_RUN`] seconds.
 pub const RETIME_REPEATS: usize = 3;
+/// Repeats of a short run (a few milliseconds of CPU time are at the mercy of the
+/// scheduler).
+pub const RETIME_REPEATS_SHORT: usize = 7;
+/// A run shorter than this (s of CPU time) is timed [`RETIME_REPEATS_SHORT`] times.
+pub const SHORT_RUN: f64 = 0.2;
 
 /// What a sweep judges its runs against.
 #[derive(Clone, Debug)]
@@ -92,7 +100,8 @@ pub enum RunStatus {
 pub enum Timing {
     /// Measured during the parallel sweep, beside other runs: it only ranks candidates.
     InParallel,
-    /// The median of [`RETIME_REPEATS`] runs timed alone, one after another.
+    /// The median of [`RETIME_REPEATS`] runs timed alone, one after another
+    /// ([`RETIME_REPEATS_SHORT`] for a run under [`SHORT_RUN`]).
     Alone,
 }
 
@@ -124,6 +133,11 @@ pub struct RunRecord {
     pub realtime_factor: f64,
     /// Simulated time reached (s).
     pub simulated_seconds: f64,
+    /// Set by [`tune`] for a candidate that meets the tolerance but was not timed alone:
+    /// the index of a timed candidate that differs from it only by a larger step or fewer
+    /// modes or elements ([`tune::structurally_cheaper`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub costlier_than: Option<usize>,
 }
 
 /// What a sweep found.
@@ -370,6 +384,7 @@ impl Sweep {
             timed: Timing::InParallel,
             realtime_factor: summary.map_or(0.0, |s| s.realtime_factor),
             simulated_seconds: summary.map_or(0.0, |s| s.simulated_seconds),
+            costlier_than: None,
         };
         if outcome.failure.is_some() {
             return record;
@@ -427,8 +442,8 @@ impl Sweep {
             timing: format!(
                 "CPU times of the integration (preprocessing excluded). Runs marked `alone` \
                  (every run on the Pareto front, and the candidates a tuning compares) are the \
-                 median of {RETIME_REPEATS} runs timed alone, one after another, after the \
-                 parallel sweep; the others were measured during the parallel sweep \
+                 median of {RETIME_REPEATS} runs ({RETIME_REPEATS_SHORT} for runs under \
+                 {SHORT_RUN} s) timed alone, one after another, after the parallel sweep; the others were measured during the parallel sweep \
                  ({} runs at once) and only rank the candidates.",
                 rayon::current_num_threads()
             ),
@@ -466,8 +481,25 @@ impl Sweep {
         }
     }
 
+    /// The settings of every grid point, in grid order.
+    pub fn point_settings(&self) -> Result<Vec<Vec<Setting>>, SweepError> {
+        let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
+        let base = grid::GridPoint {
+            index: 0,
+            settings: Vec::new(),
+        }
+        .scene(&pristine, &self.sets)?;
+        Ok(self
+            .grid
+            .points(&base)?
+            .into_iter()
+            .map(|p| p.settings)
+            .collect())
+    }
+
     /// Time the runs `indices` of `report` alone, one after another, [`RETIME_REPEATS`]
-    /// times each, and keep the median CPU time. A run that fails on a repeat (it did not
+    /// times each ([`RETIME_REPEATS_SHORT`] under [`SHORT_RUN`]), and keep the median CPU
+    /// time. A run that fails on a repeat (it did not
     /// before) is marked failed.
     pub fn retime(&self, report: &mut SweepReport, indices: &[usize]) -> Result<(), SweepError> {
         let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
@@ -478,11 +510,17 @@ impl Sweep {
         .scene(&pristine, &self.sets)?;
         let points = self.grid.points(&base)?;
         for &i in indices {
-            let mut times = Vec::with_capacity(RETIME_REPEATS);
-            for _ in 0..RETIME_REPEATS {
+            let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);
+            let mut repeats = RETIME_REPEATS;
+            while times.len() < repeats {
                 let outcome = self.execute(&pristine, &points[i]);
                 match (outcome.failure, outcome.summary) {
-                    (None, Some(s)) => times.push(s.cpu_seconds),
+                    (None, Some(s)) => {
+                        if s.cpu_seconds < SHORT_RUN {
+                            repeats = RETIME_REPEATS_SHORT;
+                        }
+                        times.push(s.cpu_seconds);
+                    }
                     (failure, _) => {
                         let run = &mut report.runs[i];
                         run.status = RunStatus::Failed;
@@ -494,9 +532,9 @@ impl Sweep {
             }
             let run = &mut report.runs[i];
             run.timed = Timing::Alone;
-            if times.len() == RETIME_REPEATS {
+            if times.len() == repeats {
                 times.sort_by(f64::total_cmp);
-                run.cpu_seconds = times[RETIME_REPEATS / 2];
+                run.cpu_seconds = times[repeats / 2];
                 run.realtime_factor =
                     run.simulated_seconds / run.cpu_seconds.max(f64::MIN_POSITIVE);
             }

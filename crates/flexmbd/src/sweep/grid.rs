@@ -329,6 +329,55 @@ impl Axis {
 }
 
 impl Grid {
+    /// The default grid of `flexmbd sweep` and `flexmbd tune` for `scene`: both
+    /// formulations; for a scene with flexible beams also both inertia routes, the
+    /// stiffening methods linear, FNL1, FNL2 and foreshortening (the scene's own first) and
+    /// 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h, h/2 and h/4
+    /// about the scene's step h. Substructuring and the FE mesh stay as the scene has them.
+    pub fn default_for(scene: &Scene) -> Grid {
+        let h = scene.solver.step;
+        let mut axes = vec![Axis::Formulation(vec![
+            FormulationKind::Absolute,
+            FormulationKind::Relative,
+        ])];
+        let beams = flexible_beams(scene);
+        if !beams.is_empty() {
+            axes.push(Axis::Inertia(vec![
+                InertiaMethod::BMatrix,
+                InertiaMethod::ShapeIntegrals,
+            ]));
+            let mut methods = vec![scene.solver.stiffening];
+            for m in [
+                Stiffening::Linear,
+                Stiffening::Fnl1,
+                Stiffening::Fnl2,
+                Stiffening::Foreshortening,
+            ] {
+                if !methods.contains(&m) {
+                    methods.push(m);
+                }
+            }
+            axes.push(Axis::Stiffening(methods));
+            let most = scene
+                .bodies
+                .iter()
+                .filter(|b| beams.contains(&b.name))
+                .filter_map(|b| match &b.model {
+                    BodyModel::Beam(spec) => Some(spec.normal_modes),
+                    BodyModel::Rigid { .. } => None,
+                })
+                .max()
+                .unwrap_or(0)
+                .max(4);
+            axes.push(Axis::Modes {
+                body: None,
+                counts: (1..=most).collect(),
+            });
+        }
+        axes.push(Axis::Step(vec![2.0 * h, h, h / 2.0, h / 4.0]));
+        Grid { axes }
+    }
+
     /// Every point of the grid for `scene`, in order (the last axis varies fastest).
     /// Refused: a grid without axes, an axis without values, a bad value.
     pub fn points(&self, scene: &Scene) -> Result<Vec<GridPoint>, SweepError> {

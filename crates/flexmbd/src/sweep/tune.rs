@@ -3,19 +3,20 @@
 //!
 //! A candidate meets tolerance X when its status is ok and its error (the largest absolute
 //! difference over time, largest over the judged sensors) is at most X. The candidates
-//! compared are timed alone ([`Sweep::retime`]): first the one the parallel sweep found
-//! cheapest, then every meeting candidate whose parallel time is below the cheapest
-//! alone time times 1 + [`TIMING_TIE`], until none is left. CPU times within
+//! compared are timed alone ([`Sweep::retime`]), all of them, except a run that differs
+//! from another meeting candidate only by a smaller step or more modes or elements
+//! ([`structurally_cheaper`]): it is taken as costlier without timing it (times measured
+//! during the parallel sweep are no guide on a loaded machine). CPU times within
 //! [`TIMING_TIE`] of the cheapest count as tied (timing noise between runs is of that
 //! order); among the tied, fewer coordinates win, then the lower grid index. The
 //! runner-up is the next candidate by CPU time (then coordinates, then index).
 
 use serde::Serialize;
 
-use super::{RunRecord, RunStatus, Sweep, SweepError, SweepReport, Timing};
+use super::{RunRecord, RunStatus, Setting, Sweep, SweepError, SweepReport, Timing};
 
 /// CPU times within this fraction of the cheapest count as tied.
-pub const TIMING_TIE: f64 = 0.2;
+pub const TIMING_TIE: f64 = 0.25;
 
 /// What [`tune`] recommends.
 #[derive(Clone, Debug, Serialize)]
@@ -36,6 +37,39 @@ fn meets(run: &RunRecord, tolerance: f64) -> bool {
     run.status == RunStatus::Ok && run.error <= tolerance
 }
 
+/// Whether the settings `a` make a run no costlier than `b` by construction: the same
+/// choices except a step at least as large, or no more modes or elements, and not all
+/// equal.
+pub fn structurally_cheaper(a: &[Setting], b: &[Setting]) -> bool {
+    if a.len() != b.len() || a == b {
+        return false;
+    }
+    a.iter().zip(b).all(|(x, y)| match (x, y) {
+        (Setting::Step(ha), Setting::Step(hb)) => ha >= hb,
+        (
+            Setting::Modes {
+                bodies: ba,
+                count: na,
+            },
+            Setting::Modes {
+                bodies: bb,
+                count: nb,
+            },
+        )
+        | (
+            Setting::Elements {
+                bodies: ba,
+                count: na,
+            },
+            Setting::Elements {
+                bodies: bb,
+                count: nb,
+            },
+        ) => ba == bb && na <= nb,
+        _ => x == y,
+    })
+}
+
 /// The cheapest candidate of `report` meeting `tolerance` by the rule of this module, the
 /// candidates it compares timed alone (recorded in `report`). Refused: a tolerance that is
 /// not positive and finite.
@@ -44,39 +78,43 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
         return Err(SweepError::Tolerance(tolerance));
     }
     let rule = format!(
-        "the least CPU time (timed alone, median of {}) among ok runs whose error is at most \
-         the tolerance; times within {:.0} % of the least count as tied, and then fewer \
-         coordinates win, then the lower grid index",
+        "the least CPU time (timed alone, median of {} or of {} for runs under {} s) among ok runs whose error is at most \
+         the tolerance; a run that differs from another such run only by a smaller step or \
+         more modes or elements is taken as costlier and not timed (`costlier_than`); times \
+         within {:.0} % of the least count as tied, and then fewer coordinates win, then the \
+         lower grid index",
         super::RETIME_REPEATS,
+        super::RETIME_REPEATS_SHORT,
+        super::SHORT_RUN,
         TIMING_TIE * 100.0
     );
-    loop {
-        let cheapest_alone = report
-            .runs
+    let settings = sweep.point_settings()?;
+    let meeting: Vec<usize> = (0..report.runs.len())
+        .filter(|&i| meets(&report.runs[i], tolerance))
+        .collect();
+    let minimal: Vec<usize> = meeting
+        .iter()
+        .copied()
+        .filter(|&i| {
+            !meeting
+                .iter()
+                .any(|&j| structurally_cheaper(&settings[j], &settings[i]))
+        })
+        .collect();
+    for &i in &meeting {
+        report.runs[i].costlier_than = minimal
             .iter()
-            .filter(|r| meets(r, tolerance) && r.timed == Timing::Alone)
-            .map(|r| r.cpu_seconds)
-            .min_by(f64::total_cmp);
-        let parallel = report
-            .runs
-            .iter()
-            .filter(|r| meets(r, tolerance) && r.timed == Timing::InParallel);
-        let pending: Vec<usize> = match cheapest_alone {
-            Some(c) => parallel
-                .filter(|r| r.cpu_seconds < c * (1.0 + TIMING_TIE))
-                .map(|r| r.index)
-                .collect(),
-            None => parallel
-                .min_by(|a, b| a.cpu_seconds.total_cmp(&b.cpu_seconds))
-                .map(|r| vec![r.index])
-                .unwrap_or_default(),
-        };
-        if pending.is_empty() {
-            break;
-        }
-        sweep.retime(report, &pending)?;
+            .copied()
+            .find(|&j| structurally_cheaper(&settings[j], &settings[i]));
     }
-    let (recommended, runner_up) = choose(&report.runs, tolerance);
+    let pending: Vec<usize> = minimal
+        .iter()
+        .copied()
+        .filter(|&i| report.runs[i].timed == Timing::InParallel)
+        .collect();
+    sweep.retime(report, &pending)?;
+    let compared: Vec<RunRecord> = minimal.iter().map(|&i| report.runs[i].clone()).collect();
+    let (recommended, runner_up) = choose(&compared, tolerance);
     Ok(Tuning {
         tolerance,
         recommended: recommended.cloned(),
@@ -128,6 +166,7 @@ mod tests {
             timed: Timing::Alone,
             realtime_factor: 1.0,
             simulated_seconds: 1.0,
+            costlier_than: None,
         }
     }
 
@@ -150,7 +189,7 @@ mod tests {
 
     #[test]
     fn near_ties_in_cpu_time_go_to_fewer_coordinates_then_the_lower_index() {
-        // 1.1 is within 20 % of 1.0: tied, and run 2 has fewer coordinates.
+        // 1.1 is within 25 % of 1.0: tied, and run 2 has fewer coordinates.
         let runs = [
             run(0, 1e-3, 1.05, 8),
             run(1, 1e-3, 1.0, 8),
@@ -164,5 +203,39 @@ mod tests {
             run(2, 1e-3, 1.5, 6),
         ];
         assert_eq!(choose(&runs, 5e-3).0.unwrap().index, 0);
+    }
+}
+
+#[cfg(test)]
+mod structure_tests {
+    use super::*;
+    use flexmbd_model::FormulationKind::{Absolute, Relative};
+
+    fn point(f: flexmbd_model::FormulationKind, modes: usize, h: f64) -> Vec<Setting> {
+        vec![
+            Setting::Formulation(f),
+            Setting::Modes {
+                bodies: vec!["beam".into()],
+                count: modes,
+            },
+            Setting::Step(h),
+        ]
+    }
+
+    #[test]
+    fn a_larger_step_or_fewer_modes_is_structurally_cheaper_and_nothing_else_is() {
+        let base = point(Relative, 2, 2e-3);
+        assert!(structurally_cheaper(&base, &point(Relative, 2, 1e-3)));
+        assert!(structurally_cheaper(&base, &point(Relative, 3, 2e-3)));
+        assert!(structurally_cheaper(&base, &point(Relative, 3, 1e-3)));
+        assert!(
+            !structurally_cheaper(&base, &base),
+            "not cheaper than itself"
+        );
+        assert!(!structurally_cheaper(
+            &point(Relative, 3, 2e-3),
+            &point(Relative, 2, 1e-3)
+        ));
+        assert!(!structurally_cheaper(&base, &point(Absolute, 3, 1e-3)));
     }
 }
