@@ -3,10 +3,14 @@
 //! report's spin-up study uses it), written to a CSV reference `t,tip_uy`.
 //!
 //! The runs are shortened to the first 5 s of the spin-up (`--set solver.duration=5`) and
-//! the grid reduced (both formulations and inertia routes, FS0 and FNL2, 1 to 3 modes,
-//! h = 2 and 1 ms: 48 runs), so that a tuning takes a few seconds. The tolerances stay
+//! the grid reduced (the relative formulation, both inertia routes, FS0 and FNL2, 1 to 3
+//! modes, h = 2 and 1 ms: 24 runs), so that a tuning takes seconds. The tolerances stay
 //! meaningful there: one mode meets 5 mm but not 1 mm (3.2 mm), two modes meet 1 mm
-//! (0.71 mm); over the whole 20 s no method of the grid comes under 2 mm.
+//! (0.71 mm); over the whole 20 s no method of the grid comes under 2 mm. One formulation
+//! only: on this beam the two cost about the same (the relative one has a coordinate
+//! fewer), so which is cheaper is a timing tie that a loaded machine's noise (more than the
+//! rule's 25 % under a load of 4 on 2 cores) can decide either way; the check of the second
+//! tuning is about the rule, not about the machine's load.
 
 mod common;
 use common::{code, flexmbd, model, refused};
@@ -57,7 +61,7 @@ const GRID: [&str; 12] = [
     "--set",
     "solver.duration=5",
     "--grid",
-    "formulation=relative,absolute",
+    "formulation=relative",
     "--grid",
     "inertia=shape-integrals,b-matrix",
     "--grid",
@@ -112,10 +116,10 @@ fn error_of_simulate(args: &[String], name: &str) -> f64 {
     max_abs
 }
 
-/// The recommended run meets the tolerance; no candidate timed alone that meets it is
-/// cheaper beyond the timing tie (and one within it loses by the stated rule); a meeting
-/// candidate not timed alone names a timed one that is cheaper by construction; a failed
-/// or unstable candidate is never chosen.
+/// The recommended run meets the tolerance; no compared candidate that meets it (each
+/// timed alone) is cheaper beyond the timing tie, and one within it loses by the stated
+/// rule; a meeting candidate not compared names a compared one that is cheaper by
+/// construction; a failed or unstable candidate is never chosen.
 fn check_choice(tuning: &Value, tolerance: f64) {
     let rec = &tuning["recommended"];
     assert_eq!(rec["status"], "ok");
@@ -136,7 +140,15 @@ fn check_choice(tuning: &Value, tolerance: f64) {
         if !meets {
             continue;
         }
-        if c["timed"] == "alone" {
+        if let Some(cheaper) = c["costlier_than"].as_u64() {
+            // Not compared: a compared candidate differs from it only by a larger step or
+            // fewer modes.
+            let by = &candidates[cheaper as usize];
+            assert!(by["costlier_than"].is_null(), "{by}");
+            assert_eq!(by["timed"], "alone", "{by}");
+            assert!(by["error"].as_f64().unwrap() <= tolerance, "{by}");
+        } else {
+            assert_eq!(c["timed"], "alone", "a compared candidate: {c}");
             let cpu = c["cpu_seconds"].as_f64().unwrap();
             assert!(
                 rec_cpu <= cpu * (1.0 + TIMING_TIE),
@@ -145,13 +157,6 @@ fn check_choice(tuning: &Value, tolerance: f64) {
             if cpu < rec_cpu {
                 assert!(key(c) > key(rec), "{c} wins the tie against {rec}");
             }
-        } else {
-            let cheaper = c["costlier_than"]
-                .as_u64()
-                .expect("a reason not to time it");
-            let by = &candidates[cheaper as usize];
-            assert_eq!(by["timed"], "alone", "{by}");
-            assert!(by["error"].as_f64().unwrap() <= tolerance, "{by}");
         }
     }
 }
