@@ -20,8 +20,8 @@ use crate::{CliResult, exit, load_scene, parse_stiffening};
 pub const DEFAULT_GRID_HELP: &str = "\
 Default grid (without --grid): both formulations; for a scene with flexible beams also both
 inertia routes, the stiffening methods linear, fnl1, fnl2 and foreshortening (the scene's own
-first) and 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h, h/2, h/4
-about the scene's step h. On the 2D spin-up beam: 2 x 2 x 4 x 4 x 4 = 256 runs of 20 s, about
+first) and 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h, h/2
+about the scene's step h. On the 2D spin-up beam: 2 x 2 x 4 x 4 x 3 = 192 runs of 20 s, about
 a minute on two cores.
 
 Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):

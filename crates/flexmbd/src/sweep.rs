@@ -2,7 +2,7 @@
 //! (formulation, inertia route, stiffening method, modes and FE elements per flexible
 //! beam, time step), judge every run's sensors against a reference, and find the runs
 //! that are cheapest for their accuracy (the Pareto front) or the cheapest that meets a
-//! tolerance ([`tune`]). docs/methods.md §8 states the measures and the rule.
+//! tolerance ([`tune()`]). docs/methods.md §10 states the measures and the rule.
 //!
 //! A [`Sweep`] is plain data: a scene file, base `--set` overrides, the sensors to judge,
 //! a [`Reference`] and a [`Grid`]. Each grid point is exactly the run of `flexmbd simulate`
@@ -133,7 +133,7 @@ pub struct RunRecord {
     pub realtime_factor: f64,
     /// Simulated time reached (s).
     pub simulated_seconds: f64,
-    /// Set by [`tune`] for a candidate that meets the tolerance but was not timed alone:
+    /// Set by [`tune()`] for a candidate that meets the tolerance but was not timed alone:
     /// the index of a timed candidate that differs from it only by a larger step or fewer
     /// modes or elements ([`tune::structurally_cheaper`]).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -230,20 +230,35 @@ impl Sweep {
         }
     }
 
-    /// Check the sweep and make its reference: the scene loads with the base overrides,
-    /// the sensors are the scene's, the grid is not empty, the reference has every judged
-    /// sensor and covers the run.
-    fn prepare(&self) -> Result<Prepared, SweepError> {
+    /// The scene as loaded, and with the base overrides applied.
+    fn scenes(&self) -> Result<(Scene, Scene), SweepError> {
         let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
         let base = grid::GridPoint {
             index: 0,
             settings: Vec::new(),
         }
         .scene(&pristine, &self.sets)?;
+        Ok((pristine, base))
+    }
+
+    /// The reference [`Reference::Converged`] makes of this sweep's grid — the richest model
+    /// at the smallest step ([`Grid::richest`]) — and its convergence margin against the
+    /// same at half the step, per judged sensor. For a reference finer than the sweep's
+    /// grid, call it on a sweep whose grid holds the finer step and pass the table on as
+    /// [`Reference::Table`].
+    pub fn converged_reference(&self) -> Result<(ReferenceTable, Vec<SensorError>), SweepError> {
+        let (pristine, base) = self.scenes()?;
+        self.check_sensors(&base)?;
+        let (table, _, margin) = self.converged(&pristine, &base)?;
+        Ok((table, margin.unwrap_or_default()))
+    }
+
+    /// The judged sensors: at least one, each a sensor of `scene`.
+    fn check_sensors(&self, scene: &Scene) -> Result<(), SweepError> {
         if self.sensors.is_empty() {
             return Err(SweepError::NoSensor);
         }
-        let known: Vec<&str> = base.sensors.iter().map(|s| s.name.as_str()).collect();
+        let known: Vec<&str> = scene.sensors.iter().map(|s| s.name.as_str()).collect();
         if let Some(s) = self.sensors.iter().find(|s| !known.contains(&s.as_str())) {
             return Err(SweepError::UnknownSensor {
                 scene: self.scene_path(),
@@ -251,6 +266,15 @@ impl Sweep {
                 known: known.join(", "),
             });
         }
+        Ok(())
+    }
+
+    /// Check the sweep and make its reference: the scene loads with the base overrides,
+    /// the sensors are the scene's, the grid is not empty, the reference has every judged
+    /// sensor and covers the run.
+    fn prepare(&self) -> Result<Prepared, SweepError> {
+        let (pristine, base) = self.scenes()?;
+        self.check_sensors(&base)?;
         let points = self.grid.points(&base)?;
         let (reference, reference_label, margin) = match &self.reference {
             Reference::Csv(path) => {
@@ -258,7 +282,7 @@ impl Sweep {
                 (table, path.display().to_string(), None)
             }
             Reference::Table(table) => (table.clone(), table.origin.clone(), None),
-            Reference::Converged => self.converged_reference(&pristine, &base)?,
+            Reference::Converged => self.converged(&pristine, &base)?,
         };
         self.check_reference(&reference, &base)?;
         let largest = self
@@ -309,7 +333,7 @@ impl Sweep {
 
     /// The richest point at the smallest step, and its convergence margin against the same
     /// at half the step.
-    fn converged_reference(
+    fn converged(
         &self,
         pristine: &Scene,
         base: &Scene,
@@ -483,12 +507,7 @@ impl Sweep {
 
     /// The settings of every grid point, in grid order.
     pub fn point_settings(&self) -> Result<Vec<Vec<Setting>>, SweepError> {
-        let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
-        let base = grid::GridPoint {
-            index: 0,
-            settings: Vec::new(),
-        }
-        .scene(&pristine, &self.sets)?;
+        let (_, base) = self.scenes()?;
         Ok(self
             .grid
             .points(&base)?
@@ -502,12 +521,7 @@ impl Sweep {
     /// time. A run that fails on a repeat (it did not
     /// before) is marked failed.
     pub fn retime(&self, report: &mut SweepReport, indices: &[usize]) -> Result<(), SweepError> {
-        let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
-        let base = grid::GridPoint {
-            index: 0,
-            settings: Vec::new(),
-        }
-        .scene(&pristine, &self.sets)?;
+        let (pristine, base) = self.scenes()?;
         let points = self.grid.points(&base)?;
         for &i in indices {
             let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);

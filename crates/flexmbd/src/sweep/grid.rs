@@ -332,8 +332,8 @@ impl Grid {
     /// The default grid of `flexmbd sweep` and `flexmbd tune` for `scene`: both
     /// formulations; for a scene with flexible beams also both inertia routes, the
     /// stiffening methods linear, FNL1, FNL2 and foreshortening (the scene's own first) and
-    /// 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h, h/2 and h/4
-    /// about the scene's step h. Substructuring and the FE mesh stay as the scene has them.
+    /// 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h and h/2 about
+    /// the scene's step h. Substructuring and the FE mesh stay as the scene has them.
     pub fn default_for(scene: &Scene) -> Grid {
         let h = scene.solver.step;
         let mut axes = vec![Axis::Formulation(vec![
@@ -374,7 +374,7 @@ impl Grid {
                 counts: (1..=most).collect(),
             });
         }
-        axes.push(Axis::Step(vec![2.0 * h, h, h / 2.0, h / 4.0]));
+        axes.push(Axis::Step(vec![2.0 * h, h, h / 2.0]));
         Grid { axes }
     }
 

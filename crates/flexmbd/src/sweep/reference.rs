@@ -1,6 +1,6 @@
 //! The reference a sweep judges its runs against: a table of times and sensor columns
 //! (read from a CSV file, given in memory, or a converged run of the scene), linear
-//! interpolation in it, and the error measures of one run (docs/methods.md §8.1).
+//! interpolation in it, and the error measures of one run (docs/methods.md §10.1).
 
 use std::path::Path;
 
@@ -68,7 +68,7 @@ impl ReferenceTable {
             return Err(bad("as many column names as columns expected".into()));
         }
         for (k, w) in self.t.windows(2).enumerate() {
-            if !(w[1] > w[0]) || !w[0].is_finite() || !w[1].is_finite() {
+            if !w[0].is_finite() || !w[1].is_finite() || w[1] <= w[0] {
                 return Err(bad(format!(
                     "times out of order: t[{}] = {} is not after t[{k}] = {}",
                     k + 1,
@@ -157,7 +157,7 @@ impl ReferenceTable {
                 }
                 if k == 0 {
                     if let Some(&last) = t.last()
-                        && !(v > last)
+                        && v <= last
                     {
                         return Err(bad(
                             i + 1,

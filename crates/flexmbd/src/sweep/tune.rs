@@ -1,5 +1,5 @@
 //! The tuning rule: the cheapest run of a sweep whose error meets a tolerance
-//! (docs/methods.md §8.3).
+//! (docs/methods.md §10.3).
 //!
 //! A candidate meets tolerance X when its status is ok and its error (the largest absolute
 //! difference over time, largest over the judged sensors) is at most X. The candidates
