@@ -69,6 +69,48 @@ fn ancf_reference(dim: Dim) -> Result<ReferenceTable, Box<dyn std::error::Error>
     )?)
 }
 
+/// The double four-bar with its five bars flexible over `modes` and `steps`, judged on point
+/// B against the richest model at a step 8 (`quick`) or 16 times smaller than the grid's.
+fn four_bar_sweep(
+    modes_bars: &[usize],
+    steps: &[f64],
+    quick: bool,
+) -> Result<Sweep, Box<dyn std::error::Error>> {
+    let root = crate::workspace_root();
+    let mut bars = Sweep {
+        scene: root.join("models/double_four_bar.ron"),
+        sets: FLEXIBLE_BARS
+            .iter()
+            .map(|b| format!("bodies.{b}.flexible=true"))
+            .collect(),
+        sensors: vec!["B0_x".into(), "B0_y".into()],
+        reference: Reference::Converged,
+        grid: grid(&[Stiffening::Linear], modes_bars, steps),
+        error_cap: None,
+    };
+    // The grid's richest model at its smallest step is not converged in h (ALI3-P is second
+    // order, and h = 1 ms against 0.5 ms differs by millimetres over 5 s): the reference is
+    // that model at a step REFINE times smaller, with its margin against half that.
+    let mut finer = bars.clone();
+    let refine = if quick { 8.0 } else { 16.0 };
+    let smallest = steps.iter().copied().fold(f64::INFINITY, f64::min);
+    finer.grid = grid(&[Stiffening::Linear], modes_bars, &[smallest / refine]);
+    eprintln!(
+        "   reference of the double four-bar: h = {:e} s",
+        smallest / refine
+    );
+    let (table, margin) = finer.converged_reference()?;
+    bars.reference = Reference::Table(ReferenceTable {
+        origin: format!(
+            "the richest model of the grid at h = {:e} s (its margin against half that step: {:.1e} m)",
+            smallest / refine,
+            margin.iter().map(|m| m.max_abs).fold(0.0f64, f64::max)
+        ),
+        ..table
+    });
+    Ok(bars)
+}
+
 /// The three scenes with their grids (`quick`: a coarse grid).
 fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
     let root = crate::workspace_root();
@@ -102,37 +144,7 @@ fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
             grid: grid(&methods, modes, &steps),
             error_cap: None,
         };
-    let mut bars = Sweep {
-        scene: root.join("models/double_four_bar.ron"),
-        sets: FLEXIBLE_BARS
-            .iter()
-            .map(|b| format!("bodies.{b}.flexible=true"))
-            .collect(),
-        sensors: vec!["B0_x".into(), "B0_y".into()],
-        reference: Reference::Converged,
-        grid: grid(&[Stiffening::Linear], &modes_bars, &steps),
-        error_cap: None,
-    };
-    // The grid's richest model at its smallest step is not converged in h (ALI3-P is second
-    // order, and h = 1 ms against 0.5 ms differs by millimetres over 5 s): the reference is
-    // that model at a step REFINE times smaller, with its margin against half that.
-    let mut finer = bars.clone();
-    let refine = if quick { 8.0 } else { 16.0 };
-    let smallest = steps.iter().copied().fold(f64::INFINITY, f64::min);
-    finer.grid = grid(&[Stiffening::Linear], &modes_bars, &[smallest / refine]);
-    eprintln!(
-        "   reference of the double four-bar: h = {:e} s",
-        smallest / refine
-    );
-    let (table, margin) = finer.converged_reference()?;
-    bars.reference = Reference::Table(ReferenceTable {
-        origin: format!(
-            "the richest model of the grid at h = {:e} s (its margin against half that step: {:.1e} m)",
-            smallest / refine,
-            margin.iter().map(|m| m.max_abs).fold(0.0f64, f64::max)
-        ),
-        ..table
-    });
+    let bars = four_bar_sweep(&modes_bars, &steps, quick)?;
     Ok(vec![
         Case {
             file: "spin_up_2d",
