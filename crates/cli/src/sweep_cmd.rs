@@ -36,7 +36,11 @@ is the grid's richest model (first formulation, inertia and stiffening listed, m
 elements) at its smallest step, and its own margin against half that step is reported.
 CPU time: of the integration (preprocessing excluded); the runs go in parallel over the
 cores, and the runs on the Pareto front (and the candidates tune compares) are timed again
-alone, one after another, median of 3 (of 7 for runs under 0.2 s).";
+alone, one after another, median of 3 (of 7 for runs under 0.2 s).
+Tune's choice: among the ok runs whose error is at most the tolerance, the least CPU time
+timed alone; a run that differs from another such run only by a smaller step or more modes or
+elements counts as costlier without being timed; times within 25 % of the least tie, and then
+fewer coordinates win, then the lower grid index.";
 
 /// The text after the options in `flexmbd sweep --help` and `flexmbd tune --help`.
 pub fn help() -> String {
