@@ -15,6 +15,9 @@ pub const INVALID_INPUT: u8 = 3;
 pub const RUN_FAILED: u8 = 4;
 /// The run was interrupted (SIGINT, SIGTERM).
 pub const INTERRUPTED: u8 = 5;
+/// `flexmbd tune`: no run of the sweep meets the tolerance (the table is printed all the
+/// same).
+pub const NO_CANDIDATE: u8 = 6;
 /// A bug: a panic inside flexmbd (sysexits' EX_SOFTWARE).
 pub const INTERNAL_ERROR: u8 = 70;
 
@@ -27,6 +30,7 @@ Exit codes:
   4   the run failed: a step did not converge or diverged, no static equilibrium, no consistent start
   5   interrupted by Ctrl-C (SIGINT) or SIGTERM: the rows so far are written, the summary says
       \"interrupted\" (a second signal ends the program at once, without the summary)
+  6   tune: no run of the sweep meets the tolerance (the candidates are printed all the same)
   70  internal error: a bug in flexmbd, please report it";
 
 /// The exit code of a run that ended with summary status `status`.

@@ -12,6 +12,14 @@
 //!   equilibrium: each mode's frequency, damped frequency, damping ratio and kind, and the
 //!   sensors it moves most.
 //!
+//! - `flexmbd sweep SCENE.ron --sensor NAME[,NAME…] [--reference CSV] [--grid …]` runs the
+//!   scene over a grid of formulations, inertia routes, stiffening methods, modes, elements
+//!   and steps in parallel and prints each run's error against the reference and CPU time,
+//!   the Pareto front marked ([`sweep_cmd`]).
+//! - `flexmbd tune SCENE.ron --sensor NAME[,NAME…] --tolerance X` prints the cheapest run
+//!   of that sweep whose error is at most X, and the `flexmbd simulate` arguments that
+//!   reproduce it.
+//!
 //! Each kind of outcome has its exit code ([`exit`]); a panic is reported as one line
 //! with [`exit::INTERNAL_ERROR`].
 
@@ -21,6 +29,7 @@ mod csv_output;
 mod exit;
 mod jsonl_output;
 mod output_file;
+mod sweep_cmd;
 
 #[cfg(test)]
 #[global_allocator]
@@ -88,6 +97,14 @@ enum Command {
     /// vibration (frequency, damping ratio, the sensors each moves most).
     #[command(after_help = exit::HELP)]
     Eigen(StaticArgs),
+    /// Run a scene over a grid of model and solver choices in parallel and print each run's
+    /// error against a reference and CPU time, the Pareto front marked.
+    #[command(after_help = sweep_cmd::help())]
+    Sweep(sweep_cmd::SweepInput),
+    /// The cheapest model and step whose error on the named sensors is at most the
+    /// tolerance, with the `flexmbd simulate` arguments that reproduce it.
+    #[command(after_help = sweep_cmd::help())]
+    Tune(sweep_cmd::TuneArgs),
 }
 
 /// The scene and the options that change it, shared by `simulate`, `equilibrium` and
@@ -169,6 +186,8 @@ fn main() -> ExitCode {
             Command::Simulate(args) => simulate(&args),
             Command::Equilibrium(args) => equilibrium(&args),
             Command::Eigen(args) => eigen(&args),
+            Command::Sweep(args) => sweep_cmd::sweep(&args),
+            Command::Tune(args) => sweep_cmd::tune(&args),
         };
         result.unwrap_or_else(|e| {
             eprintln!("error: {e}");

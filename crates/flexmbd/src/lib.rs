@@ -106,6 +106,7 @@ mod error;
 pub mod inventory;
 pub mod output;
 pub mod simulation;
+pub mod sweep;
 pub mod vibration;
 
 pub use equilibrium::{Equilibrium, equilibrium};

@@ -9,6 +9,7 @@ pub mod inertia_cost;
 pub mod mesh_size;
 pub mod spin_up;
 pub mod stability_map;
+pub mod work_precision;
 
 /// What a study returns when it cannot finish.
 pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
@@ -55,6 +56,11 @@ pub fn all() -> Vec<Study> {
             name: "stability-map",
             title: "Where the stiffening methods fail: stability map over Ωs and h (thesis ch. 4)",
             run: stability_map::run,
+        },
+        Study {
+            name: "work-precision",
+            title: "Work–precision: error against CPU time, and the cheapest model for a tolerance",
+            run: work_precision::run,
         },
     ]
 }

@@ -1,0 +1,391 @@
+//! `flexmbd sweep` and `flexmbd tune`: a work–precision sweep of a scene over a grid of
+//! model and solver choices ([`flexmbd::sweep`]), printed as a table of runs with the
+//! Pareto front marked, or the cheapest run that meets a tolerance with the `flexmbd
+//! simulate` arguments that reproduce it.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+use flexmbd::body::InertiaMethod;
+use flexmbd::model::{FormulationKind, Scene};
+use flexmbd::sweep::{
+    Axis, Grid, Reference, RunRecord, RunStatus, Sweep, SweepError, SweepReport, Timing, Tuning,
+};
+use serde::Serialize;
+
+use crate::{CliResult, exit, load_scene, parse_stiffening};
+
+/// The default grid as `--help` describes it.
+pub const DEFAULT_GRID_HELP: &str = "\
+Default grid (without --grid): both formulations; for a scene with flexible beams also both
+inertia routes, the stiffening methods linear, fnl1, fnl2 and foreshortening (the scene's own
+first) and 1 to max(4, the scene's) normal modes per flexible beam; the steps 2h, h, h/2
+about the scene's step h. On the 2D spin-up beam: 2 x 2 x 4 x 4 x 3 = 192 runs of 20 s, about
+a minute on two cores.
+
+Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
+  formulation=absolute,relative   inertia=b-matrix,shape-integrals
+  stiffening=linear,fnl1,fnl2,foreshortening,substructuring:N
+  modes=1,2,3   modes.BODY=1,2 (one beam body)   elements=10,20   elements.BODY=...
+  step=1e-3,5e-4
+
+Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the
+reference interpolated linearly to the run's output times; without --reference the reference
+is the grid's richest model (first formulation, inertia and stiffening listed, most modes and
+elements) at its smallest step, and its own margin against half that step is reported.
+CPU time: of the integration (preprocessing excluded); the runs go in parallel over the
+cores, and the runs on the Pareto front (and the candidates tune compares) are timed again
+alone, one after another, median of 3 (of 7 for runs under 0.2 s).
+Tune's choice: among the ok runs whose error is at most the tolerance, the least CPU time
+timed alone; a run that differs from another such run only by a smaller step or more modes or
+elements counts as costlier without being timed; times within 25 % of the least tie, and then
+fewer coordinates win, then the lower grid index.";
+
+/// The text after the options in `flexmbd sweep --help` and `flexmbd tune --help`.
+pub fn help() -> String {
+    format!("{DEFAULT_GRID_HELP}\n\n{}", exit::HELP)
+}
+
+/// The arguments `flexmbd sweep` and `flexmbd tune` share.
+#[derive(Args)]
+pub struct SweepInput {
+    /// A scene file (RON), e.g. models/spin_up_beam_2d.ron.
+    scene: PathBuf,
+    /// The sensors to judge, comma-separated.
+    #[arg(long = "sensor", value_delimiter = ',', required = true)]
+    sensors: Vec<String>,
+    /// A reference CSV: `t`, then a column per judged sensor (e.g. written by
+    /// `flexmbd simulate --output`). Default: the scene's converged run.
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    /// A grid axis NAME=V1,V2,... (see below); repeat for more axes. Default: see below.
+    #[arg(long = "grid", value_name = "NAME=VALUES")]
+    grid: Vec<String>,
+    /// Override any scalar of the scene in every run: PATH=VALUE (e.g. solver.duration=5).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    sets: Vec<String>,
+    /// An error above which a finished run counts as unstable (default: 10 times the
+    /// largest |reference value| of the judged sensors).
+    #[arg(long)]
+    error_cap: Option<f64>,
+    /// Print one JSON object on stdout instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The arguments of `flexmbd tune`.
+#[derive(Args)]
+pub struct TuneArgs {
+    #[command(flatten)]
+    input: SweepInput,
+    /// The largest error allowed on every named sensor (in the sensors' unit, e.g. m).
+    #[arg(long, allow_hyphen_values = true)]
+    tolerance: f64,
+}
+
+/// Parse a list of values of axis `name`.
+fn values<T>(name: &str, list: &str, parse: impl Fn(&str) -> Option<T>) -> Result<Vec<T>, String> {
+    list.split(',')
+        .map(str::trim)
+        .filter(|v| !v.is_empty())
+        .map(|v| {
+            parse(v).ok_or_else(|| format!("--grid {name}: `{v}` is not a value of this axis"))
+        })
+        .collect()
+}
+
+/// Parse one `--grid NAME=V1,V2,...`.
+fn parse_axis(arg: &str) -> Result<Axis, String> {
+    let (name, list) = arg
+        .split_once('=')
+        .ok_or_else(|| format!("--grid {arg}: expected NAME=V1,V2,..."))?;
+    let (kind, body) = match name.split_once('.') {
+        Some((k, b)) => (k, Some(b.to_string())),
+        None => (name, None),
+    };
+    let count = |v: &str| v.parse::<usize>().ok();
+    let axis = match (kind, &body) {
+        ("formulation", None) => Axis::Formulation(values(name, list, |v| match v {
+            "absolute" => Some(FormulationKind::Absolute),
+            "relative" => Some(FormulationKind::Relative),
+            _ => None,
+        })?),
+        ("inertia", None) => Axis::Inertia(values(name, list, |v| match v {
+            "b-matrix" => Some(InertiaMethod::BMatrix),
+            "shape-integrals" => Some(InertiaMethod::ShapeIntegrals),
+            _ => None,
+        })?),
+        ("stiffening", None) => Axis::Stiffening(values(name, list, |v| parse_stiffening(v).ok())?),
+        ("modes", _) => Axis::Modes {
+            body,
+            counts: values(name, list, count)?,
+        },
+        ("elements", _) => Axis::Elements {
+            body,
+            counts: values(name, list, count)?,
+        },
+        ("step", None) => Axis::Step(values(name, list, |v| v.parse::<f64>().ok())?),
+        _ => {
+            return Err(format!(
+                "--grid {arg}: unknown axis `{name}` (axes: formulation, inertia, stiffening, modes[.BODY], elements[.BODY], step)"
+            ));
+        }
+    };
+    Ok(axis)
+}
+
+impl SweepInput {
+    /// The sweep the command line describes; without `--grid`, the default grid of the
+    /// scene with the `--set` overrides applied.
+    fn sweep(&self) -> Result<Sweep, Box<dyn std::error::Error>> {
+        let mut names = Vec::new();
+        let mut axes = Vec::new();
+        for g in &self.grid {
+            let axis = parse_axis(g)?;
+            let name = g.split('=').next().unwrap_or_default().to_string();
+            if names.contains(&name) {
+                return Err(format!("--grid {name} is given twice").into());
+            }
+            names.push(name);
+            axes.push(axis);
+        }
+        let grid = if self.grid.is_empty() {
+            Grid::default_for(&self.base_scene()?)
+        } else {
+            Grid { axes }
+        };
+        Ok(Sweep {
+            scene: self.scene.clone(),
+            sets: self.sets.clone(),
+            sensors: self.sensors.clone(),
+            reference: match &self.reference {
+                Some(p) => Reference::Csv(p.clone()),
+                None => Reference::Converged,
+            },
+            grid,
+            error_cap: self.error_cap,
+        })
+    }
+
+    /// The scene with the `--set` overrides applied.
+    fn base_scene(&self) -> Result<Scene, Box<dyn std::error::Error>> {
+        let mut scene = load_scene(&self.scene)?;
+        let sets = self
+            .sets
+            .iter()
+            .map(|s| flexmbd::model::parse_set(s))
+            .collect::<Result<Vec<_>, _>>()?;
+        scene.apply_sets(&sets)?;
+        Ok(scene)
+    }
+
+    /// Check the sweep, tell stderr what runs, and run it.
+    fn run(&self, sweep: &Sweep) -> Result<SweepReport, SweepError> {
+        if let Some(cap) = self.error_cap
+            && !(cap.is_finite() && cap > 0.0)
+        {
+            return Err(SweepError::Grid {
+                axis: "--error-cap".into(),
+                message: format!("{cap}: must be a positive finite number"),
+            });
+        }
+        eprintln!("sweeping {}…", self.scene.display());
+        sweep.run()
+    }
+}
+
+/// The exit code of a refused sweep: a failed reference run is a failed run, the rest
+/// invalid input.
+fn refused(e: &SweepError) -> u8 {
+    eprintln!("error: {e}");
+    match e {
+        SweepError::ReferenceRun { .. } => exit::RUN_FAILED,
+        _ => exit::INVALID_INPUT,
+    }
+}
+
+/// `flexmbd sweep`: every run of the grid, the Pareto front marked.
+pub fn sweep(input: &SweepInput) -> CliResult {
+    let sweep = input.sweep()?;
+    let report = match input.run(&sweep) {
+        Ok(r) => r,
+        Err(e) => return Ok(refused(&e)),
+    };
+    let mut out = std::io::stdout().lock();
+    if input.json {
+        writeln!(out, "{}", serde_json::to_string(&report)?)?;
+    } else {
+        write!(out, "{}", table(&report))?;
+    }
+    Ok(exit::SUCCESS)
+}
+
+/// What `flexmbd tune --json` prints: the choice, then the sweep it was made from.
+#[derive(Serialize)]
+struct TuneOutput<'a> {
+    scene: &'a str,
+    sensors: &'a [String],
+    #[serde(flatten)]
+    tuning: &'a Tuning,
+    reference: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reference_margin: &'a Option<Vec<flexmbd::sweep::SensorError>>,
+    timing: &'a str,
+    pareto: &'a [usize],
+    candidates: &'a [RunRecord],
+}
+
+/// `flexmbd tune`: the cheapest run of the sweep that meets the tolerance.
+pub fn tune(args: &TuneArgs) -> CliResult {
+    let tolerance = args.tolerance;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Ok(refused(&SweepError::Tolerance(tolerance)));
+    }
+    let sweep = args.input.sweep()?;
+    let mut report = match args.input.run(&sweep) {
+        Ok(r) => r,
+        Err(e) => return Ok(refused(&e)),
+    };
+    let tuning = match flexmbd::sweep::tune(&sweep, &mut report, tolerance) {
+        Ok(t) => t,
+        Err(e) => return Ok(refused(&e)),
+    };
+    let mut out = std::io::stdout().lock();
+    if args.input.json {
+        let output = TuneOutput {
+            scene: &report.scene,
+            sensors: &report.sensors,
+            tuning: &tuning,
+            reference: &report.reference,
+            reference_margin: &report.reference_margin,
+            timing: &report.timing,
+            pareto: &report.pareto,
+            candidates: &report.runs,
+        };
+        writeln!(out, "{}", serde_json::to_string(&output)?)?;
+    } else {
+        write!(out, "{}", table(&report))?;
+        write!(out, "{}", choice_text(&report, &tuning))?;
+    }
+    if tuning.recommended.is_none() {
+        eprintln!(
+            "error: {}: no candidate meets the tolerance {tolerance:e} on {} (the smallest error of an ok run is {:e}); widen the grid or the tolerance",
+            args.input.scene.display(),
+            report.sensors.join(", "),
+            report
+                .runs
+                .iter()
+                .filter(|r| r.status == RunStatus::Ok)
+                .map(|r| r.error)
+                .fold(f64::INFINITY, f64::min)
+        );
+        return Ok(exit::NO_CANDIDATE);
+    }
+    Ok(exit::SUCCESS)
+}
+
+/// One candidate for a reader: label, error, CPU time, coordinates, the arguments.
+fn describe(title: &str, run: &RunRecord) -> String {
+    let timed = match run.timed {
+        Timing::Alone => "timed alone",
+        Timing::InParallel => "timed in parallel",
+    };
+    format!(
+        "{title}: {}\n  error {:.3e}, CPU {:.4} s ({timed}), real-time factor {:.1}, {} coordinates\n  flexmbd simulate {}\n",
+        run.label,
+        run.error,
+        run.cpu_seconds,
+        run.realtime_factor,
+        run.n_coordinates.map_or("?".into(), |n| n.to_string()),
+        run.args.join(" ")
+    )
+}
+
+/// The recommendation and runner-up of `flexmbd tune`, as text.
+fn choice_text(report: &SweepReport, tuning: &Tuning) -> String {
+    let mut s = format!(
+        "\n{}: the cheapest run with an error of at most {:e} on {}\n",
+        report.scene,
+        tuning.tolerance,
+        report.sensors.join(", ")
+    );
+    match &tuning.recommended {
+        Some(r) => s += &describe("recommended", r),
+        None => s += "recommended: none — no candidate meets the tolerance\n",
+    }
+    if let Some(r) = &tuning.runner_up {
+        s += &describe("runner-up", r);
+    }
+    s += &format!("rule: {}\n", tuning.rule);
+    s
+}
+
+/// Every run of the sweep as a table (`*`: on the Pareto front), with the reference and
+/// how the times were measured.
+fn table(report: &SweepReport) -> String {
+    let mut s = format!(
+        "{}: {} runs judged on {} against {}\n",
+        report.scene,
+        report.runs.len(),
+        report.sensors.join(", "),
+        report.reference
+    );
+    if let Some(margin) = &report.reference_margin {
+        for m in margin {
+            s += &format!(
+                "  reference margin (against half its step): {} max {:.3e}, rms {:.3e}\n",
+                m.sensor, m.max_abs, m.rms
+            );
+        }
+    }
+    s += &format!(
+        "  parallel phase: {:.2} s wall on {} threads for {:.2} s of runs\n",
+        report.parallel_wall_seconds, report.threads, report.sum_run_seconds
+    );
+    s += &format!("  {}\n\n", report.timing);
+    s += &format!(
+        "{:>5} {:1} {:<48} {:<8} {:>6} {:>11} {:>11} {:>10} {:>8}  reason\n",
+        "index", "", "run", "status", "coords", "max error", "rms", "CPU (s)", "timed"
+    );
+    for r in &report.runs {
+        let rms = r.errors.iter().map(|e| e.rms).fold(0.0f64, f64::max);
+        let status = match r.status {
+            RunStatus::Ok => "ok",
+            RunStatus::Failed => "failed",
+            RunStatus::Unstable => "unstable",
+        };
+        let (error, rms) = if r.status == RunStatus::Ok {
+            (format!("{:.3e}", r.error), format!("{rms:.3e}"))
+        } else {
+            ("–".into(), "–".into())
+        };
+        s += &format!(
+            "{:>5} {:1} {:<48} {:<8} {:>6} {:>11} {:>11} {:>10.4} {:>8}  {}\n",
+            r.index,
+            if report.pareto.contains(&r.index) {
+                "*"
+            } else {
+                ""
+            },
+            r.label,
+            status,
+            r.n_coordinates.map_or("–".into(), |n| n.to_string()),
+            error,
+            rms,
+            r.cpu_seconds,
+            match r.timed {
+                Timing::Alone => "alone",
+                Timing::InParallel => "parallel",
+            },
+            match (&r.reason, r.costlier_than) {
+                (Some(reason), _) => reason.chars().take(100).collect::<String>(),
+                (None, Some(i)) =>
+                    format!("meets the tolerance; not timed alone: costlier than {i}"),
+                (None, None) => String::new(),
+            }
+        );
+    }
+    s += "(* on the Pareto front of error against CPU time)\n";
+    s
+}

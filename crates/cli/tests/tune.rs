@@ -1,0 +1,383 @@
+//! `flexmbd tune` and `flexmbd sweep` on the 2D spin-up beam (Ωs = 6 rad/s) against its
+//! large-deformation reference, the ANCF cable (`flexmbd::ancf`, 16 elements, as the
+//! report's spin-up study uses it), written to a CSV reference `t,tip_uy`.
+//!
+//! The runs are shortened to the first 5 s of the spin-up (`--set solver.duration=5`) and
+//! the grid reduced (the relative formulation, both inertia routes, FS0 and FNL2, 1 to 3
+//! modes, h = 2 and 1 ms: 24 runs), so that a tuning takes seconds. The tolerances stay
+//! meaningful there: one mode meets 5 mm but not 1 mm (3.2 mm), two modes meet 1 mm
+//! (0.71 mm); over the whole 20 s no method of the grid comes under 2 mm. One formulation
+//! only: on this beam the two cost about the same (the relative one has a coordinate
+//! fewer), so which is cheaper is a timing tie that a loaded machine's noise (more than the
+//! rule's 25 % under a load of 4 on 2 cores) can decide either way; the check of the second
+//! tuning is about the rule, not about the machine's load.
+
+mod common;
+use common::{code, flexmbd, model, refused};
+
+use std::path::PathBuf;
+use std::sync::{Mutex, OnceLock};
+
+use flexmbd::ancf::{CableSpec, run_spin_up};
+use flexmbd::core::Dim;
+use flexmbd::sweep::{ReferenceTable, TIMING_TIE, reference::error_measures};
+use serde_json::Value;
+
+/// Held by each test while it runs `flexmbd`: the tunings time their candidates alone,
+/// and the tests of this binary would otherwise run beside them.
+static ALONE: Mutex<()> = Mutex::new(());
+
+/// Wait for the other tests of this file to finish running `flexmbd`.
+fn alone() -> std::sync::MutexGuard<'static, ()> {
+    ALONE
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// A scratch file under the test target directory, unique to this process.
+fn scratch(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("tune_{}_{name}", std::process::id()))
+}
+
+/// The ANCF cable's tip deflection u_y (16 elements, h = 1 ms, every 0.01 s, 20 s) as a
+/// reference CSV `t,tip_uy`, written once per test binary.
+fn ancf_reference() -> &'static str {
+    static PATH: OnceLock<String> = OnceLock::new();
+    PATH.get_or_init(|| {
+        let history = run_spin_up(&CableSpec::spin_up_beam(Dim::Planar, 16), 1e-3, 20.0, 0.01)
+            .expect("the ANCF spin-up runs");
+        let mut csv = String::from("t,tip_uy\n");
+        for (t, tip) in history.t.iter().zip(&history.tip) {
+            csv += &format!("{t:?},{:?}\n", tip[1]);
+        }
+        let path = scratch("ancf.csv");
+        std::fs::write(&path, csv).unwrap();
+        path.display().to_string()
+    })
+}
+
+/// The reduced grid and the short run of this file's tunings.
+const GRID: [&str; 12] = [
+    "--set",
+    "solver.duration=5",
+    "--grid",
+    "formulation=relative",
+    "--grid",
+    "inertia=shape-integrals,b-matrix",
+    "--grid",
+    "stiffening=foreshortening,fnl2",
+    "--grid",
+    "modes=1,2,3",
+    "--grid",
+    "step=2e-3,1e-3",
+];
+
+/// `flexmbd tune` of the spin-up beam on `tip_uy` with `tolerance`, its JSON object.
+fn tune(tolerance: &str) -> Value {
+    let spin_up = model("spin_up_beam_2d.ron");
+    let out = flexmbd()
+        .args([
+            "tune",
+            &spin_up,
+            "--sensor",
+            "tip_uy",
+            "--reference",
+            ancf_reference(),
+        ])
+        .args(GRID)
+        .args(["--tolerance", tolerance, "--json"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code(&out), 0, "{err}");
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The largest |u_y − reference| of `flexmbd simulate ARGS` (run alone, its CSV read back).
+fn error_of_simulate(args: &[String], name: &str) -> f64 {
+    let csv = scratch(name);
+    let out = flexmbd()
+        .arg("simulate")
+        .args(args)
+        .args(["--output", csv.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let run = ReferenceTable::from_csv(&csv).unwrap();
+    let reference = ReferenceTable::from_csv(ancf_reference().as_ref()).unwrap();
+    let (max_abs, _) = error_measures(
+        &run.t,
+        run.column("tip_uy").unwrap(),
+        &reference.t,
+        reference.column("tip_uy").unwrap(),
+    )
+    .unwrap();
+    std::fs::remove_file(csv).ok();
+    max_abs
+}
+
+/// The recommended run meets the tolerance; no compared candidate that meets it (each
+/// timed alone) is cheaper beyond the timing tie, and one within it loses by the stated
+/// rule; a meeting candidate not compared names a compared one that is cheaper by
+/// construction; a failed or unstable candidate is never chosen.
+fn check_choice(tuning: &Value, tolerance: f64) {
+    let rec = &tuning["recommended"];
+    assert_eq!(rec["status"], "ok");
+    let (rec_cpu, rec_error) = (
+        rec["cpu_seconds"].as_f64().unwrap(),
+        rec["error"].as_f64().unwrap(),
+    );
+    assert!(rec_error <= tolerance, "{rec}");
+    let key = |c: &Value| {
+        (
+            c["n_coordinates"].as_u64().unwrap(),
+            c["index"].as_u64().unwrap(),
+        )
+    };
+    let candidates = tuning["candidates"].as_array().unwrap();
+    for c in candidates {
+        let meets = c["status"] == "ok" && c["error"].as_f64().unwrap() <= tolerance;
+        if !meets {
+            continue;
+        }
+        if let Some(cheaper) = c["costlier_than"].as_u64() {
+            // Not compared: a compared candidate differs from it only by a larger step or
+            // fewer modes.
+            let by = &candidates[cheaper as usize];
+            assert!(by["costlier_than"].is_null(), "{by}");
+            assert_eq!(by["timed"], "alone", "{by}");
+            assert!(by["error"].as_f64().unwrap() <= tolerance, "{by}");
+        } else {
+            assert_eq!(c["timed"], "alone", "a compared candidate: {c}");
+            let cpu = c["cpu_seconds"].as_f64().unwrap();
+            assert!(
+                rec_cpu <= cpu * (1.0 + TIMING_TIE),
+                "{c} is cheaper than {rec}"
+            );
+            if cpu < rec_cpu {
+                assert!(key(c) > key(rec), "{c} wins the tie against {rec}");
+            }
+        }
+    }
+}
+
+#[test]
+fn tune_picks_the_cheapest_configuration_that_meets_5_mm_and_1_mm_reproducibly() {
+    let _alone = alone();
+    for (tolerance, text) in [(5e-3, "5e-3"), (1e-3, "1e-3")] {
+        let first = tune(text);
+        check_choice(&first, tolerance);
+        let args: Vec<String> = first["recommended"]["args"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a.as_str().unwrap().to_string())
+            .collect();
+        assert_eq!(
+            args[0],
+            model("spin_up_beam_2d.ron"),
+            "the scene path first"
+        );
+        let error = error_of_simulate(&args, &format!("recommended_{text}.csv"));
+        assert!(
+            error <= tolerance,
+            "run alone: {error} m > {tolerance} m ({args:?})"
+        );
+        assert_eq!(
+            error,
+            first["recommended"]["error"].as_f64().unwrap(),
+            "the arguments reproduce the recorded run"
+        );
+        let second = tune(text);
+        check_choice(&second, tolerance);
+        assert_eq!(
+            second["recommended"]["args"], first["recommended"]["args"],
+            "the second tuning at {text} chose differently"
+        );
+    }
+}
+
+#[test]
+fn sweep_json_lists_every_run_in_grid_order_with_the_pareto_front_timed_alone() {
+    let _alone = alone();
+    let spin_up = model("spin_up_beam_2d.ron");
+    let out = flexmbd()
+        .args([
+            "sweep",
+            &spin_up,
+            "--sensor",
+            "tip_uy",
+            "--reference",
+            ancf_reference(),
+        ])
+        .args([
+            "--set",
+            "solver.duration=2",
+            "--grid",
+            "modes=1,2",
+            "--grid",
+            "step=2e-3,1e-3",
+        ])
+        .args(["--grid", "stiffening=linear,foreshortening", "--json"])
+        .output()
+        .unwrap();
+    assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let runs = report["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 8);
+    for (k, run) in runs.iter().enumerate() {
+        assert_eq!(run["index"], k);
+        let errors = run["errors"].as_array().unwrap();
+        if run["status"] == "ok" {
+            let (max, rms) = (
+                errors[0]["max_abs"].as_f64().unwrap(),
+                errors[0]["rms"].as_f64().unwrap(),
+            );
+            assert!(0.0 < rms && rms <= max, "{run}");
+        }
+    }
+    let front = report["pareto"].as_array().unwrap();
+    assert!(!front.is_empty());
+    for i in front {
+        let run = &runs[i.as_u64().unwrap() as usize];
+        assert_eq!(
+            (&run["status"], &run["timed"]),
+            (&"ok".into(), &"alone".into()),
+            "{run}"
+        );
+    }
+    assert!(
+        report["timing"]
+            .as_str()
+            .unwrap()
+            .contains("median of 3 runs")
+    );
+}
+
+#[test]
+fn bad_sweep_input_is_refused_by_name() {
+    let _alone = alone();
+    let spin_up = model("spin_up_beam_2d.ron");
+    let tune_args = |extra: &[&str]| -> Vec<String> {
+        let mut args: Vec<String> = [
+            "tune",
+            &spin_up,
+            "--set",
+            "solver.duration=1",
+            "--grid",
+            "step=2e-3",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    let refuse = |extra: &[&str]| {
+        let args = tune_args(extra);
+        refused(&args.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let reference = ancf_reference();
+    let err = refuse(&[
+        "--sensor",
+        "tip_uz",
+        "--reference",
+        reference,
+        "--tolerance",
+        "1e-3",
+    ]);
+    assert!(
+        err.contains("no sensor `tip_uz`") && err.contains("tip_uy"),
+        "{err}"
+    );
+
+    let no_column = scratch("no_column.csv");
+    std::fs::write(&no_column, "t,tip_ux\n0,0\n1,0\n").unwrap();
+    let err = refuse(&[
+        "--sensor",
+        "tip_uy",
+        "--reference",
+        no_column.to_str().unwrap(),
+        "--tolerance",
+        "1e-3",
+    ]);
+    assert!(
+        err.contains("no column `tip_uy`") && err.contains("no_column.csv"),
+        "{err}"
+    );
+
+    let disorder = scratch("disorder.csv");
+    std::fs::write(&disorder, "t,tip_uy\n0,0\n0.5,0\n0.25,0\n1,0\n").unwrap();
+    let err = refuse(&[
+        "--sensor",
+        "tip_uy",
+        "--reference",
+        disorder.to_str().unwrap(),
+        "--tolerance",
+        "1e-3",
+    ]);
+    assert!(
+        err.contains("disorder.csv:4") && err.contains("out of order"),
+        "{err}"
+    );
+
+    for tolerance in ["0", "-1e-3"] {
+        let err = refuse(&[
+            "--sensor",
+            "tip_uy",
+            "--reference",
+            reference,
+            "--tolerance",
+            tolerance,
+        ]);
+        assert!(
+            err.contains("tolerance") && err.contains("positive"),
+            "{err}"
+        );
+    }
+    let err = refuse(&[
+        "--sensor",
+        "tip_uy",
+        "--reference",
+        reference,
+        "--tolerance",
+        "1e-3",
+        "--grid",
+        "modes=",
+    ]);
+    assert!(err.contains("modes") && err.contains("no values"), "{err}");
+    std::fs::remove_file(no_column).ok();
+    std::fs::remove_file(disorder).ok();
+}
+
+#[test]
+fn no_candidate_meeting_the_tolerance_is_its_own_exit_code() {
+    let _alone = alone();
+    let spin_up = model("spin_up_beam_2d.ron");
+    let out = flexmbd()
+        .args([
+            "tune",
+            &spin_up,
+            "--sensor",
+            "tip_uy",
+            "--reference",
+            ancf_reference(),
+        ])
+        .args([
+            "--set",
+            "solver.duration=2",
+            "--grid",
+            "modes=1",
+            "--grid",
+            "step=2e-3",
+        ])
+        .args(["--tolerance", "1e-9"])
+        .output()
+        .unwrap();
+    assert_eq!(code(&out), 6, "{}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no candidate meets the tolerance 1e-9"),
+        "{err}"
+    );
+}

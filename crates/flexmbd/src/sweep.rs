@@ -1,0 +1,558 @@
+//! Work–precision sweeps: run one scene over a grid of model and solver choices
+//! (formulation, inertia route, stiffening method, modes and FE elements per flexible
+//! beam, time step), judge every run's sensors against a reference, and find the runs
+//! that are cheapest for their accuracy (the Pareto front) or the cheapest that meets a
+//! tolerance ([`tune()`]). docs/methods.md §10 states the measures and the rule.
+//!
+//! A [`Sweep`] is plain data: a scene file, base `--set` overrides, the sensors to judge,
+//! a [`Reference`] and a [`Grid`]. Each grid point is exactly the run of `flexmbd simulate`
+//! with the point's arguments ([`RunRecord::args`]).
+//!
+//! Every run records its status (`ok`, `failed` with the error's text, or `unstable`: a
+//! non-finite judged value or an error above the cap), per judged sensor the largest
+//! absolute difference and the RMS against the reference interpolated linearly to the
+//! run's output times ([`reference::error_measures`]), its CPU time and real-time factor.
+//!
+//! The runs go in parallel over the cores (rayon; the records come back in grid order,
+//! whatever the order of completion). A CPU time measured beside other runs only ranks
+//! the candidates: the runs on the Pareto front are timed again alone, one after another,
+//! and their CPU time is the median of [`RETIME_REPEATS`] such runs
+//! ([`RETIME_REPEATS_SHORT`] for a run under [`SHORT_RUN`]; [`RunRecord::timed`] says which
+//! time a record holds).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use flexmbd_model::Scene;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::simulation;
+
+mod error;
+pub mod grid;
+mod pareto;
+pub mod reference;
+pub mod tune;
+
+pub use error::SweepError;
+pub use grid::{Axis, Grid, GridPoint, Setting};
+pub use pareto::pareto_front;
+pub use reference::{ReferenceTable, SensorError};
+pub use tune::{TIMING_TIE, Tuning, structurally_cheaper, tune};
+
+/// How many times a Pareto candidate is run alone to time it (the median is kept), as the
+/// report's CPU tables do: 3 times, or [`RETIME_REPEATS_SHORT`] when a run takes less than
+/// [`SHORT_RUN`] seconds.
+pub const RETIME_REPEATS: usize = 3;
+/// Repeats of a short run (a few milliseconds of CPU time are at the mercy of the
+/// scheduler).
+pub const RETIME_REPEATS_SHORT: usize = 7;
+/// A run shorter than this (s of CPU time) is timed [`RETIME_REPEATS_SHORT`] times.
+pub const SHORT_RUN: f64 = 0.2;
+
+/// What a sweep judges its runs against.
+#[derive(Clone, Debug)]
+pub enum Reference {
+    /// A CSV file: `t`, then a column per judged sensor (more columns are ignored).
+    Csv(PathBuf),
+    /// A table in memory (e.g. the ANCF spin-up cable's tip).
+    Table(ReferenceTable),
+    /// The scene's own converged run: the grid's richest model at its smallest step
+    /// ([`Grid::richest`]), run once more at half that step to report its own
+    /// convergence margin ([`SweepReport::reference_margin`]).
+    Converged,
+}
+
+/// A work–precision sweep: one scene over a grid of choices, judged on some sensors.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The scene file (named in every run's arguments as given).
+    pub scene: PathBuf,
+    /// `PATH=VALUE` overrides applied to every run, before the grid's.
+    pub sets: Vec<String>,
+    /// The sensors to judge (at least one, each a sensor of the scene).
+    pub sensors: Vec<String>,
+    /// The reference.
+    pub reference: Reference,
+    /// The grid.
+    pub grid: Grid,
+    /// An error (m, or the sensors' unit) above which a finished run counts as unstable;
+    /// `None`: 10 times the largest |reference value| of the judged sensors.
+    pub error_cap: Option<f64>,
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// Finished, every judged value finite and the error below the cap.
+    Ok,
+    /// Refused or stopped (the scene variant was refused, a step failed).
+    Failed,
+    /// Finished, but a judged value is not finite or the error is above the cap.
+    Unstable,
+}
+
+/// Where a record's CPU time comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Timing {
+    /// Measured during the parallel sweep, beside other runs: it only ranks candidates.
+    InParallel,
+    /// The median of [`RETIME_REPEATS`] runs timed alone, one after another
+    /// ([`RETIME_REPEATS_SHORT`] for a run under [`SHORT_RUN`]).
+    Alone,
+}
+
+/// One run of a sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunRecord {
+    /// Position in the grid's order.
+    pub index: usize,
+    /// The point's settings, e.g. `relative fnl1 modes=3 h=0.001`.
+    pub label: String,
+    /// The `flexmbd simulate` arguments that reproduce the run, scene path first.
+    pub args: Vec<String>,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// Why it failed or is unstable.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Coordinates of the compiled scene (`None` when it did not compile).
+    pub n_coordinates: Option<usize>,
+    /// Per judged sensor: the largest absolute and the RMS error.
+    pub errors: Vec<SensorError>,
+    /// The largest of the judged sensors' largest absolute errors (infinite unless ok).
+    pub error: f64,
+    /// CPU time of the integration (s; preprocessing excluded), see `timed`.
+    pub cpu_seconds: f64,
+    /// Where `cpu_seconds` comes from.
+    pub timed: Timing,
+    /// Simulated seconds per CPU second (from `cpu_seconds`).
+    pub realtime_factor: f64,
+    /// Simulated time reached (s).
+    pub simulated_seconds: f64,
+    /// Set by [`tune()`] for a candidate that meets the tolerance but was not timed alone:
+    /// the index of a timed candidate that differs from it only by a larger step or fewer
+    /// modes or elements ([`tune::structurally_cheaper`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub costlier_than: Option<usize>,
+}
+
+/// What a sweep found.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepReport {
+    /// The scene's name.
+    pub scene: String,
+    /// The judged sensors.
+    pub sensors: Vec<String>,
+    /// The reference: a file, a label, or the converged run's arguments.
+    pub reference: String,
+    /// For [`Reference::Converged`]: per judged sensor, the largest difference between the
+    /// reference run and the same model at half its step.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_margin: Option<Vec<SensorError>>,
+    /// The error above which a finished run counts as unstable.
+    pub error_cap: f64,
+    /// Every run, in grid order.
+    pub runs: Vec<RunRecord>,
+    /// Indices of the runs on the Pareto front of (error, CPU time), every one timed alone.
+    pub pareto: Vec<usize>,
+    /// How the CPU times were measured.
+    pub timing: String,
+    /// Worker threads of the parallel phase.
+    pub threads: usize,
+    /// Wall-clock time of the parallel phase (s).
+    pub parallel_wall_seconds: f64,
+    /// The wall-clock times of its runs added up (s): about `threads` times the above
+    /// when the cores are kept busy.
+    pub sum_run_seconds: f64,
+}
+
+/// A sweep checked and ready to run: the scene as loaded, its grid points, the reference.
+struct Prepared {
+    pristine: Scene,
+    points: Vec<grid::GridPoint>,
+    reference: ReferenceTable,
+    reference_label: String,
+    margin: Option<Vec<SensorError>>,
+    cap: f64,
+}
+
+/// What one run gave, before its record is judged.
+struct Outcome {
+    summary: Option<simulation::Summary>,
+    history: Option<crate::History>,
+    failure: Option<String>,
+    wall_seconds: f64,
+}
+
+impl Sweep {
+    fn scene_path(&self) -> String {
+        self.scene.display().to_string()
+    }
+
+    /// Run `point`: build its scene and run it to the scene's duration.
+    fn execute(&self, pristine: &Scene, point: &grid::GridPoint) -> Outcome {
+        let clock = Instant::now();
+        let scene = match point.scene(pristine, &self.sets) {
+            Ok(s) => s,
+            Err(e) => {
+                return Outcome {
+                    summary: None,
+                    history: None,
+                    failure: Some(e.to_string()),
+                    wall_seconds: clock.elapsed().as_secs_f64(),
+                };
+            }
+        };
+        let (summary, history, failure) = match simulation::run(&scene, |_| {}) {
+            Ok((s, h)) => {
+                let failure = (s.status != "ok").then(|| {
+                    let at = s
+                        .failed_at
+                        .map_or(String::new(), |t| format!("at t = {t} s: "));
+                    format!(
+                        "{at}{}",
+                        s.message.clone().unwrap_or_else(|| s.status.clone())
+                    )
+                });
+                (Some(s), Some(h), failure)
+            }
+            Err(e) => (None, None, Some(e.to_string())),
+        };
+        Outcome {
+            summary,
+            history,
+            failure,
+            wall_seconds: clock.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// The scene as loaded, and with the base overrides applied.
+    fn scenes(&self) -> Result<(Scene, Scene), SweepError> {
+        let pristine = Scene::load(&self.scene).map_err(|e| SweepError::Scene(Box::new(e)))?;
+        let base = grid::GridPoint {
+            index: 0,
+            settings: Vec::new(),
+        }
+        .scene(&pristine, &self.sets)?;
+        Ok((pristine, base))
+    }
+
+    /// The reference [`Reference::Converged`] makes of this sweep's grid — the richest model
+    /// at the smallest step ([`Grid::richest`]) — and its convergence margin against the
+    /// same at half the step, per judged sensor. For a reference finer than the sweep's
+    /// grid, call it on a sweep whose grid holds the finer step and pass the table on as
+    /// [`Reference::Table`].
+    pub fn converged_reference(&self) -> Result<(ReferenceTable, Vec<SensorError>), SweepError> {
+        let (pristine, base) = self.scenes()?;
+        self.check_sensors(&base)?;
+        let (table, _, margin) = self.converged(&pristine, &base)?;
+        Ok((table, margin.unwrap_or_default()))
+    }
+
+    /// The judged sensors: at least one, each a sensor of `scene`.
+    fn check_sensors(&self, scene: &Scene) -> Result<(), SweepError> {
+        if self.sensors.is_empty() {
+            return Err(SweepError::NoSensor);
+        }
+        let known: Vec<&str> = scene.sensors.iter().map(|s| s.name.as_str()).collect();
+        if let Some(s) = self.sensors.iter().find(|s| !known.contains(&s.as_str())) {
+            return Err(SweepError::UnknownSensor {
+                scene: self.scene_path(),
+                sensor: s.clone(),
+                known: known.join(", "),
+            });
+        }
+        Ok(())
+    }
+
+    /// Check the sweep and make its reference: the scene loads with the base overrides,
+    /// the sensors are the scene's, the grid is not empty, the reference has every judged
+    /// sensor and covers the run.
+    fn prepare(&self) -> Result<Prepared, SweepError> {
+        let (pristine, base) = self.scenes()?;
+        self.check_sensors(&base)?;
+        let points = self.grid.points(&base)?;
+        let (reference, reference_label, margin) = match &self.reference {
+            Reference::Csv(path) => {
+                let table = ReferenceTable::from_csv(path)?;
+                (table, path.display().to_string(), None)
+            }
+            Reference::Table(table) => (table.clone(), table.origin.clone(), None),
+            Reference::Converged => self.converged(&pristine, &base)?,
+        };
+        self.check_reference(&reference, &base)?;
+        let largest = self
+            .sensors
+            .iter()
+            .map(|s| {
+                reference
+                    .column(s)
+                    .map(|c| c.iter().fold(0.0f64, |m, v| m.max(v.abs())))
+            })
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .fold(0.0f64, f64::max);
+        let cap = self.error_cap.unwrap_or(if largest > 0.0 {
+            10.0 * largest
+        } else {
+            f64::INFINITY
+        });
+        Ok(Prepared {
+            pristine,
+            points,
+            reference,
+            reference_label,
+            margin,
+            cap,
+        })
+    }
+
+    /// Every judged sensor in `reference`, which spans the base scene's run `[0, duration]`.
+    fn check_reference(&self, reference: &ReferenceTable, base: &Scene) -> Result<(), SweepError> {
+        for s in &self.sensors {
+            reference.column(s)?;
+        }
+        let (t0, t1) = reference.span();
+        let end = base.solver.duration;
+        let slack = 1e-9 * end.abs().max(1.0);
+        if t0 > slack || t1 < end - slack {
+            return Err(SweepError::Reference {
+                origin: reference.origin.clone(),
+                line: None,
+                message: format!(
+                    "covers t = {t0} … {t1} s; the runs go from 0 to {end} s (solver.duration)"
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The richest point at the smallest step, and its convergence margin against the same
+    /// at half the step.
+    fn converged(
+        &self,
+        pristine: &Scene,
+        base: &Scene,
+    ) -> Result<(ReferenceTable, String, Option<Vec<SensorError>>), SweepError> {
+        let richest = self.grid.richest(base)?;
+        let h = richest
+            .settings
+            .iter()
+            .find_map(|s| match s {
+                Setting::Step(h) => Some(*h),
+                _ => None,
+            })
+            .unwrap_or(base.solver.step);
+        let mut half = richest.clone();
+        half.settings.retain(|s| !matches!(s, Setting::Step(_)));
+        half.settings.push(Setting::Step(h / 2.0));
+        let table = |point: &grid::GridPoint| -> Result<ReferenceTable, SweepError> {
+            let label = point.args(&self.scene_path(), &self.sets).join(" ");
+            let fail = |message: String| SweepError::ReferenceRun {
+                label: label.clone(),
+                message,
+            };
+            let outcome = self.execute(pristine, point);
+            if let Some(f) = outcome.failure {
+                return Err(fail(f));
+            }
+            let history = outcome
+                .history
+                .expect("a run without failure has a history");
+            let column = |name: &str| history.column(name).expect("the scene's own sensor");
+            let columns = self.sensors.iter().map(|s| column(s)).collect();
+            ReferenceTable::new(label.clone(), column("t"), self.sensors.clone(), columns)
+                .map_err(|e| fail(e.to_string()))
+        };
+        let reference = table(&richest)?;
+        let finer = table(&half)?;
+        let margin = self.measure(&finer.t, &finer.columns, &reference);
+        Ok((reference.clone(), reference.origin.clone(), Some(margin)))
+    }
+
+    /// The error measures of the columns `run` (the judged sensors, at times `t`).
+    fn measure(&self, t: &[f64], run: &[Vec<f64>], reference: &ReferenceTable) -> Vec<SensorError> {
+        self.sensors
+            .iter()
+            .zip(run)
+            .map(|(s, values)| {
+                let ref_values = reference.column(s).expect("checked in prepare");
+                let (max_abs, rms) = reference::error_measures(t, values, &reference.t, ref_values)
+                    .unwrap_or((f64::INFINITY, f64::INFINITY));
+                SensorError {
+                    sensor: s.clone(),
+                    max_abs,
+                    rms,
+                }
+            })
+            .collect()
+    }
+
+    /// Judge one run's outcome against the reference.
+    fn record(&self, point: &grid::GridPoint, outcome: Outcome, prepared: &Prepared) -> RunRecord {
+        let summary = outcome.summary.as_ref();
+        let mut record = RunRecord {
+            index: point.index,
+            label: point.label(),
+            args: point.args(&self.scene_path(), &self.sets),
+            status: RunStatus::Failed,
+            reason: outcome.failure.clone(),
+            n_coordinates: summary.map(|s| s.n_coordinates),
+            errors: Vec::new(),
+            error: f64::INFINITY,
+            cpu_seconds: summary.map_or(0.0, |s| s.cpu_seconds),
+            timed: Timing::InParallel,
+            realtime_factor: summary.map_or(0.0, |s| s.realtime_factor),
+            simulated_seconds: summary.map_or(0.0, |s| s.simulated_seconds),
+            costlier_than: None,
+        };
+        if outcome.failure.is_some() {
+            return record;
+        }
+        let history = outcome
+            .history
+            .expect("a run without failure has a history");
+        let t = history.column("t").expect("every history has t");
+        let columns: Vec<Vec<f64>> = self
+            .sensors
+            .iter()
+            .map(|s| history.column(s).expect("checked in prepare"))
+            .collect();
+        record.errors = self.measure(&t, &columns, &prepared.reference);
+        let error = record.errors.iter().fold(0.0f64, |m, e| m.max(e.max_abs));
+        record.error = error;
+        if !error.is_finite() || error > prepared.cap {
+            record.status = RunStatus::Unstable;
+            record.reason = Some(if error.is_finite() {
+                format!("error {error:e} above the cap {:e}", prepared.cap)
+            } else {
+                "a judged sensor is not finite".into()
+            });
+            record.error = f64::INFINITY;
+        } else {
+            record.status = RunStatus::Ok;
+        }
+        record
+    }
+
+    /// Run the sweep: check it, run every grid point in parallel, judge each, and time the
+    /// runs of the Pareto front alone.
+    pub fn run(&self) -> Result<SweepReport, SweepError> {
+        let prepared = self.prepare()?;
+        let clock = Instant::now();
+        let outcomes: Vec<(RunRecord, f64)> = prepared
+            .points
+            .par_iter()
+            .map(|p| {
+                let outcome = self.execute(&prepared.pristine, p);
+                let wall = outcome.wall_seconds;
+                (self.record(p, outcome, &prepared), wall)
+            })
+            .collect();
+        let parallel_wall_seconds = clock.elapsed().as_secs_f64();
+        let sum_run_seconds = outcomes.iter().map(|o| o.1).sum();
+        let mut report = SweepReport {
+            scene: prepared.pristine.name.clone(),
+            sensors: self.sensors.clone(),
+            reference: prepared.reference_label.clone(),
+            reference_margin: prepared.margin.clone(),
+            error_cap: prepared.cap,
+            runs: outcomes.into_iter().map(|o| o.0).collect(),
+            pareto: Vec::new(),
+            timing: format!(
+                "CPU times of the integration (preprocessing excluded). Runs marked `alone` \
+                 (every run on the Pareto front, and the candidates a tuning compares) are the \
+                 median of {RETIME_REPEATS} runs ({RETIME_REPEATS_SHORT} for runs under \
+                 {SHORT_RUN} s) timed alone, one after another, after the parallel sweep; the others were measured during the parallel sweep \
+                 ({} runs at once) and only rank the candidates.",
+                rayon::current_num_threads()
+            ),
+            threads: rayon::current_num_threads(),
+            parallel_wall_seconds,
+            sum_run_seconds,
+        };
+        self.settle_front(&mut report)?;
+        Ok(report)
+    }
+
+    /// Time alone every run on the Pareto front until the front holds only runs timed
+    /// alone.
+    fn settle_front(&self, report: &mut SweepReport) -> Result<(), SweepError> {
+        loop {
+            let points: Vec<(f64, f64)> = report
+                .runs
+                .iter()
+                .map(|r| match r.status {
+                    RunStatus::Ok => (r.error, r.cpu_seconds),
+                    _ => (f64::INFINITY, f64::INFINITY),
+                })
+                .collect();
+            let front = pareto_front(&points);
+            let pending: Vec<usize> = front
+                .iter()
+                .copied()
+                .filter(|&i| report.runs[i].timed == Timing::InParallel)
+                .collect();
+            if pending.is_empty() {
+                report.pareto = front;
+                return Ok(());
+            }
+            self.retime(report, &pending)?;
+        }
+    }
+
+    /// The settings of every grid point, in grid order.
+    pub fn point_settings(&self) -> Result<Vec<Vec<Setting>>, SweepError> {
+        let (_, base) = self.scenes()?;
+        Ok(self
+            .grid
+            .points(&base)?
+            .into_iter()
+            .map(|p| p.settings)
+            .collect())
+    }
+
+    /// Time the runs `indices` of `report` alone, one after another, [`RETIME_REPEATS`]
+    /// times each ([`RETIME_REPEATS_SHORT`] under [`SHORT_RUN`]), and keep the median CPU
+    /// time. A run that fails on a repeat (it did not
+    /// before) is marked failed.
+    pub fn retime(&self, report: &mut SweepReport, indices: &[usize]) -> Result<(), SweepError> {
+        let (pristine, base) = self.scenes()?;
+        let points = self.grid.points(&base)?;
+        for &i in indices {
+            let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);
+            let mut repeats = RETIME_REPEATS;
+            while times.len() < repeats {
+                let outcome = self.execute(&pristine, &points[i]);
+                match (outcome.failure, outcome.summary) {
+                    (None, Some(s)) => {
+                        if s.cpu_seconds < SHORT_RUN {
+                            repeats = RETIME_REPEATS_SHORT;
+                        }
+                        times.push(s.cpu_seconds);
+                    }
+                    (failure, _) => {
+                        let run = &mut report.runs[i];
+                        run.status = RunStatus::Failed;
+                        run.error = f64::INFINITY;
+                        run.reason = failure.or(Some("failed when timed alone".into()));
+                        break;
+                    }
+                }
+            }
+            let run = &mut report.runs[i];
+            run.timed = Timing::Alone;
+            if times.len() == repeats {
+                times.sort_by(f64::total_cmp);
+                run.cpu_seconds = times[repeats / 2];
+                run.realtime_factor =
+                    run.simulated_seconds / run.cpu_seconds.max(f64::MIN_POSITIVE);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,101 @@
+//! `flexmbd::sweep` on a short spin-up of the 2D beam: the converged reference is the
+//! grid's richest point (its own error zero, its half-step margin reported), the records
+//! come back in grid order whatever the order of completion, and a refused sweep names what
+//! is wrong.
+
+use flexmbd::sweep::{Axis, Grid, Reference, RunStatus, Sweep, SweepError, Timing};
+
+fn spin_up(reference: Reference, axes: Vec<Axis>) -> Sweep {
+    Sweep {
+        scene: concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../models/spin_up_beam_2d.ron"
+        )
+        .into(),
+        sets: vec!["solver.duration=1".into()],
+        sensors: vec!["tip_uy".into()],
+        reference,
+        grid: Grid { axes },
+        error_cap: None,
+    }
+}
+
+fn modes_and_steps() -> Vec<Axis> {
+    vec![
+        Axis::Modes {
+            body: None,
+            counts: vec![1, 2],
+        },
+        Axis::Step(vec![2e-3, 1e-3]),
+    ]
+}
+
+#[test]
+fn converged_reference_is_the_richest_point_at_the_smallest_step() {
+    let report = spin_up(Reference::Converged, modes_and_steps())
+        .run()
+        .unwrap();
+    assert_eq!(report.runs.len(), 4);
+    let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "modes=1 h=0.002",
+            "modes=1 h=0.001",
+            "modes=2 h=0.002",
+            "modes=2 h=0.001"
+        ]
+    );
+    assert!(report.runs.iter().all(|r| r.status == RunStatus::Ok));
+    // The reference is run 3 itself: the same run, the same output times.
+    assert_eq!(report.runs[3].error, 0.0);
+    assert!(
+        report
+            .reference
+            .ends_with("normal_modes=2 --set solver.step=0.001")
+    );
+    let margin = &report.reference_margin.as_ref().unwrap()[0];
+    assert!(0.0 < margin.max_abs && margin.max_abs < 1e-5, "{margin:?}");
+    // One mode fewer is a visible error over the first second, far above the margin.
+    assert!(
+        report.runs[0].error > 100.0 * margin.max_abs,
+        "{:?}",
+        report.runs[0]
+    );
+    for &i in &report.pareto {
+        assert_eq!(report.runs[i].timed, Timing::Alone);
+    }
+    assert!(
+        report.pareto.contains(&3),
+        "the zero-error run is on the front"
+    );
+}
+
+#[test]
+fn refused_sweeps_name_the_sensor_the_axis_and_the_reference() {
+    let mut unknown = spin_up(Reference::Converged, modes_and_steps());
+    unknown.sensors = vec!["tip_uw".into()];
+    let e = unknown.run().unwrap_err();
+    assert!(matches!(e, SweepError::UnknownSensor { .. }), "{e}");
+    assert!(e.to_string().contains("tip_uw"));
+
+    let e = spin_up(Reference::Converged, vec![]).run().unwrap_err();
+    assert!(e.to_string().contains("empty grid"), "{e}");
+
+    let e = spin_up(
+        Reference::Csv("no/such/reference.csv".into()),
+        modes_and_steps(),
+    )
+    .run()
+    .unwrap_err();
+    assert!(e.to_string().contains("no/such/reference.csv"), "{e}");
+
+    // A step that is not a positive finite number, refused before any run.
+    let e = spin_up(Reference::Converged, vec![Axis::Step(vec![f64::NAN])])
+        .run()
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("step") && e.to_string().contains("NaN"),
+        "{e}"
+    );
+}

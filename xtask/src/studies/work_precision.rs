@@ -1,0 +1,392 @@
+//! Work–precision (issue 16): error against CPU time for every stiffening method ×
+//! formulation × inertia route over time steps and mode counts, with the Pareto front, on
+//! the 2D and 3D spin-up beams (against the ANCF cable) and the double four-bar with its
+//! five bars flexible (against its own converged run); and per scene the cheapest model
+//! for 10 mm, 1 mm and 0.1 mm. Every run is a [`flexmbd::sweep`] grid point, reproducible
+//! with `flexmbd simulate` and the arguments the sweep records; the choice of the cheapest
+//! model is `flexmbd tune`'s rule ([`flexmbd::sweep::tune()`]).
+
+use std::path::Path;
+
+use flexmbd::ancf::{CableSpec, run_spin_up};
+use flexmbd::body::InertiaMethod;
+use flexmbd::core::Dim;
+use flexmbd::model::{FormulationKind, Stiffening};
+use flexmbd::sweep::{
+    Axis, Grid, Reference, ReferenceTable, RunStatus, Setting, Sweep, SweepReport, Tuning,
+    grid::{formulation_name, inertia_name, stiffening_name},
+    pareto_front, tune,
+};
+
+use super::StudyResult;
+use crate::Settings;
+use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::report::Report;
+
+/// The tolerances of the "cheapest model" table (m).
+const TOLERANCES: [f64; 3] = [10e-3, 1e-3, 0.1e-3];
+/// The five bars of the double four-bar made flexible.
+const FLEXIBLE_BARS: [&str; 5] = ["crank1", "coupler1", "crank2", "coupler2", "crank3"];
+
+/// One scene of the section: its sweep and how to describe it.
+struct Case {
+    /// Short name for files (`work_precision_NAME.svg`).
+    file: &'static str,
+    /// Title of the subsection.
+    title: &'static str,
+    /// What is judged against what.
+    judged: String,
+    sweep: Sweep,
+}
+
+/// The grid of a scene: both formulations and inertia routes, the stiffening methods
+/// `methods`, the mode counts `modes` of every flexible beam, the steps `steps`.
+fn grid(methods: &[Stiffening], modes: &[usize], steps: &[f64]) -> Grid {
+    Grid {
+        axes: vec![
+            Axis::Formulation(vec![FormulationKind::Absolute, FormulationKind::Relative]),
+            Axis::Inertia(vec![InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals]),
+            Axis::Stiffening(methods.to_vec()),
+            Axis::Modes {
+                body: None,
+                counts: modes.to_vec(),
+            },
+            Axis::Step(steps.to_vec()),
+        ],
+    }
+}
+
+/// The ANCF cable's tip of the spin-up beam in `dim` (16 elements, h = 1 ms, 20 s, every
+/// 0.01 s) as a reference table of the scene's displacement sensors.
+fn ancf_reference(dim: Dim) -> Result<ReferenceTable, Box<dyn std::error::Error>> {
+    let history = run_spin_up(&CableSpec::spin_up_beam(dim, 16), 1e-3, 20.0, 0.01)?;
+    let column = |k: usize| history.tip.iter().map(|p| p[k]).collect::<Vec<f64>>();
+    Ok(ReferenceTable::new(
+        format!("ANCF cable, 16 elements, {dim:?}"),
+        history.t.clone(),
+        vec!["tip_ux".into(), "tip_uy".into(), "tip_uz".into()],
+        vec![column(0), column(1), column(2)],
+    )?)
+}
+
+/// The double four-bar with its five bars flexible over `modes` and `steps`, judged on point
+/// B against the richest model at a step 8 (`quick`) or 16 times smaller than the grid's.
+fn four_bar_sweep(
+    modes_bars: &[usize],
+    steps: &[f64],
+    quick: bool,
+) -> Result<Sweep, Box<dyn std::error::Error>> {
+    let root = crate::workspace_root();
+    let mut bars = Sweep {
+        scene: root.join("models/double_four_bar.ron"),
+        sets: FLEXIBLE_BARS
+            .iter()
+            .map(|b| format!("bodies.{b}.flexible=true"))
+            .collect(),
+        sensors: vec!["B0_x".into(), "B0_y".into()],
+        reference: Reference::Converged,
+        grid: grid(&[Stiffening::Linear], modes_bars, steps),
+        error_cap: None,
+    };
+    // The grid's richest model at its smallest step is no reference: the mechanism passes
+    // its singular configurations (all bars parallel) where the trajectory is sensitive, and
+    // h = 1 ms against 0.5 ms differs by millimetres at B over 5 s (not monotonically in h).
+    // The reference is that model at a step `refine` times smaller, its margin against half
+    // that step reported.
+    let mut finer = bars.clone();
+    let refine = if quick { 8.0 } else { 16.0 };
+    let smallest = steps.iter().copied().fold(f64::INFINITY, f64::min);
+    finer.grid = grid(&[Stiffening::Linear], modes_bars, &[smallest / refine]);
+    eprintln!(
+        "   reference of the double four-bar: h = {:e} s",
+        smallest / refine
+    );
+    let (table, margin) = finer.converged_reference()?;
+    bars.reference = Reference::Table(ReferenceTable {
+        origin: format!(
+            "the richest model of the grid at h = {:e} s (its margin against half that step: {:.1e} m)",
+            smallest / refine,
+            margin.iter().map(|m| m.max_abs).fold(0.0f64, f64::max)
+        ),
+        ..table
+    });
+    Ok(bars)
+}
+
+/// The three scenes with their grids (`quick`: a coarse grid).
+fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
+    let root = crate::workspace_root();
+    let h = 1e-3;
+    let steps: Vec<f64> = if quick {
+        vec![2.0 * h, h]
+    } else {
+        vec![2.0 * h, h, h / 2.0]
+    };
+    let methods: Vec<Stiffening> = if quick {
+        vec![Stiffening::Fnl1, Stiffening::Foreshortening]
+    } else {
+        vec![
+            Stiffening::Fnl1,
+            Stiffening::Fnl2,
+            Stiffening::Foreshortening,
+        ]
+    };
+    let (modes_2d, modes_3d, modes_bars): (Vec<usize>, Vec<usize>, Vec<usize>) = if quick {
+        (vec![2, 4], vec![4, 8], vec![1, 2])
+    } else {
+        (vec![1, 2, 3, 4], vec![2, 4, 6, 8], vec![1, 2, 3])
+    };
+    eprintln!("   references: ANCF cables (2D, 3D), 16 elements");
+    let spin_up =
+        |file: &str, sensors: &[&str], reference: ReferenceTable, modes: &[usize]| Sweep {
+            scene: root.join("models").join(file),
+            sets: Vec::new(),
+            sensors: sensors.iter().map(|s| s.to_string()).collect(),
+            reference: Reference::Table(reference),
+            grid: grid(&methods, modes, &steps),
+            error_cap: None,
+        };
+    let bars = four_bar_sweep(&modes_bars, &steps, quick)?;
+    Ok(vec![
+        Case {
+            file: "spin_up_2d",
+            title: "2D spin-up beam (Ωs = 6 rad/s, 20 s)",
+            judged: "the tip deflection `tip_uy` against the ANCF cable".into(),
+            sweep: spin_up(
+                "spin_up_beam_2d.ron",
+                &["tip_uy"],
+                ancf_reference(Dim::Planar)?,
+                &modes_2d,
+            ),
+        },
+        Case {
+            file: "spin_up_3d",
+            title: "3D spin-up beam (Ωs = 6 rad/s, gravity, 20 s)",
+            judged:
+                "the tip deflections `tip_uy` and `tip_uz` (the larger) against the 3D ANCF cable"
+                    .into(),
+            sweep: spin_up(
+                "spin_up_beam_3d.ron",
+                &["tip_uy", "tip_uz"],
+                ancf_reference(Dim::Spatial)?,
+                &modes_3d,
+            ),
+        },
+        Case {
+            file: "double_four_bar",
+            title: "Double four-bar, five flexible bars (5 s)",
+            judged: "the position of point B (`B0_x`, `B0_y`, the larger); linear elasticity, one \
+                 stiffening method"
+                .into(),
+            sweep: bars,
+        },
+    ])
+}
+
+/// The label of a run's method: formulation, inertia, stiffening.
+fn method_of(settings: &[Setting]) -> String {
+    let parts: Vec<String> = settings
+        .iter()
+        .filter_map(|s| match s {
+            Setting::Formulation(f) => Some(formulation_name(*f).to_string()),
+            Setting::Inertia(i) => Some(inertia_name(*i).to_string()),
+            Setting::Stiffening(m) => Some(stiffening_name(*m)),
+            _ => None,
+        })
+        .collect();
+    parts.join(" ")
+}
+
+/// A method's label without its inertia route: the runs of one colour.
+fn colour_key(method: &str) -> String {
+    method
+        .replace(" b-matrix", "")
+        .replace(" shape-integrals", "")
+}
+
+/// The chart: per method its own front of (CPU, error) over steps and modes, and the front
+/// of all runs.
+fn chart(case: &Case, report: &SweepReport, settings: &[Vec<Setting>], path: &Path) -> StudyResult {
+    let mut methods: Vec<String> = settings.iter().map(|s| method_of(s)).collect();
+    methods.sort();
+    methods.dedup();
+    let ok = |i: usize| report.runs[i].status == RunStatus::Ok && report.runs[i].error > 0.0;
+    let front_of = |members: Vec<usize>| -> Vec<(f64, f64)> {
+        let points: Vec<(f64, f64)> = members
+            .iter()
+            .map(|&i| (report.runs[i].error, report.runs[i].cpu_seconds))
+            .collect();
+        let mut front: Vec<(f64, f64)> = pareto_front(&points)
+            .into_iter()
+            .map(|k| (points[k].1, points[k].0))
+            .collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0));
+        front
+    };
+    // One colour per formulation and stiffening method; the B-matrix route dashed.
+    let mut colours: Vec<String> = methods.iter().map(|m| colour_key(m)).collect();
+    colours.sort();
+    colours.dedup();
+    let mut series: Vec<Series> = methods
+        .iter()
+        .map(|m| Series {
+            label: m.clone(),
+            points: front_of(
+                (0..settings.len())
+                    .filter(|&i| ok(i) && method_of(&settings[i]) == *m)
+                    .collect(),
+            ),
+            dashed: m.contains("b-matrix"),
+            colour: colours
+                .iter()
+                .position(|c| *c == colour_key(m))
+                .unwrap_or(0),
+        })
+        .collect();
+    series.push(Series {
+        label: "Pareto front (all runs)".into(),
+        points: front_of((0..settings.len()).filter(|&i| ok(i)).collect()),
+        dashed: false,
+        colour: 8,
+    });
+    LineChart {
+        title: format!("Work–precision: {}", case.title),
+        x_label: "CPU time of the run (s)".into(),
+        y_label: "largest error over time (m)".into(),
+        log_x: true,
+        log_y: true,
+        series,
+        legend: SeriesLabelPosition::UpperRight,
+    }
+    .write_svg(path)
+}
+
+/// A tolerance in mm for a reader.
+fn mm(x: f64) -> String {
+    format!("{} mm", x * 1e3)
+}
+
+/// The table row of one tolerance.
+fn tolerance_row(tolerance: f64, tuning: &Tuning, report: &SweepReport) -> Vec<String> {
+    match &tuning.recommended {
+        Some(r) => vec![
+            mm(tolerance),
+            r.label.clone(),
+            format!("{:.3}", r.error * 1e3),
+            format!("{:.4}", r.cpu_seconds),
+            r.n_coordinates.map_or("–".into(), |n| n.to_string()),
+            tuning.runner_up.as_ref().map_or("–".into(), |u| {
+                format!(
+                    "{} ({:.3} mm, {:.4} s)",
+                    u.label,
+                    u.error * 1e3,
+                    u.cpu_seconds
+                )
+            }),
+        ],
+        None => {
+            let best = report
+                .runs
+                .iter()
+                .filter(|r| r.status == RunStatus::Ok)
+                .map(|r| r.error)
+                .fold(f64::INFINITY, f64::min);
+            vec![
+                mm(tolerance),
+                format!("none on the grid (smallest error {:.3} mm)", best * 1e3),
+                "–".into(),
+                "–".into(),
+                "–".into(),
+                "–".into(),
+            ]
+        }
+    }
+}
+
+/// Run one scene's sweep and append its subsection (the `first` also states the rule of
+/// the tables and how the times were measured).
+fn run_case(case: &Case, first: bool, report: &mut Report) -> StudyResult {
+    eprintln!("   {}", case.title);
+    let mut result = case.sweep.run()?;
+    let settings = case.sweep.point_settings()?;
+    let mut rows = Vec::new();
+    let mut rule = String::new();
+    for tolerance in TOLERANCES {
+        let tuning = tune(&case.sweep, &mut result, tolerance)?;
+        rows.push(tolerance_row(tolerance, &tuning, &result));
+        rule = tuning.rule;
+    }
+    let count = |s: RunStatus| result.runs.iter().filter(|r| r.status == s).count();
+    report.text(&format!(
+        "### {}\n\n{} runs judged on {}; {} ok, {} failed, {} unstable. Reference: {}. Parallel \
+         phase: {:.1} s wall on {} threads for {:.1} s of runs.",
+        case.title,
+        result.runs.len(),
+        case.judged,
+        count(RunStatus::Ok),
+        count(RunStatus::Failed),
+        count(RunStatus::Unstable),
+        result.reference,
+        result.parallel_wall_seconds,
+        result.threads,
+        result.sum_run_seconds,
+    ));
+    let file = format!("work_precision_{}.svg", case.file);
+    let path = report.chart_path(&file);
+    chart(case, &result, &settings, &path)?;
+    report.image(&file, &format!("work–precision, {}", case.title));
+    if first {
+        report.text(&format!(
+            "The cheapest model per tolerance follows `flexmbd tune`'s rule: {rule}. {} Each \
+             row is reproduced by `flexmbd simulate` with the run's arguments (`flexmbd tune \
+             --json` prints them).",
+            result.timing
+        ));
+    }
+    report.table(
+        &[
+            "tolerance",
+            "cheapest model",
+            "error (mm)",
+            "CPU (s)",
+            "coordinates",
+            "runner-up",
+        ],
+        &rows,
+    );
+    Ok(())
+}
+
+/// Run the study and append its section to the report.
+pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
+    report.text(&format!(
+        "Error against CPU time for every stiffening method × formulation × inertia route over \
+         time steps and mode counts (issue 16; docs/methods.md §10). Each chart shows, per \
+         method, the runs no other run of that method beats on both error and CPU time \
+         (dashed: B-matrix route), and the Pareto front of all runs. The error of a run is the \
+         largest |run − reference| over time on the judged sensors, the reference \
+         interpolated linearly to the run's output times. Grid{}: both formulations, both \
+         inertia routes, the stiffening methods {}, the modes of every flexible beam {}, \
+         steps 2h, h{} about h = 1 ms.",
+        if settings.quick {
+            " (--quick, coarse)"
+        } else {
+            ""
+        },
+        if settings.quick {
+            "FNL1 and FS0"
+        } else {
+            "FNL1, FNL2 and FS0"
+        },
+        if settings.quick {
+            "2 and 4 (2D), 4 and 8 (3D), 1 and 2 (bars)"
+        } else {
+            "1–4 (2D), 2, 4, 6, 8 (3D), 1–3 (bars)"
+        },
+        if settings.quick { "" } else { ", h/2" },
+    ));
+    for (k, case) in cases(settings.quick)?.iter().enumerate() {
+        run_case(case, k == 0, report)?;
+    }
+    Ok(())
+}
