@@ -64,6 +64,11 @@ pub(crate) struct Scratch {
     pub(crate) columns: Vec<(usize, Vector3<f64>)>,
     /// (coordinate, ∂l/∂q_i) of a link along an axis.
     pub(crate) gradient: Vec<(usize, f64)>,
+    /// `columns` and `gradient` with one entry per coordinate, for the tangents.
+    pub(crate) merged_columns: Vec<(usize, Vector3<f64>)>,
+    pub(crate) merged_gradient: Vec<(usize, f64)>,
+    /// Per coordinate: its place in the merged list being built, or `usize::MAX`.
+    pub(crate) slot: Vec<usize>,
 }
 
 /// The force elements of a scene, compiled for one formulation, with the scratch their
@@ -138,6 +143,9 @@ impl<M> ForceElements<M> {
             scratch: Scratch {
                 columns: Vec::with_capacity(3 * n_coordinates),
                 gradient: Vec::with_capacity(3 * n_coordinates),
+                merged_columns: Vec::with_capacity(n_coordinates),
+                merged_gradient: Vec::with_capacity(n_coordinates),
+                slot: vec![usize::MAX; n_coordinates],
             },
         })
     }
@@ -167,15 +175,9 @@ impl<M> ForceElements<M> {
         let scratch = &mut self.scratch;
         for element in &self.elements {
             match element {
-                Element::SpringDamper(spring) => add_spring(
-                    spring,
-                    kinematics,
-                    q,
-                    qd,
-                    tangents,
-                    &mut scratch.columns,
-                    out,
-                ),
+                Element::SpringDamper(spring) => {
+                    add_spring(spring, kinematics, q, qd, tangents, scratch, out)
+                }
                 Element::Link(link) => link.add_forces(kinematics, q, qd, tangents, scratch, out),
                 Element::Tyre(tyre) => {
                     tyre.add_forces(kinematics, q, qd, tangents, &mut scratch.columns, out)
@@ -257,18 +259,54 @@ fn add_spring<M, K>(
     q: &DVector<f64>,
     qd: &DVector<f64>,
     tangents: bool,
-    columns: &mut Vec<(usize, Vector3<f64>)>,
+    scratch: &mut Scratch,
     out: &mut SystemTerms,
 ) where
     K: MarkerKinematics<Marker = M>,
 {
     let (_, n, l, f) = spring_state(spring, kinematics, q, qd);
-    line_columns(kinematics, &spring.first, &spring.second, q, columns);
-    for &(i, c) in columns.iter() {
+    line_columns(
+        kinematics,
+        &spring.first,
+        &spring.second,
+        q,
+        &mut scratch.columns,
+    );
+    for &(i, c) in scratch.columns.iter() {
         out.forces[i] -= f * n.dot(&c);
     }
     if tangents {
-        add_tangents(spring, &n, f, l, columns, out);
+        merge_coordinates(
+            &scratch.columns,
+            &mut scratch.slot,
+            &mut scratch.merged_columns,
+        );
+        add_tangents(spring, &n, f, l, &scratch.merged_columns, out);
+    }
+}
+
+/// `merged` = `entries` with the entries of one coordinate summed into one, in the order
+/// the coordinates first appear (`slot`: all `usize::MAX`, and left so). The tangent loops
+/// run over every pair of entries: an element whose markers move with the same joints (a
+/// strut between the chassis and a wheel carrier both move with the chassis's six) lists
+/// those coordinates twice or three times, which would make 2–9 times the pairs. Entries
+/// with no repeated coordinate come out as they went in.
+pub(crate) fn merge_coordinates<T: Copy + std::ops::AddAssign>(
+    entries: &[(usize, T)],
+    slot: &mut [usize],
+    merged: &mut Vec<(usize, T)>,
+) {
+    merged.clear();
+    for &(i, v) in entries {
+        if slot[i] == usize::MAX {
+            slot[i] = merged.len();
+            merged.push((i, v));
+        } else {
+            merged[slot[i]].1 += v;
+        }
+    }
+    for &(i, _) in merged.iter() {
+        slot[i] = usize::MAX;
     }
 }
 
