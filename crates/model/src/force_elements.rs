@@ -359,3 +359,26 @@ pub(crate) fn add_line_tangents(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn merge_coordinates_sums_repeated_coordinates_in_first_appearance_order() {
+        let mut slot = vec![usize::MAX; 6];
+        let mut merged = Vec::with_capacity(6);
+        // A strut's columns: its wheel-side marker's (4, 1, 5), then its chassis marker's
+        // (4, 1) again.
+        let entries = [(4, 1.0), (1, 2.0), (5, -3.0), (4, 0.5), (1, -0.25)];
+        merge_coordinates(&entries, &mut slot, &mut merged);
+        assert_eq!(merged, [(4, 1.5), (1, 1.75), (5, -3.0)]);
+        assert!(slot.iter().all(|&s| s == usize::MAX), "{slot:?}");
+        // No repeated coordinate: the entries as they went in.
+        let distinct = [(2, Vector3::<f64>::new(1.0, -0.0, 3.0)), (0, Vector3::x())];
+        let mut merged = Vec::new();
+        merge_coordinates(&distinct, &mut slot, &mut merged);
+        assert_eq!(merged, distinct);
+        assert_eq!(merged[0].1.y.to_bits(), (-0.0f64).to_bits());
+    }
+}
