@@ -64,6 +64,11 @@ pub(crate) struct Scratch {
     pub(crate) columns: Vec<(usize, Vector3<f64>)>,
     /// (coordinate, ∂l/∂q_i) of a link along an axis.
     pub(crate) gradient: Vec<(usize, f64)>,
+    /// `columns` and `gradient` with one entry per coordinate, for the tangents.
+    pub(crate) merged_columns: Vec<(usize, Vector3<f64>)>,
+    pub(crate) merged_gradient: Vec<(usize, f64)>,
+    /// Per coordinate: its place in the merged list being built, or `usize::MAX`.
+    pub(crate) slot: Vec<usize>,
 }
 
 /// The force elements of a scene, compiled for one formulation, with the scratch their
@@ -138,6 +143,9 @@ impl<M> ForceElements<M> {
             scratch: Scratch {
                 columns: Vec::with_capacity(3 * n_coordinates),
                 gradient: Vec::with_capacity(3 * n_coordinates),
+                merged_columns: Vec::with_capacity(n_coordinates),
+                merged_gradient: Vec::with_capacity(n_coordinates),
+                slot: vec![usize::MAX; n_coordinates],
             },
         })
     }
@@ -167,15 +175,9 @@ impl<M> ForceElements<M> {
         let scratch = &mut self.scratch;
         for element in &self.elements {
             match element {
-                Element::SpringDamper(spring) => add_spring(
-                    spring,
-                    kinematics,
-                    q,
-                    qd,
-                    tangents,
-                    &mut scratch.columns,
-                    out,
-                ),
+                Element::SpringDamper(spring) => {
+                    add_spring(spring, kinematics, q, qd, tangents, scratch, out)
+                }
                 Element::Link(link) => link.add_forces(kinematics, q, qd, tangents, scratch, out),
                 Element::Tyre(tyre) => {
                     tyre.add_forces(kinematics, q, qd, tangents, &mut scratch.columns, out)
@@ -257,18 +259,54 @@ fn add_spring<M, K>(
     q: &DVector<f64>,
     qd: &DVector<f64>,
     tangents: bool,
-    columns: &mut Vec<(usize, Vector3<f64>)>,
+    scratch: &mut Scratch,
     out: &mut SystemTerms,
 ) where
     K: MarkerKinematics<Marker = M>,
 {
     let (_, n, l, f) = spring_state(spring, kinematics, q, qd);
-    line_columns(kinematics, &spring.first, &spring.second, q, columns);
-    for &(i, c) in columns.iter() {
+    line_columns(
+        kinematics,
+        &spring.first,
+        &spring.second,
+        q,
+        &mut scratch.columns,
+    );
+    for &(i, c) in scratch.columns.iter() {
         out.forces[i] -= f * n.dot(&c);
     }
     if tangents {
-        add_tangents(spring, &n, f, l, columns, out);
+        merge_coordinates(
+            &scratch.columns,
+            &mut scratch.slot,
+            &mut scratch.merged_columns,
+        );
+        add_tangents(spring, &n, f, l, &scratch.merged_columns, out);
+    }
+}
+
+/// `merged` = `entries` with the entries of one coordinate summed into one, in the order
+/// the coordinates first appear (`slot`: all `usize::MAX`, and left so). The tangent loops
+/// run over every pair of entries: an element whose markers move with the same joints (a
+/// strut between the chassis and a wheel carrier both move with the chassis's six) lists
+/// those coordinates twice or three times, which would make 2–9 times the pairs. Entries
+/// with no repeated coordinate come out as they went in.
+pub(crate) fn merge_coordinates<T: Copy + std::ops::AddAssign>(
+    entries: &[(usize, T)],
+    slot: &mut [usize],
+    merged: &mut Vec<(usize, T)>,
+) {
+    merged.clear();
+    for &(i, v) in entries {
+        if slot[i] == usize::MAX {
+            slot[i] = merged.len();
+            merged.push((i, v));
+        } else {
+            merged[slot[i]].1 += v;
+        }
+    }
+    for &(i, _) in merged.iter() {
+        slot[i] = usize::MAX;
     }
 }
 
@@ -319,5 +357,28 @@ pub(crate) fn add_line_tangents(
             out.stiffness[(j, i)] += cj.dot(&kc);
             out.damping[(j, i)] += cc * n.dot(&cj);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn merge_coordinates_sums_repeated_coordinates_in_first_appearance_order() {
+        let mut slot = vec![usize::MAX; 6];
+        let mut merged = Vec::with_capacity(6);
+        // A strut's columns: its wheel-side marker's (4, 1, 5), then its chassis marker's
+        // (4, 1) again.
+        let entries = [(4, 1.0), (1, 2.0), (5, -3.0), (4, 0.5), (1, -0.25)];
+        merge_coordinates(&entries, &mut slot, &mut merged);
+        assert_eq!(merged, [(4, 1.5), (1, 1.75), (5, -3.0)]);
+        assert!(slot.iter().all(|&s| s == usize::MAX), "{slot:?}");
+        // No repeated coordinate: the entries as they went in.
+        let distinct = [(2, Vector3::<f64>::new(1.0, -0.0, 3.0)), (0, Vector3::x())];
+        let mut merged = Vec::new();
+        merge_coordinates(&distinct, &mut slot, &mut merged);
+        assert_eq!(merged, distinct);
+        assert_eq!(merged[0].1.y.to_bits(), (-0.0f64).to_bits());
     }
 }

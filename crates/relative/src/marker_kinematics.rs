@@ -14,18 +14,29 @@ use crate::Relative;
 use crate::kinematics::point_at;
 use crate::topology::Side;
 
-/// Scratch of one marker Jacobian, sized once: ∂r_P/∂w (3 × n_w) and ∂r_P/∂z (3 × n_z).
+/// Scratch of one marker Jacobian, sized once: the marker's (w, ∂r_P/∂w_w) columns (a
+/// marker moves with the joints on its body's path only: a handful of the n_w columns), and
+/// for a marker that moves with node joints ∂r_P/∂w (3 × n_w) and ∂r_P/∂z (3 × n_z), both all
+/// zeros between queries, with the columns the current query touches.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct MarkerJacobian {
+    columns: Vec<(usize, Vector3<f64>)>,
     jw: DMatrix<f64>,
     jz: DMatrix<f64>,
+    touched_w: Vec<usize>,
+    touched_z: Vec<usize>,
+    z_is_touched: Vec<bool>,
 }
 
 impl MarkerJacobian {
     pub(crate) fn new(n_w: usize, n_z: usize) -> Self {
         MarkerJacobian {
+            columns: Vec::with_capacity(n_w),
             jw: DMatrix::zeros(3, n_w),
             jz: DMatrix::zeros(3, n_z),
+            touched_w: Vec::with_capacity(n_w),
+            touched_z: Vec::with_capacity(n_z),
+            z_is_touched: vec![false; n_z],
         }
     }
 }
@@ -51,44 +62,38 @@ impl MarkerKinematics for Relative {
     ) {
         let mut scratch = std::mem::take(&mut self.marker_jacobian);
         let (p, _) = point_at(self, marker);
-        scratch.jw.fill(0.0);
-        self.add_point_jacobian(marker, &p, 1.0, &mut scratch.jw);
-        scratch.jz.fill(0.0);
-        for (w, lw) in self.l_rows.iter().enumerate() {
-            // Most w columns of one marker are zero (joints off its body's path): adding
-            // a·0 would leave every sum as it is, so they are skipped.
-            if (0..3).all(|r| scratch.jw[(r, w)] == 0.0) {
-                continue;
-            }
-            for &(c, a) in lw {
-                for r in 0..3 {
-                    scratch.jz[(r, c)] += a * scratch.jw[(r, w)];
+        let columns = &mut scratch.columns;
+        columns.clear();
+        self.point_columns(marker, &p, columns);
+        columns.sort_unstable_by_key(|&(w, _)| w);
+        let distinct = columns.windows(2).all(|pair| pair[0].0 < pair[1].0);
+        if distinct && columns.last().is_none_or(|&(w, _)| w < self.n_z) {
+            // Every column is a z coordinate's (L's row is (w, 1)), each once: J_z's column
+            // is 0 + 1·J_w's (the 0 + turns a −0 into the +0 the sum gives), in increasing z.
+            for &(w, u) in columns.iter() {
+                let column = u.map(|x| 0.0 + x);
+                if column != Vector3::zeros() {
+                    visit(w, column);
                 }
             }
-        }
-        for i in 0..self.n_z {
-            let column = Vector3::new(scratch.jz[(0, i)], scratch.jz[(1, i)], scratch.jz[(2, i)]);
-            if column != Vector3::zeros() {
-                visit(i, column);
-            }
+        } else {
+            self.fold_through_l(&mut scratch, visit);
         }
         self.marker_jacobian = scratch;
     }
 }
 
 impl Relative {
-    /// jw += sign · ∂r_P/∂w for the marker `s` at the point `p`.
-    fn add_point_jacobian(&self, s: &Side, p: &Vector3<f64>, sign: f64, jw: &mut DMatrix<f64>) {
+    /// The marker `s`'s columns (w, ∂r_P/∂w_w) at the point `p`: u_a = ṡ_a + ω_a × r_P of the
+    /// elementary joints on its body's path, then A X^t of its node's modes.
+    fn point_columns(&self, s: &Side, p: &Vector3<f64>, columns: &mut Vec<(usize, Vector3<f64>)>) {
         let Some(k) = s.body else { return };
         let b = &self.bodies[k];
         let f = b.frame;
         for &a in &self.paths[f] {
             let elem_twist = &self.elem_twist[a];
             let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
-            let wa = self.elem_w[a];
-            for r in 0..3 {
-                jw[(r, wa)] += sign * u[r];
-            }
+            columns.push((self.elem_w[a], u));
         }
         if let Some(node) = s.node {
             let a = self.frame_rotation[f];
@@ -98,10 +103,61 @@ impl Relative {
                     b.node_rows.t(node, 1, m),
                     b.node_rows.t(node, 2, m),
                 );
+                columns.push((b.first_mode + m, col));
+            }
+        }
+    }
+
+    /// J_z = J_w L for a marker that moves with node joints (w entries beyond z), visited in
+    /// increasing z: the sums over the touched w columns in increasing order, the same, in
+    /// the same order, as over every column (the others are zero and were skipped).
+    fn fold_through_l(
+        &self,
+        scratch: &mut MarkerJacobian,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    ) {
+        let MarkerJacobian {
+            columns,
+            jw,
+            jz,
+            touched_w,
+            touched_z,
+            z_is_touched,
+        } = scratch;
+        for &(w, u) in columns.iter() {
+            for r in 0..3 {
+                jw[(r, w)] += u[r];
+            }
+            touched_w.push(w);
+        }
+        touched_w.dedup();
+        for &w in touched_w.iter() {
+            if (0..3).all(|r| jw[(r, w)] == 0.0) {
+                continue;
+            }
+            for &(c, a) in &self.l_rows[w] {
                 for r in 0..3 {
-                    jw[(r, b.first_mode + m)] += sign * col[r];
+                    jz[(r, c)] += a * jw[(r, w)];
+                }
+                if !z_is_touched[c] {
+                    z_is_touched[c] = true;
+                    touched_z.push(c);
                 }
             }
         }
+        for &w in touched_w.iter() {
+            jw.column_mut(w).fill(0.0);
+        }
+        touched_w.clear();
+        touched_z.sort_unstable();
+        for &i in touched_z.iter() {
+            let column = Vector3::new(jz[(0, i)], jz[(1, i)], jz[(2, i)]);
+            if column != Vector3::zeros() {
+                visit(i, column);
+            }
+            jz.column_mut(i).fill(0.0);
+            z_is_touched[i] = false;
+        }
+        touched_z.clear();
     }
 }

@@ -32,7 +32,7 @@
 use flexmbd_core::{ElementReading, MarkerKinematics, SystemTerms};
 use nalgebra::{DVector, Vector3};
 
-use super::{Scratch, add_line_tangents, line_columns};
+use super::{Scratch, add_line_tangents, line_columns, merge_coordinates};
 use crate::error::ModelError;
 use crate::laws::Law;
 use crate::scene::{Force, GROUND, Marker, Scene, V3};
@@ -151,7 +151,9 @@ impl<M> Link<M> {
                     out.forces[i] -= f * g.direction.dot(&c);
                 }
                 if tangents {
-                    add_line_tangents(&g.direction, ks, f, g.length, cd, columns, out);
+                    let merged = &mut scratch.merged_columns;
+                    merge_coordinates(columns, &mut scratch.slot, merged);
+                    add_line_tangents(&g.direction, ks, f, g.length, cd, merged, out);
                 }
             }
             Some(aux) => {
@@ -168,8 +170,10 @@ impl<M> Link<M> {
                     out.forces[i] -= f * gi;
                 }
                 if tangents {
-                    for &(i, gi) in gradient.iter() {
-                        for &(j, gj) in gradient.iter() {
+                    let merged = &mut scratch.merged_gradient;
+                    merge_coordinates(gradient, &mut scratch.slot, merged);
+                    for &(i, gi) in merged.iter() {
+                        for &(j, gj) in merged.iter() {
                             out.stiffness[(j, i)] += ks * (gj * gi);
                             out.damping[(j, i)] += cd * (gj * gi);
                         }
