@@ -268,6 +268,37 @@ const REQ_FULL: Request = Request {
 enum Level {
     Converged,
     Failed,
+    /// Within reach of the tolerance but no longer improving: a floor (rounding along a
+    /// neutral motion, the penalty times rounding) that more iterations or load steps do not
+    /// lower; the regularised attempt is the cure (`neutral`).
+    Stalled,
+}
+
+/// Iterations without progress after which a level near its tolerance is [`Level::Stalled`].
+const STALL_ITERATIONS: usize = 5;
+/// "Near": ‖g‖∞ at most this fraction of f_ref (10⁴ times the default tolerance).
+const STALL_RESIDUAL: f64 = 1e-6;
+
+/// Counts the iterations of a level that did not lower ‖g‖∞ by half, near the tolerance.
+#[derive(Default)]
+struct Stall {
+    best: Option<f64>,
+    without_progress: usize,
+}
+
+impl Stall {
+    /// Record `res`; true when the level has made no progress for [`STALL_ITERATIONS`]
+    /// iterations with ‖g‖∞ ≤ [`STALL_RESIDUAL`] f_ref.
+    fn stuck(&mut self, res: f64, f_ref: f64) -> bool {
+        match self.best {
+            Some(best) if res > 0.5 * best => self.without_progress += 1,
+            _ => {
+                self.best = Some(res);
+                self.without_progress = 0;
+            }
+        }
+        self.without_progress >= STALL_ITERATIONS && res <= STALL_RESIDUAL * f_ref
+    }
 }
 
 /// State of the watchdog of one load level (module documentation, "Globalisation").
@@ -422,6 +453,7 @@ impl Solver<'_> {
             ..REQ_FULL
         };
         self.restart_at(f, q, lambda, load, req);
+        let mut stall = Stall::default();
         for _ in 0..self.s.max_iterations {
             let phi = self.terms.phi.amax();
             let res = self.g.amax();
@@ -429,6 +461,9 @@ impl Solver<'_> {
             self.last_phi = phi;
             if !(res.is_finite() && phi.is_finite()) {
                 return Ok(Level::Failed);
+            }
+            if stall.stuck(res, self.f_ref) {
+                return Ok(Level::Stalled);
             }
             if res <= self.s.tol_residual * self.f_ref
                 && phi <= self.s.tol_phi
@@ -716,9 +751,12 @@ fn attempt<F: Formulation + ?Sized>(
     let mut lambda = DVector::zeros(m);
     let mut load_steps = 1;
     // Full load first.
-    let mut converged = matches!(s.level(f, &mut q, &mut lambda, 1.0)?, Level::Converged);
+    let full = s.level(f, &mut q, &mut lambda, 1.0)?;
+    let mut converged = matches!(full, Level::Converged);
     let mut load = 0.0;
-    if !converged {
+    if matches!(full, Level::Stalled) {
+        load = 1.0;
+    } else if !converged {
         // Load stepping by the Newton homotopy, from the initial guess.
         q.copy_from(&q0);
         lambda.fill(0.0);
