@@ -663,20 +663,27 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             }
         };
     }
-    let new = match node {
+    *node = replacement(node, value).map_err(err)?;
+    Ok(())
+}
+
+/// The value that replaces `node` for the text `value`, of the node's type (the reason when it
+/// cannot be one).
+fn replacement(node: &Value, value: &str) -> Result<Value, String> {
+    Ok(match node {
         Value::Bool(_) => Value::Bool(
             value
                 .parse()
-                .map_err(|_| err(format!("`{value}` is not true or false")))?,
+                .map_err(|_| format!("`{value}` is not true or false"))?,
         ),
         Value::Number(_) => {
             let x: f64 = value
                 .parse()
-                .map_err(|_| err(format!("`{value}` is not a number")))?;
+                .map_err(|_| format!("`{value}` is not a number"))?;
             if value.contains(['.', 'e', 'E']) || x.fract() != 0.0 || x < 0.0 {
                 serde_json::Number::from_f64(x)
                     .map(Value::Number)
-                    .ok_or_else(|| err(format!("`{value}` is not finite")))?
+                    .ok_or_else(|| format!("`{value}` is not finite"))?
             } else {
                 Value::Number((x as u64).into())
             }
@@ -687,7 +694,7 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             if let Ok(x) = value.parse::<f64>() {
                 serde_json::Number::from_f64(x)
                     .map(Value::Number)
-                    .ok_or_else(|| err(format!("`{value}` is not finite")))?
+                    .ok_or_else(|| format!("`{value}` is not finite"))?
             } else if let Ok(b) = value.parse::<bool>() {
                 Value::Bool(b)
             } else {
@@ -700,16 +707,14 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             let variant = value.starts_with(|c: char| c.is_ascii_uppercase())
                 && value.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
             if !variant {
-                return Err(err(
+                return Err(
                     "this path names a structure, not a scalar; extend the path to a field, or give a unit variant such as Zero"
                         .into(),
-                ));
+                );
             }
             Value::String(value.to_string())
         }
-    };
-    *node = new;
-    Ok(())
+    })
 }
 
 /// Dimension check used by formulations: the DOFs a planar model may use.

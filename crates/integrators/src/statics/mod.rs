@@ -88,7 +88,13 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::lu::DenseLu;
 
+mod error;
+mod load_stepping;
 mod neutral;
+
+pub use error::StaticError;
+
+use load_stepping::Stall;
 
 /// Settings of [`solve_static`] (CHOSEN defaults).
 #[derive(Clone, Debug, PartialEq)]
@@ -152,58 +158,6 @@ pub struct StaticCounters {
     pub residual: f64,
     /// Final ‖Φ‖∞.
     pub phi: f64,
-}
-
-/// Why no static equilibrium was found.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum StaticError {
-    /// Newton (with line search and load stepping) did not converge.
-    #[error(
-        "static equilibrium not found after {iterations} Newton iterations: ‖g‖∞ = {residual:.3e} (scale {force_scale:.3e}), ‖Φ‖∞ = {phi:.3e}, load factor reached {load_factor:.4}; {hint}"
-    )]
-    NoConvergence {
-        /// Newton iterations made, all levels.
-        iterations: usize,
-        /// Last ‖g‖∞.
-        residual: f64,
-        /// Force scale f_ref the residual is judged against.
-        force_scale: f64,
-        /// Last ‖Φ‖∞.
-        phi: f64,
-        /// Largest load factor μ solved (0 when not even the first increment converged).
-        load_factor: f64,
-        /// What to try.
-        hint: &'static str,
-    },
-    /// The tangent at the initial guess could not be factorised.
-    #[error(
-        "the static tangent is singular at the initial guess (pivot ratio {pivot_ratio:.3e}, Newton iteration {iterations}); a coordinate has neither stiffness nor constraint (a free rigid-body motion, or a mechanism with no load-bearing equilibrium)"
-    )]
-    Singular {
-        /// Newton iterations made.
-        iterations: usize,
-        /// Smallest / largest pivot.
-        pivot_ratio: f64,
-    },
-    /// The equilibrium found lies where the coordinates stop describing the motion: the
-    /// mass matrix on the motions the constraints allow is singular there (a spherical or
-    /// free joint's Cardan angles at their ±90° singularity, where the generalized forces of
-    /// a turn vanish without the body being in equilibrium).
-    #[error(
-        "the point found is a coordinate singularity, not an equilibrium: the mass matrix on the allowed motions is singular there (pivot ratio {pivot_ratio:.3e}); a spherical or free joint's middle Cardan angle reached ±90° — start from another orientation or use the absolute formulation"
-    )]
-    CoordinateSingularity {
-        /// Smallest / largest pivot of M + α_M Φ_qᵀΦ_q.
-        pivot_ratio: f64,
-    },
-    /// The formulation returned non-finite numbers at the initial guess.
-    #[error(
-        "the forces or constraints are not finite at the initial guess (‖g‖∞ = {residual}); check the scene"
-    )]
-    NonFinite {
-        /// The residual found.
-        residual: f64,
-    },
 }
 
 /// ρ of the regularised attempt, relative to k_ref / m_ref (module documentation, "Neutral
@@ -272,33 +226,6 @@ enum Level {
     /// neutral motion, the penalty times rounding) that more iterations or load steps do not
     /// lower; the regularised attempt is the cure (`neutral`).
     Stalled,
-}
-
-/// Iterations without progress after which a level near its tolerance is [`Level::Stalled`].
-const STALL_ITERATIONS: usize = 5;
-/// "Near": ‖g‖∞ at most this fraction of f_ref (10⁴ times the default tolerance).
-const STALL_RESIDUAL: f64 = 1e-6;
-
-/// Counts the iterations of a level that did not lower ‖g‖∞ by half, near the tolerance.
-#[derive(Default)]
-struct Stall {
-    best: Option<f64>,
-    without_progress: usize,
-}
-
-impl Stall {
-    /// Record `res`; true when the level has made no progress for [`STALL_ITERATIONS`]
-    /// iterations with ‖g‖∞ ≤ [`STALL_RESIDUAL`] f_ref.
-    fn stuck(&mut self, res: f64, f_ref: f64) -> bool {
-        match self.best {
-            Some(best) if res > 0.5 * best => self.without_progress += 1,
-            _ => {
-                self.best = Some(res);
-                self.without_progress = 0;
-            }
-        }
-        self.without_progress >= STALL_ITERATIONS && res <= STALL_RESIDUAL * f_ref
-    }
 }
 
 /// State of the watchdog of one load level (module documentation, "Globalisation").
@@ -828,49 +755,6 @@ impl<'s> Solver<'s> {
             lu_m: DenseLu::new(m),
             last_residual: f64::INFINITY,
             last_phi: f64::INFINITY,
-        }
-    }
-
-    /// Load stepping by the Newton homotopy from (q, λ) at load 0: increments from
-    /// 1/`load_steps`, halved after a failed level, doubled (up to the first) after one that
-    /// took ≤ 6 iterations. (converged, largest load factor solved, levels solved).
-    fn load_stepping<F: Formulation + ?Sized>(
-        &mut self,
-        f: &mut F,
-        q: &mut DVector<f64>,
-        lambda: &mut DVector<f64>,
-    ) -> Result<(bool, f64, usize), StaticError> {
-        let mut load = 0.0;
-        let mut load_steps = 0;
-        let first = 1.0 / self.s.load_steps.max(1) as f64;
-        let mut inc = first;
-        let (mut q_save, mut l_save) = (q.clone(), lambda.clone());
-        loop {
-            let target = if load + inc > 1.0 - 1e-12 {
-                1.0
-            } else {
-                load + inc
-            };
-            let before = self.iterations;
-            if matches!(self.level(f, q, lambda, target)?, Level::Converged) {
-                load = target;
-                load_steps += 1;
-                q_save.copy_from(q);
-                l_save.copy_from(lambda);
-                if load >= 1.0 {
-                    return Ok((true, load, load_steps));
-                }
-                if self.iterations - before <= 6 {
-                    inc = (2.0 * inc).min(first);
-                }
-            } else {
-                q.copy_from(&q_save);
-                lambda.copy_from(&l_save);
-                inc *= 0.5;
-                if inc < self.s.min_increment {
-                    return Ok((false, load, load_steps));
-                }
-            }
         }
     }
 }
