@@ -250,6 +250,39 @@ pub struct BeamBodySpec {
 }
 
 impl BeamBodySpec {
+    /// A straight beam along body x from the origin: `length` (m) in `elements` equal
+    /// elements, its frame clamped at node 0, no static modes and no normal modes yet (set
+    /// `boundary` and `normal_modes`), no damping. For scenes built in code; not validated.
+    pub fn straight(
+        dim: Dim,
+        material: Material,
+        section: Section,
+        length: f64,
+        elements: usize,
+    ) -> Self {
+        let end = match dim {
+            Dim::Planar => vec![length, 0.0],
+            Dim::Spatial => vec![length, 0.0, 0.0],
+        };
+        let start = vec![0.0; end.len()];
+        BeamBodySpec {
+            dim,
+            material,
+            section,
+            geometry: Geometry {
+                points: vec![start, end],
+                elements_per_segment: elements,
+                orientation: None,
+            },
+            frame: ReferenceFrame::Clamped { node: 0 },
+            boundary: Vec::new(),
+            normal_modes: 0,
+            axial_modes: 0,
+            damping: Damping::None,
+            origin: String::new(),
+        }
+    }
+
     /// Parse a spec from RON text. `origin_name` (a file name or a label) is
     /// named in parse errors and kept in [`BeamBodySpec::origin`].
     /// The spec is **not** validated here; call [`BeamBodySpec::validate`].

@@ -8,38 +8,26 @@
 
 use flexmbd::Simulation;
 use flexmbd::core::Dim;
-use flexmbd::fe::{BeamBodySpec, Geometry, Material, ReferenceFrame, Section};
+use flexmbd::fe::{BeamBodySpec, Material, Section};
 use flexmbd::model::builder::{BodyBuilder, SceneBuilder};
 use flexmbd::model::{Axis, GROUND, Joint, JointKind, Sensor, SensorKind, Solver};
 
 fn main() -> Result<(), flexmbd::Error> {
     // The bar: steel, 1 kg over 1 m (A = m/(ρL)), a solid circular section.
-    let bar = BeamBodySpec {
-        dim: Dim::Planar,
-        material: Material {
-            young_modulus: 2.1e11,
-            density: 7850.0,
-            poisson_ratio: Some(0.3),
-            shear_modulus: None,
-        },
-        section: Section::General {
-            area: 1.2739e-4,
-            iy: 1.2914e-9,
-            iz: 1.2914e-9,
-            torsion_j: 2.5828e-9,
-        },
-        geometry: Geometry {
-            points: vec![vec![0.0, 0.0], vec![1.0, 0.0]],
-            elements_per_segment: 10,
-            orientation: None,
-        },
-        frame: ReferenceFrame::Clamped { node: 0 },
-        boundary: Vec::new(),
-        normal_modes: 4,
-        axial_modes: 0,
-        damping: Default::default(),
-        origin: String::new(),
+    let steel = Material {
+        young_modulus: 2.1e11,
+        density: 7850.0,
+        poisson_ratio: Some(0.3),
+        shear_modulus: None,
     };
+    let section = Section::General {
+        area: 1.2739e-4,
+        iy: 1.2914e-9,
+        iz: 1.2914e-9,
+        torsion_j: 2.5828e-9,
+    };
+    let mut bar = BeamBodySpec::straight(Dim::Planar, steel, section, 1.0, 10);
+    bar.normal_modes = 4;
     let scene = SceneBuilder::new("flexible pendulum", Dim::Planar)
         .gravity([0.0, -9.81, 0.0])
         .ground_marker("O", [0.0, 0.0, 0.0])

@@ -6,7 +6,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use flexmbd::core::Dim;
-use flexmbd::fe::{BeamBodySpec, Dof, Geometry, Material, NodeDof, ReferenceFrame, Section};
+use flexmbd::fe::{BeamBodySpec, Dof, Material, NodeDof, Section};
 use flexmbd::model::builder::{BodyBuilder, SceneBuilder};
 use flexmbd::model::{
     Axis, GROUND, Joint, JointKind, Orientation, Scene, Sensor, SensorKind, Solver,
@@ -19,40 +19,38 @@ fn models() -> std::path::PathBuf {
 /// One 1 m steel bar of the four-bar: 10 elements, frame clamped at the first pin, the second
 /// pin's two translations as static modes, 2 normal modes (scenes.md §1).
 fn bar_spec() -> BeamBodySpec {
-    BeamBodySpec {
-        dim: Dim::Planar,
-        material: Material {
-            young_modulus: 2.1e11,
-            density: 7850.0,
-            poisson_ratio: Some(0.3),
-            shear_modulus: None,
+    let mut spec = BeamBodySpec::straight(Dim::Planar, steel(), bar_section(), 1.0, 10);
+    spec.boundary = vec![
+        NodeDof {
+            node: 10,
+            dof: Dof::Ux,
         },
-        section: Section::General {
-            area: 1.2739e-4,
-            iy: 1.2914e-9,
-            iz: 1.2914e-9,
-            torsion_j: 2.5828e-9,
+        NodeDof {
+            node: 10,
+            dof: Dof::Uy,
         },
-        geometry: Geometry {
-            points: vec![vec![0.0, 0.0], vec![1.0, 0.0]],
-            elements_per_segment: 10,
-            orientation: None,
-        },
-        frame: ReferenceFrame::Clamped { node: 0 },
-        boundary: vec![
-            NodeDof {
-                node: 10,
-                dof: Dof::Ux,
-            },
-            NodeDof {
-                node: 10,
-                dof: Dof::Uy,
-            },
-        ],
-        normal_modes: 2,
-        axial_modes: 0,
-        damping: Default::default(),
-        origin: String::new(),
+    ];
+    spec.normal_modes = 2;
+    spec
+}
+
+/// Steel as scenes.md §1 gives it.
+fn steel() -> Material {
+    Material {
+        young_modulus: 2.1e11,
+        density: 7850.0,
+        poisson_ratio: Some(0.3),
+        shear_modulus: None,
+    }
+}
+
+/// 1 kg over 1 m of steel: A = m/(ρL), a solid circle (scenes.md §1).
+fn bar_section() -> Section {
+    Section::General {
+        area: 1.2739e-4,
+        iy: 1.2914e-9,
+        iz: 1.2914e-9,
+        torsion_j: 2.5828e-9,
     }
 }
 
