@@ -1,6 +1,6 @@
 //! Test support shared by the flexmbd crates: the standard sample bodies and states of the
 //! benchmarks and the report (`samples`, behind the feature of that name), the scenes and runs
-//! of the physics tests (`scenes`, likewise), and a global allocator that counts the
+//! of the physics tests (`scenes`, likewise), the Iltis bump at another speed (`iltis`), and a global allocator that counts the
 //! allocations of each thread, for the tests that hold "the per-step path allocates
 //! nothing". A test binary installs it with
 //!
@@ -17,6 +17,7 @@
 // `GlobalAlloc` is an unsafe trait; this implementation only counts and forwards to `System`.
 #![allow(unsafe_code)]
 
+pub mod iltis;
 #[cfg(feature = "samples")]
 pub mod samples;
 #[cfg(feature = "scenes")]

@@ -266,27 +266,13 @@ fn the_formulations_agree_on_the_bump_and_converge_together() {
     );
 }
 
-/// The bump scene at `speed` (m/s): the forward speed and the lateral tyre dampers C_α/V
-/// (scenes.md §3.4; the model file writes them for 5 m/s).
-fn at_speed(speed: f64) -> Vec<String> {
-    let mut sets = vec![format!("initial_velocity.0={speed}")];
-    for (corner, cornering) in [
-        ("fl", 41641.0),
-        ("fr", 41641.0),
-        ("rl", 40162.0),
-        ("rr", 40162.0),
-    ] {
-        sets.push(format!(
-            "forces.tyre_{corner}.lateral_damping={}",
-            cornering / speed
-        ));
-    }
-    sets
-}
-
 #[test]
 fn at_10_m_s_the_wheels_lift_off() {
-    let s = scene("iltis_bump.ron", FormulationKind::Relative, &at_speed(10.0));
+    let s = scene(
+        "iltis_bump.ron",
+        FormulationKind::Relative,
+        &flexmbd_test_support::iltis::bump_at_speed(10.0),
+    );
     let (summary, history) = flexmbd::simulation::run(&s, |_| {}).unwrap();
     assert_eq!(summary.status, "ok", "{:?}", summary.message);
     let z = column(&history, "chassis_z");

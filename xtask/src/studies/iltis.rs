@@ -218,18 +218,7 @@ fn bump_runs(speed: f64, reps: usize) -> Result<Vec<BumpRun>, Failure> {
     let mut out = Vec::new();
     for &(form, name) in &FORMS {
         // The forward speed and the lateral tyre dampers C_α/V (scenes.md §3.4).
-        let mut sets = vec![format!("initial_velocity.0={speed}")];
-        for (corner, cornering) in [
-            ("fl", 41641.0),
-            ("fr", 41641.0),
-            ("rl", 40162.0),
-            ("rr", 40162.0),
-        ] {
-            sets.push(format!(
-                "forces.tyre_{corner}.lateral_damping={}",
-                cornering / speed
-            ));
-        }
+        let sets = flexmbd_test_support::iltis::bump_at_speed(speed);
         let sets: Vec<&str> = sets.iter().map(String::as_str).collect();
         let scene = load("iltis_bump.ron", form, &sets)?;
         eprintln!("   bump at {speed} m/s, {name}");
