@@ -38,6 +38,9 @@ use crate::scene::{
 };
 use flexmbd_body::InertiaMethod;
 
+mod vehicle;
+pub use vehicle::{LinkBuilder, TyreBuilder};
+
 /// Builds a [`Scene`]; [`SceneBuilder::build`] validates it.
 #[derive(Clone, Debug)]
 pub struct SceneBuilder {
@@ -106,9 +109,22 @@ impl SceneBuilder {
         self
     }
 
-    /// A force element.
-    pub fn force(mut self, force: Force) -> Self {
-        self.scene.forces.push(force);
+    /// A force element: a [`Force`], or a [`LinkBuilder`] or [`TyreBuilder`].
+    pub fn force(mut self, force: impl Into<Force>) -> Self {
+        self.scene.forces.push(force.into());
+        self
+    }
+
+    /// A constraint between two markers ([`crate::scene_constraints::Constraint::distance`],
+    /// [`point_in_plane`](crate::scene_constraints::Constraint::point_in_plane)).
+    pub fn constraint(mut self, constraint: crate::scene_constraints::Constraint) -> Self {
+        self.scene.constraints.push(constraint);
+        self
+    }
+
+    /// A road the tyres roll on ([`crate::Road::new`]).
+    pub fn road(mut self, road: crate::roads::Road) -> Self {
+        self.scene.roads.push(road);
         self
     }
 
