@@ -17,7 +17,7 @@ use sprs::{CsMat, TriMat};
 
 use crate::beam::{self, BeamProps, MassModel};
 use crate::reduced::{Dof, NodeDof};
-use crate::spec::BeamBodySpec;
+use crate::spec::{BeamBodySpec, Section};
 
 /// Slot of a DOF inside a node (None for a DOF a 2D node does not have).
 pub fn dof_slot(dim: Dim, dof: Dof) -> Option<usize> {
@@ -47,6 +47,9 @@ pub fn global_index(dim: Dim, nd: NodeDof) -> Option<usize> {
 /// Undeformed position of mesh node `node` of a spec (body components); the
 /// spec's points must be valid.
 pub fn node_position(spec: &BeamBodySpec, node: usize) -> Vector3<f64> {
+    if spec.geometry.is_frame() {
+        return crate::frame::frame_mesh(spec).0[node];
+    }
     let ne = spec.geometry.elements_per_segment.max(1);
     let seg = (node / ne).min(spec.geometry.points.len() - 2);
     let j = node - seg * ne;
@@ -64,6 +67,8 @@ pub struct Element {
     pub length: f64,
     /// Λ_e: rows are x_e, y_e, z_e in body components.
     pub axes: Matrix3<f64>,
+    /// Material and section constants.
+    pub props: BeamProps,
 }
 
 /// The beam mesh in body components.
@@ -73,10 +78,8 @@ pub struct Mesh {
     pub dim: Dim,
     /// Node positions (m), body components (z = 0 in 2D).
     pub nodes: Vec<Vector3<f64>>,
-    /// Elements in polyline order.
+    /// Elements in polyline order, or member by member for a frame.
     pub elements: Vec<Element>,
-    /// Material and section constants (uniform along the body).
-    pub props: BeamProps,
 }
 
 /// Element axes Λ_e (rows x_e, y_e, z_e) for the direction `x` (unit) and the
@@ -100,38 +103,58 @@ pub fn element_axes(x: &Vector3<f64>, k: Option<&Vector3<f64>>) -> Matrix3<f64> 
 
 impl Mesh {
     /// Build the mesh of a **validated** spec: each polyline segment is split
-    /// into `elements_per_segment` equal elements.
+    /// into `elements_per_segment` equal elements; a frame's members as
+    /// [`crate::frame::frame_mesh`] splits them.
     pub fn from_spec(spec: &BeamBodySpec) -> Mesh {
-        let sp = spec.section.props();
-        let props = BeamProps {
-            e: spec.material.young_modulus,
-            g: spec.shear_modulus(),
-            rho: spec.material.density,
-            area: sp.area,
-            iy: sp.iy,
-            iz: sp.iz,
-            j: sp.j,
+        let props = |section: &Section| {
+            let sp = section.props();
+            BeamProps {
+                e: spec.material.young_modulus,
+                g: spec.shear_modulus(),
+                rho: spec.material.density,
+                area: sp.area,
+                iy: sp.iy,
+                iz: sp.iz,
+                j: sp.j,
+            }
         };
-        let k = spec.geometry.orientation.map(Vector3::from);
-        let nodes: Vec<Vector3<f64>> = (0..spec.n_nodes())
-            .map(|i| node_position(spec, i))
-            .collect();
-        let mut elements = Vec::with_capacity(nodes.len() - 1);
-        for e in 0..nodes.len() - 1 {
-            let d = nodes[e + 1] - nodes[e];
+        let element = |nodes: &[Vector3<f64>], ends: [usize; 2], k: Option<Vector3<f64>>, props| {
+            let d = nodes[ends[1]] - nodes[ends[0]];
             let length = d.norm();
             let x = d / length;
-            elements.push(Element {
-                nodes: [e, e + 1],
+            Element {
+                nodes: ends,
                 length,
                 axes: element_axes(&x, k.as_ref()),
-            });
-        }
+                props,
+            }
+        };
+        let (nodes, elements) = if spec.geometry.is_frame() {
+            let (nodes, frame_elements) = crate::frame::frame_mesh(spec);
+            let elements = frame_elements
+                .iter()
+                .map(|el| {
+                    let k = crate::frame::member_orientation(spec, el.member).map(Vector3::from);
+                    let p = props(crate::frame::member_section(spec, el.member));
+                    element(&nodes, el.nodes, k, p)
+                })
+                .collect();
+            (nodes, elements)
+        } else {
+            let k = spec.geometry.orientation.map(Vector3::from);
+            let p = props(&spec.section);
+            let nodes: Vec<Vector3<f64>> = (0..spec.n_nodes())
+                .map(|i| node_position(spec, i))
+                .collect();
+            let elements = (0..nodes.len() - 1)
+                .map(|e| element(&nodes, [e, e + 1], k, p))
+                .collect();
+            (nodes, elements)
+        };
         Mesh {
             dim: spec.dim,
             nodes,
             elements,
-            props,
         }
     }
 
@@ -198,7 +221,7 @@ impl Mesh {
     /// Local element stiffness and mass (element axes).
     pub fn element_matrices(&self, e: usize, model: MassModel) -> (DMatrix<f64>, DMatrix<f64>) {
         let l = self.elements[e].length;
-        let p = &self.props;
+        let p = &self.elements[e].props;
         match self.dim {
             Dim::Planar => {
                 let k = beam::stiffness_2d(p, l);

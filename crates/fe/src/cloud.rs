@@ -43,8 +43,7 @@ pub fn element_local_modes(mesh: &Mesh, e: usize, x: &DMatrix<f64>) -> DMatrix<f
 /// section points (3D), with the station's mode rows rotated into body axes.
 pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
     let n = x.ncols();
-    let p = &mesh.props;
-    let offsets = section_offsets(p);
+
     let mut cloud = MassCloud {
         n_modes: n,
         positions: Vec::new(),
@@ -53,6 +52,8 @@ pub fn build_cloud(mesh: &Mesh, x: &DMatrix<f64>) -> MassCloud {
         description: String::new(),
     };
     for (e, el) in mesh.elements.iter().enumerate() {
+        let p = &el.props;
+        let offsets = section_offsets(p);
         let l = el.length;
         let lam_t = el.axes.transpose();
         let xl = element_local_modes(mesh, e, x);

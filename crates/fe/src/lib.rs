@@ -3,6 +3,8 @@
 //! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
 //! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
+//! The mesh is a polyline or a beam frame of named nodes and members, each with its own
+//! section ([`frame`]).
 
 #![warn(missing_docs)]
 
@@ -13,9 +15,11 @@ pub mod cloud;
 pub mod craig_bampton;
 pub mod error;
 pub mod foreshortening;
+pub mod frame;
 pub mod modal;
 pub mod reduced;
 pub mod rigid;
+pub mod section;
 pub mod spec;
 pub mod stiffening;
 

@@ -35,6 +35,8 @@ use crate::assembly::dof_slot;
 use crate::bounds::{self, MAX_FE_DOFS};
 use crate::error::FeError;
 use crate::reduced::{Dof, NodeDof};
+use crate::section::check_section;
+pub use crate::section::{Section, SectionProps};
 
 /// Material constants (SI).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -52,114 +54,35 @@ pub struct Material {
     pub shear_modulus: Option<f64>,
 }
 
-/// Cross-section. Element axes y_e, z_e are those of docs/methods.md §1.2 ("Element axes").
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum Section {
-    /// Solid rectangle: `width` along element y, `height` along element z (m).
-    Rectangle {
-        /// Extent along element y (m).
-        width: f64,
-        /// Extent along element z (m).
-        height: f64,
-    },
-    /// Solid circle of diameter d (m).
-    Circle {
-        /// Diameter (m).
-        diameter: f64,
-    },
-    /// Explicit section constants.
-    General {
-        /// Area A (m²).
-        area: f64,
-        /// I_y = ∫ z² dA (m⁴), bending in the x–z plane (w).
-        iy: f64,
-        /// I_z = ∫ y² dA (m⁴), bending in the x–y plane (v); the in-plane inertia in 2D.
-        iz: f64,
-        /// Saint-Venant torsion constant J (m⁴).
-        torsion_j: f64,
-    },
-}
-
-/// Derived section constants.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SectionProps {
-    /// Area (m²).
-    pub area: f64,
-    /// I_y = ∫ z² dA (m⁴).
-    pub iy: f64,
-    /// I_z = ∫ y² dA (m⁴).
-    pub iz: f64,
-    /// Saint-Venant J (m⁴), torsion stiffness.
-    pub j: f64,
-}
-
-impl SectionProps {
-    /// Polar moment I_p = I_y + I_z (m⁴), torsion inertia (methods.md §1.2, "Torsion constants").
-    pub fn ip(&self) -> f64 {
-        self.iy + self.iz
-    }
-}
-
-impl Section {
-    /// Area, inertias and Saint-Venant torsion constant.
-    ///
-    /// Rectangle J: the standard approximation (Roark) with long side t₁ and short
-    /// side t₂: J = t₁ t₂³ [1/3 − 0.21 (t₂/t₁)(1 − t₂⁴/(12 t₁⁴))]. Circle: J = π d⁴ / 32.
-    pub fn props(&self) -> SectionProps {
-        match *self {
-            Section::Rectangle { width, height } => {
-                let (t1, t2) = if width >= height {
-                    (width, height)
-                } else {
-                    (height, width)
-                };
-                let r = t2 / t1;
-                SectionProps {
-                    area: width * height,
-                    iy: width * height.powi(3) / 12.0,
-                    iz: height * width.powi(3) / 12.0,
-                    j: t1 * t2.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0)),
-                }
-            }
-            Section::Circle { diameter } => {
-                let i = std::f64::consts::PI * diameter.powi(4) / 64.0;
-                SectionProps {
-                    area: std::f64::consts::PI * diameter * diameter / 4.0,
-                    iy: i,
-                    iz: i,
-                    j: 2.0 * i,
-                }
-            }
-            Section::General {
-                area,
-                iy,
-                iz,
-                torsion_j,
-            } => SectionProps {
-                area,
-                iy,
-                iz,
-                j: torsion_j,
-            },
-        }
-    }
-}
-
-/// Geometry: a polyline in body components, each segment split into equal elements.
+/// Geometry: a polyline in body components, each segment split into equal elements, or a
+/// beam frame of named nodes and members ([`crate::frame`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
     /// Polyline points (m), body components: `[x, y]` in 2D, `[x, y, z]` in 3D.
-    /// Node 0 is the first point; nodes are numbered along the polyline.
+    /// Node 0 is the first point; nodes are numbered along the polyline. Empty for a frame.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<Vec<f64>>,
-    /// Elements per segment (≥ 1).
+    /// Elements per segment (≥ 1); for a frame, per member that gives no count.
     pub elements_per_segment: usize,
     /// Orientation vector k̄ (body components) that fixes the element axes:
     /// y_e = k̄ × x_e / |k̄ × x_e|, z_e = x_e × y_e (docs/methods.md §1.2). Default ē₃
     /// (ē₂ for an element parallel to ē₃). In 2D only +ē₃ is allowed.
     #[serde(default)]
     pub orientation: Option<[f64; 3]>,
+    /// A frame's named nodes (node k is `nodes[k]`), instead of `points`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nodes: Vec<crate::frame::FrameNode>,
+    /// A frame's members between named nodes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<crate::frame::Member>,
+}
+
+impl Geometry {
+    /// A beam frame (nodes and members) rather than a polyline.
+    pub fn is_frame(&self) -> bool {
+        !self.nodes.is_empty() || !self.members.is_empty()
+    }
 }
 
 /// Reference conditions: which DOFs the floating frame takes (docs/methods.md §1.4).
@@ -273,6 +196,8 @@ impl BeamBodySpec {
                 points: vec![start, end],
                 elements_per_segment: elements,
                 orientation: None,
+                nodes: Vec::new(),
+                members: Vec::new(),
             },
             frame: ReferenceFrame::Clamped { node: 0 },
             boundary: Vec::new(),
@@ -315,6 +240,9 @@ impl BeamBodySpec {
 
     /// Number of FE nodes of the mesh.
     pub fn n_nodes(&self) -> usize {
+        if self.geometry.is_frame() {
+            return crate::frame::frame_node_count(self);
+        }
         let segs = self.geometry.points.len().saturating_sub(1);
         segs.saturating_mul(self.geometry.elements_per_segment)
             .saturating_add(1)
@@ -381,10 +309,14 @@ impl BeamBodySpec {
     /// segment directions, which only exist once the geometry has passed.
     fn validate_inner(&self) -> Result<(), InvalidValue> {
         self.check_material()?;
-        self.check_section()?;
-        self.check_polyline()?;
-        self.check_elements_per_segment()?;
-        self.check_orientation()?;
+        check_section(&self.section, "section")?;
+        if self.geometry.is_frame() {
+            crate::frame::check_frame_geometry(self, check_section)?;
+        } else {
+            self.check_polyline()?;
+            self.check_elements_per_segment()?;
+            self.check_orientation()?;
+        }
         self.check_frame()?;
         self.check_boundary()?;
         self.check_normal_modes()?;
@@ -422,36 +354,6 @@ impl BeamBodySpec {
                 "None",
                 "a 3D beam needs poisson_ratio or shear_modulus (torsion)",
             ));
-        }
-        Ok(())
-    }
-
-    /// Every dimension or section constant positive and in range ([`bounds`]).
-    fn check_section(&self) -> Result<(), InvalidValue> {
-        let (dimension, area, inertia) = (
-            bounds::SECTION_DIMENSION,
-            bounds::SECTION_AREA,
-            bounds::SECTION_INERTIA,
-        );
-        match self.section {
-            Section::Rectangle { width, height } => {
-                dimension.check("section.width", width)?;
-                dimension.check("section.height", height)?;
-            }
-            Section::Circle { diameter } => {
-                dimension.check("section.diameter", diameter)?;
-            }
-            Section::General {
-                area: a,
-                iy,
-                iz,
-                torsion_j,
-            } => {
-                area.check("section.area", a)?;
-                inertia.check("section.iy", iy)?;
-                inertia.check("section.iz", iz)?;
-                inertia.check("section.torsion_j", torsion_j)?;
-            }
         }
         Ok(())
     }

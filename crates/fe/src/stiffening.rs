@@ -28,8 +28,8 @@ use crate::cloud::element_local_modes;
 pub fn geometric_stiffness(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<DMatrix<f64>> {
     let n = x.ncols();
     let mut kg = vec![DMatrix::zeros(n, n); n];
-    let ea = mesh.props.e * mesh.props.area;
     for (e, el) in mesh.elements.iter().enumerate() {
+        let ea = el.props.e * el.props.area;
         let l = el.length;
         let xl = element_local_modes(mesh, e, x);
         let (ax, vp): ([usize; 2], [usize; 4]) = match mesh.dim {
@@ -59,10 +59,10 @@ pub fn geometric_stiffness(mesh: &Mesh, x: &DMatrix<f64>) -> Vec<DMatrix<f64>> {
 /// (docs/methods.md §6.2, "H: Correction"): H_ijkl = Σ_e w_e Ḡ_e,ij Ḡ_e,kl.
 pub fn element_mean_g(mesh: &Mesh, x: &DMatrix<f64>) -> (Vec<DMatrix<f64>>, Vec<f64>) {
     let n = x.ncols();
-    let ea = mesh.props.e * mesh.props.area;
     let mut gs = Vec::with_capacity(mesh.elements.len());
     let mut ws = Vec::with_capacity(mesh.elements.len());
     for (e, el) in mesh.elements.iter().enumerate() {
+        let ea = el.props.e * el.props.area;
         let l = el.length;
         let xl = element_local_modes(mesh, e, x);
         let vp = match mesh.dim {

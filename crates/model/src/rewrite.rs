@@ -43,11 +43,12 @@ pub fn rewrite_for_stiffening(scene: &Scene) -> Result<Cow<'_, Scene>, ModelErro
 pub fn complete_axial_basis(scene: &Scene) -> Result<Scene, ModelError> {
     let mut out = scene.clone();
     for (name, spec) in flexible_beams(&mut out.bodies) {
-        let straight = spec
-            .geometry
-            .points
-            .iter()
-            .all(|p| p.iter().skip(1).all(|c| *c == 0.0));
+        let straight = !spec.geometry.is_frame()
+            && spec
+                .geometry
+                .points
+                .iter()
+                .all(|p| p.iter().skip(1).all(|c| *c == 0.0));
         let ReferenceFrame::Clamped { node: frame } = spec.frame else {
             return Err(ModelError::Unsupported(format!(
                 "{}: body `{}`: FNL2 needs a clamped frame (methods.md §6)",

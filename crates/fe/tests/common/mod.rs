@@ -42,6 +42,8 @@ pub fn beam(
             points: pts,
             elements_per_segment: n_el,
             orientation: None,
+            nodes: Vec::new(),
+            members: Vec::new(),
         },
         frame,
         boundary,
