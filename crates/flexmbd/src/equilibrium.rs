@@ -84,8 +84,13 @@ pub struct Equilibrium {
     /// Each force element's state at the equilibrium, in the scene's order.
     pub forces: Vec<ElementForce>,
     /// The joints' and scene constraints' reactions (`None` when not computed: in the
-    /// equilibrium of `flexmbd eigen`, and for a substructured scene).
+    /// equilibrium of `flexmbd eigen`, for a scene without joints or constraints, when the
+    /// stiffening rewrite changes the bodies or their modes — substructuring, FNL2, FS0 —
+    /// and if the balance equations are not finite).
     pub reactions: Option<Reactions>,
+    /// True when the scene has joints or constraints but their reactions were not computed
+    /// (`reactions` says when).
+    pub reactions_skipped: bool,
     /// How the static solve went (flattened into the JSON object).
     #[serde(flatten)]
     pub solve: StaticCounters,
@@ -137,6 +142,7 @@ impl Equilibrium {
                 .collect(),
             forces: Vec::new(),
             reactions: None,
+            reactions_skipped: false,
             solve: solution.counters,
         }
     }
@@ -185,8 +191,12 @@ impl Equilibrium {
                 };
             }
         }
-        if let Some(r) = &self.reactions {
-            s += &r.to_text();
+        match &self.reactions {
+            Some(r) => s += &r.to_text(),
+            None if self.reactions_skipped => {
+                s += "joint reactions: not computed (the stiffening rewrite changes the bodies or their modes, or the balance is not finite)\n"
+            }
+            None => {}
         }
         s += "coordinates q:\n";
         for (i, v) in self.coordinates.iter().enumerate() {
@@ -206,6 +216,8 @@ pub fn equilibrium(scene: &Scene) -> Result<Equilibrium, Error> {
     let (mut f, solution) = solve(scene)?;
     let mut e = Equilibrium::of(scene, f.as_mut(), &solution);
     (e.forces, e.reactions) = probe(scene, &solution.q, true)?;
+    e.reactions_skipped =
+        e.reactions.is_none() && !(scene.joints.is_empty() && scene.constraints.is_empty());
     Ok(e)
 }
 
@@ -244,7 +256,7 @@ fn probe(
     let values = sensors_at(f.as_mut(), q);
     let forces = element_states(scene, &values[first..first_reaction])?;
     let reactions = match (&prepared, &reaction_probes) {
-        (Some(p), Some(r)) => Some(reactions::reactions(p, r, &values[first_reaction..])?),
+        (Some(p), Some(r)) => reactions::reactions(p, r, &values[first_reaction..])?,
         _ => None,
     };
     Ok((forces, reactions))

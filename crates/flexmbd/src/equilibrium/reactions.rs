@@ -39,13 +39,15 @@
 //! as coordinates: the generalised force on a marker's three coordinates is the force on
 //! that marker.
 //!
-//! Not computed for a substructured scene (`--stiffening substructuring:N`): its bodies
-//! are not the scene's.
+//! Not computed for a substructured scene (`--stiffening substructuring:N`: its bodies are
+//! not the scene's) nor when the stiffening rewrite changes a flexible body's modes (FNL2's
+//! complete axial basis, FS0 without axial modes: modal coordinates the scene's sensors do
+//! not name).
 
 use flexmbd_core::{Dim, MarkerKinematics, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{
-    Axis, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
+    Axis, BodyModel, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -165,7 +167,18 @@ impl ReactionProbes {
                 .iter()
                 .zip(&scene.bodies)
                 .all(|(p, b)| p.name == b.name);
-        if !same_bodies {
+        // A stiffening rewrite that changes a body's modes (FNL2's axial basis, FS0 without
+        // axial modes) leaves modal coordinates the scene's sensors cannot name.
+        let same_modes = scene.bodies.iter().zip(prepared.bodies()).all(|(b, p)| {
+            let n = match &b.model {
+                BodyModel::Beam(spec) if b.flexible => {
+                    spec.boundary.len() + spec.normal_modes + spec.axial_modes
+                }
+                _ => 0,
+            };
+            !p.flexible || p.body.n_modes() == n
+        });
+        if !(same_bodies && same_modes) {
             return None;
         }
         let components = scene.dim.n_trans();
@@ -648,12 +661,12 @@ fn applied_loads(
 }
 
 /// The reactions at the equilibrium whose probe values are `values` (module
-/// documentation).
+/// documentation); `None` when the balance equations are not finite.
 pub(crate) fn reactions(
     prepared: &PreparedScene,
     probes: &ReactionProbes,
     values: &[f64],
-) -> Result<Reactions, flexmbd_model::ModelError> {
+) -> Result<Option<Reactions>, flexmbd_model::ModelError> {
     let scene = prepared.scene();
     let placements = placements(scene, prepared, probes, values);
     let balance = Balance::new(scene.dim, &placements);
@@ -666,7 +679,9 @@ pub(crate) fn reactions(
         balance.add(column, u.bodies[1], &u.point, &u.force, &u.moment);
         balance.add(column, u.bodies[0], &u.point, &-u.force, &-u.moment);
     }
-    let (x, rank) = min_norm_solution(&a, &(-&applied));
+    let Some((x, rank)) = min_norm_solution(&a, &(-&applied)) else {
+        return Ok(None);
+    };
     for (u, &x) in unknowns.iter().zip(x.iter()) {
         let r = &mut joints[u.reaction];
         for i in 0..3 {
@@ -687,7 +702,7 @@ pub(crate) fn reactions(
             residual_moment = residual_moment.max(v.abs());
         }
     }
-    Ok(Reactions {
+    Ok(Some(Reactions {
         joints,
         equations: balance.n_rows,
         unknowns: unknowns.len(),
@@ -695,16 +710,20 @@ pub(crate) fn reactions(
         redundant: rank < unknowns.len(),
         residual_force,
         residual_moment,
-    })
+    }))
 }
 
 /// The minimum-norm least-squares solution of a x = b and the rank of a (singular values
-/// above 1e-10 of the largest count).
-fn min_norm_solution(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize) {
+/// above 1e-10 of the largest count); `None` for non-finite equations or an SVD that does not
+/// converge.
+fn min_norm_solution(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, usize)> {
     if a.ncols() == 0 || a.nrows() == 0 {
-        return (DVector::zeros(a.ncols()), 0);
+        return Some((DVector::zeros(a.ncols()), 0));
     }
-    let svd = a.clone().svd(true, true);
+    if !(a.iter().all(|v| v.is_finite()) && b.iter().all(|v| v.is_finite())) {
+        return None;
+    }
+    let svd = nalgebra::SVD::try_new(a.clone(), true, true, f64::EPSILON, 10_000)?;
     let largest = svd.singular_values.max();
     let tolerance = 1e-10 * largest;
     let rank = svd
@@ -712,10 +731,8 @@ fn min_norm_solution(a: &DMatrix<f64>, b: &DVector<f64>) -> (DVector<f64>, usize
         .iter()
         .filter(|&&s| s > tolerance)
         .count();
-    let x = svd
-        .solve(b, tolerance)
-        .unwrap_or_else(|_| DVector::zeros(a.ncols()));
-    (x, rank)
+    let x = svd.solve(b, tolerance).ok()?;
+    Some((x, rank))
 }
 
 #[cfg(test)]
@@ -730,6 +747,21 @@ mod tests {
         assert!((f64::atan2(-r[(1, 2)], r[(2, 2)]) - a).abs() < 1e-15);
         assert!((r[(0, 2)].asin() - b).abs() < 1e-15);
         assert!((f64::atan2(-r[(0, 1)], r[(0, 0)]) - c).abs() < 1e-15);
+    }
+
+    #[test]
+    fn min_norm_solution_splits_a_redundant_load_evenly_and_refuses_non_finite_equations() {
+        // Two unknowns carrying one load: x₁ + x₂ = 2, the minimum norm (1, 1), rank 1.
+        let a = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let (x, rank) = min_norm_solution(&a, &DVector::from_element(1, 2.0)).unwrap();
+        assert_eq!(rank, 1);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-15 && (x[1] - 1.0).abs() < 1e-15,
+            "{x}"
+        );
+        assert!(min_norm_solution(&a, &DVector::from_element(1, f64::NAN)).is_none());
+        let a = DMatrix::from_row_slice(1, 2, &[f64::INFINITY, 1.0]);
+        assert!(min_norm_solution(&a, &DVector::from_element(1, 2.0)).is_none());
     }
 
     #[test]
