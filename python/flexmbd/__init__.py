@@ -379,7 +379,10 @@ def equilibrium(
     """The static equilibrium of a scene at t = 0, as ``flexmbd equilibrium`` finds it, as
     a dict: the program's ``--json`` output (the coordinates, the constraint multipliers,
     the sensors and every force element's force at the equilibrium — a spring–damper's or
-    link's tension and length, a tyre's normal force and deflection — the solver's counters).
+    link's tension and length, a tyre's normal force and deflection — every joint's and scene
+    constraint's reaction under ``reactions`` — the force and moment it exerts on its
+    ``body2`` at its marker, ground components, with ``redundant`` when the constraints do
+    not determine them — and the solver's counters).
 
     ``source``, ``formulation``, ``inertia``, ``stiffening`` and ``sets`` are as in
     :func:`simulate`; the scene given is not changed. Solved with the GIL released.

@@ -69,6 +69,19 @@ def test_pendulum_released_horizontal_is_found_hanging():
     assert abs(sensors["tip_x"]) < 1e-9 and abs(sensors["tip_y"] + LENGTH) < 1e-6, sensors
 
 
+def test_hanging_flexible_pendulum_pin_carries_its_weight_in_both_formulations():
+    mass = 7850.0 * 1.2739e-4 * LENGTH  # models/flexible_pendulum.ron: density, area, length
+    for formulation in ["absolute", "relative"]:
+        reactions = flexmbd.equilibrium(model("flexible_pendulum.ron"),
+                                        formulation=formulation)["reactions"]
+        assert not reactions["redundant"]
+        [pin] = reactions["joints"]
+        assert (pin["name"], pin["kind"], pin["body"]) == ("pin", "Revolute", "bar")
+        fx, fy, _ = pin["force"]
+        assert abs(fx) < 1e-9 and abs(fy - mass * G) < 1e-9 * mass * G, (formulation, pin)
+        assert all(abs(m) < 1e-9 for m in pin["moment"]), (formulation, pin)
+
+
 def test_a_refused_option_is_a_scene_error():
     with pytest.raises(flexmbd.SceneError) as raised:
         flexmbd.equilibrium(model("spin_up_beam_2d.ron"), formulation="floating")

@@ -7,7 +7,9 @@
 //!   a CSV file as they are computed and prints a run summary; Ctrl-C or SIGTERM ends the
 //!   run between two steps with status `interrupted`.
 //! - `flexmbd equilibrium SCENE.ron [--json]` prints the scene's static equilibrium: the
-//!   solve, the sensors, every coordinate and constraint multiplier.
+//!   solve, the sensors, every force element's force, every joint's and constraint's
+//!   reaction (force and moment on its body2, ground components), every coordinate and
+//!   constraint multiplier.
 //! - `flexmbd eigen SCENE.ron [--json]` prints the linearised free vibration about that
 //!   equilibrium: each mode's frequency, damped frequency, damping ratio and kind, and the
 //!   sensors it moves most.
@@ -89,8 +91,8 @@ enum Command {
     /// Run a scene and write its sensor histories.
     #[command(after_help = exit::HELP)]
     Simulate(SimulateArgs),
-    /// Find a scene's static equilibrium and print its coordinates, constraint multipliers
-    /// and sensors.
+    /// Find a scene's static equilibrium and print its sensors, force elements' forces, joint
+    /// reactions, coordinates and constraint multipliers.
     #[command(after_help = exit::HELP)]
     Equilibrium(StaticArgs),
     /// Linearise a scene about its static equilibrium and print the modes of its free

@@ -169,3 +169,40 @@ fn a_bad_set_is_refused_as_invalid_input() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("gravity.y"), "{err}");
 }
+
+#[test]
+fn equilibrium_reports_every_joint_reaction_in_text_and_json() {
+    // The double four-bar's seven pins: the table lists each, the JSON carries each with its
+    // force and moment, the same (to round-off) in both formulations.
+    let text =
+        String::from_utf8(run(&["equilibrium", &model("double_four_bar.ron")]).stdout).unwrap();
+    assert!(
+        text.contains("joint reactions on body2 at its marker"),
+        "{text}"
+    );
+    assert!(
+        text.contains("  A0 ") && text.contains("Revolute"),
+        "{text}"
+    );
+    let [absolute, relative] = ["absolute", "relative"].map(|formulation| {
+        json(&run(&[
+            "equilibrium",
+            &model("double_four_bar.ron"),
+            "--formulation",
+            formulation,
+            "--json",
+        ]))
+    });
+    let joints = |v: &serde_json::Value| v["reactions"]["joints"].as_array().unwrap().clone();
+    assert_eq!(joints(&absolute).len(), 7);
+    assert_eq!(absolute["reactions"]["redundant"], false);
+    for (a, r) in joints(&absolute).iter().zip(joints(&relative).iter()) {
+        assert_eq!(a["name"], r["name"]);
+        for key in ["force", "moment"] {
+            for k in 0..3 {
+                let (x, y) = (a[key][k].as_f64().unwrap(), r[key][k].as_f64().unwrap());
+                assert!((x - y).abs() < 1e-9, "{}: {a} against {r}", a["name"]);
+            }
+        }
+    }
+}

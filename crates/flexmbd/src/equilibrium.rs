@@ -1,5 +1,6 @@
 //! The static equilibrium of a scene as a result of its own (`flexmbd equilibrium`): every
-//! coordinate, the constraint multipliers, the sensors there, and how the solve went.
+//! coordinate, the constraint multipliers, the sensors, the force elements' forces and the
+//! joints' reactions there, and how the solve went.
 //!
 //! The solve is `flexmbd_integrators::statics::solve_static` at t = 0 with q̇ = 0, the one a
 //! run with `solver.initial_state: StaticEquilibrium` starts from (docs/methods.md §5.4 item
@@ -11,6 +12,11 @@
 //! (sensors do not enter the dynamics, so the copy's equilibrium is the scene's): the same
 //! compiled force elements that load the equilibrium compute what is reported.
 //!
+//! Each joint's and scene constraint's reaction — the force and moment it exerts on its body2
+//! at body2's marker, ground components — comes from every body's balance at the equilibrium,
+//! the same route in every formulation ([`reactions`]: the module documentation says how,
+//! and why not from λ).
+//!
 //! The multipliers λ are those of Q − Φ_qᵀλ = 0: the constraint forces on the coordinates
 //! are −Φ_qᵀλ, one multiplier per constraint equation in the formulation's order (the
 //! equations are the formulation's, not the joints': a revolute joint in natural coordinates
@@ -18,11 +24,18 @@
 
 use flexmbd_core::{CompiledScene, State};
 use flexmbd_integrators::{StaticCounters, StaticSettings, StaticSolution, solve_static};
-use flexmbd_model::{ElementQuantity, Force, FormulationKind, Scene, Sensor, SensorKind};
+use flexmbd_model::{
+    ElementQuantity, Force, FormulationKind, PreparedScene, Scene, Sensor, SensorKind,
+};
 use nalgebra::DVector;
 use serde::Serialize;
 
 use crate::Error;
+
+pub mod reactions;
+
+use reactions::ReactionProbes;
+pub use reactions::{JointReaction, Reactions};
 
 /// A named value (a sensor at the equilibrium).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -70,6 +83,14 @@ pub struct Equilibrium {
     pub sensors: Vec<Named>,
     /// Each force element's state at the equilibrium, in the scene's order.
     pub forces: Vec<ElementForce>,
+    /// The joints' and scene constraints' reactions (`None` when not computed: in the
+    /// equilibrium of `flexmbd eigen`, for a scene without joints or constraints, when the
+    /// stiffening rewrite changes the bodies or their modes — substructuring, FNL2, FS0 —
+    /// and if the balance equations are not finite).
+    pub reactions: Option<Reactions>,
+    /// True when the scene has joints or constraints but their reactions were not computed
+    /// (`reactions` says when).
+    pub reactions_skipped: bool,
     /// How the static solve went (flattened into the JSON object).
     #[serde(flatten)]
     pub solve: StaticCounters,
@@ -120,6 +141,8 @@ impl Equilibrium {
                 })
                 .collect(),
             forces: Vec::new(),
+            reactions: None,
+            reactions_skipped: false,
             solve: solution.counters,
         }
     }
@@ -168,6 +191,13 @@ impl Equilibrium {
                 };
             }
         }
+        match &self.reactions {
+            Some(r) => s += &r.to_text(),
+            None if self.reactions_skipped => {
+                s += "joint reactions: not computed (the stiffening rewrite changes the bodies or their modes, or the balance is not finite)\n"
+            }
+            None => {}
+        }
         s += "coordinates q:\n";
         for (i, v) in self.coordinates.iter().enumerate() {
             s += &format!("  q{i:<23} {v:>16.9e}\n");
@@ -185,23 +215,62 @@ impl Equilibrium {
 pub fn equilibrium(scene: &Scene) -> Result<Equilibrium, Error> {
     let (mut f, solution) = solve(scene)?;
     let mut e = Equilibrium::of(scene, f.as_mut(), &solution);
-    e.forces = element_forces(scene, &solution.q)?;
+    (e.forces, e.reactions) = probe(scene, &solution.q, true)?;
+    e.reactions_skipped =
+        e.reactions.is_none() && !(scene.joints.is_empty() && scene.constraints.is_empty());
     Ok(e)
 }
 
 /// Every force element's state at the positions `q` of `scene` (module documentation).
 pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<ElementForce>, Error> {
-    if scene.forces.is_empty() {
-        return Ok(Vec::new());
+    Ok(probe(scene, q, false)?.0)
+}
+
+/// Every force element's state and, with `with_reactions`, the joints' reactions at the
+/// positions `q` of `scene`, read by one compiled copy of the scene with probe sensors.
+fn probe(
+    scene: &Scene,
+    q: &DVector<f64>,
+    with_reactions: bool,
+) -> Result<(Vec<ElementForce>, Option<Reactions>), Error> {
+    let prepared = if with_reactions && !(scene.joints.is_empty() && scene.constraints.is_empty()) {
+        Some(PreparedScene::new(scene)?)
+    } else {
+        None
+    };
+    let reaction_probes = prepared
+        .as_ref()
+        .filter(|_| with_reactions)
+        .and_then(|p| ReactionProbes::new(scene, p));
+    if scene.forces.is_empty() && reaction_probes.is_none() {
+        return Ok((Vec::new(), None));
     }
     let mut probed = scene.clone();
     let first = probed.sensors.len();
+    probed.sensors.extend(element_probes(scene));
+    let first_reaction = probed.sensors.len();
+    if let Some(r) = &reaction_probes {
+        probed.sensors.extend_from_slice(r.sensors());
+    }
+    let mut f = crate::simulation::compile(&probed)?;
+    let values = sensors_at(f.as_mut(), q);
+    let forces = element_states(scene, &values[first..first_reaction])?;
+    let reactions = match (&prepared, &reaction_probes) {
+        (Some(p), Some(r)) => reactions::reactions(p, r, &values[first_reaction..])?,
+        _ => None,
+    };
+    Ok((forces, reactions))
+}
+
+/// The probe sensors of every force element's tension and length.
+fn element_probes(scene: &Scene) -> Vec<Sensor> {
+    let mut sensors = Vec::with_capacity(2 * scene.forces.len());
     for (i, force) in scene.forces.iter().enumerate() {
         for (quantity, what) in [
             (ElementQuantity::Force, "force"),
             (ElementQuantity::Length, "length"),
         ] {
-            probed.sensors.push(Sensor {
+            sensors.push(Sensor {
                 name: format!("__force{i}_{what}"),
                 kind: SensorKind::ElementForce {
                     force: force.name().to_string(),
@@ -211,9 +280,11 @@ pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<Elem
             });
         }
     }
-    let mut f = crate::simulation::compile(&probed)?;
-    let values = sensors_at(f.as_mut(), q);
-    let probes = &values[first..];
+    sensors
+}
+
+/// Every force element's state from the values of its probes ([`element_probes`]).
+fn element_states(scene: &Scene, probes: &[f64]) -> Result<Vec<ElementForce>, Error> {
     scene
         .forces
         .iter()

@@ -83,7 +83,7 @@
 //! - [`output`]: [`output::RowSink`], where a run's rows go, and [`History`], the sink that
 //!   keeps them in memory;
 //! - [`equilibrium()`] and [`vibration()`]: a scene's static equilibrium (coordinates,
-//!   multipliers, sensors) and its linearised free vibration about it (frequencies, damping
+//!   multipliers, sensors, force elements' forces, joint reactions) and its linearised free vibration about it (frequencies, damping
 //!   ratios, the sensors each mode moves), the `flexmbd equilibrium` and `flexmbd eigen`
 //!   commands.
 //!
