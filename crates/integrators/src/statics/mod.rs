@@ -73,7 +73,12 @@
 //! or refused where the coordinates are singular: the `neutral` module says why and how.
 //!
 //! **Stop.** ‖g‖∞ ≤ ε_r f_ref on the free coordinates (f_ref the largest |Q_j| met), ‖Φ‖∞ ≤ ε_Φ
-//! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). On failure an error carries the
+//! and the last correction ‖Δq‖∞ ≤ ε_q max(1, ‖q‖∞). Also stopped, as converged, when a
+//! full Newton correction is below 10⁻³ ε_q max(1, ‖q‖∞), ‖Φ‖∞ ≤ ε_Φ and ‖g‖∞ no longer
+//! falls (not below half its previous value; the multipliers may still be settling while q
+//! is): neither q nor g can get better. That happens when a scene starts exactly at its equilibrium in minimal
+//! coordinates: the net generalised force, and with it f_ref, is round-off (a bar held level
+//! by a spring: |Q| = 5e-13 N·m), so ‖g‖∞ ≤ ε_r f_ref cannot hold. On failure an error carries the
 //! iteration count, the residual, the constraint error and the load factor reached — never
 //! a panic, never NaN. The solver runs once per scene and allocates its workspace up front.
 //!
@@ -169,6 +174,10 @@ const NEUTRAL_PASSES: usize = 4;
 
 /// Full Newton steps the watchdog allows before ‖g‖ must fall below its starting level.
 const WATCHDOG: usize = 5;
+
+/// A full Newton correction below this fraction of ε_q max(1, ‖q‖∞) ends the iteration as
+/// converged (module documentation, "Stop").
+const NEGLIGIBLE_CORRECTION: f64 = 1e-3;
 
 const HINT: &str = "check that the loads have an equilibrium the constraints and stiffness can carry (a mechanism or a buckled, snapping structure has none nearby); more load steps or a looser tolerance may help";
 
@@ -373,7 +382,8 @@ impl Solver<'_> {
         if !self.project(f, q) {
             return Ok(Level::Failed);
         }
-        let mut last_dq = f64::INFINITY;
+        let (mut last_dq, mut last_full_dq) = (f64::INFINITY, f64::INFINITY);
+        let mut last_res = f64::INFINITY;
         let mut watchdog = Watchdog::default();
         let req = Request {
             tangents: !self.s.fd_tangent,
@@ -392,12 +402,20 @@ impl Solver<'_> {
             if stall.stuck(res, self.f_ref) {
                 return Ok(Level::Stalled);
             }
+            let q_scale = q.amax().max(1.0);
             if res <= self.s.tol_residual * self.f_ref
                 && phi <= self.s.tol_phi
-                && (last_dq <= self.s.tol_q * q.amax().max(1.0) || self.regularisation > 0.0)
+                && (last_dq <= self.s.tol_q * q_scale || self.regularisation > 0.0)
             {
                 return Ok(Level::Converged);
             }
+            if phi <= self.s.tol_phi
+                && last_full_dq <= NEGLIGIBLE_CORRECTION * self.s.tol_q * q_scale
+                && res >= 0.5 * last_res
+            {
+                return Ok(Level::Converged);
+            }
+            last_res = res;
             self.iterations += 1;
             self.tangent(f, q, load);
             if self.alpha == 0.0 {
@@ -414,7 +432,7 @@ impl Solver<'_> {
                     q.copy_from(&self.q_ref);
                     lambda.copy_from(&self.lambda_ref);
                     self.restart_at(f, q, lambda, load, req);
-                    last_dq = f64::INFINITY;
+                    (last_dq, last_full_dq) = (f64::INFINITY, f64::INFINITY);
                     continue;
                 }
                 return Ok(Level::Failed);
@@ -429,6 +447,7 @@ impl Solver<'_> {
             lambda.copy_from(&self.lambda_try);
             std::mem::swap(&mut self.g, &mut self.g_try);
             last_dq = step * self.dq.amax();
+            last_full_dq = if step == 1.0 { last_dq } else { f64::INFINITY };
         }
         Ok(Level::Failed)
     }
