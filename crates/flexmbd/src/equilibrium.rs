@@ -231,7 +231,7 @@ pub(crate) fn element_forces(scene: &Scene, q: &DVector<f64>) -> Result<Vec<Elem
                         &undeformed(b2, m2),
                     )?)
                 }
-                Force::Link { .. } | Force::Tyre { .. } => None,
+                Force::Link { .. } | Force::Tyre { .. } | Force::Load { .. } => None,
             };
             Ok(ElementForce {
                 name: force.name().to_string(),
