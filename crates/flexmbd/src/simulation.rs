@@ -304,8 +304,10 @@ impl StartFailure {
 ///
 /// When a step fails the simulation stays at its last good state (time, positions,
 /// velocities, multipliers; the counters keep the failed attempt). Another `step` from
-/// there would fail the same way: the caller can read the sensors, take the failure into
-/// its output, or [`restore`](Simulation::restore) an earlier [`checkpoint`](Simulation::checkpoint).
+/// there with the same inputs would fail the same way: the caller can read the sensors,
+/// take the failure into its output, set saner inputs and step on
+/// ([`set_input`](Simulation::set_input)), or [`restore`](Simulation::restore) an earlier
+/// [`checkpoint`](Simulation::checkpoint).
 /// A different step size, tolerance or model means a new simulation from a changed scene.
 pub struct Simulation {
     formulation: Box<dyn CompiledScene>,

@@ -375,7 +375,7 @@ pub enum Force {
     /// An external force and torque on a marker, ground components, constant (or set by a
     /// `Load` input, [`crate::inputs`]); the torque acts on the marker's body, which must be
     /// rigid for a torque (`crate::force_elements::Load`). A planar scene's load is F_x,
-    /// F_y and τ_z.
+    /// F_y and τ_z (its torque written `[0, 0, τ_z]`).
     Load {
         /// Name.
         name: String,
