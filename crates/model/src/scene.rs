@@ -90,8 +90,7 @@ pub struct Scene {
     /// Named outputs, one CSV column each.
     #[serde(default)]
     pub sensors: Vec<Sensor>,
-    /// Named inputs a host sets between the steps of a running simulation
-    /// ([`crate::inputs`]).
+    /// Named inputs a host sets between steps ([`crate::inputs`]).
     #[serde(default)]
     pub inputs: Vec<crate::inputs::Input>,
     /// Solver settings.
@@ -372,10 +371,9 @@ pub enum Force {
         #[serde(default)]
         lateral_damping: f64,
     },
-    /// An external force and torque on a marker, ground components, constant (or set by a
-    /// `Load` input, [`crate::inputs`]); the torque acts on the marker's body, which must be
-    /// rigid for a torque (`crate::force_elements::Load`). A planar scene's load is F_x,
-    /// F_y and τ_z (its torque written `[0, 0, τ_z]`).
+    /// An external force and torque on a marker (ground components; constant, or set by a
+    /// `Load` input): the torque needs a rigid body (`crate::force_elements::Load`). A
+    /// planar scene's load is F_x, F_y and τ_z (its torque written `[0, 0, τ_z]`).
     Load {
         /// Name.
         name: String,
@@ -383,10 +381,10 @@ pub enum Force {
         body: String,
         /// The marker the force acts at.
         marker: String,
-        /// Force F (N), ground components (0 when omitted).
+        /// Force F (N; 0 when omitted).
         #[serde(default)]
         force: V3,
-        /// Torque τ (N·m), ground components (0 when omitted).
+        /// Torque τ (N·m; 0 when omitted).
         #[serde(default)]
         torque: V3,
     },
@@ -509,9 +507,8 @@ pub struct Driver {
 /// Closed-form motion laws θ(t) with θ(0) = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum MotionLaw {
-    /// The law of a driver that has an input ([`crate::inputs::DriverInput`]): put in the
-    /// prepared scene by [`crate::PreparedScene::new`], never read from or written to a
-    /// scene file.
+    /// A driver input's law ([`crate::inputs::DriverInput`]), put in the prepared scene by
+    /// [`crate::PreparedScene::new`]; never in a scene file.
     #[serde(skip)]
     Input(crate::inputs::DriverInput),
     /// Held at its initial value.
