@@ -688,3 +688,45 @@ fn scene_with_inputs_round_trips_through_ron() {
     assert_eq!(back.forces, scene.forces);
     back.validate().unwrap();
 }
+
+/// A `Load` on the ground, out of the plane of a planar scene, or with a torque on a
+/// flexible body is refused naming the force's field; so is a torque input on a flexible
+/// body's load, which keeps its force.
+#[test]
+fn loads_the_formulations_cannot_apply_are_refused() {
+    let refusal = |edit: &dyn Fn(&mut Scene)| {
+        let mut scene = four_bar_with_motor(FormulationKind::Relative, 0.0, false);
+        edit(&mut scene);
+        scene.validate().unwrap_err().to_string()
+    };
+    let on_ground = refusal(&|s| s.forces[0] = load("motor", "ground", "A0", [0.0; 3]));
+    assert!(
+        on_ground.contains("forces[motor].body") && on_ground.contains("ground"),
+        "{on_ground}"
+    );
+    let tilted = refusal(&|s| s.forces[0] = load("motor", "crank1", "A", [1.0, 0.0, 0.0]));
+    assert!(
+        tilted.contains("forces[motor].torque[0]") && tilted.contains("planar"),
+        "{tilted}"
+    );
+    let flexible = refusal(&|s| {
+        s.bodies[0].flexible = true;
+        s.forces[0] = load("motor", "crank1", "A", [0.0, 0.0, 1.0]);
+    });
+    assert!(
+        flexible.contains("forces[motor].torque") && flexible.contains("rigid"),
+        "{flexible}"
+    );
+
+    let mut scene = four_bar_with_motor(FormulationKind::Absolute, 0.0, true);
+    scene.bodies[0].flexible = true;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let message = refused(sim.set_input_by_name("motor", &[0.0, 0.0, 0.0, 0.0, 0.0, 1.0]));
+    assert!(
+        message.contains("inputs[motor][3..6]") && message.contains("flexible"),
+        "{message}"
+    );
+    sim.set_input_by_name("motor", &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+        .unwrap();
+    sim.step().unwrap();
+}

@@ -28,7 +28,9 @@ use super::{Simulation, integrator_settings};
 use crate::inventory::Inventory;
 use crate::{Equilibrium, Error, Vibration};
 
-/// An input of a running simulation, looked up once by name ([`Simulation::input`]).
+/// An input of a running simulation, looked up once by name ([`Simulation::input`]): its
+/// index among the scene's inputs, so it means the same input in every simulation of that
+/// scene (one past their number is refused).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct InputId(usize);
 
