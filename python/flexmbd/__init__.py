@@ -331,6 +331,17 @@ class Simulation:
         """The sensor names, in the order of ``sensors()``."""
         return self._sim.sensor_names
 
+    @property
+    def input_names(self) -> List[str]:
+        """The names of the scene's inputs."""
+        return self._sim.input_names
+
+    def set_input(self, name: str, values: Sequence[float]) -> None:
+        """Set the input ``name`` to ``values`` for the steps that follow; a refused name
+        or value raises :class:`SceneError` (``field``, ``value``, ``reason``) and changes
+        nothing."""
+        self._sim.set_input(name, [float(v) for v in values])
+
     def sensors(self) -> np.ndarray:
         """The sensors now, a float64 array in ``sensor_names`` order."""
         return np.array(self._sim.sensors(), dtype=np.float64)

@@ -10,7 +10,8 @@ class FlexmbdError(Exception):
 
 
 class SceneError(FlexmbdError, ValueError):
-    """A scene, a ``sets`` override, a ``simulate`` option or a body model was refused.
+    """A scene, a ``sets`` override, a ``simulate`` option or a body model was refused, or
+    an input of a running :class:`flexmbd.Simulation` (unknown name, values out of range).
 
     The message is the one the ``flexmbd`` program prints. The attributes are ``None``
     where the refusal does not know them:

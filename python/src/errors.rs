@@ -1,5 +1,6 @@
 //! Rust errors as the Python package's exceptions (`flexmbd._errors`): a refused scene or
-//! body model is a `SceneError` (a `ValueError`) with the `file`, `line`, `column`,
+//! body model, or a refused input of a running simulation, is a `SceneError` (a
+//! `ValueError`) with the `file`, `line`, `column`,
 //! `field`, `value` and `reason` the Rust error knows (`None` for the others), a failed
 //! step, static start or static equilibrium a `RunError` with its `time`, anything else a
 //! `FlexmbdError`.
@@ -179,6 +180,16 @@ pub fn to_py(py: Python<'_>, e: &Error) -> PyErr {
     match e {
         Error::Model(model) => model_error(py, model),
         Error::Fe(fe) => scene_error(py, &e.to_string(), fe_fields(fe)),
+        Error::Input(refused) => scene_error(
+            py,
+            &e.to_string(),
+            SceneFields {
+                field: Some(refused.field.clone()),
+                value: Some(refused.value.clone()),
+                reason: Some(refused.reason.clone()),
+                ..SceneFields::default()
+            },
+        ),
         Error::Static(_) | Error::Integrator(_) => run_error(
             py,
             &e.to_string(),

@@ -7,8 +7,8 @@
 //! made with it; the Python object sends it [`Request`]s and waits for the [`Reply`] with
 //! the GIL released. It ends when the Python object is dropped.
 //!
-//! Inputs between steps (driver values, external forces, parameters: issue 15 item 2) are
-//! not in the Rust API yet, so not here either.
+//! The scene's named inputs are set between steps by name (`set_input`), as
+//! `flexmbd::Simulation::set_input_by_name`.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -31,6 +31,7 @@ static NEXT_ID: AtomicU64 = AtomicU64::new(0);
 enum Request {
     Step,
     AdvanceTo(f64),
+    SetInput(String, Vec<f64>),
     Sensors,
     Checkpoint,
     Restore(Box<Checkpoint>),
@@ -54,7 +55,7 @@ enum Outcome {
 
 /// What the simulation's thread reports once the simulation is made: its sensor names
 /// and step size, or why it could not be made.
-type Started = Result<(Vec<String>, f64), Error>;
+type Started = Result<(Vec<String>, Vec<String>, f64), Error>;
 
 /// The simulation's thread: make the simulation from `scene`, report on `started`, then
 /// answer each request until the Python object (the sender of `requests`) is gone.
@@ -72,14 +73,21 @@ fn serve(
         }
     };
     let names = simulation.sensor_names().to_vec();
+    let inputs = simulation.input_names().map(String::from).collect();
     let mut sensors = vec![0.0; names.len()];
-    if started.send(Ok((names, simulation.step_size()))).is_err() {
+    if started
+        .send(Ok((names, inputs, simulation.step_size())))
+        .is_err()
+    {
         return;
     }
     for request in requests {
         let outcome = match request {
             Request::Step => Outcome::Stepped(simulation.step()),
             Request::AdvanceTo(t) => Outcome::Stepped(simulation.advance_to(t)),
+            Request::SetInput(name, values) => {
+                Outcome::Stepped(simulation.set_input_by_name(&name, &values))
+            }
             Request::Sensors => {
                 simulation.read_sensors(&mut sensors);
                 Outcome::Sensors(sensors.clone())
@@ -113,6 +121,7 @@ pub struct PySimulation {
     replies: Mutex<Receiver<Reply>>,
     id: u64,
     names: Vec<String>,
+    inputs: Vec<String>,
     step_size: f64,
     time: f64,
 }
@@ -182,12 +191,13 @@ impl PySimulation {
         let started = py
             .detach(move || started_rx.recv())
             .map_err(|_| PyRuntimeError::new_err("the simulation's thread has ended"))?;
-        let (names, step_size) = started.map_err(|e| to_py(py, &e))?;
+        let (names, inputs, step_size) = started.map_err(|e| to_py(py, &e))?;
         Ok(PySimulation {
             requests,
             replies: Mutex::new(replies),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             names,
+            inputs,
             step_size,
             time: 0.0,
         })
@@ -220,6 +230,18 @@ impl PySimulation {
     #[getter]
     fn sensor_names(&self) -> Vec<String> {
         self.names.clone()
+    }
+
+    /// The names of the scene's inputs.
+    #[getter]
+    fn input_names(&self) -> Vec<String> {
+        self.inputs.clone()
+    }
+
+    /// Set the input `name` to `values` for the steps that follow; a refused name or value
+    /// raises `SceneError` (with `field`, `value`, `reason`) and changes nothing.
+    fn set_input(&mut self, py: Python<'_>, name: &str, values: Vec<f64>) -> PyResult<()> {
+        self.stepped(py, Request::SetInput(name.to_string(), values))
     }
 
     /// The sensors at the current state, in `sensor_names` order.

@@ -302,7 +302,7 @@ fn element_states(scene: &Scene, probes: &[f64]) -> Result<Vec<ElementForce>, Er
                         &undeformed(b2, m2),
                     )?)
                 }
-                Force::Link { .. } | Force::Tyre { .. } => None,
+                Force::Link { .. } | Force::Tyre { .. } | Force::Load { .. } => None,
             };
             Ok(ElementForce {
                 name: force.name().to_string(),

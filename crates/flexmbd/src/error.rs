@@ -29,6 +29,11 @@ pub enum Error {
     /// variants of a step carry its time `t`; see [`Error::failed_at`]).
     #[error(transparent)]
     Integrator(#[from] IntegratorError),
+    /// A value a host handed a running simulation was refused: an unknown input or sensor,
+    /// an input's values out of range, a state that violates the constraints
+    /// ([`crate::simulation::host`]). Names the field, the value and the reason.
+    #[error("refused: {0}")]
+    Input(flexmbd_core::InvalidValue),
     /// Reading or writing a file failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),

@@ -11,6 +11,10 @@
 //! [`RowSink`](crate::output::RowSink) as soon as it is computed, and stops between two
 //! steps when asked to (a flag, set e.g. by a signal handler).
 //!
+//! Between steps a host program sets the scene's named inputs
+//! ([`Simulation::set_input`]), reads sensors by name, reads and writes the state, and asks
+//! for the equilibrium and vibration analyses ([`host`]).
+//!
 //! A failed step (Newton does not converge, the solution diverges) returns an
 //! [`Error`] with the time and the reason and leaves the simulation at its last good
 //! state; [`run`] then ends with `status = "failed"`, keeping the rows computed so far.
@@ -27,6 +31,7 @@ use flexmbd_integrators::{
     Ali3p, Ali3pSettings, Checkpoint as IntegratorCheckpoint, StartFrom, StaticSettings, Stats,
     solve_static,
 };
+use flexmbd_model::inputs::InputTable;
 use flexmbd_model::{
     FormulationKind, InitialState, ModelError, PreparedScene, Scene, Solver, Stiffening,
 };
@@ -35,9 +40,11 @@ use serde::Serialize;
 use crate::Error;
 pub use crate::output::History;
 
+pub mod host;
 mod plan;
 mod run;
 
+pub use host::InputId;
 pub use plan::MAX_STEPS;
 use plan::RunPlan;
 pub use run::{run, run_into};
@@ -110,19 +117,20 @@ pub struct Summary {
 /// that evaluate the formulation at chosen states or drive [`Ali3p`] by hand;
 /// [`Simulation::new`] is the usual route.
 pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
-    build_formulation(scene)
+    Ok(build_formulation(scene)?.0)
 }
 
 /// The one place where a formulation is built from a scene (every route of the facade
-/// comes through here).
-fn build_formulation(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
+/// comes through here), with the table of the scene's inputs its elements and drivers read.
+fn build_formulation(scene: &Scene) -> Result<(Box<dyn CompiledScene>, InputTable), ModelError> {
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
     let prepared = PreparedScene::new(scene)?;
-    Ok(match scene.solver.formulation {
+    let formulation: Box<dyn CompiledScene> = match scene.solver.formulation {
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
-    })
+    };
+    Ok((formulation, prepared.inputs().clone()))
 }
 
 fn names(scene: &Scene) -> (String, String, String) {
@@ -234,6 +242,8 @@ fn columns(sensors: &[String]) -> Vec<String> {
 struct Compiled {
     formulation: Box<dyn CompiledScene>,
     setup: Setup,
+    inputs: InputTable,
+    scene: Scene,
 }
 
 /// Compile `scene` (timed as preprocessing) and note its options for the summary. A run
@@ -241,11 +251,13 @@ struct Compiled {
 fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
     let plan = RunPlan::of(scene)?;
     let clock = Instant::now();
-    let formulation = build_formulation(scene)?;
+    let (formulation, inputs) = build_formulation(scene)?;
     let preprocessing_seconds = clock.elapsed().as_secs_f64();
     let (formulation_name, inertia, stiffening) = names(scene);
     Ok(Compiled {
         formulation,
+        inputs,
+        scene: scene.clone(),
         setup: Setup {
             scene: scene.name.clone(),
             solver: scene.solver.clone(),
@@ -292,8 +304,10 @@ impl StartFailure {
 ///
 /// When a step fails the simulation stays at its last good state (time, positions,
 /// velocities, multipliers; the counters keep the failed attempt). Another `step` from
-/// there would fail the same way: the caller can read the sensors, take the failure into
-/// its output, or [`restore`](Simulation::restore) an earlier [`checkpoint`](Simulation::checkpoint).
+/// there with the same inputs would fail the same way: the caller can read the sensors,
+/// take the failure into its output, set saner inputs and step on
+/// ([`set_input`](Simulation::set_input)), or [`restore`](Simulation::restore) an earlier
+/// [`checkpoint`](Simulation::checkpoint).
 /// A different step size, tolerance or model means a new simulation from a changed scene.
 pub struct Simulation {
     formulation: Box<dyn CompiledScene>,
@@ -301,6 +315,14 @@ pub struct Simulation {
     /// The state before the step under way; a failed step returns here.
     last_good: IntegratorCheckpoint,
     setup: Setup,
+    /// The scene's inputs and the table of values the formulation reads ([`host`]).
+    inputs: InputTable,
+    /// The scene as given, for the analyses about its equilibrium ([`host`]).
+    scene: Scene,
+    /// Room for every sensor's value, for [`Simulation::sensor`] (no allocation).
+    sensor_values: Vec<f64>,
+    /// t₀ of the integrator: 0, or the time a state was written ([`Simulation::set_state`]).
+    start_time: f64,
 }
 
 impl Simulation {
@@ -359,9 +381,13 @@ impl Simulation {
         match integrator {
             Ok(integrator) => Ok(Simulation {
                 last_good: integrator.checkpoint(),
+                sensor_values: vec![0.0; compiled.formulation.sensor_names().len()],
                 formulation: compiled.formulation,
                 integrator,
                 setup: compiled.setup,
+                inputs: compiled.inputs,
+                scene: compiled.scene,
+                start_time: 0.0,
             }),
             Err(e) => Err(Box::new(StartFailure {
                 compiled,
@@ -398,6 +424,12 @@ impl Simulation {
     /// Current time (s): t₀ + k h after k steps.
     pub fn time(&self) -> f64 {
         self.integrator.t
+    }
+
+    /// The end time t_{n+1} of the next step, bit for bit as the integrator computes it
+    /// (t₀ + (k + 1) h after k steps): where a driver input's values are to hold.
+    pub fn next_time(&self) -> f64 {
+        self.start_time + (self.integrator.stats.steps + 1) as f64 * self.step_size()
     }
 
     /// The time step h (s).

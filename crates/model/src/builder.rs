@@ -66,6 +66,7 @@ impl SceneBuilder {
                 roads: Vec::new(),
                 drivers: Vec::new(),
                 sensors: Vec::new(),
+                inputs: Vec::new(),
                 solver: Solver::new(1e-3, 1.0),
                 origin: format!("{name} (built in code)"),
                 source: String::new(),

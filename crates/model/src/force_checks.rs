@@ -34,7 +34,7 @@ impl Scene {
             }
             let item = |f: &str| format!("forces[{}].{f}", force.name());
             let [(body1, marker1), (body2, marker2)] = force.ends();
-            if let Force::Tyre { .. } = force {
+            if let Force::Tyre { .. } | Force::Load { .. } = force {
                 self.check_marker(&item("body"), body1, &item("marker"), marker1)?;
             } else {
                 self.check_marker(&item("body1"), body1, &item("marker1"), marker1)?;
@@ -52,6 +52,7 @@ impl Scene {
                     ..
                 } => self.check_link(name, spring, damper, axis.as_ref(), body1)?,
                 Force::Tyre { .. } => self.check_tyre(force)?,
+                Force::Load { .. } => self.check_load(force)?,
             }
         }
         Ok(())

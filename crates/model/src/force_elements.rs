@@ -18,17 +18,21 @@
 //! is sized once when they are compiled.
 
 mod link;
+mod load;
 mod tyre;
 
 use flexmbd_core::{ElementReading, MarkerKinematics, SystemTerms};
 use nalgebra::{DVector, Matrix3, Vector3};
 
 use crate::error::ModelError;
+use crate::inputs::InputSlots;
 use crate::prepared::{MarkerId, PreparedScene};
 use crate::scene::Force;
 
 pub use link::Link;
 pub(crate) use link::add_axis_markers;
+pub use load::Load;
+pub(crate) use load::{add_load_axis_markers, runs_flexible};
 pub use tyre::Tyre;
 
 /// A linear spring–damper between two markers, `M` being the formulation's marker handle.
@@ -44,6 +48,18 @@ pub struct SpringDamper<M> {
     pub damping: f64,
     /// Free length l₀ (m).
     pub free_length: f64,
+    /// The `Scale` input that multiplies k and c, if any ([`crate::inputs`]).
+    pub scale: Option<InputSlots>,
+}
+
+impl<M> SpringDamper<M> {
+    /// k and c now: the scene's, times the `Scale` input's factors if it has one.
+    fn coefficients(&self) -> (f64, f64) {
+        match &self.scale {
+            None => (self.stiffness, self.damping),
+            Some(s) => (self.stiffness * s.get(0), self.damping * s.get(1)),
+        }
+    }
 }
 
 /// One compiled force element.
@@ -55,6 +71,8 @@ pub enum Element<M> {
     Link(Link<M>),
     /// A tyre on a road.
     Tyre(Tyre<M>),
+    /// An external force and torque on a marker.
+    Load(Load<M>),
 }
 
 /// The Jacobian scratch of the element being evaluated.
@@ -106,12 +124,14 @@ impl<M> ForceElements<M> {
         let scene = prepared.scene();
         let mut elements = Vec::with_capacity(scene.forces.len());
         let ends = prepared.force_markers().iter();
-        for ((force, pair), axis) in scene
+        for (k, ((force, pair), axis)) in scene
             .forces
             .iter()
             .zip(ends)
             .zip(prepared.force_axis_markers())
+            .enumerate()
         {
+            let input = prepared.inputs().force_slots(k);
             let (first, second) = (marker(pair.first), marker(pair.second));
             elements.push(match force {
                 Force::SpringDamper {
@@ -125,17 +145,30 @@ impl<M> ForceElements<M> {
                         stiffness: *stiffness,
                         damping: *damping,
                         free_length: force.spring_free_length(&scene.origin, &r1, &r2)?,
+                        scale: input,
                     })
                 }
-                Force::Link { .. } => Element::Link(Link::new(
-                    force,
-                    &scene.origin,
-                    (first, second, axis.map(&mut marker)),
-                    kinematics,
-                    q0,
-                    qd0,
-                )?),
-                Force::Tyre { .. } => Element::Tyre(Tyre::new(force, &scene.roads, first)),
+                Force::Link { .. } => Element::Link(Link {
+                    scale: input,
+                    ..Link::new(
+                        force,
+                        &scene.origin,
+                        (first, second, axis.map(&mut marker)),
+                        kinematics,
+                        q0,
+                        qd0,
+                    )?
+                }),
+                Force::Tyre { .. } => {
+                    Element::Tyre(Tyre::new(force, &scene.roads, first, prepared.inputs()))
+                }
+                Force::Load { .. } => {
+                    let axes = prepared.load_axis_markers()[k].iter();
+                    Element::Load(Load {
+                        input,
+                        ..Load::new(force, first, axes.map(|&m| marker(m)).collect())
+                    })
+                }
             });
         }
         Ok(ForceElements {
@@ -182,6 +215,7 @@ impl<M> ForceElements<M> {
                 Element::Tyre(tyre) => {
                     tyre.add_forces(kinematics, q, qd, tangents, &mut scratch.columns, out)
                 }
+                Element::Load(load) => load.add_forces(kinematics, q, qd, out),
             }
         }
     }
@@ -208,6 +242,7 @@ impl<M> ForceElements<M> {
             }
             Element::Link(link) => link.reading(kinematics, q, qd),
             Element::Tyre(tyre) => tyre.reading(kinematics, q, qd),
+            Element::Load(load) => load.reading(),
         }
     }
 
@@ -224,10 +259,11 @@ impl<M> ForceElements<M> {
                     let (r1, _) = kinematics.marker_state(&spring.first, q, qd);
                     let (r2, _) = kinematics.marker_state(&spring.second, q, qd);
                     let stretch = (r2 - r1).norm() - spring.free_length;
-                    0.5 * spring.stiffness * stretch * stretch
+                    0.5 * spring.coefficients().0 * stretch * stretch
                 }
                 Element::Link(link) => link.potential_energy(kinematics, q, qd),
                 Element::Tyre(tyre) => tyre.potential_energy(kinematics, q, qd),
+                Element::Load(_) => 0.0,
             })
             .sum()
     }
@@ -248,7 +284,8 @@ where
     let d = r2 - r1;
     let l = d.norm();
     let n = d / l;
-    let f = spring.stiffness * (l - spring.free_length) + spring.damping * n.dot(&(v2 - v1));
+    let (stiffness, damping) = spring.coefficients();
+    let f = stiffness * (l - spring.free_length) + damping * n.dot(&(v2 - v1));
     (d, n, l, f)
 }
 
@@ -334,7 +371,8 @@ fn add_tangents<M>(
     columns: &[(usize, Vector3<f64>)],
     out: &mut SystemTerms,
 ) {
-    add_line_tangents(n, spring.stiffness, f, l, spring.damping, columns, out);
+    let (stiffness, damping) = spring.coefficients();
+    add_line_tangents(n, stiffness, f, l, damping, columns, out);
 }
 
 /// K += Jᵀ(k nnᵀ + f/l (I − nnᵀ)) J, C += c Jᵀ nnᵀ J with the slopes k = ∂f/∂l and

@@ -99,6 +99,7 @@ impl Scene {
         self.check_forces()?;
         self.check_constraints()?;
         self.check_sensors()?;
+        self.check_inputs()?;
         self.check_sizes()?;
         self.check_joined_markers_coincide()
     }

@@ -11,7 +11,10 @@
 //!    (`crate::force_elements::Link`: the axis as the difference of two body points);
 //! 4. every body reduced (FE preprocessing, Craig–Bampton) and built for run time, with its
 //!    elastic model installed and, for FS0, its shortening data ([`PreparedBody`]);
-//! 5. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`].
+//! 5. every name resolved into a typed id: [`BodyId`], [`MarkerId`], [`JointId`];
+//! 6. the inputs compiled ([`crate::inputs::InputTable`]): the axis points of each load on a
+//!    rigid body added to it, and each driver with an input given the law that reads it
+//!    ([`MotionLaw::Input`]).
 //!
 //! A formulation takes a `&PreparedScene`, never a `Scene`: it cannot be handed a scene
 //! whose stiffening rewrite was skipped, since the only way to make a `PreparedScene` is
@@ -21,8 +24,9 @@ use std::borrow::Cow;
 
 use crate::bodies::PreparedBody;
 use crate::error::ModelError;
+use crate::inputs::{DriverInput, InputTable};
 use crate::rewrite::rewrite_for_stiffening;
-use crate::scene::{Axis, ElementQuantity, GROUND, Scene, SensorKind};
+use crate::scene::{Axis, ElementQuantity, GROUND, MotionLaw, Scene, SensorKind};
 
 /// A body of the prepared scene: its index in [`PreparedScene::bodies`] (and in the
 /// prepared scene's `bodies`).
@@ -111,9 +115,11 @@ pub struct PreparedScene {
     forces: Vec<MarkerPair>,
     constraints: Vec<MarkerPair>,
     force_axes: Vec<Option<MarkerId>>,
+    load_axes: Vec<Vec<MarkerId>>,
     drivers: Vec<JointId>,
     sensors: Vec<SensorTarget>,
     sensor_offsets: Vec<f64>,
+    inputs: InputTable,
 }
 
 impl PreparedScene {
@@ -127,6 +133,17 @@ impl PreparedScene {
             Cow::Owned(s) => s,
         };
         let (scene, axis_markers) = crate::force_elements::add_axis_markers(scene);
+        let (mut scene, load_axis_markers) = crate::force_elements::add_load_axis_markers(scene);
+        let inputs = InputTable::new(&scene);
+        for (k, driver) in scene.drivers.iter_mut().enumerate() {
+            if let Some(slots) = inputs.driver_slots(k) {
+                let law = std::mem::replace(&mut driver.law, MotionLaw::Locked);
+                driver.law = MotionLaw::Input(DriverInput {
+                    law: std::sync::Arc::new(law),
+                    slots,
+                });
+            }
+        }
         let bodies = scene.prepare_bodies()?;
         let joints = scene
             .joints
@@ -153,6 +170,10 @@ impl PreparedScene {
             .iter()
             .map(|m| m.as_ref().map(|(b, m)| scene.marker_id(b, m)).transpose())
             .collect::<Result<_, _>>()?;
+        let load_axes = load_axis_markers
+            .iter()
+            .map(|points| points.iter().map(|(b, m)| scene.marker_id(b, m)).collect())
+            .collect::<Result<_, _>>()?;
         let drivers = scene
             .drivers
             .iter()
@@ -171,9 +192,11 @@ impl PreparedScene {
             forces,
             constraints,
             force_axes,
+            load_axes,
             drivers,
             sensors,
             sensor_offsets,
+            inputs,
         })
     }
 
@@ -214,12 +237,25 @@ impl PreparedScene {
         &self.force_axes
     }
 
+    /// Per force element, the axis points P + e_k of a load on a rigid body (added to the
+    /// body by [`PreparedScene::new`], `crate::force_elements::Load`), empty for the others.
+    pub fn load_axis_markers(&self) -> &[Vec<MarkerId>] {
+        &self.load_axes
+    }
+
     /// Every marker the force elements use, the auxiliary axis markers included.
     pub fn force_marker_ids(&self) -> impl Iterator<Item = MarkerId> + '_ {
         self.forces
             .iter()
             .flat_map(|pair| [pair.first, pair.second])
             .chain(self.force_axes.iter().flatten().copied())
+            .chain(self.load_axes.iter().flatten().copied())
+    }
+
+    /// The scene's inputs, compiled, with the shared table of their values
+    /// ([`crate::inputs`]): the force elements and drivers read it, a simulation sets it.
+    pub fn inputs(&self) -> &InputTable {
+        &self.inputs
     }
 
     /// The driven joint of each driver, in the order of the prepared scene's `drivers`.

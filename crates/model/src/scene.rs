@@ -90,6 +90,9 @@ pub struct Scene {
     /// Named outputs, one CSV column each.
     #[serde(default)]
     pub sensors: Vec<Sensor>,
+    /// Named inputs a host sets between steps ([`crate::inputs`]).
+    #[serde(default)]
+    pub inputs: Vec<crate::inputs::Input>,
     /// Solver settings.
     pub solver: Solver,
     /// File the scene was read from (named in errors).
@@ -371,6 +374,23 @@ pub enum Force {
         #[serde(default)]
         lateral_damping: f64,
     },
+    /// An external force and torque on a marker (ground components; constant, or set by a
+    /// `Load` input): the torque needs a rigid body (`crate::force_elements::Load`). A
+    /// planar scene's load is F_x, F_y and τ_z (its torque written `[0, 0, τ_z]`).
+    Load {
+        /// Name.
+        name: String,
+        /// The body (not the ground).
+        body: String,
+        /// The marker the force acts at.
+        marker: String,
+        /// Force F (N; 0 when omitted).
+        #[serde(default)]
+        force: V3,
+        /// Torque τ (N·m; 0 when omitted).
+        #[serde(default)]
+        torque: V3,
+    },
 }
 
 impl Force {
@@ -379,7 +399,8 @@ impl Force {
         match self {
             Force::SpringDamper { name, .. }
             | Force::Link { name, .. }
-            | Force::Tyre { name, .. } => name,
+            | Force::Tyre { name, .. }
+            | Force::Load { name, .. } => name,
         }
     }
 
@@ -389,6 +410,7 @@ impl Force {
             Force::SpringDamper { .. } => "SpringDamper",
             Force::Link { .. } => "Link",
             Force::Tyre { .. } => "Tyre",
+            Force::Load { .. } => "Load",
         }
     }
 
@@ -410,7 +432,9 @@ impl Force {
                 marker2,
                 ..
             } => [(body1, marker1), (body2, marker2)],
-            Force::Tyre { body, marker, .. } => [(body, marker), (body, marker)],
+            Force::Tyre { body, marker, .. } | Force::Load { body, marker, .. } => {
+                [(body, marker), (body, marker)]
+            }
         }
     }
 
@@ -431,7 +455,9 @@ impl Force {
                 marker2,
                 ..
             } => vec![(body1, marker1), (body2, marker2)],
-            Force::Tyre { body, marker, .. } => vec![(body, marker)],
+            Force::Tyre { body, marker, .. } | Force::Load { body, marker, .. } => {
+                vec![(body, marker)]
+            }
         }
     }
 
@@ -484,6 +510,10 @@ pub struct Driver {
 /// Closed-form motion laws θ(t) with θ(0) = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum MotionLaw {
+    /// A driver input's law ([`crate::inputs::DriverInput`]), put in the prepared scene by
+    /// [`crate::PreparedScene::new`]; never in a scene file.
+    #[serde(skip)]
+    Input(crate::inputs::DriverInput),
     /// Held at its initial value.
     Locked,
     /// Constant rate: θ = rate · t.
@@ -513,6 +543,7 @@ impl MotionLaw {
     pub fn eval(&self, t: f64) -> (f64, f64, f64) {
         use std::f64::consts::PI;
         match *self {
+            MotionLaw::Input(ref input) => input.eval(t),
             MotionLaw::Locked => (0.0, 0.0, 0.0),
             MotionLaw::ConstantRate(r) => (r * t, r, 0.0),
             MotionLaw::SpinUp { omega_s, t_s } => {

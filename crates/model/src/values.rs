@@ -187,7 +187,7 @@ impl Scene {
     pub(crate) fn check_law(&self, driver: &str, law: &MotionLaw) -> Result<(), ModelError> {
         let f = |field: &str| format!("drivers[{driver}].law.{field}");
         match *law {
-            MotionLaw::Locked => Ok(()),
+            MotionLaw::Locked | MotionLaw::Input(_) => Ok(()),
             MotionLaw::ConstantRate(r) => {
                 self.in_range(bounds::ANGULAR_VELOCITY, &f("ConstantRate"), r)
             }

@@ -34,6 +34,7 @@ use nalgebra::{DVector, Vector3};
 
 use super::{Scratch, add_line_tangents, line_columns, merge_coordinates};
 use crate::error::ModelError;
+use crate::inputs::InputSlots;
 use crate::laws::Law;
 use crate::scene::{Force, GROUND, Marker, Scene, V3};
 
@@ -52,6 +53,9 @@ pub struct Link<M> {
     pub damper: Law,
     /// The length at the start (m): the spring's energy is counted from it.
     pub start_length: f64,
+    /// The `Scale` input that multiplies the spring's and the damper's tension (and their
+    /// slopes), if any ([`crate::inputs`]).
+    pub scale: Option<InputSlots>,
 }
 
 /// The link's geometry at (q, q̇): d, the unit direction (n or a), l and l̇.
@@ -91,9 +95,28 @@ impl<M> Link<M> {
             spring: spring.clone(),
             damper: damper.clone(),
             start_length: 0.0,
+            scale: None,
         };
         link.start_length = link.geometry(kinematics, q0, qd0).length;
         Ok(link)
+    }
+
+    /// The spring's (tension, slope) at length l, scaled by the input's s_k if any.
+    fn spring_at(&self, l: f64) -> (f64, f64) {
+        let (f, k) = self.spring.eval(l);
+        match &self.scale {
+            None => (f, k),
+            Some(s) => (f * s.get(0), k * s.get(0)),
+        }
+    }
+
+    /// The damper's (tension, slope) at rate l̇, scaled by the input's s_c if any.
+    fn damper_at(&self, rate: f64) -> (f64, f64) {
+        let (f, c) = self.damper.eval(rate);
+        match &self.scale {
+            None => (f, c),
+            Some(s) => (f * s.get(1), c * s.get(1)),
+        }
     }
 
     fn geometry<K>(&self, kinematics: &K, q: &DVector<f64>, qd: &DVector<f64>) -> Geometry
@@ -140,8 +163,8 @@ impl<M> Link<M> {
         K: MarkerKinematics<Marker = M>,
     {
         let g = self.geometry(kinematics, q, qd);
-        let (fs, ks) = self.spring.eval(g.length);
-        let (fd, cd) = self.damper.eval(g.rate);
+        let (fs, ks) = self.spring_at(g.length);
+        let (fd, cd) = self.damper_at(g.rate);
         let f = fs + fd;
         match &self.axis {
             None => {
@@ -195,7 +218,7 @@ impl<M> Link<M> {
     {
         let g = self.geometry(kinematics, q, qd);
         ElementReading {
-            force: self.spring.eval(g.length).0 + self.damper.eval(g.rate).0,
+            force: self.spring_at(g.length).0 + self.damper_at(g.rate).0,
             length: g.length,
         }
     }
@@ -211,7 +234,11 @@ impl<M> Link<M> {
         K: MarkerKinematics<Marker = M>,
     {
         let l = self.geometry(kinematics, q, qd).length;
-        self.spring.integral(self.start_length, l)
+        let energy = self.spring.integral(self.start_length, l);
+        match &self.scale {
+            None => energy,
+            Some(s) => energy * s.get(0),
+        }
     }
 }
 

@@ -26,6 +26,7 @@
 use flexmbd_core::{ElementReading, MarkerKinematics, SystemTerms};
 use nalgebra::{DVector, Vector3};
 
+use crate::inputs::{InputSlots, InputTable};
 use crate::roads::{Contact, Profile, Road};
 use crate::scene::Force;
 
@@ -36,6 +37,8 @@ pub struct Tyre<M> {
     pub wheel: M,
     /// Its road's profile.
     pub road: Profile,
+    /// The `Road` input that moves the profile by (Δx, Δz), if any ([`crate::inputs`]).
+    pub road_offset: Option<InputSlots>,
     /// Unloaded radius R (m).
     pub radius: f64,
     /// Radial stiffness K (N/m).
@@ -57,7 +60,7 @@ struct ContactState {
 
 impl<M> Tyre<M> {
     /// Compile `force` (a `Tyre`, its road validated to exist) over W's handle.
-    pub(super) fn new(force: &Force, roads: &[Road], wheel: M) -> Self {
+    pub(super) fn new(force: &Force, roads: &[Road], wheel: M, inputs: &InputTable) -> Self {
         let Force::Tyre {
             road,
             radius,
@@ -69,17 +72,26 @@ impl<M> Tyre<M> {
         else {
             unreachable!("Tyre::new is given tyres")
         };
+        let index = roads.iter().position(|r| &r.name == road);
         Tyre {
             wheel,
-            road: roads
-                .iter()
-                .find(|r| &r.name == road)
-                .map(|r| r.profile.clone())
-                .unwrap_or_default(),
+            road: index.map(|k| roads[k].profile.clone()).unwrap_or_default(),
+            road_offset: index.and_then(|k| inputs.road_slots(k)),
             radius: *radius,
             stiffness: *stiffness,
             contact: *contact,
             lateral_damping: *lateral_damping,
+        }
+    }
+
+    /// The road's height and slope under x: h(x − Δx) + Δz with the input's offset.
+    fn road_at(&self, x: f64) -> (f64, f64) {
+        match &self.road_offset {
+            None => self.road.eval(x),
+            Some(offset) => {
+                let (h, s) = self.road.eval(x - offset.get(0));
+                (h + offset.get(1), s)
+            }
         }
     }
 
@@ -88,7 +100,7 @@ impl<M> Tyre<M> {
         K: MarkerKinematics<Marker = M>,
     {
         let (r, v) = kinematics.marker_state(&self.wheel, q, qd);
-        let (h, s) = self.road.eval(r.x);
+        let (h, s) = self.road_at(r.x);
         let deflection = self.radius - (r.z - h);
         let (normal_force, normal) = match (deflection > 0.0, self.contact) {
             (false, _) => (0.0, Vector3::z()),
@@ -235,6 +247,7 @@ mod tests {
             stiffness: 460000.0,
             contact,
             lateral_damping: 0.0,
+            road_offset: None,
         }
     }
 
