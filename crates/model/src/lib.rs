@@ -13,6 +13,7 @@ pub mod direction;
 pub mod error;
 mod force_checks;
 pub mod force_elements;
+mod force_ends;
 mod foreshortening;
 mod initial_velocity;
 pub mod inputs;
