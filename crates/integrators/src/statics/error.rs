@@ -42,6 +42,18 @@ pub enum StaticError {
         /// Smallest / largest pivot of M + α_M Φ_qᵀΦ_q.
         pivot_ratio: f64,
     },
+    /// The point found balances the generalized forces but not the bodies: the coordinates
+    /// are nearly singular there (a Cardan middle angle near ±90°), so the residual, small in
+    /// the coordinates, is a finite force on the bodies.
+    #[error(
+        "the point found is not an equilibrium of the bodies: the coordinates are nearly singular there, and the residual left would accelerate them by {acceleration:.3e} (scale f_ref/m_ref {scale:.3e}); a spherical or free joint's middle Cardan angle is near ±90° — start from another orientation or use the absolute formulation"
+    )]
+    NearlySingular {
+        /// ‖H⁻¹g‖∞ at the point found.
+        acceleration: f64,
+        /// f_ref / m_ref.
+        scale: f64,
+    },
     /// The formulation returned non-finite numbers at the initial guess.
     #[error(
         "the forces or constraints are not finite at the initial guess (‖g‖∞ = {residual}); check the scene"

@@ -660,7 +660,8 @@ pub fn solve_static<F: Formulation + ?Sized>(
         Err(
             StaticError::Singular { .. }
             | StaticError::NoConvergence { .. }
-            | StaticError::CoordinateSingularity { .. },
+            | StaticError::CoordinateSingularity { .. }
+            | StaticError::NearlySingular { .. },
         ) => {
             // A neutral direction (module documentation, "Neutral directions"): again with
             // the regularised tangent; when that fails too, the first diagnosis stands.
@@ -719,7 +720,7 @@ fn attempt<F: Formulation + ?Sized>(
         });
     }
     s.take_back_neutral_drift(f, &q0, &mut q, &mut lambda)?;
-    s.check_coordinates(f, &q)?;
+    s.check_coordinates(f, &q, &lambda)?;
     Ok(StaticSolution {
         q,
         lambda,

@@ -129,6 +129,16 @@ fn neutral_modes(
     Some(r * (l_inv.transpose() * y))
 }
 
+/// The largest ‖H⁻¹g‖∞ a converged point may leave, per f_ref/m_ref
+/// ([`Solver::check_coordinates`]); at a true equilibrium it is of the order of the
+/// residual tolerance, 10⁻¹⁰.
+const FALSE_EQUILIBRIUM: f64 = 1e-6;
+
+/// ... unless H does not amplify g: ‖H⁻¹g‖∞ at most this times ‖g‖∞/m_ref is a
+/// well-conditioned H (a scene that starts at its equilibrium has f_ref = ‖g‖∞, both
+/// round-off, and passes by this).
+const AMPLIFICATION: f64 = 1e3;
+
 impl Solver<'_> {
     /// After a solve: the drift from q₀ along the neutral motions, if there are any, taken back
     /// and the point polished by the regularised Newton (`crate::neutral`); kept as it was when
@@ -180,13 +190,18 @@ impl Solver<'_> {
         self.regularisation = REGULARISATION * 1e-4 * self.alpha / m_ref.max(f64::MIN_POSITIVE);
     }
 
-    /// At the converged q: M + α_M Φ_qᵀΦ_q (α_M = the largest diagonal of M per unit of
+    /// At the converged q: H = M + α_M Φ_qᵀΦ_q (α_M = the largest diagonal of M per unit of
     /// Φ_qᵀΦ_q; held coordinates as the identity) must be regular, else the coordinates are
-    /// singular there ([`StaticError::CoordinateSingularity`]).
+    /// singular there ([`StaticError::CoordinateSingularity`]); and the residual g must not
+    /// accelerate the bodies: a = H⁻¹g at most [`FALSE_EQUILIBRIUM`] f_ref/m_ref, or at most
+    /// [`AMPLIFICATION`] ‖g‖∞/m_ref (H well-conditioned along g). Near a
+    /// coordinate singularity H is regular but ill-conditioned, and a small g in the
+    /// coordinates can be a finite force on the bodies ([`StaticError::NearlySingular`]).
     pub(super) fn check_coordinates<F: Formulation + ?Sized>(
         &mut self,
         f: &mut F,
         q: &DVector<f64>,
+        lambda: &DVector<f64>,
     ) -> Result<(), StaticError> {
         self.eval(f, q, REQ_FULL);
         let n = self.n;
@@ -208,11 +223,23 @@ impl Solver<'_> {
                 self.h[(j, j)] = 1.0;
             }
         }
-        match self.lu.factor(&self.h) {
-            Ok(()) => Ok(()),
-            Err(e) => Err(StaticError::CoordinateSingularity {
+        if let Err(e) = self.lu.factor(&self.h) {
+            return Err(StaticError::CoordinateSingularity {
                 pivot_ratio: e.pivot_ratio,
-            }),
+            });
         }
+        self.residual(lambda, 1.0, true);
+        let residual = self.g_try.amax();
+        self.lu.solve_in_place(&mut self.g_try);
+        let (acceleration, scale) = (self.g_try.amax(), self.f_ref / m_ref);
+        if acceleration > FALSE_EQUILIBRIUM * scale
+            && acceleration > AMPLIFICATION * residual / m_ref
+        {
+            return Err(StaticError::NearlySingular {
+                acceleration,
+                scale,
+            });
+        }
+        Ok(())
     }
 }
