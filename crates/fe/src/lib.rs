@@ -1,7 +1,8 @@
 //! Finite-element preprocessing for flexmbd (docs/methods.md §1–§2.3, §6.1).
 //!
 //! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
-//! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)
+//! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4; the dynamic vectors
+//! chosen by [`ModeSelection`], §1.6) → damping (§1.5)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 
 #![warn(missing_docs)]
@@ -13,9 +14,13 @@ pub mod cloud;
 pub mod craig_bampton;
 pub mod error;
 pub mod foreshortening;
+pub mod inertia_loads;
 pub mod modal;
+pub mod participation;
 pub mod reduced;
 pub mod rigid;
+pub mod ritz;
+pub mod selection;
 pub mod spec;
 pub mod stiffening;
 
@@ -30,6 +35,7 @@ pub use reduced::{
     Dof, MassCloud, ModeInventory, NodeDof, NodeModes, ReducedBody, ShapeIntegrals,
     StiffeningIntegrals,
 };
+pub use selection::ModeSelection;
 pub use spec::{BeamBodySpec, Damping, Geometry, Material, ReferenceFrame, Section};
 
 /// Everything [`reduce`] computes, including the FE-level intermediates that
@@ -68,7 +74,11 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     } else {
         spec.origin.as_str()
     };
-    let red = if spec.axial_modes == 0 {
+    let red = if spec.mode_selection != ModeSelection::LowestFrequency {
+        craig_bampton::reduce_with_basis(&k, &m, &sets, name, &frame_txt, |p| {
+            selection::dynamic_basis(spec, &mesh, &m, &sets, p)
+        })?
+    } else if spec.axial_modes == 0 {
         craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?
     } else {
         let all = craig_bampton::reduce_matrices(&k, &m, &sets, sets.i.len(), name, &frame_txt)?;
