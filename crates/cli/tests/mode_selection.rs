@@ -122,3 +122,30 @@ fn the_sweep_basis_axis_takes_the_three_kinds_and_refuses_others() {
     assert_ne!(code(&out), 0);
     assert_contains_all(&err, &["--grid basis", "`krylov`"]);
 }
+
+#[test]
+fn modes_names_ritz_vectors_and_how_they_were_chosen() {
+    let bar = std::fs::read_to_string(model("four_bar_bar_2d.ron")).unwrap();
+    let ritz = bar.replace(
+        "normal_modes: 2,",
+        "normal_modes: 3, mode_selection: LoadRitz,",
+    );
+    assert_ne!(ritz, bar, "the bar model names its normal modes");
+    let path = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("mode_selection_{}_bar.ron", std::process::id()));
+    std::fs::write(&path, ritz).unwrap();
+    let path = path.display().to_string();
+    let out = flexmbd().args(["modes", &path]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_contains_all(
+        &text,
+        &["(2 static + 3 Ritz)", "chosen by    LoadRitz", "[ 4] ritz"],
+    );
+    let out = flexmbd().args(["modes", "--json", &path]).output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["selection"], "LoadRitz");
+    assert_eq!(v["normal_modes"].as_array().unwrap().len(), 3);
+    // The bar's lowest Ritz frequency lies just above its lowest normal frequency.
+    let f = v["normal_modes"][0]["frequency_hz"].as_f64().unwrap();
+    assert!((40.41..40.42).contains(&f), "{f}");
+}

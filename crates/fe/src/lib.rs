@@ -94,6 +94,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         n_fe_dofs: mesh.n_dofs(),
         frame_dofs,
         static_modes: spec.boundary.clone(),
+        selection: spec.mode_selection,
         normal_frequencies_hz: red
             .omega_sq
             .iter()
