@@ -68,6 +68,18 @@ fn bad_mode_selections_are_refused_by_name_and_value() {
         &e,
         &["body `beam`", "mode_candidates = 100", "interior DOFs"],
     );
+    // Within the interior DOFs, but more than the 40 bending modes (20 are axial).
+    let e = refuse(&[
+        format!("{BEAM}.mode_selection=Participation"),
+        format!("{BEAM}.mode_candidates=50"),
+    ]);
+    assert_contains_all(
+        &e,
+        &[
+            "mode_candidates = 50",
+            "only 40 normal modes that are not purely axial",
+        ],
+    );
     let e = refuse(&[
         format!("{BEAM}.mode_selection=Participation"),
         format!("{BEAM}.mode_candidates=2"),

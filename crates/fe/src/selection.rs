@@ -103,6 +103,12 @@ pub fn dynamic_basis(
     sets: &DofSets,
     p: &InteriorProblem,
 ) -> Result<InteriorBasis, FeError> {
+    let n = spec.normal_modes;
+    if spec.mode_selection == ModeSelection::LoadRitz && spec.axial_modes == 0 {
+        // No eigenproblem needed.
+        let loads = inertia_loads(mesh, m, sets, p.x_static);
+        return ritz::load_ritz(p, &loads, n, &DMatrix::zeros(p.kii.nrows(), 0));
+    }
     let all = generalized_eigen(p.kii, p.mii, &format!("{}: fixed-interface modes", p.name))?;
     let (other, axial) = if spec.axial_modes > 0 {
         split_axial(&all, mesh, sets)
@@ -121,11 +127,20 @@ pub fn dynamic_basis(
         )));
     }
     let loads = inertia_loads(mesh, m, sets, p.x_static);
-    let n = spec.normal_modes;
     let chosen = match spec.mode_selection {
         ModeSelection::LowestFrequency => pick(&all, &other[..n.min(other.len())]),
         ModeSelection::Participation => {
-            let n_candidates = spec.mode_candidates.unwrap_or(other.len()).min(other.len());
+            let n_candidates = spec.mode_candidates.unwrap_or(other.len());
+            if n_candidates > other.len() {
+                return Err(FeError::Invalid(InvalidValue::new(
+                    "mode_candidates",
+                    n_candidates,
+                    format!(
+                        "the model has only {} normal modes that are not purely axial",
+                        other.len()
+                    ),
+                )));
+            }
             let candidates = pick(&all, &other[..n_candidates]);
             let shares = participation::static_response_shares(
                 p,
