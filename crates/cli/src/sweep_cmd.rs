@@ -11,6 +11,7 @@ use flexmbd::body::InertiaMethod;
 use flexmbd::model::{FormulationKind, Scene};
 use flexmbd::sweep::{
     Axis, Grid, Reference, RunRecord, RunStatus, Sweep, SweepError, SweepReport, Timing, Tuning,
+    parse_basis,
 };
 use serde::Serialize;
 
@@ -28,6 +29,8 @@ Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
   formulation=absolute,relative   inertia=b-matrix,shape-integrals
   stiffening=linear,fnl1,fnl2,foreshortening,substructuring:N
   modes=1,2,3   modes.BODY=1,2 (one beam body)   elements=10,20   elements.BODY=...
+  basis=lowest,participation,ritz   basis.BODY=... (the kind of the modes: the lowest
+    normal modes, those the body's loads excite most, or load-dependent Ritz vectors)
   step=1e-3,5e-4
 
 Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the
@@ -121,6 +124,10 @@ fn parse_axis(arg: &str) -> Result<Axis, String> {
             body,
             counts: values(name, list, count)?,
         },
+        ("basis", _) => Axis::Basis {
+            body,
+            kinds: values(name, list, parse_basis)?,
+        },
         ("elements", _) => Axis::Elements {
             body,
             counts: values(name, list, count)?,
@@ -128,7 +135,7 @@ fn parse_axis(arg: &str) -> Result<Axis, String> {
         ("step", None) => Axis::Step(values(name, list, |v| v.parse::<f64>().ok())?),
         _ => {
             return Err(format!(
-                "--grid {arg}: unknown axis `{name}` (axes: formulation, inertia, stiffening, modes[.BODY], elements[.BODY], step)"
+                "--grid {arg}: unknown axis `{name}` (axes: formulation, inertia, stiffening, modes[.BODY], basis[.BODY], elements[.BODY], step)"
             ));
         }
     };

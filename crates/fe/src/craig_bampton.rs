@@ -14,7 +14,7 @@
 //! is negligible), or K_ff x = λ M_ff x with λ ≤ 0 (a static mode is a rigid
 //! motion). Both mean the r set does not hold all rigid-body motion.
 
-use faer::linalg::solvers::Solve;
+use faer::linalg::solvers::{Llt, Solve};
 use faer::{Mat, Side};
 use nalgebra::DMatrix;
 
@@ -58,6 +58,39 @@ fn to_faer(a: &DMatrix<f64>) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
 }
 
+/// The fixed-interface problem a dynamic basis is built on: the interior blocks, the
+/// factorised K_ii and the static modes already computed.
+pub struct InteriorProblem<'a> {
+    /// K_ii (n_i × n_i).
+    pub kii: &'a DMatrix<f64>,
+    /// M_ii (n_i × n_i).
+    pub mii: &'a DMatrix<f64>,
+    /// The Cholesky factorisation of K_ii (checked non-singular).
+    pub kii_llt: &'a Llt<f64>,
+    /// The static modes X_s (N × n_b).
+    pub x_static: &'a DMatrix<f64>,
+    /// The spec origin, for errors.
+    pub name: &'a str,
+}
+
+impl InteriorProblem<'_> {
+    /// K_ii⁻¹ B for a block of right-hand sides B (n_i × c).
+    pub fn solve(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
+        let z = self.kii_llt.solve(to_faer(b));
+        DMatrix::from_fn(b.nrows(), b.ncols(), |i, j| z[(i, j)])
+    }
+}
+
+/// The dynamic part of a reduction basis: interior vectors, K_ii- and M_ii-orthogonal,
+/// mass-normalised, with their ω² (= φᵀ K_ii φ) ascending.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InteriorBasis {
+    /// The vectors on the interior DOFs, one per column (n_i × n_d).
+    pub vectors: DMatrix<f64>,
+    /// ω² of each vector.
+    pub omega_sq: Vec<f64>,
+}
+
 /// Reduce the free-floating (K, M) on `sets`, keeping `n_d` fixed-interface
 /// modes. `name` (the spec origin) and `frame` (the r set, formatted) name the
 /// model in refusals.
@@ -69,14 +102,45 @@ pub fn reduce_matrices(
     name: &str,
     frame: &str,
 ) -> Result<Reduction, FeError> {
-    let n = k.nrows();
-    let (nb, ni) = (sets.b.len(), sets.i.len());
+    let ni = sets.i.len();
     if n_d > ni {
         return Err(FeError::TooManyModes {
             requested: n_d,
             available: ni,
         });
     }
+    reduce_with_basis(k, m, sets, name, frame, |p| lowest_normal_modes(p, n_d))
+}
+
+/// The `n_d` lowest fixed-interface normal modes of K_ii φ = ω² M_ii φ.
+pub fn lowest_normal_modes(p: &InteriorProblem, n_d: usize) -> Result<InteriorBasis, FeError> {
+    if n_d == 0 {
+        return Ok(InteriorBasis {
+            vectors: DMatrix::zeros(p.kii.nrows(), 0),
+            omega_sq: Vec::new(),
+        });
+    }
+    let e = generalized_eigen(p.kii, p.mii, &format!("{}: fixed-interface modes", p.name))?
+        .truncate(n_d);
+    Ok(InteriorBasis {
+        vectors: e.vectors,
+        omega_sq: e.omega_sq,
+    })
+}
+
+/// Reduce the free-floating (K, M) on `sets` with the static modes and the dynamic
+/// basis `dynamic` builds on the fixed-interface problem (not called when there are no
+/// interior DOFs). `name` and `frame` as in [`reduce_matrices`].
+pub fn reduce_with_basis(
+    k: &DMatrix<f64>,
+    m: &DMatrix<f64>,
+    sets: &DofSets,
+    name: &str,
+    frame: &str,
+    dynamic: impl FnOnce(&InteriorProblem) -> Result<InteriorBasis, FeError>,
+) -> Result<Reduction, FeError> {
+    let n = k.nrows();
+    let (nb, ni) = (sets.b.len(), sets.i.len());
     let singular = |detail: String| FeError::SingularInterior {
         spec: name.to_string(),
         frame: frame.to_string(),
@@ -86,11 +150,14 @@ pub fn reduce_matrices(
     let mii = submatrix(m, &sets.i, &sets.i);
     let kib = submatrix(k, &sets.i, &sets.b);
 
-    let mut x = DMatrix::zeros(n, nb + n_d);
+    let mut x_static = DMatrix::zeros(n, nb);
     for (c, &bdof) in sets.b.iter().enumerate() {
-        x[(bdof, c)] = 1.0;
+        x_static[(bdof, c)] = 1.0;
     }
-    let mut omega_sq = Vec::new();
+    let mut basis = InteriorBasis {
+        vectors: DMatrix::zeros(0, 0),
+        omega_sq: Vec::new(),
+    };
     if ni > 0 {
         let kf = to_faer(&kii);
         let llt = kf.llt(Side::Lower).map_err(|e| {
@@ -115,21 +182,28 @@ pub fn reduce_matrices(
             let z = llt.solve(to_faer(&kib));
             for c in 0..nb {
                 for (a, &idof) in sets.i.iter().enumerate() {
-                    x[(idof, c)] = -z[(a, c)];
+                    x_static[(idof, c)] = -z[(a, c)];
                 }
             }
         }
-        if n_d > 0 {
-            let e = generalized_eigen(&kii, &mii, &format!("{name}: fixed-interface modes"))?
-                .truncate(n_d);
-            for c in 0..n_d {
-                for (a, &idof) in sets.i.iter().enumerate() {
-                    x[(idof, nb + c)] = e.vectors[(a, c)];
-                }
-            }
-            omega_sq = e.omega_sq;
+        let problem = InteriorProblem {
+            kii: &kii,
+            mii: &mii,
+            kii_llt: &llt,
+            x_static: &x_static,
+            name,
+        };
+        basis = dynamic(&problem)?;
+    }
+    let n_d = basis.omega_sq.len();
+    let mut x = DMatrix::zeros(n, nb + n_d);
+    x.columns_mut(0, nb).copy_from(&x_static);
+    for c in 0..n_d {
+        for (a, &idof) in sets.i.iter().enumerate() {
+            x[(idof, nb + c)] = basis.vectors[(a, c)];
         }
     }
+    let omega_sq = basis.omega_sq;
     let m_ff = sym(&(x.transpose() * m * &x));
     let k_ff = sym(&(x.transpose() * k * &x));
 

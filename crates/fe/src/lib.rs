@@ -1,7 +1,8 @@
 //! Finite-element preprocessing for flexmbd (docs/methods.md §1–§2.3, §6.1).
 //!
 //! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
-//! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4) → damping (§1.5)
+//! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4; the dynamic vectors
+//! chosen by [`ModeSelection`], §1.6) → damping (§1.5)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 //! The mesh is a polyline or a beam frame of named nodes and members, each with its own
 //! section ([`frame`]).
@@ -16,10 +17,14 @@ pub mod craig_bampton;
 pub mod error;
 pub mod foreshortening;
 pub mod frame;
+pub mod inertia_loads;
 pub mod modal;
+pub mod participation;
 pub mod reduced;
 pub mod rigid;
+pub mod ritz;
 pub mod section;
+pub mod selection;
 pub mod spec;
 pub mod stiffening;
 
@@ -34,6 +39,7 @@ pub use reduced::{
     Dof, MassCloud, ModeInventory, NodeDof, NodeModes, ReducedBody, ShapeIntegrals,
     StiffeningIntegrals,
 };
+pub use selection::ModeSelection;
 pub use spec::{BeamBodySpec, Damping, Geometry, Material, ReferenceFrame, Section};
 
 /// Everything [`reduce`] computes, including the FE-level intermediates that
@@ -72,7 +78,11 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     } else {
         spec.origin.as_str()
     };
-    let red = if spec.axial_modes == 0 {
+    let red = if spec.mode_selection != ModeSelection::LowestFrequency {
+        craig_bampton::reduce_with_basis(&k, &m, &sets, name, &frame_txt, |p| {
+            selection::dynamic_basis(spec, &mesh, &m, &sets, p)
+        })?
+    } else if spec.axial_modes == 0 {
         craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?
     } else {
         let all = craig_bampton::reduce_matrices(&k, &m, &sets, sets.i.len(), name, &frame_txt)?;
@@ -88,6 +98,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         n_fe_dofs: mesh.n_dofs(),
         frame_dofs,
         static_modes: spec.boundary.clone(),
+        selection: spec.mode_selection,
         normal_frequencies_hz: red
             .omega_sq
             .iter()

@@ -60,8 +60,12 @@ pub struct ModeInventory {
     pub frame_dofs: Vec<NodeDof>,
     /// One static (constraint) mode per boundary DOF, in mode order (they come first in **X**).
     pub static_modes: Vec<NodeDof>,
-    /// Fixed-interface normal-mode frequencies in Hz, ascending (they follow the static modes in **X**).
+    /// Fixed-interface normal-mode frequencies in Hz, ascending (they follow the static modes in **X**);
+    /// Ritz frequencies for load-dependent Ritz vectors (`selection`).
     pub normal_frequencies_hz: Vec<f64>,
+    /// Which vectors follow the static modes (docs/methods.md §1.6).
+    #[serde(default)]
+    pub selection: crate::ModeSelection,
 }
 
 impl ModeInventory {

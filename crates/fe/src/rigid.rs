@@ -77,6 +77,7 @@ impl ReducedBody {
                 frame_dofs: Vec::new(),
                 static_modes: Vec::new(),
                 normal_frequencies_hz: Vec::new(),
+                selection: Default::default(),
             },
             modes: DMatrix::zeros(0, 0),
             m_ff: DMatrix::zeros(0, 0),

@@ -37,6 +37,7 @@ use crate::error::FeError;
 use crate::reduced::{Dof, NodeDof};
 use crate::section::check_section;
 pub use crate::section::{Section, SectionProps};
+use crate::selection::ModeSelection;
 
 /// Material constants (SI).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -163,6 +164,15 @@ pub struct BeamBodySpec {
     /// ascending frequency. 0 (default): the `normal_modes` lowest modes of any kind.
     #[serde(default)]
     pub axial_modes: usize,
+    /// Which vectors make the dynamic basis (docs/methods.md §1.6): the lowest normal modes
+    /// (default), those the body's loads excite most, or load-dependent Ritz vectors;
+    /// `normal_modes` counts them either way.
+    #[serde(default)]
+    pub mode_selection: ModeSelection,
+    /// With `mode_selection: Participation`: rank the lowest this many (non-axial) normal
+    /// modes (default: all of them).
+    #[serde(default)]
+    pub mode_candidates: Option<usize>,
     /// Damping (default `None`).
     #[serde(default)]
     pub damping: Damping,
@@ -203,6 +213,8 @@ impl BeamBodySpec {
             boundary: Vec::new(),
             normal_modes: 0,
             axial_modes: 0,
+            mode_selection: ModeSelection::LowestFrequency,
+            mode_candidates: None,
             damping: Damping::None,
             origin: String::new(),
         }
@@ -320,6 +332,7 @@ impl BeamBodySpec {
         self.check_frame()?;
         self.check_boundary()?;
         self.check_normal_modes()?;
+        crate::selection::check(self)?;
         self.check_damping()
     }
 

@@ -1,6 +1,6 @@
 //! The mode inventory of a reduced body as printed by `flexmbd modes`.
 
-use flexmbd_fe::ReducedBody;
+use flexmbd_fe::{ModeSelection, ReducedBody};
 use serde::Serialize;
 
 /// One static (constraint) mode: the boundary DOF it belongs to.
@@ -14,12 +14,12 @@ pub struct StaticModeRow {
     pub dof: &'static str,
 }
 
-/// One fixed-interface normal mode.
+/// One fixed-interface normal mode (or load-dependent Ritz vector, see [`Inventory::selection`]).
 #[derive(Debug, Serialize)]
 pub struct NormalModeRow {
     /// Mode index in **X** (0-based; normal modes follow the static ones).
     pub index: usize,
-    /// Natural frequency with the boundary held fixed (Hz).
+    /// Natural frequency with the boundary held fixed (Hz); the Ritz frequency of a Ritz vector.
     pub frequency_hz: f64,
 }
 
@@ -51,6 +51,9 @@ pub struct Inventory {
     pub static_modes: Vec<StaticModeRow>,
     /// Normal modes, in mode order.
     pub normal_modes: Vec<NormalModeRow>,
+    /// How they were chosen (`mode_selection`, docs/methods.md §1.6): `LowestFrequency`,
+    /// `Participation` or `LoadRitz` (then they are load-dependent Ritz vectors).
+    pub selection: &'static str,
 }
 
 impl Inventory {
@@ -91,6 +94,7 @@ impl Inventory {
                     frequency_hz: f,
                 })
                 .collect(),
+            selection: inv.selection.name(),
         }
     }
 
@@ -108,18 +112,24 @@ impl Inventory {
             .map(|d| format!("{}@{}", d.dof, d.node))
             .collect();
         let _ = writeln!(s, "frame takes  {}", frame.join(" "));
+        let ritz = self.selection == ModeSelection::LoadRitz.name();
+        let kind = if ritz { "Ritz" } else { "normal" };
         let _ = writeln!(
             s,
-            "modes        {} ({} static + {} normal)",
+            "modes        {} ({} static + {} {kind})",
             self.n_modes,
             self.static_modes.len(),
             self.normal_modes.len()
         );
+        if self.selection != ModeSelection::LowestFrequency.name() {
+            let _ = writeln!(s, "chosen by    {} (methods.md §1.6)", self.selection);
+        }
         for m in &self.static_modes {
             let _ = writeln!(s, "  [{:2}] static  node {:3} {}", m.index, m.node, m.dof);
         }
+        let row = if ritz { "ritz  " } else { "normal" };
         for m in &self.normal_modes {
-            let _ = writeln!(s, "  [{:2}] normal  {:12.4} Hz", m.index, m.frequency_hz);
+            let _ = writeln!(s, "  [{:2}] {row}  {:12.4} Hz", m.index, m.frequency_hz);
         }
         s
     }

@@ -36,7 +36,7 @@ pub mod reference;
 pub mod tune;
 
 pub use error::SweepError;
-pub use grid::{Axis, Grid, GridPoint, Setting};
+pub use grid::{Axis, Grid, GridPoint, Setting, basis_name, parse_basis};
 pub use pareto::pareto_front;
 pub use reference::{ReferenceTable, SensorError};
 pub use tune::{TIMING_TIE, Tuning, structurally_cheaper, tune};

@@ -691,11 +691,17 @@ fn replacement(node: &Value, value: &str) -> Result<Value, String> {
         }
         Value::String(_) => Value::String(value.to_string()),
         Value::Null => {
-            // An omitted optional field: take a number, a bool, or a string.
+            // An omitted optional field: take a number (written as an integer, an integer,
+            // so that an optional count takes it; a float field takes it too), a bool, or a
+            // string.
             if let Ok(x) = value.parse::<f64>() {
-                serde_json::Number::from_f64(x)
-                    .map(Value::Number)
-                    .ok_or_else(|| format!("`{value}` is not finite"))?
+                if !value.contains(['.', 'e', 'E']) && x.fract() == 0.0 && x >= 0.0 {
+                    Value::Number((x as u64).into())
+                } else {
+                    serde_json::Number::from_f64(x)
+                        .map(Value::Number)
+                        .ok_or_else(|| format!("`{value}` is not finite"))?
+                }
             } else if let Ok(b) = value.parse::<bool>() {
                 Value::Bool(b)
             } else {

@@ -281,7 +281,7 @@ fn substructure_body(
 
 /// A substructure's beam spec: length `ls`, 2 elements, frame clamped at its inner node,
 /// static modes of every DOF of its outer node (2D: u, v, θ; 3D: 6), one fixed-interface
-/// mode per bending plane, no axial modes.
+/// mode per bending plane (the lowest), no axial modes.
 fn substructure_spec(spec: &BeamBodySpec, ls: f64) -> BeamBodySpec {
     let planar = spec.dim == flexmbd_core::Dim::Planar;
     let dofs: &[Dof] = if planar {
@@ -303,6 +303,9 @@ fn substructure_spec(spec: &BeamBodySpec, ls: f64) -> BeamBodySpec {
     sub.boundary = dofs.iter().map(|&dof| NodeDof { node: per, dof }).collect();
     sub.normal_modes = if planar { 1 } else { 2 };
     sub.axial_modes = 0;
+    // SBn's bodies have their own basis: the lowest modes, whatever the beam chose.
+    sub.mode_selection = flexmbd_fe::ModeSelection::LowestFrequency;
+    sub.mode_candidates = None;
     sub
 }
 

@@ -72,6 +72,7 @@ pub fn body_with_cloud(
             frame_dofs: vec![],
             static_modes: vec![],
             normal_frequencies_hz: vec![1.0; n],
+            selection: Default::default(),
         },
         modes: DMatrix::zeros(0, n),
         m_ff,

@@ -2,7 +2,9 @@
 #![allow(dead_code)]
 
 use flexmbd_core::Dim;
-use flexmbd_fe::{BeamBodySpec, Damping, Geometry, Material, NodeDof, ReferenceFrame, Section};
+use flexmbd_fe::{
+    BeamBodySpec, Damping, Geometry, Material, ModeSelection, NodeDof, ReferenceFrame, Section,
+};
 
 pub const E: f64 = 2.1e11;
 pub const RHO: f64 = 7850.0;
@@ -49,6 +51,8 @@ pub fn beam(
         boundary,
         normal_modes,
         axial_modes: 0,
+        mode_selection: ModeSelection::LowestFrequency,
+        mode_candidates: None,
         damping: Damping::None,
         origin: "test spec".to_string(),
     }

@@ -1,13 +1,14 @@
 //! The grid of a sweep: axes of model and solver choices, their Cartesian product in a
 //! fixed order (the last axis varies fastest), and each grid point as the `flexmbd
 //! simulate` arguments that reproduce it — formulation, inertia route and stiffening as
-//! the named options, modes, elements and step as `--set PATH=VALUE` overrides — applied to
-//! a scene exactly as the command line applies them.
+//! the named options, modes, their kind (basis), elements and step as `--set PATH=VALUE`
+//! overrides — applied to a scene exactly as the command line applies them.
 //!
-//! A new kind of axis (e.g. the kind of mode basis) is one more [`Axis`] variant with its
-//! [`Setting`]: its arguments and how it changes the scene.
+//! A new kind of axis is one more [`Axis`] variant with its [`Setting`]: its arguments
+//! and how it changes the scene.
 
 use flexmbd_body::InertiaMethod;
+use flexmbd_fe::ModeSelection;
 use flexmbd_model::{BodyModel, FormulationKind, Scene, Stiffening, parse_set};
 
 use super::SweepError;
@@ -28,6 +29,15 @@ pub enum Axis {
         body: Option<String>,
         /// The counts, each at least 1.
         counts: Vec<usize>,
+    },
+    /// The kind of dynamic vectors (`mode_selection`, docs/methods.md §1.6) of the beam
+    /// body `body`, or of every flexible beam body when `None`; `normal_modes` still
+    /// counts them.
+    Basis {
+        /// The body, or every flexible beam body.
+        body: Option<String>,
+        /// The kinds.
+        kinds: Vec<ModeSelection>,
     },
     /// FE elements per polyline segment (`geometry.elements_per_segment`) of the beam
     /// body `body`, or of every flexible beam body when `None`.
@@ -57,6 +67,13 @@ pub enum Setting {
         /// The count.
         count: usize,
     },
+    /// `--set bodies.BODY.model.Beam.mode_selection=KIND`, one per body.
+    Basis {
+        /// The bodies.
+        bodies: Vec<String>,
+        /// The kind.
+        kind: ModeSelection,
+    },
     /// `--set bodies.BODY.model.Beam.geometry.elements_per_segment=N`, one per body.
     Elements {
         /// The bodies.
@@ -82,6 +99,22 @@ pub fn inertia_name(i: InertiaMethod) -> &'static str {
         InertiaMethod::BMatrix => "b-matrix",
         InertiaMethod::ShapeIntegrals => "shape-integrals",
     }
+}
+
+/// The name of a mode selection on a `basis` axis: `lowest`, `participation`, `ritz`.
+pub fn basis_name(m: ModeSelection) -> &'static str {
+    match m {
+        ModeSelection::LowestFrequency => "lowest",
+        ModeSelection::Participation => "participation",
+        ModeSelection::LoadRitz => "ritz",
+    }
+}
+
+/// The mode selection a `basis` axis names (see [`basis_name`]).
+pub fn parse_basis(name: &str) -> Option<ModeSelection> {
+    ModeSelection::ALL
+        .into_iter()
+        .find(|&m| basis_name(m) == name)
 }
 
 /// The name of a stiffening method on the command line (`--stiffening`).
@@ -112,6 +145,15 @@ impl Setting {
                     )
                 })
                 .collect(),
+            Setting::Basis { bodies, kind } => bodies
+                .iter()
+                .flat_map(|b| {
+                    set(
+                        format!("bodies.{b}.model.Beam.mode_selection"),
+                        kind.name().into(),
+                    )
+                })
+                .collect(),
             Setting::Elements { bodies, count } => bodies
                 .iter()
                 .flat_map(|b| {
@@ -126,13 +168,14 @@ impl Setting {
         }
     }
 
-    /// A short label: `relative`, `fnl1`, `modes=3`, `h=0.0005`.
+    /// A short label: `relative`, `fnl1`, `modes=3`, `basis=ritz`, `h=0.0005`.
     pub fn label(&self) -> String {
         match self {
             Setting::Formulation(f) => formulation_name(*f).into(),
             Setting::Inertia(i) => inertia_name(*i).into(),
             Setting::Stiffening(s) => stiffening_name(*s),
             Setting::Modes { count, .. } => format!("modes={count}"),
+            Setting::Basis { kind, .. } => format!("basis={}", basis_name(*kind)),
             Setting::Elements { count, .. } => format!("elements={count}"),
             Setting::Step(h) => format!("h={h}"),
         }
@@ -238,6 +281,7 @@ impl Axis {
             Axis::Inertia(_) => "inertia",
             Axis::Stiffening(_) => "stiffening",
             Axis::Modes { .. } => "modes",
+            Axis::Basis { .. } => "basis",
             Axis::Elements { .. } => "elements",
             Axis::Step(_) => "step",
         }
@@ -249,11 +293,12 @@ impl Axis {
             Axis::Inertia(v) => v.len(),
             Axis::Stiffening(v) => v.len(),
             Axis::Modes { counts, .. } | Axis::Elements { counts, .. } => counts.len(),
+            Axis::Basis { kinds, .. } => kinds.len(),
             Axis::Step(v) => v.len(),
         }
     }
 
-    /// The beam bodies a modes or elements axis changes, checked against `scene`.
+    /// The beam bodies a modes, basis or elements axis changes, checked against `scene`.
     fn bodies(&self, body: &Option<String>, scene: &Scene) -> Result<Vec<String>, SweepError> {
         let beams = flexible_beams(scene);
         let bad = |message: String| SweepError::Grid {
@@ -305,6 +350,16 @@ impl Axis {
                     .map(|&count| Setting::Modes {
                         bodies: bodies.clone(),
                         count,
+                    })
+                    .collect()
+            }
+            Axis::Basis { body, kinds } => {
+                let bodies = self.bodies(body, scene)?;
+                kinds
+                    .iter()
+                    .map(|&kind| Setting::Basis {
+                        bodies: bodies.clone(),
+                        kind,
                     })
                     .collect()
             }
@@ -511,6 +566,37 @@ mod tests {
             panic!("the spin-up beam is a beam")
         };
         assert_eq!(spec.normal_modes, 3);
+    }
+
+    #[test]
+    fn a_basis_point_sets_the_mode_selection_of_every_flexible_beam() {
+        let grid = Grid {
+            axes: vec![Axis::Basis {
+                body: None,
+                kinds: vec![ModeSelection::LowestFrequency, ModeSelection::LoadRitz],
+            }],
+        };
+        let scene = spin_up();
+        let points = grid.points(&scene).unwrap();
+        let labels: Vec<String> = points.iter().map(GridPoint::label).collect();
+        assert_eq!(labels, ["basis=lowest", "basis=ritz"]);
+        assert_eq!(
+            points[1].args("s.ron", &[]),
+            [
+                "s.ron",
+                "--set",
+                "bodies.beam.model.Beam.mode_selection=LoadRitz"
+            ]
+        );
+        let BodyModel::Beam(spec) = &points[1].scene(&scene, &[]).unwrap().bodies[0].model else {
+            panic!("the spin-up beam is a beam")
+        };
+        assert_eq!(spec.mode_selection, ModeSelection::LoadRitz);
+        assert_eq!(
+            parse_basis("participation"),
+            Some(ModeSelection::Participation)
+        );
+        assert_eq!(parse_basis("krylov"), None);
     }
 
     #[test]
