@@ -65,6 +65,67 @@ pub struct Member {
     pub orientation: Option<[f64; 3]>,
 }
 
+impl FrameNode {
+    /// The node `name` at `position` (body components; z is dropped in 2D).
+    pub fn new(name: &str, position: [f64; 3]) -> Self {
+        FrameNode {
+            name: name.to_string(),
+            position: position.to_vec(),
+        }
+    }
+}
+
+impl Member {
+    /// A member from `from` to `to` in `elements` equal elements, with the body's section
+    /// and orientation vector.
+    pub fn new(from: &str, to: &str, elements: usize) -> Self {
+        Member {
+            from: from.to_string(),
+            to: to.to_string(),
+            elements: Some(elements),
+            section: None,
+            orientation: None,
+        }
+    }
+
+    /// Its own section.
+    pub fn section(mut self, section: Section) -> Self {
+        self.section = Some(section);
+        self
+    }
+
+    /// Its own orientation vector k̄ (body components).
+    pub fn orientation(mut self, k: [f64; 3]) -> Self {
+        self.orientation = Some(k);
+        self
+    }
+}
+
+impl BeamBodySpec {
+    /// A beam frame of `nodes` and `members` (see the module documentation), the frame of
+    /// reference clamped at the first node, no static and no normal modes yet (set `frame`,
+    /// `boundary` and `normal_modes`, naming nodes with [`BeamBodySpec::frame_node`]), no
+    /// damping. For scenes built in code; not validated.
+    pub fn frame(
+        dim: Dim,
+        material: crate::spec::Material,
+        section: Section,
+        nodes: Vec<FrameNode>,
+        members: Vec<Member>,
+    ) -> Self {
+        let mut spec = BeamBodySpec::straight(dim, material, section, 1.0, 1);
+        spec.geometry.points.clear();
+        spec.geometry.nodes = nodes;
+        spec.geometry.members = members;
+        spec
+    }
+
+    /// The index of the frame node `name` (its place in `geometry.nodes`).
+    pub fn frame_node(&self, name: &str) -> Option<usize> {
+        self.geometry.nodes.iter().position(|n| n.name == name)
+    }
+}
+
 /// One element of a frame's mesh, before its axes and properties are computed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameElement {

@@ -23,29 +23,16 @@ fn steel() -> Material {
 }
 
 fn node(name: &str, position: [f64; 3]) -> FrameNode {
-    FrameNode {
-        name: name.to_string(),
-        position: position.to_vec(),
-    }
+    FrameNode::new(name, position)
 }
 
 fn member(from: &str, to: &str, elements: usize) -> Member {
-    Member {
-        from: from.to_string(),
-        to: to.to_string(),
-        elements: Some(elements),
-        section: None,
-        orientation: None,
-    }
+    Member::new(from, to, elements)
 }
 
 /// A 3D frame body of steel with `section`, clamped at node 0, no modes.
 fn frame(section: Section, nodes: Vec<FrameNode>, members: Vec<Member>) -> BeamBodySpec {
-    let mut spec = BeamBodySpec::straight(Dim::Spatial, steel(), section, 1.0, 1);
-    spec.geometry.points.clear();
-    spec.geometry.nodes = nodes;
-    spec.geometry.members = members;
-    spec
+    BeamBodySpec::frame(Dim::Spatial, steel(), section, nodes, members)
 }
 
 fn tube() -> Section {
@@ -147,8 +134,7 @@ fn a_stepped_cantilever_of_two_sections_deflects_as_the_closed_form() {
     // tip: w = w1 + θ1 b + P b³/(3EI₂).
     let (a, b, p) = (0.6, 0.4, 250.0);
     let thin = Section::Circle { diameter: 0.012 };
-    let mut tip_member = member("joint", "tip", 3);
-    tip_member.section = Some(thin.clone());
+    let tip_member = member("joint", "tip", 3).section(thin);
     let spec = frame(
         Section::Circle { diameter: 0.02 },
         vec![
@@ -215,7 +201,9 @@ fn a_arm() -> BeamBodySpec {
             member("N_S", "S1", 1),
         ],
     );
-    spec.frame = flexmbd_fe::ReferenceFrame::Clamped { node: 1 };
+    spec.frame = flexmbd_fe::ReferenceFrame::Clamped {
+        node: spec.frame_node("P+").unwrap(),
+    };
     spec
 }
 

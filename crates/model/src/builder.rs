@@ -193,7 +193,8 @@ impl BodyBuilder {
     }
 
     /// A flexible Euler–Bernoulli beam body from its FE specification (run flexible unless
-    /// [`BodyBuilder::flexible`]`(false)`).
+    /// [`BodyBuilder::flexible`]`(false)`): a straight beam ([`BeamBodySpec::straight`]), a
+    /// polyline, or a beam frame of named nodes and members ([`BeamBodySpec::frame`]).
     pub fn beam(name: &str, spec: BeamBodySpec) -> Self {
         Self::with_model(name, BodyModel::Beam(spec))
     }
