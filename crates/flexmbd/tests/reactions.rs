@@ -26,16 +26,7 @@ fn assert_close(what: &str, value: [f64; 3], expected: [f64; 3], tolerance: f64)
     }
 }
 
-/// A planar rigid bar of 2 kg pinned at one end, hanging straight down.
-const PENDULUM: &str = r#"(
-    name: "pendulum", dim: Planar, gravity: [0.0, -9.81],
-    ground: [(name: "O", position: [0.0, 0.0])],
-    bodies: [(name: "bar", origin: [0.0, 0.0], orientation: Angle(-1.5707963267948966),
-        model: Rigid(mass: 2.0, center_of_mass: [0.6, 0.0], inertia: Planar(0.24)),
-        markers: [(name: "O", position: [0.0, 0.0]), (name: "tip", position: [1.2, 0.0])])],
-    joints: [(name: "pin", kind: Revolute(), body1: "ground", marker1: "O", body2: "bar", marker2: "O")],
-    solver: (step: 1e-3, duration: 1.0),
-)"#;
+use flexmbd_test_support::scenes::HANGING_PENDULUM as PENDULUM;
 
 /// The same bar in space, hinged about ground z and hanging along −y.
 const PENDULUM_3D: &str = r#"(

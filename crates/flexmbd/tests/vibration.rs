@@ -24,17 +24,7 @@ fn relative_error(a: f64, b: f64) -> f64 {
 
 /// A planar rigid bar pinned at one end, hanging straight down: mass m, centre of mass at
 /// d below the pin, inertia J_G about it. Its small oscillation ω = √(m g d / (J_G + m d²)).
-const PENDULUM: &str = r#"(
-    name: "pendulum", dim: Planar, gravity: [0.0, -9.81],
-    ground: [(name: "O", position: [0.0, 0.0])],
-    bodies: [(name: "bar", origin: [0.0, 0.0], orientation: Angle(-1.5707963267948966),
-        model: Rigid(mass: 2.0, center_of_mass: [0.6, 0.0], inertia: Planar(0.24)),
-        markers: [(name: "O", position: [0.0, 0.0]), (name: "tip", position: [1.2, 0.0])])],
-    joints: [(name: "pin", kind: Revolute(), body1: "ground", marker1: "O", body2: "bar", marker2: "O")],
-    sensors: [(name: "tip_x", kind: Position(body: "bar", marker: "tip", component: X)),
-              (name: "tip_y", kind: Position(body: "bar", marker: "tip", component: Y))],
-    solver: (step: 1e-3, duration: 1.0),
-)"#;
+use flexmbd_test_support::scenes::HANGING_PENDULUM as PENDULUM;
 
 #[test]
 fn pendulum_frequency_is_sqrt_mgd_over_j_in_both_formulations() {

@@ -1,9 +1,9 @@
 //! What every [`Force`] element answers whatever its kind: its name, its kind's name, its two
-//! ends (body, marker), and a spring's free length from its markers.
+//! ends (body, marker), and a spring's free length from its markers; and a [`JointKind`]'s name.
 
 use nalgebra::Vector3;
 
-use crate::scene::Force;
+use crate::scene::{Force, JointKind};
 
 impl Force {
     /// The element's name.
@@ -104,5 +104,20 @@ impl Force {
             });
         }
         Ok(free_length.unwrap_or(l))
+    }
+}
+
+impl JointKind {
+    /// The variant's name, for messages and reports.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            JointKind::Revolute { .. } => "Revolute",
+            JointKind::Spherical => "Spherical",
+            JointKind::Universal { .. } => "Universal",
+            JointKind::Prismatic { .. } => "Prismatic",
+            JointKind::Cylindrical { .. } => "Cylindrical",
+            JointKind::Rigid => "Rigid",
+            JointKind::Free => "Free",
+        }
     }
 }

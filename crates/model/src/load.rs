@@ -289,7 +289,7 @@ impl Scene {
                         "only revolute (angle) and prismatic (distance) joints can be driven; \
                          `{}` is {}",
                         d.joint,
-                        kind_name(&j.kind)
+                        j.kind.kind_name()
                     ),
                 )));
             }
@@ -350,7 +350,7 @@ impl Scene {
                         format!(
                             "a joint coordinate is defined for revolute (angle) and prismatic \
                              (slide) joints only; `{joint}` is {} (use Position/Velocity sensors)",
-                            kind_name(&j.kind)
+                            j.kind.kind_name()
                         ),
                     )));
                 }
@@ -554,19 +554,6 @@ fn has_one_coordinate(kind: &JointKind) -> bool {
         kind,
         JointKind::Revolute { .. } | JointKind::Prismatic { .. }
     )
-}
-
-/// The variant name of a joint kind, for messages.
-fn kind_name(kind: &JointKind) -> &'static str {
-    match kind {
-        JointKind::Revolute { .. } => "Revolute",
-        JointKind::Spherical => "Spherical",
-        JointKind::Universal { .. } => "Universal",
-        JointKind::Prismatic { .. } => "Prismatic",
-        JointKind::Cylindrical { .. } => "Cylindrical",
-        JointKind::Rigid => "Rigid",
-        JointKind::Free => "Free",
-    }
 }
 
 /// Parse `PATH=VALUE`.

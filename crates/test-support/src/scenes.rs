@@ -446,3 +446,17 @@ pub const VEHICLE_CORNER: &str = r#"(
     ],
     solver: (step: 1e-3, duration: 0.01),
 )"#;
+
+/// A planar rigid bar of 2 kg pinned at one end, hanging straight down: centre of mass 0.6 m
+/// below the pin, J_G = 0.24 kg·m², the tip 1.2 m below; sensors `tip_x`, `tip_y`.
+pub const HANGING_PENDULUM: &str = r#"(
+    name: "pendulum", dim: Planar, gravity: [0.0, -9.81],
+    ground: [(name: "O", position: [0.0, 0.0])],
+    bodies: [(name: "bar", origin: [0.0, 0.0], orientation: Angle(-1.5707963267948966),
+        model: Rigid(mass: 2.0, center_of_mass: [0.6, 0.0], inertia: Planar(0.24)),
+        markers: [(name: "O", position: [0.0, 0.0]), (name: "tip", position: [1.2, 0.0])])],
+    joints: [(name: "pin", kind: Revolute(), body1: "ground", marker1: "O", body2: "bar", marker2: "O")],
+    sensors: [(name: "tip_x", kind: Position(body: "bar", marker: "tip", component: X)),
+              (name: "tip_y", kind: Position(body: "bar", marker: "tip", component: Y))],
+    solver: (step: 1e-3, duration: 1.0),
+)"#;

@@ -267,8 +267,13 @@ fn chart(case: &Case, report: &SweepReport, settings: &[Vec<Setting>], path: &Pa
         dashed: false,
         colour: 8,
     });
+    error_against_cpu(format!("Work–precision: {}", case.title), series).write_svg(path)
+}
+
+/// A log–log chart of the largest error over time against the run's CPU time.
+fn error_against_cpu(title: String, series: Vec<Series>) -> LineChart {
     LineChart {
-        title: format!("Work–precision: {}", case.title),
+        title,
         x_label: "CPU time of the run (s)".into(),
         y_label: "largest error over time (m)".into(),
         log_x: true,
@@ -276,7 +281,6 @@ fn chart(case: &Case, report: &SweepReport, settings: &[Vec<Setting>], path: &Pa
         series,
         legend: SeriesLabelPosition::UpperRight,
     }
-    .write_svg(path)
 }
 
 /// Run `i` finished with a positive error (a point of a log–log chart).
@@ -341,16 +345,7 @@ fn basis_chart(
             colour: k,
         })
         .collect();
-    LineChart {
-        title: format!("Kind of modes: {}", case.title),
-        x_label: "CPU time of the run (s)".into(),
-        y_label: "largest error over time (m)".into(),
-        log_x: true,
-        log_y: true,
-        series,
-        legend: SeriesLabelPosition::UpperRight,
-    }
-    .write_svg(path)
+    error_against_cpu(format!("Kind of modes: {}", case.title), series).write_svg(path)
 }
 
 /// Per tolerance of [`BASIS_TOLERANCES`] and kind of modes: the fewest modes with which

@@ -506,18 +506,6 @@ struct Unknown {
     moment: Vector3<f64>,
 }
 
-fn joint_kind_name(kind: &JointKind) -> &'static str {
-    match kind {
-        JointKind::Revolute { .. } => "Revolute",
-        JointKind::Spherical => "Spherical",
-        JointKind::Universal { .. } => "Universal",
-        JointKind::Prismatic { .. } => "Prismatic",
-        JointKind::Cylindrical { .. } => "Cylindrical",
-        JointKind::Rigid => "Rigid",
-        JointKind::Free => "Free",
-    }
-}
-
 /// The reactions of every joint and constraint, their unknowns and the balance's applied
 /// side, at the placements found.
 fn unknowns(
@@ -566,7 +554,7 @@ fn unknowns(
         }
         reactions.push(JointReaction {
             name: joint.name.clone(),
-            kind: joint_kind_name(&joint.kind),
+            kind: joint.kind.kind_name(),
             body: joint.body2.clone(),
             force: [0.0; 3],
             moment: [0.0; 3],
