@@ -30,6 +30,38 @@ fn modes_json_has_the_inventory() {
     assert!(0.0 < f0 && f0 < f1);
 }
 
+/// The cantilever of `models/cantilever_3d.ron` (steel, 1 m, 10 mm square, m = 0.785 kg): its
+/// centre of mass at mid-length and its inertia about it, ρ A L³/12 + ρ I L about y and z
+/// (the section's own rotary inertia, which the 3D mass carries) and ρ (I_y + I_z) L about x.
+#[test]
+fn modes_prints_the_rigid_body_properties() {
+    let out = run(["modes", &model("cantilever_3d.ron"), "--json"]);
+    assert_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let (rho, a, i, l) = (7850.0, 1e-4, 1e-8 / 12.0, 1.0);
+    let m = rho * a * l;
+    let c: Vec<f64> = serde_json::from_value(v["center_of_mass"].clone()).unwrap();
+    let inertia: Vec<Vec<f64>> = serde_json::from_value(v["inertia"].clone()).unwrap();
+    assert!((c[0] - 0.5).abs() < 1e-12 && c[1].abs() < 1e-12 && c[2].abs() < 1e-12);
+    let expected = [
+        2.0 * rho * i * l,
+        m * l * l / 12.0 + rho * i * l,
+        m * l * l / 12.0 + rho * i * l,
+    ];
+    for (k, want) in expected.into_iter().enumerate() {
+        let got = inertia[k][k];
+        assert!(
+            (got - want).abs() < 1e-9 * want,
+            "I{k}{k} = {got}, expected {want}"
+        );
+    }
+    let text = String::from_utf8(run(["modes", &model("cantilever_3d.ron")]).stdout).unwrap();
+    assert!(
+        text.contains("centre of mass (0.500000, 0.000000, 0.000000) m"),
+        "{text}"
+    );
+}
+
 #[test]
 fn modes_table_names_frame_and_modes() {
     let out = run(["modes", &model("cantilever_2d.ron")]);

@@ -193,6 +193,19 @@ impl ReducedBody {
 }
 
 impl ShapeIntegrals {
+    /// The undeformed centre of mass c = m̄_u / m (m, body components).
+    pub fn center_of_mass(&self) -> Vector3<f64> {
+        self.first_moment / self.mass
+    }
+
+    /// The undeformed inertia tensor about the centre of mass, body axes (kg·m²):
+    /// I_c = tr(P_c) 𝟙 − P_c with P_c = P̄_u − m c cᵀ.
+    pub fn inertia_about_center_of_mass(&self) -> Matrix3<f64> {
+        let c = self.center_of_mass();
+        let p_c = self.second_moment - c * c.transpose() * self.mass;
+        Matrix3::identity() * p_c.trace() - p_c
+    }
+
     /// The 13 constants of docs/methods.md §2.3 on a diagonal cloud: every integral
     /// ∫ f g dm is Σ_k w_k f_k g_k, so they agree with B-matrix projection on the
     /// same cloud to round-off (§2.7).

@@ -215,7 +215,7 @@ fn the_a_arm_frame_has_the_mass_properties_scenes_md_derives() {
     let si = &p.body.shape_integrals;
     // scenes.md §2.8: total beam length 0.7289 m × ρA 8.232 kg/m = 6.000 kg.
     assert!((si.mass - 6.000).abs() < 5e-4, "mass {}", si.mass);
-    let c = si.first_moment / si.mass;
+    let c = si.center_of_mass();
     // Centre of mass (0.0035, 0.1546, −0.0002) m from B, printed to 0.1 mm. scenes.md counts z
     // up from the arm plane (the bracket end S1, 4.7 mm below the arm axis, pulls the centre
     // of mass down); here z = x × y points down, hence the sign.
@@ -226,8 +226,7 @@ fn the_a_arm_frame_has_the_mass_properties_scenes_md_derives() {
     // derived for centre-line masses. The FE body also has each tube section's own inertia,
     // ρ L [I_p d dᵀ + I (𝟙 − d dᵀ)] for a member of length L along d (I_p = 2I): 4ρI·0.7289 m
     // = 0.0055 kg·m² in the trace. Without it the diagonal is scenes.md's to its digits.
-    let pc = si.second_moment - c * c.transpose() * si.mass;
-    let inertia = Matrix3::identity() * pc.trace() - pc;
+    let inertia = si.inertia_about_center_of_mass();
     let (rho, i) = (7850.0, 2.402e-7);
     let mesh = &p.mesh;
     let sections: Matrix3<f64> = mesh

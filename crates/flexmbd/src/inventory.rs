@@ -45,6 +45,11 @@ pub struct Inventory {
     pub n_modes: usize,
     /// Total mass (kg).
     pub mass: f64,
+    /// Centre of mass of the undeformed body (m, body components).
+    pub center_of_mass: [f64; 3],
+    /// Inertia tensor of the undeformed body about its centre of mass, body axes (kg·m²),
+    /// row by row.
+    pub inertia: [[f64; 3]; 3],
     /// DOFs the floating frame takes (every mode vanishes there).
     pub frame_dofs: Vec<FrameDofRow>,
     /// Static modes, in mode order.
@@ -67,6 +72,12 @@ impl Inventory {
             n_fe_dofs: inv.n_fe_dofs,
             n_modes: inv.n_modes(),
             mass: body.mass(),
+            center_of_mass: body.shape_integrals.center_of_mass().into(),
+            inertia: body
+                .shape_integrals
+                .inertia_about_center_of_mass()
+                .transpose()
+                .into(),
             frame_dofs: inv
                 .frame_dofs
                 .iter()
@@ -106,6 +117,12 @@ impl Inventory {
         let _ = writeln!(s, "dimension    {}", self.dim);
         let _ = writeln!(s, "FE DOFs      {}", self.n_fe_dofs);
         let _ = writeln!(s, "mass         {:.6} kg", self.mass);
+        let [cx, cy, cz] = self.center_of_mass;
+        let _ = writeln!(s, "centre of mass ({cx:.6}, {cy:.6}, {cz:.6}) m, body axes");
+        let rows = self
+            .inertia
+            .map(|[a, b, c]| format!("[{a:.6e}, {b:.6e}, {c:.6e}]"));
+        let _ = writeln!(s, "inertia about it (kg·m², body axes) {}", rows.join(" "));
         let frame: Vec<String> = self
             .frame_dofs
             .iter()
