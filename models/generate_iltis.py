@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes models/iltis_vehicle_benchmark.ron and models/iltis_bump.ron: the IAVSD "Bombardier
 Iltis" benchmark vehicle (scene C0 of docs/scenes.md section 3.3) from the front-left corner of
-docs/scenes.md section 2.3, mirrored to the four corners as section 2.1 says. Every number is
+docs/scenes.md section 2.3, mirrored to the four corners as section 2.1 says; and
+models/iltis_suspension.ron, scene B (docs/scenes.md section 2.7, the project specification's
+sections 2.7-2.11), from the same corner data. Every number is
 the one of docs/scenes.md sections 2.2-2.5 and 3.1-3.2 (sources S9: ovankerm/IAVSD_ILTIS at
 commit 18c4286, files Jeep.mbs, main.c, user_LinkForces.c, user_ExtForces.c, GroundContact.c).
 
