@@ -1,6 +1,8 @@
 //! The Iltis bump scene (`models/iltis_bump.ron`, docs/scenes.md §3.3) at another forward
 //! speed: the `--set` overrides of the speed and of the lateral tyre dampers C_α/V
-//! (docs/scenes.md §3.4), which the model file writes for 5 m/s.
+//! (docs/scenes.md §3.4), which the model file writes for 5 m/s. The Iltis suspension
+//! (`models/iltis_suspension.ron`, scene B): the overrides that make its first k beam bodies
+//! flexible, in the order of docs/scenes.md §2.8.
 
 /// S9's cornering stiffness per corner (N/rad; user_ExtForces.c, docs/scenes.md §2.5).
 pub const CORNERING_STIFFNESS: [(&str, f64); 4] = [
@@ -20,4 +22,30 @@ pub fn bump_at_speed(speed: f64) -> Vec<String> {
         ));
     }
     sets
+}
+
+/// The suspension's beam bodies in the order they are switched flexible (docs/scenes.md §2.8).
+pub const SUSPENSION_BEAMS: [&str; 3] = ["aarm_fl", "leaf_link_fl", "tie_rod_fl"];
+
+/// `PATH=VALUE` overrides that make the first `k` (0 … 3) beam bodies of the suspension
+/// flexible.
+pub fn suspension_flexible(k: usize) -> Vec<String> {
+    SUSPENSION_BEAMS[..k]
+        .iter()
+        .map(|b| format!("bodies.{b}.flexible=true"))
+        .collect()
+}
+
+/// `PATH=VALUE` overrides that scale Young's modulus of every suspension beam by `factor`
+/// (steel's 2.1e11 Pa, docs/scenes.md §2.8).
+pub fn suspension_stiffness(factor: f64) -> Vec<String> {
+    SUSPENSION_BEAMS
+        .iter()
+        .map(|b| {
+            format!(
+                "bodies.{b}.model.Beam.material.young_modulus={}",
+                2.1e11 * factor
+            )
+        })
+        .collect()
 }
