@@ -447,106 +447,17 @@ fn spin_up_3d(settings: &Settings, report: &mut Report) -> StudyResult {
             } else {
                 "–".into()
             };
-            let scene = match scene_3d(stiffening, form) {
-                Ok(s) => s,
-                Err(e) => {
-                    rows.push(refused_row(
-                        name,
-                        fname,
-                        &e.to_string(),
-                        &thesis_errs,
-                        &thesis_cpu,
-                    ));
-                    continue;
-                }
-            };
-            let mut cpu = Vec::new();
-            let mut last = None;
-            let mut refused = None;
-            for _ in 0..3 {
-                if quick && cpu.first().is_some_and(|&c: &f64| c > 0.5) {
-                    break;
-                }
-                match simulation::run(&scene, |_| {}) {
-                    Err(e) => {
-                        refused = Some(e.to_string());
-                        break;
-                    }
-                    Ok((summary, history)) => {
-                        cpu.push(summary.cpu_seconds);
-                        let ok = summary.status == "ok";
-                        last = Some((summary, history));
-                        if !ok {
-                            break;
-                        }
-                    }
-                }
+            let (row, tip) = run_3d(
+                (name, fname),
+                (stiffening, form),
+                (&thesis_errs, &thesis_cpu),
+                quick,
+                &reference,
+            )?;
+            rows.push(row);
+            if let Some(tip) = tip {
+                histories.push((format!("{name} {fname}"), tip));
             }
-            if let Some(msg) = refused {
-                rows.push(refused_row(name, fname, &msg, &thesis_errs, &thesis_cpu));
-                continue;
-            }
-            let Some((summary, history)) = last else {
-                continue;
-            };
-            if summary.status != "ok" {
-                rows.push(vec![
-                    name.into(),
-                    fname.into(),
-                    format!(
-                        "**failed** at t = {:.2} s",
-                        summary.failed_at.unwrap_or(f64::NAN)
-                    ),
-                    "–".into(),
-                    "–".into(),
-                    "–".into(),
-                    thesis_errs,
-                    "–".into(),
-                    thesis_cpu,
-                    "–".into(),
-                    summary
-                        .message
-                        .unwrap_or_default()
-                        .chars()
-                        .take(120)
-                        .collect(),
-                ]);
-                continue;
-            }
-            let tip = tip3_of(&history).ok_or("the 3D scene has no tip_ux/uy/uz sensors")?;
-            let e = errors3(&tip, &reference, 0.0);
-            let late = errors3(&tip, &reference, T_S);
-            cpu.sort_by(f64::total_cmp);
-            let cpu = cpu[cpu.len() / 2];
-            rows.push(vec![
-                name.into(),
-                fname.into(),
-                "ok".into(),
-                format!("{:.2}", e[0] * 1e3),
-                format!("{:.2}", e[1] * 1e3),
-                format!("{:.2}", e[2] * 1e3),
-                format!(
-                    "{:.2} / {:.2} / {:.2}",
-                    late[0] * 1e3,
-                    late[1] * 1e3,
-                    late[2] * 1e3
-                ),
-                thesis_errs,
-                format!("{cpu:.3}"),
-                thesis_cpu,
-                format!(
-                    "{:.2}",
-                    summary.newton_iterations as f64 / summary.steps.max(1) as f64
-                ),
-                format!(
-                    "{} coordinates; static start u_z = {:.4} m ({} iterations, {:.3} s)",
-                    summary.n_coordinates,
-                    tip[0].1[2],
-                    summary.static_iterations,
-                    summary.static_seconds
-                ),
-            ]);
-            histories.push((format!("{name} {fname}"), tip));
         }
     }
     report.table(
@@ -566,6 +477,13 @@ fn spin_up_3d(settings: &Settings, report: &mut Report) -> StudyResult {
         ],
         &rows,
     );
+    reading_3d(report, &reference, n_ref);
+    charts_3d(report, &reference, &histories)
+}
+
+/// What the 3D table shows, and the reference's cost and convergence.
+fn reading_3d(report: &mut Report, reference: &flexmbd::ancf::History, n_ref: usize) {
+    let static_tip = reference.tip[0];
     report.text(&format!(
         "Reading the 3D table. Every run starts from its own static equilibrium, and the largest \
          axial and vertical errors are already there at t = 0 (the notes give each static droop; \
@@ -601,7 +519,110 @@ fn spin_up_3d(settings: &Settings, report: &mut Report) -> StudyResult {
         reference.cpu_seconds,
         reference.stats.newton_iterations as f64 / reference.stats.steps.max(1) as f64
     ));
-    // Charts: each component over the reference.
+}
+
+/// One method in one formulation on the 3D beam: the median CPU time of up to 3 runs (one
+/// under `quick` when a run takes over 0.5 s), its errors against the reference, and the
+/// table's row; with the tip history of a run that finished.
+fn run_3d(
+    (name, fname): (&str, &str),
+    (stiffening, form): (Stiffening, FormulationKind),
+    (thesis_errs, thesis_cpu): (&str, &str),
+    quick: bool,
+    reference: &flexmbd::ancf::History,
+) -> Result<(Vec<String>, Option<Tip3>), Error> {
+    let scene = match scene_3d(stiffening, form) {
+        Ok(s) => s,
+        Err(e) => {
+            let row = refused_row(name, fname, &e.to_string(), thesis_errs, thesis_cpu);
+            return Ok((row, None));
+        }
+    };
+    let mut cpu = Vec::new();
+    let mut last = None;
+    for _ in 0..3 {
+        if quick && cpu.first().is_some_and(|&c: &f64| c > 0.5) {
+            break;
+        }
+        match simulation::run(&scene, |_| {}) {
+            Err(e) => {
+                let row = refused_row(name, fname, &e.to_string(), thesis_errs, thesis_cpu);
+                return Ok((row, None));
+            }
+            Ok((summary, history)) => {
+                cpu.push(summary.cpu_seconds);
+                let ok = summary.status == "ok";
+                last = Some((summary, history));
+                if !ok {
+                    break;
+                }
+            }
+        }
+    }
+    let (summary, history) = last.ok_or("no run of the 3D scene")?;
+    if summary.status != "ok" {
+        let row = vec![
+            name.into(),
+            fname.into(),
+            format!(
+                "**failed** at t = {:.2} s",
+                summary.failed_at.unwrap_or(f64::NAN)
+            ),
+            "–".into(),
+            "–".into(),
+            "–".into(),
+            thesis_errs.into(),
+            "–".into(),
+            thesis_cpu.into(),
+            "–".into(),
+            summary
+                .message
+                .unwrap_or_default()
+                .chars()
+                .take(120)
+                .collect(),
+        ];
+        return Ok((row, None));
+    }
+    let tip = tip3_of(&history).ok_or("the 3D scene has no tip_ux/uy/uz sensors")?;
+    let e = errors3(&tip, reference, 0.0);
+    let late = errors3(&tip, reference, T_S);
+    cpu.sort_by(f64::total_cmp);
+    let cpu = cpu[cpu.len() / 2];
+    let row = vec![
+        name.into(),
+        fname.into(),
+        "ok".into(),
+        format!("{:.2}", e[0] * 1e3),
+        format!("{:.2}", e[1] * 1e3),
+        format!("{:.2}", e[2] * 1e3),
+        format!(
+            "{:.2} / {:.2} / {:.2}",
+            late[0] * 1e3,
+            late[1] * 1e3,
+            late[2] * 1e3
+        ),
+        thesis_errs.into(),
+        format!("{cpu:.3}"),
+        thesis_cpu.into(),
+        format!(
+            "{:.2}",
+            summary.newton_iterations as f64 / summary.steps.max(1) as f64
+        ),
+        format!(
+            "{} coordinates; static start u_z = {:.4} m ({} iterations, {:.3} s)",
+            summary.n_coordinates, tip[0].1[2], summary.static_iterations, summary.static_seconds
+        ),
+    ];
+    Ok((row, Some(tip)))
+}
+
+/// Each tip component of the 3D runs over the reference, one chart each.
+fn charts_3d(
+    report: &mut Report,
+    reference: &flexmbd::ancf::History,
+    histories: &[(String, Tip3)],
+) -> StudyResult {
     let comps: [(&str, &str, &str, f64); 3] = [
         (
             "spin_up_3d_ux.svg",
