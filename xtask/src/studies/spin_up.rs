@@ -156,23 +156,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     let (omega_s, h) = (6.0, 1e-3);
     eprintln!("   reference: ANCF cable, 16 elements, Ωs = 6 rad/s");
     let reference = run_spin_up(&CableSpec::spin_up_beam(Dim::Planar, 16), h, 20.0, 0.01)?;
-    let ref_min_y = reference
-        .tip
-        .iter()
-        .map(|p| p[1])
-        .fold(f64::INFINITY, f64::min);
-    report.text(&format!(
-        "The 2D spin-up beam of scenes.md §5 (L = 10 m, EA = 2.8e7 N, EI = 1.4e4 N·m², ρA = 1.2 kg/m; \
-         Ωs = 6 rad/s reached in Ts = 15 s, 20 s, h = 1 ms) with every stiffening method in both \
-         formulations, against the project's reference: ANCF cable elements (`flexmbd-ancf`, 16 \
-         elements; methods.md §7: its convergence study changes the tip by < 1e-6 m from 16 to 32 \
-         elements, far below the errors judged here). Reference tip: min u_y = {:.4} m. Errors are the \
-         largest |Δu| over the 20 s, in mm. CPU time of the 20 s run, median of 3 runs on one core (7 for runs under 0.2 s; the \
-         thesis's 2008 figures beside, scenes.md §7.3). Inertia by shape integrals (for FS0 the body's FS0 shape integrals, \
-         methods.md §6.3; they equal the B-matrix projection to round-off). FNL2 carries every axial FE DOF as a mode (methods.md §6.2 correction), hence \
-         its coordinate count and cost.",
-        ref_min_y
-    ));
+    intro_2d(report, &reference);
     let mut rows = Vec::new();
     let mut histories: Vec<(String, Tip)> = Vec::new();
     for &(name, stiffening) in &METHODS {
@@ -213,25 +197,16 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
                     summary,
                     tip,
                 } => {
-                    // CPU: median of 3 runs (the run above and two more, same scene); 7 when a
-                    // run takes under 0.2 s, where the machine's jitter is largest relatively.
-                    let mut cpu = vec![summary.cpu_seconds];
-                    let more = if summary.cpu_seconds < 0.2 { 6 } else { 2 };
-                    for _ in 0..more {
-                        if let Ok(scene) = scene_2d(stiffening, form, omega_s, h, 20.0)
-                            && let Ok((s, _)) = simulation::run(&scene, |_| {})
-                        {
-                            cpu.push(s.cpu_seconds);
-                        }
-                    }
-                    cpu.sort_by(f64::total_cmp);
+                    let cpu = median_cpu_2d(summary.cpu_seconds, || {
+                        scene_2d(stiffening, form, omega_s, h, 20.0)
+                    });
                     rows.push(vec![
                         name.into(),
                         fname.into(),
                         "ok".into(),
                         format!("{:.2}", dx * 1e3),
                         format!("{:.2}", dy * 1e3),
-                        format!("{:.3}", cpu[cpu.len() / 2]),
+                        format!("{cpu:.3}"),
                         thesis,
                         format!(
                             "{:.2}",
@@ -266,7 +241,54 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          geometric stiffening the centrifugal field only softens the beam, so above the critical speed \
          the bending mode has negative stiffness and grows without bound.",
     );
-    // Charts: tip histories over the reference.
+    charts_2d(report, &reference, &histories)?;
+    spin_up_3d(settings, report)?;
+    Ok(())
+}
+
+/// The 2D study's opening paragraph: the beam, the methods, the reference.
+fn intro_2d(report: &mut Report, reference: &flexmbd::ancf::History) {
+    let ref_min_y = reference
+        .tip
+        .iter()
+        .map(|p| p[1])
+        .fold(f64::INFINITY, f64::min);
+    report.text(&format!(
+        "The 2D spin-up beam of scenes.md §5 (L = 10 m, EA = 2.8e7 N, EI = 1.4e4 N·m², ρA = 1.2 kg/m; \
+         Ωs = 6 rad/s reached in Ts = 15 s, 20 s, h = 1 ms) with every stiffening method in both \
+         formulations, against the project's reference: ANCF cable elements (`flexmbd-ancf`, 16 \
+         elements; methods.md §7: its convergence study changes the tip by < 1e-6 m from 16 to 32 \
+         elements, far below the errors judged here). Reference tip: min u_y = {:.4} m. Errors are the \
+         largest |Δu| over the 20 s, in mm. CPU time of the 20 s run, median of 3 runs on one core (7 for runs under 0.2 s; the \
+         thesis's 2008 figures beside, scenes.md §7.3). Inertia by shape integrals (for FS0 the body's FS0 shape integrals, \
+         methods.md §6.3; they equal the B-matrix projection to round-off). FNL2 carries every axial FE DOF as a mode (methods.md §6.2 correction), hence \
+         its coordinate count and cost.",
+        ref_min_y
+    ));
+}
+
+/// CPU: the median of 3 runs (the first, whose time is given, and two more of the same scene);
+/// of 7 when a run takes under 0.2 s, where the machine's jitter is largest relatively.
+fn median_cpu_2d(first: f64, scene: impl Fn() -> Result<Scene, Error>) -> f64 {
+    let mut cpu = vec![first];
+    let more = if first < 0.2 { 6 } else { 2 };
+    for _ in 0..more {
+        if let Ok(scene) = scene()
+            && let Ok((s, _)) = simulation::run(&scene, |_| {})
+        {
+            cpu.push(s.cpu_seconds);
+        }
+    }
+    cpu.sort_by(f64::total_cmp);
+    cpu[cpu.len() / 2]
+}
+
+/// The 2D runs' tip histories over the reference: transverse and axial.
+fn charts_2d(
+    report: &mut Report,
+    reference: &flexmbd::ancf::History,
+    histories: &[(String, Tip)],
+) -> StudyResult {
     let mut sy = vec![Series {
         label: "ANCF reference".into(),
         points: reference
@@ -330,7 +352,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         chart.write_svg(&path)?;
         report.image(file, title);
     }
-    spin_up_3d(settings, report)?;
     Ok(())
 }
 
