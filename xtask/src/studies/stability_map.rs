@@ -89,8 +89,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
             ""
         }
     ));
-    // References, then every run; the runs are independent, so two threads share them
-    // (each run is itself sequential and deterministic).
+    // References, then every run.
     let mut references = Vec::new();
     for &w in &speeds {
         eprintln!("   reference at Ωs = {w}");
@@ -98,44 +97,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         spec.omega_s = w;
         references.push(run_spin_up(&spec, 1e-3, DURATION, 0.01)?);
     }
-    let mut jobs = Vec::new();
-    for (m, _) in methods.iter().enumerate() {
-        for (f, _) in forms.iter().enumerate() {
-            for (k, _) in steps.iter().enumerate() {
-                for (i, _) in speeds.iter().enumerate() {
-                    jobs.push((m, f, k, i));
-                }
-            }
-        }
-    }
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let cells = std::sync::Mutex::new(vec![Cell::Unavailable; jobs.len()]);
-    let run_job = |&(m, f, k, i): &(usize, usize, usize, usize), refs: &[Reference]| -> Cell {
-        let (name, stiffening) = METHODS[m];
-        let (h, w) = (steps[k], speeds[i]);
-        eprintln!("   {name} {} h = {h} Ωs = {w}", forms[f].0);
-        match run_one(scene_2d(stiffening, forms[f].1, w, h, DURATION), &refs[i]) {
-            Outcome::Unsupported(_) => Cell::Unavailable,
-            Outcome::Failed { .. } => Cell::Failed,
-            Outcome::Done { dx, dy, .. } if dx.max(dy) < ACCURATE => Cell::Accurate,
-            Outcome::Done { .. } => Cell::Inaccurate,
-        }
-    };
-    std::thread::scope(|scope| {
-        for _ in 0..2 {
-            scope.spawn(|| {
-                loop {
-                    let j = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    if j >= jobs.len() {
-                        break;
-                    }
-                    let c = run_job(&jobs[j], &references);
-                    cells.lock().expect("no panics while held")[j] = c;
-                }
-            });
-        }
-    });
-    let cells = cells.into_inner().expect("threads joined");
+    let cells = run_cells(methods.len(), &forms, &steps, &speeds, &references);
     let at = |m: usize, f: usize, k: usize, i: usize| {
         cells[((m * forms.len() + f) * steps.len() + k) * speeds.len() + i]
     };
@@ -195,6 +157,55 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         "stability map: accurate / inaccurate / failed over Ωs and h",
     );
     Ok(())
+}
+
+/// Every cell of the map, method-major then formulation, step and speed: the runs are
+/// independent, so two threads share them (each run is itself sequential and deterministic).
+fn run_cells(
+    n_methods: usize,
+    forms: &[(&str, FormulationKind)],
+    steps: &[f64],
+    speeds: &[f64],
+    references: &[Reference],
+) -> Vec<Cell> {
+    let mut jobs = Vec::new();
+    for m in 0..n_methods {
+        for (f, _) in forms.iter().enumerate() {
+            for (k, _) in steps.iter().enumerate() {
+                for (i, _) in speeds.iter().enumerate() {
+                    jobs.push((m, f, k, i));
+                }
+            }
+        }
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let cells = std::sync::Mutex::new(vec![Cell::Unavailable; jobs.len()]);
+    let run_job = |&(m, f, k, i): &(usize, usize, usize, usize), refs: &[Reference]| -> Cell {
+        let (name, stiffening) = METHODS[m];
+        let (h, w) = (steps[k], speeds[i]);
+        eprintln!("   {name} {} h = {h} Ωs = {w}", forms[f].0);
+        match run_one(scene_2d(stiffening, forms[f].1, w, h, DURATION), &refs[i]) {
+            Outcome::Unsupported(_) => Cell::Unavailable,
+            Outcome::Failed { .. } => Cell::Failed,
+            Outcome::Done { dx, dy, .. } if dx.max(dy) < ACCURATE => Cell::Accurate,
+            Outcome::Done { .. } => Cell::Inaccurate,
+        }
+    };
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| {
+                loop {
+                    let j = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    if j >= jobs.len() {
+                        break;
+                    }
+                    let c = run_job(&jobs[j], references);
+                    cells.lock().expect("no panics while held")[j] = c;
+                }
+            });
+        }
+    });
+    cells.into_inner().expect("threads joined")
 }
 
 /// One panel per method × formulation: Ωs across, h up, a coloured cell per run.
