@@ -87,6 +87,38 @@ fn measure(scene: &Scene, reps: usize) -> Result<Summary, Box<dyn std::error::Er
     Ok(runs.swap_remove(runs.len() / 2))
 }
 
+/// Where shape integrals overtake the B-matrix projection, and the relative formulation the
+/// absolute one, on the grid; `cpu(elements, variant)` is the CPU time per simulated second.
+fn crossovers(report: &mut Report, grid: &[usize], cpu: &dyn Fn(usize, usize) -> f64) {
+    let first_where = |f: &dyn Fn(usize) -> bool| grid.iter().copied().find(|&ne| f(ne));
+    let mut lines = Vec::new();
+    for (form, b, s) in [("absolute", 0, 1), ("relative", 2, 3)] {
+        let msg = match first_where(&|ne| cpu(ne, s) < cpu(ne, b)) {
+            Some(ne) if ne == grid[0] => format!(
+                "shape integrals are faster than the B-matrix projection from the coarsest mesh ({ne} elements per bar) on"
+            ),
+            Some(ne) => {
+                format!("shape integrals overtake the B-matrix projection at {ne} elements per bar")
+            }
+            None => "the B-matrix projection stays faster on this grid".to_string(),
+        };
+        lines.push(format!("- {form}: {msg}."));
+    }
+    for (method, a, r) in [("B-matrix", 0, 2), ("shape integrals", 1, 3)] {
+        let msg = match first_where(&|ne| cpu(ne, r) < cpu(ne, a)) {
+            Some(ne) if ne == grid[0] => {
+                "the relative formulation is faster at every mesh size".to_string()
+            }
+            Some(ne) => format!(
+                "the relative formulation overtakes the absolute one at {ne} elements per bar"
+            ),
+            None => "the absolute formulation stays faster on this grid".to_string(),
+        };
+        lines.push(format!("- {method}: {msg}."));
+    }
+    report.text(&lines.join("\n"));
+}
+
 /// Run the study and append its section to the report.
 pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     let (grid, duration, reps): (Vec<usize>, f64, usize) = if settings.quick {
@@ -148,7 +180,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         ],
         &rows,
     );
-    // Crossovers.
     let cpu = |ne: usize, v: usize| {
         points
             .iter()
@@ -156,33 +187,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
             .map(|p| p.summary.cpu_seconds / p.summary.simulated_seconds)
             .unwrap_or(f64::NAN)
     };
-    let first_where = |f: &dyn Fn(usize) -> bool| grid.iter().copied().find(|&ne| f(ne));
-    let mut lines = Vec::new();
-    for (form, b, s) in [("absolute", 0, 1), ("relative", 2, 3)] {
-        let msg = match first_where(&|ne| cpu(ne, s) < cpu(ne, b)) {
-            Some(ne) if ne == grid[0] => format!(
-                "shape integrals are faster than the B-matrix projection from the coarsest mesh ({ne} elements per bar) on"
-            ),
-            Some(ne) => {
-                format!("shape integrals overtake the B-matrix projection at {ne} elements per bar")
-            }
-            None => "the B-matrix projection stays faster on this grid".to_string(),
-        };
-        lines.push(format!("- {form}: {msg}."));
-    }
-    for (method, a, r) in [("B-matrix", 0, 2), ("shape integrals", 1, 3)] {
-        let msg = match first_where(&|ne| cpu(ne, r) < cpu(ne, a)) {
-            Some(ne) if ne == grid[0] => {
-                "the relative formulation is faster at every mesh size".to_string()
-            }
-            Some(ne) => format!(
-                "the relative formulation overtakes the absolute one at {ne} elements per bar"
-            ),
-            None => "the absolute formulation stays faster on this grid".to_string(),
-        };
-        lines.push(format!("- {method}: {msg}."));
-    }
-    report.text(&lines.join("\n"));
+    crossovers(report, &grid, &cpu);
     report.text(
         "Reading the split: the shape-integral cost does not depend on the mesh, so with shape integrals the \
          step cost is set by the coordinate count (factorisation of the leading matrix, O(n³)); the B-matrix \
