@@ -121,6 +121,31 @@ fn crossover(rows: &[&Row]) -> String {
     }
 }
 
+/// Per dimension: the crossover, how closely the routes agree, and the cost per cloud point.
+fn summary_lines(report: &mut Report, cases: &[(Dim, usize)], rows: &[Row]) {
+    let mut lines = Vec::new();
+    for &(dim, _) in cases {
+        let sub: Vec<&Row> = rows.iter().filter(|r| r.dim == dim).collect();
+        lines.push(format!("- **{dim}**: crossover {}.", crossover(&sub)));
+        let worst = sub.iter().map(|r| r.agreement).fold(0.0, f64::max);
+        lines.push(format!(
+            "  The two routes agree to {worst:.1e} (relative) at every mesh size."
+        ));
+        let first = sub[0];
+        let last = sub[sub.len() - 1];
+        lines.push(format!(
+            "  B-matrix cost per cloud point: {:.1} ns ({} points) to {:.1} ns ({} points); shape integrals {:.2}–{:.2} µs independent of the mesh.",
+            first.t_bmatrix / first.points as f64 * 1e9,
+            first.points,
+            last.t_bmatrix / last.points as f64 * 1e9,
+            last.points,
+            sub.iter().map(|r| r.t_shape).fold(f64::INFINITY, f64::min) * 1e6,
+            sub.iter().map(|r| r.t_shape).fold(0.0, f64::max) * 1e6,
+        ));
+    }
+    report.text(&lines.join("\n"));
+}
+
 /// Run the study and append its section to the report.
 pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     let grid: Vec<usize> = if settings.quick {
@@ -175,27 +200,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         ],
         &table,
     );
-    let mut lines = Vec::new();
-    for &(dim, _) in &cases {
-        let sub: Vec<&Row> = rows.iter().filter(|r| r.dim == dim).collect();
-        lines.push(format!("- **{dim}**: crossover {}.", crossover(&sub)));
-        let worst = sub.iter().map(|r| r.agreement).fold(0.0, f64::max);
-        lines.push(format!(
-            "  The two routes agree to {worst:.1e} (relative) at every mesh size."
-        ));
-        let first = sub[0];
-        let last = sub[sub.len() - 1];
-        lines.push(format!(
-            "  B-matrix cost per cloud point: {:.1} ns ({} points) to {:.1} ns ({} points); shape integrals {:.2}–{:.2} µs independent of the mesh.",
-            first.t_bmatrix / first.points as f64 * 1e9,
-            first.points,
-            last.t_bmatrix / last.points as f64 * 1e9,
-            last.points,
-            sub.iter().map(|r| r.t_shape).fold(f64::INFINITY, f64::min) * 1e6,
-            sub.iter().map(|r| r.t_shape).fold(0.0, f64::max) * 1e6,
-        ));
-    }
-    report.text(&lines.join("\n"));
+    summary_lines(report, &cases, &rows);
     report.text(
         "The thesis found projection competitive below about 10 elements and shape integrals ahead above \
          about 20, with one B-matrix row block per node. Our cloud has 4 (2D) or 16 (3D) points per element, \
