@@ -2,7 +2,8 @@
 //! speed: the `--set` overrides of the speed and of the lateral tyre dampers C_α/V
 //! (docs/scenes.md §3.4), which the model file writes for 5 m/s. The Iltis suspension
 //! (`models/iltis_suspension.ron`, scene B): the overrides that make its first k beam bodies
-//! flexible, in the order of docs/scenes.md §2.8.
+//! flexible, in the order of docs/scenes.md §2.8. The Iltis vehicle (`models/iltis_vehicle.ron`,
+//! scene C): the same overrides for its twelve beam bodies (§3.4).
 
 /// S9's cornering stiffness per corner (N/rad; user_ExtForces.c, docs/scenes.md §2.5).
 pub const CORNERING_STIFFNESS: [(&str, f64); 4] = [
@@ -40,6 +41,56 @@ pub fn suspension_flexible(k: usize) -> Vec<String> {
 /// (steel's 2.1e11 Pa, docs/scenes.md §2.8).
 pub fn suspension_stiffness(factor: f64) -> Vec<String> {
     SUSPENSION_BEAMS
+        .iter()
+        .map(|b| {
+            format!(
+                "bodies.{b}.model.Beam.material.young_modulus={}",
+                2.1e11 * factor
+            )
+        })
+        .collect()
+}
+
+/// The vehicle's beam bodies (`models/iltis_vehicle.ron`, scene C) in the order they are
+/// switched flexible: corner by corner FL, FR, RL, RR, each in the order of §2.8 (A-arm, leaf
+/// link, tie rod; docs/scenes.md §3.4).
+pub const VEHICLE_BEAMS: [&str; 12] = [
+    "aarm_fl",
+    "leaf_link_fl",
+    "tie_rod_fl",
+    "aarm_fr",
+    "leaf_link_fr",
+    "tie_rod_fr",
+    "aarm_rl",
+    "leaf_link_rl",
+    "tie_rod_rl",
+    "aarm_rr",
+    "leaf_link_rr",
+    "tie_rod_rr",
+];
+
+/// `PATH=VALUE` overrides that make the first `k` (0 … 12) beam bodies of the vehicle
+/// flexible, in the order of [`VEHICLE_BEAMS`].
+pub fn vehicle_flexible(k: usize) -> Vec<String> {
+    VEHICLE_BEAMS[..k]
+        .iter()
+        .map(|b| format!("bodies.{b}.flexible=true"))
+        .collect()
+}
+
+/// `PATH=VALUE` overrides that make the four A-arms of the vehicle flexible (the "4 flexible
+/// bodies" case of the CPU table).
+pub fn vehicle_aarms_flexible() -> Vec<String> {
+    ["fl", "fr", "rl", "rr"]
+        .iter()
+        .map(|c| format!("bodies.aarm_{c}.flexible=true"))
+        .collect()
+}
+
+/// `PATH=VALUE` overrides that scale Young's modulus of every beam body of the vehicle by
+/// `factor` (steel's 2.1e11 Pa, docs/scenes.md §2.8).
+pub fn vehicle_stiffness(factor: f64) -> Vec<String> {
+    VEHICLE_BEAMS
         .iter()
         .map(|b| {
             format!(
