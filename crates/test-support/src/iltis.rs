@@ -100,3 +100,20 @@ pub fn vehicle_stiffness(factor: f64) -> Vec<String> {
         })
         .collect()
 }
+
+/// `--set`s for scene C (`models/iltis_vehicle.ron`): the §3.5 road moved 9.5 m back: the vehicle starts at rest on the +0.10 m plateau and the
+/// front wheels reach the step down to 0 (x = 10.97 − 9.5 = 1.47 m) at t = 0.1 s; 0.4 s covers
+/// the front axle's fall, landing and rebound (the rear axle steps at 0.50 s).
+pub fn vehicle_near_the_first_step() -> Vec<String> {
+    let x = [3.97, 4.97, 10.97, 10.97, 20.97, 20.97];
+    let mut sets: Vec<String> = x
+        .iter()
+        .enumerate()
+        .map(|(i, x)| format!("roads.road.profile.Table.x.{i}={}", x - 9.5))
+        .collect();
+    sets.extend([
+        "solver.duration=0.4".to_string(),
+        "solver.output_interval=0.005".to_string(),
+    ]);
+    sets
+}

@@ -21,7 +21,9 @@
 use flexmbd::Simulation;
 use flexmbd::model::{BodyModel, FormulationKind, Scene, parse_set};
 use flexmbd::output::History;
-use flexmbd_test_support::iltis::{vehicle_flexible, vehicle_stiffness};
+use flexmbd_test_support::iltis::{
+    vehicle_flexible, vehicle_near_the_first_step, vehicle_stiffness,
+};
 
 #[global_allocator]
 static GLOBAL: flexmbd_test_support::CountingAllocator = flexmbd_test_support::CountingAllocator;
@@ -175,23 +177,6 @@ fn run(form: FormulationKind, sets: &[String]) -> History {
     history
 }
 
-/// The §3.5 road moved 9.5 m back: the vehicle starts at rest on the +0.10 m plateau and the
-/// front wheels reach the step down to 0 (x = 10.97 − 9.5 = 1.47 m) at t = 0.1 s; 0.4 s covers
-/// the front axle's fall, landing and rebound (the rear axle steps at 0.50 s).
-fn near_the_first_step() -> Vec<String> {
-    let x = [3.97, 4.97, 10.97, 10.97, 20.97, 20.97];
-    let mut sets: Vec<String> = x
-        .iter()
-        .enumerate()
-        .map(|(i, x)| format!("roads.road.profile.Table.x.{i}={}", x - 9.5))
-        .collect();
-    sets.extend([
-        "solver.duration=0.4".to_string(),
-        "solver.output_interval=0.005".to_string(),
-    ]);
-    sets
-}
-
 const COMPARED: [&str; 4] = ["chassis_z", "chassis_pitch", "wheel_fl_z", "tyre_fl"];
 
 /// Around the first step down, the two formulations agree, rigid and with 12 flexible
@@ -205,7 +190,7 @@ fn the_formulations_converge_together_over_the_first_step_down() {
         let mut worst = Vec::new();
         for step in [1e-3, 5e-4, 2.5e-4] {
             let mut sets = vehicle_flexible(k);
-            sets.extend(near_the_first_step());
+            sets.extend(vehicle_near_the_first_step());
             sets.push(format!("solver.step={step}"));
             let (a, r) = (
                 run(FormulationKind::Absolute, &sets),
@@ -237,7 +222,7 @@ fn the_formulations_converge_together_over_the_first_step_down() {
 fn twelve_flexible_bodies_step_without_allocating() {
     for form in FORMS {
         let mut sets = vehicle_flexible(12);
-        sets.extend(near_the_first_step());
+        sets.extend(vehicle_near_the_first_step());
         let mut sim = Simulation::new(&scene(form, &sets)).unwrap();
         let mut values = vec![0.0; sim.sensor_names().len()];
         for _ in 0..3 {
