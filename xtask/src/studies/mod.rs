@@ -3,6 +3,7 @@
 use crate::Settings;
 use crate::report::Report;
 
+pub mod flexible_iltis;
 pub mod four_bar;
 pub mod iltis;
 pub mod inertia_cost;
@@ -41,6 +42,11 @@ pub fn all() -> Vec<Study> {
             name: "iltis",
             title: "The IAVSD Iltis benchmark vehicle: equilibrium, vibration and the cosine bump (thesis ch. 2)",
             run: iltis::run,
+        },
+        Study {
+            name: "flexible-iltis",
+            title: "The flexible Iltis: suspension and vehicle with 0 to 12 flexible bodies (thesis ch. 2 and 3)",
+            run: flexible_iltis::run,
         },
         Study {
             name: "mesh-size",
