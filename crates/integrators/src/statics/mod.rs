@@ -114,6 +114,17 @@ pub struct StaticSettings {
     pub tol_phi: f64,
     /// Newton iterations per load level.
     pub max_iterations: usize,
+    /// Newton iterations of one attempt in all (full load, load stepping and the neutral
+    /// polish together): a bound on the work for a load the structure cannot carry, where
+    /// load stepping would halve and retry its increments for minutes on a large scene (an
+    /// iteration costs n evaluations with the difference tangent). A converging solve takes
+    /// under 30.
+    pub max_total_iterations: usize,
+    /// Gauss–Newton iterations of the projections onto Φ = 0 in one attempt, likewise: a
+    /// point far off the constraints (a line-search trial after a huge step) can take 50 each,
+    /// and each forms and factorises an n × n matrix. A converging solve takes a few per Newton
+    /// iteration.
+    pub max_projection_iterations: usize,
     /// First load increment 1/`load_steps` when the full load fails.
     pub load_steps: usize,
     /// Smallest load increment before giving up.
@@ -130,6 +141,8 @@ impl Default for StaticSettings {
             tol_q: 1e-10,
             tol_phi: 1e-10,
             max_iterations: 50,
+            max_total_iterations: 400,
+            max_projection_iterations: 2000,
             load_steps: 4,
             min_increment: 1e-3,
             fd_tangent: true,
@@ -198,6 +211,8 @@ struct Solver<'s> {
     q0_forces: DVector<f64>,
     f_ref: f64,
     evaluations: usize,
+    /// Gauss–Newton iterations of the projections so far.
+    projection_iterations: usize,
     iterations: usize,
     // Workspace.
     g: DVector<f64>,
@@ -340,6 +355,10 @@ impl Solver<'_> {
         };
         let mut phi = f64::INFINITY;
         for _ in 0..50 {
+            if self.projection_iterations >= self.s.max_projection_iterations {
+                return false;
+            }
+            self.projection_iterations += 1;
             self.eval(f, q, req);
             phi = self.terms.phi.amax();
             if !phi.is_finite() {
@@ -392,6 +411,9 @@ impl Solver<'_> {
         self.restart_at(f, q, lambda, load, req);
         let mut stall = Stall::default();
         for _ in 0..self.s.max_iterations {
+            if self.iterations >= self.s.max_total_iterations {
+                return Ok(Level::Failed);
+            }
             let phi = self.terms.phi.amax();
             let res = self.g.amax();
             self.last_residual = res;
@@ -759,6 +781,7 @@ impl<'s> Solver<'s> {
             f_ref: f64::MIN_POSITIVE,
             evaluations: 0,
             iterations: 0,
+            projection_iterations: 0,
             g: DVector::zeros(n),
             g_try: DVector::zeros(n),
             base: DVector::zeros(n),
