@@ -26,6 +26,20 @@ pub fn model(file: &str) -> Scene {
     Scene::load(models_dir().join(file)).unwrap_or_else(|e| panic!("models/{file}: {e}"))
 }
 
+/// A model of `models/` in formulation `form` with the `--set` overrides `sets`.
+pub fn model_with(file: &str, form: flexmbd_model::FormulationKind, sets: &[String]) -> Scene {
+    let mut scene = model(file);
+    scene.solver.formulation = form;
+    let sets: Vec<_> = sets
+        .iter()
+        .map(|s| flexmbd_model::parse_set(s).unwrap_or_else(|e| panic!("{s}: {e}")))
+        .collect();
+    scene
+        .apply_sets(&sets)
+        .unwrap_or_else(|e| panic!("models/{file}: {e}"));
+    scene
+}
+
 /// The double four-bar (`models/double_four_bar.ron`) with its first `flexible` bars flexible.
 pub fn four_bar(flexible: usize) -> Scene {
     let mut scene = model("double_four_bar.ron");

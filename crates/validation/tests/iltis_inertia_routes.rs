@@ -9,19 +9,13 @@
 //! absolute 4.9e-11 (B), 1.1e-10 (C); scene C's roll, zero by symmetry, stays below 4e-12 rad.
 
 use flexmbd::body::InertiaMethod;
-use flexmbd::model::{FormulationKind, Scene, parse_set};
+use flexmbd::model::{FormulationKind, Scene};
 use flexmbd_test_support::iltis::{
     suspension_flexible, vehicle_flexible, vehicle_near_the_first_step,
 };
 
 fn load(file: &str, sets: &[String], form: FormulationKind, inertia: InertiaMethod) -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../models")
-        .join(file);
-    let mut scene = Scene::load(path).unwrap();
-    let sets: Vec<_> = sets.iter().map(|s| parse_set(s).unwrap()).collect();
-    scene.apply_sets(&sets).unwrap();
-    scene.solver.formulation = form;
+    let mut scene = flexmbd_test_support::scenes::model_with(file, form, sets);
     scene.solver.inertia = inertia;
     scene
 }

@@ -18,9 +18,7 @@
 //! leaf force, exactly the differences found; so the checks hold the table to one unit of its
 //! printed digits plus that deficit, and the tyre to m g itself.
 
-use flexmbd::model::{
-    BodyModel, FormulationKind, Inertia, Scene, Sensor, SensorKind, V3, parse_set,
-};
+use flexmbd::model::{BodyModel, FormulationKind, Inertia, Scene, Sensor, SensorKind, V3};
 use flexmbd::output::History;
 use flexmbd_fe::{Dof, Mesh, NodeDof, assembly};
 use flexmbd_test_support::iltis::{suspension_flexible, suspension_stiffness};
@@ -32,13 +30,7 @@ const NOMINAL_Z: f64 = 0.570;
 const G: f64 = 9.81;
 
 fn scene(form: FormulationKind, sets: &[String]) -> Scene {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/iltis_suspension.ron");
-    let mut scene = Scene::load(path).unwrap();
-    scene.solver.formulation = form;
-    let sets: Vec<_> = sets.iter().map(|s| parse_set(s).unwrap()).collect();
-    scene.apply_sets(&sets).unwrap();
-    scene
+    flexmbd_test_support::scenes::model_with("iltis_suspension.ron", form, sets)
 }
 
 /// The benchmark's masses (docs/scenes.md §2.2, §3.3): the A-arm as the benchmark's rigid body

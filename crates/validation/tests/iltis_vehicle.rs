@@ -19,7 +19,7 @@
 //! sum to m g itself, and the drop and pitch to their printed digits.
 
 use flexmbd::Simulation;
-use flexmbd::model::{BodyModel, FormulationKind, Scene, parse_set};
+use flexmbd::model::{BodyModel, FormulationKind, Scene};
 use flexmbd::output::History;
 use flexmbd_test_support::iltis::{
     vehicle_flexible, vehicle_near_the_first_step, vehicle_stiffness,
@@ -34,13 +34,7 @@ const NOMINAL_Z: f64 = 0.570;
 const G: f64 = 9.81;
 
 fn scene(form: FormulationKind, sets: &[String]) -> Scene {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/iltis_vehicle.ron");
-    let mut scene = Scene::load(path).unwrap();
-    scene.solver.formulation = form;
-    let sets: Vec<_> = sets.iter().map(|s| parse_set(s).unwrap()).collect();
-    scene.apply_sets(&sets).unwrap();
-    scene
+    flexmbd_test_support::scenes::model_with("iltis_vehicle.ron", form, sets)
 }
 
 /// The vehicle's whole mass, from the scene itself (beam bodies by their FE mass).

@@ -102,18 +102,6 @@ impl Case {
     }
 }
 
-fn check(summary: &Summary, what: &str) -> Result<(), Failure> {
-    if summary.status != "ok" {
-        return Err(format!(
-            "{what}: the run failed at t = {:?} s: {}",
-            summary.failed_at,
-            summary.message.as_deref().unwrap_or("?")
-        )
-        .into());
-    }
-    Ok(())
-}
-
 /// A configuration to measure: scene, flexible bodies, formulation, inertia route, the scene.
 type Config = (Which, usize, &'static str, &'static str, Scene);
 
@@ -127,7 +115,7 @@ fn measure_all(configs: Vec<Config>, reps: usize) -> Result<Vec<Case>, Failure> 
         for (i, (which, k, form, method, sc)) in configs.iter().enumerate() {
             let (summary, h) = simulation::run(sc, |_| {})?;
             let what = format!("scene {}, k = {k}, {form}, {method}", which.label());
-            check(&summary, &what)?;
+            super::check_run(&summary, &what)?;
             eprintln!(
                 "   {what}: n = {}, {:.3} s",
                 summary.n_coordinates, summary.cpu_seconds

@@ -139,18 +139,6 @@ fn largest_b0_difference(a: &History, b: &History) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn check(summary: &Summary, what: &str) -> Result<(), Error> {
-    if summary.status != "ok" {
-        return Err(format!(
-            "{what}: the run failed at t = {:?} s: {}",
-            summary.failed_at,
-            summary.message.as_deref().unwrap_or("?")
-        )
-        .into());
-    }
-    Ok(())
-}
-
 /// Run every configuration `reps` times, round by round (one run of each configuration
 /// per round), so a burst of load on the shared machine spoils at most one repetition of
 /// each and the median discards it.
@@ -173,7 +161,7 @@ fn measure_all(reps: usize) -> Result<Vec<Case>, Error> {
                 continue;
             }
             let (summary, h) = simulation::run(sc, |_| {})?;
-            if let Err(e) = check(&summary, &format!("{form}, k = {k}, {name}")) {
+            if let Err(e) = super::check_run(&summary, &format!("{form}, k = {k}, {name}")) {
                 eprintln!("   {e}");
                 failed[i] = Some((summary, h));
                 continue;
@@ -268,7 +256,7 @@ fn rigid_check(form: FormulationKind) -> Result<Rigid, Error> {
         });
     }
     let (summary, history) = simulation::run(&rigid, |_| {})?;
-    check(&summary, "rigid 10 s run")?;
+    super::check_run(&summary, "rigid 10 s run")?;
     let last = |n: &str| {
         history
             .column(n)

@@ -15,6 +15,22 @@ pub mod work_precision;
 /// What a study returns when it cannot finish.
 pub type StudyResult = Result<(), Box<dyn std::error::Error>>;
 
+/// The run of `what` finished: its status is `ok`, else the failure with its time and message.
+fn check_run(
+    summary: &flexmbd::simulation::Summary,
+    what: &str,
+) -> Result<(), Box<dyn std::error::Error>> {
+    if summary.status != "ok" {
+        return Err(format!(
+            "{what}: the run failed at t = {:?} s: {}",
+            summary.failed_at,
+            summary.message.as_deref().unwrap_or("?")
+        )
+        .into());
+    }
+    Ok(())
+}
+
 /// One study of the report.
 pub struct Study {
     /// Name for `--only`.
