@@ -10,7 +10,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt;
 use faer::{Par, Spec};
-use flexmbd_integrators::lu::DenseLu;
+use flexmbd_integrators::lu::{DenseLlt, DenseLu};
+use flexmbd_integrators::sparse_llt::SparseLlt;
 use nalgebra::{DMatrix, DVector};
 
 /// A symmetric positive definite test matrix like f_q: a mass-like diagonal plus a
@@ -88,9 +89,57 @@ fn dense(c: &mut Criterion) {
     g.finish();
 }
 
+/// An SPD arrow matrix: a dense root block coupled to `branches` dense blocks that do not
+/// couple with each other (a vehicle in relative coordinates: chassis and corners).
+fn arrow(root: usize, branches: usize, size: usize) -> DMatrix<f64> {
+    let n = root + branches * size;
+    DMatrix::from_fn(n, n, |i, j| {
+        let coupled = i < root || j < root || (i - root) / size == (j - root) / size;
+        let v = if coupled {
+            ((i * 7 + j * 7 + i * j) as f64 * 0.37).sin() / n as f64
+        } else {
+            0.0
+        };
+        v + if i == j { 2.0 } else { 0.0 }
+    })
+}
+
+/// Sparse against dense Cholesky (factorise + solve) on arrow matrices: the 12-flexible-body
+/// vehicle's shape in relative coordinates (6 + 4 × 28 = 118), the rigid vehicle's
+/// (6 + 4 × 9 = 42), and denser ones (a larger root) to find where the fill of the factor
+/// stops paying (`sparse_llt::MAX_FILL`).
+fn sparse(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sparse_against_dense");
+    for (root, branches, size) in [(6, 4, 9), (6, 4, 28), (6, 8, 28), (30, 4, 22), (48, 2, 35)] {
+        let a = arrow(root, branches, size);
+        let n = a.nrows();
+        let rhs = DVector::from_fn(n, |i, _| (i as f64).cos());
+        let mut x = rhs.clone();
+        let mut sparse = SparseLlt::new(&a).unwrap();
+        let fill = sparse.factor_entries() as f64 / (n * (n + 1) / 2) as f64;
+        let label = format!("{root}+{branches}x{size} fill {fill:.2}");
+        g.bench_with_input(BenchmarkId::new("sparse_llt", &label), &n, |bch, _| {
+            bch.iter(|| {
+                sparse.factor(&a).unwrap();
+                x.copy_from(&rhs);
+                sparse.solve_in_place(&mut x);
+            })
+        });
+        let mut dense = DenseLlt::new(n);
+        g.bench_with_input(BenchmarkId::new("dense_llt", &label), &n, |bch, _| {
+            bch.iter(|| {
+                dense.factor(&a).unwrap();
+                x.copy_from(&rhs);
+                dense.solve_in_place(&mut x);
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_millis(400)).warm_up_time(std::time::Duration::from_millis(200));
-    targets = dense
+    targets = dense, sparse
 }
 criterion_main!(benches);

@@ -44,6 +44,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::lu::{DenseLlt, DenseLu};
 pub use crate::settings::{Ali3pSettings, Stats};
+use crate::sparse_llt::{SPARSE_FROM, SparseLlt};
 
 /// Why the integrator stopped.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -105,6 +106,14 @@ pub struct Checkpoint {
     pred_err: Vec<(f64, f64)>,
 }
 
+/// The kernel of the last factorisation of the leading matrix.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Factored {
+    Llt,
+    SparseLlt,
+    Lu,
+}
+
 /// The ALI3-P integrator with its state and workspace, sized once for one formulation.
 pub struct Ali3p {
     settings: Ali3pSettings,
@@ -129,8 +138,12 @@ pub struct Ali3p {
     llt: DenseLlt,
     /// f_q is symmetric (the formulation says so); then Cholesky, with LU as the fallback.
     symmetric: bool,
-    /// The last factorisation was a Cholesky one.
-    factored_llt: bool,
+    /// Which kernel holds the last factorisation.
+    factored: Factored,
+    /// The sparse Cholesky of large systems whose factor is sparse enough (set up at the
+    /// first factorisation, see `crate::sparse_llt`); `None` keeps the dense kernels.
+    sparse: Option<SparseLlt>,
+    sparse_decided: bool,
     /// K and C are state-independent: evaluated once, kept.
     constant_tangents: bool,
     /// M, K and C are all constant: W is formed once (`w_ready` after that).
@@ -178,7 +191,9 @@ impl Ali3p {
             lu: DenseLu::new(n),
             llt: DenseLlt::new(n),
             symmetric: f.symmetric_tangent(),
-            factored_llt: false,
+            factored: Factored::Lu,
+            sparse: None,
+            sparse_decided: false,
             constant_tangents: f.constant_tangents(),
             constant_w: f.constant_tangents() && f.constant_mass(),
             w_ready: false,
@@ -369,11 +384,25 @@ impl Ali3p {
     /// Factorise the leading matrix: Cholesky when symmetric, LU otherwise or as the fallback.
     fn factor_leading(&mut self) -> Result<(), IntegratorError> {
         self.stats.factorizations += 1;
-        if self.symmetric && self.llt.factor(&self.lead).is_ok() {
-            self.factored_llt = true;
+        if self.symmetric && !self.sparse_decided {
+            self.sparse_decided = true;
+            self.sparse = (self.settings.sparse_factorisation && self.lead.nrows() >= SPARSE_FROM)
+                .then(|| SparseLlt::new(&self.lead).ok())
+                .flatten()
+                .filter(SparseLlt::worthwhile);
+        }
+        if let Some(sparse) = self.sparse.as_mut().filter(|_| self.symmetric)
+            && sparse.factor(&self.lead).is_ok()
+        {
+            self.factored = Factored::SparseLlt;
+            self.stats.sparse_factorizations += 1;
             return Ok(());
         }
-        self.factored_llt = false;
+        if self.symmetric && self.llt.factor(&self.lead).is_ok() {
+            self.factored = Factored::Llt;
+            return Ok(());
+        }
+        self.factored = Factored::Lu;
         self.lu.factor(&self.lead).map_err(|e| {
             self.stats.failed_steps += 1;
             IntegratorError::Singular {
@@ -384,10 +413,10 @@ impl Ali3p {
     }
 
     fn solve_leading(&mut self) {
-        if self.factored_llt {
-            self.llt.solve_in_place(&mut self.rhs);
-        } else {
-            self.lu.solve_in_place(&mut self.rhs);
+        match (self.factored, self.sparse.as_mut()) {
+            (Factored::SparseLlt, Some(sparse)) => sparse.solve_in_place(&mut self.rhs),
+            (Factored::Llt, _) => self.llt.solve_in_place(&mut self.rhs),
+            _ => self.lu.solve_in_place(&mut self.rhs),
         }
     }
 

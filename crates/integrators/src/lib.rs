@@ -10,6 +10,7 @@ mod initial;
 pub mod linearise;
 pub mod lu;
 mod settings;
+pub mod sparse_llt;
 mod start_from;
 pub mod statics;
 
