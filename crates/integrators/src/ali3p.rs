@@ -351,18 +351,26 @@ impl Ali3p {
         }
     }
 
-    /// Form f_q = W + h²/4 Φ_qᵀ α Φ_q (W is formed first).
-    fn form_leading(&mut self) {
+    /// Form f_q = W + h²/4 Φ_qᵀ α Φ_q (W is formed first): its lower triangle only when
+    /// `lower_only` (the Cholesky kernels read no more; the strict upper triangle is then
+    /// stale), the whole matrix for the LU.
+    fn form_leading(&mut self, lower_only: bool) {
         self.form_w();
         let h = self.settings.step;
         let lead = self.lead.as_mut_slice();
-        lead.copy_from_slice(self.w.as_slice());
-        let tt = &self.terms;
+        let (m, n) = self.terms.phi_q.shape();
+        if lower_only {
+            for j in 0..n {
+                let column = j * n + j..(j + 1) * n;
+                lead[column.clone()].copy_from_slice(&self.w.as_slice()[column]);
+            }
+        } else {
+            lead.copy_from_slice(self.w.as_slice());
+        }
         // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
         // handful per row, where a dense product would cost m n². Column-major slices.
         let c = 0.25 * h * h * self.alpha;
-        let (m, n) = tt.phi_q.shape();
-        let pq = tt.phi_q.as_slice();
+        let pq = self.terms.phi_q.as_slice();
         for r in 0..m {
             self.nz.clear();
             for j in 0..n {
@@ -371,10 +379,12 @@ impl Ali3p {
                     self.nz.push((j, v));
                 }
             }
-            for &(j, vj) in &self.nz {
+            for (k, &(j, vj)) in self.nz.iter().enumerate() {
                 let cj = c * vj;
                 let col = &mut lead[j * n..(j + 1) * n];
-                for &(i, vi) in &self.nz {
+                // `nz` is in increasing j: entries from k on are on or below the diagonal.
+                let rows = if lower_only { &self.nz[k..] } else { &self.nz[..] };
+                for &(i, vi) in rows {
                     col[i] += cj * vi;
                 }
             }
@@ -401,6 +411,10 @@ impl Ali3p {
         if self.symmetric && self.llt.factor(&self.lead).is_ok() {
             self.factored = Factored::Llt;
             return Ok(());
+        }
+        if self.symmetric {
+            // Not positive definite after all: the LU needs the upper triangle too.
+            self.form_leading(false);
         }
         self.factored = Factored::Lu;
         self.lu.factor(&self.lead).map_err(|e| {
@@ -600,7 +614,7 @@ impl Ali3p {
         self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
         self.rhs *= 0.25 * h * h;
         if refresh {
-            self.form_leading();
+            self.form_leading(self.symmetric);
             self.factor_leading()?;
         }
         self.solve_leading();
@@ -715,7 +729,7 @@ impl Ali3p {
         // h²/4 K is the last Newton iteration's: W only weights the (small) correction
         // q̇ − q̇*, so its O(ε_q) change moves q̇ by O(ε_q ‖q̇ − q̇*‖), and the formulation
         // pass it would take (M, Q, K, C at the converged state) is saved.
-        self.form_leading();
+        self.form_leading(self.symmetric);
         self.factor_leading()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t, solved for the increment q̇ − q̇* (see
         // `project_increment`).
