@@ -90,25 +90,32 @@ def test_scene_given_is_not_changed_by_simulate_options():
 
 
 def test_the_gil_is_released_during_a_run():
-    # With a switch interval of 10 s, a thread holding the GIL keeps it until it blocks or
-    # releases it: this thread runs during the worker's run only if the run released it.
-    state = {"running": False, "done": False, "ticks": 0}
+    # With a switch interval of 100 s, a thread holding the GIL keeps it until it blocks or
+    # releases it. The worker sets "running" and enters the run without letting go in
+    # between (`simulate` of a loaded scene copies it and sets its options holding the GIL), so this thread can see "running" before "done" only if the run released
+    # the GIL: no count of loop turns, which depends on how a loaded machine schedules the
+    # two threads. The run (the five-bar flexible four-bar, 10 s) lasts long enough (a few
+    # tenths of a second) for this thread to be scheduled while it goes on.
+    state = {"running": False, "done": False, "seen_inside": False}
+    flexible = {f"bodies.{b}.flexible": True for b in ("crank1", "coupler1", "crank2")}
 
     def worker():
+        # Loaded first: reading the file may let go of the GIL, the run's set-up does not.
+        scene = flexmbd.load(model("double_four_bar.ron"), sets=flexible)
         state["running"] = True
-        flexmbd.simulate(model("double_four_bar.ron"), formulation="absolute")
+        flexmbd.simulate(scene, formulation="absolute")
         state["done"] = True
 
     interval = sys.getswitchinterval()
-    sys.setswitchinterval(10.0)
+    sys.setswitchinterval(100.0)
     try:
         thread = threading.Thread(target=worker)
         thread.start()
         while not state["done"]:
-            if state["running"]:
-                state["ticks"] += 1
+            if state["running"] and not state["done"]:
+                state["seen_inside"] = True
             time.sleep(0)  # lets the worker take the GIL back when its run ends
         thread.join()
     finally:
         sys.setswitchinterval(interval)
-    assert state["ticks"] > 10, state
+    assert state["seen_inside"], state
