@@ -10,6 +10,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt;
 use faer::{Par, Spec};
+use flexmbd_integrators::arrow_llt::ArrowLlt;
 use flexmbd_integrators::lu::{DenseLlt, DenseLu};
 use flexmbd_integrators::sparse_llt::SparseLlt;
 use nalgebra::{DMatrix, DVector};
@@ -104,13 +105,21 @@ fn arrow(root: usize, branches: usize, size: usize) -> DMatrix<f64> {
     })
 }
 
-/// Sparse against dense Cholesky (factorise + solve) on arrow matrices: the 12-flexible-body
-/// vehicle's shape in relative coordinates (6 + 4 × 28 = 118), the rigid vehicle's
-/// (6 + 4 × 9 = 42), and denser ones (a larger root) to find where the fill of the factor
-/// stops paying (`sparse_llt::MAX_FILL`).
-fn sparse(c: &mut Criterion) {
-    let mut g = c.benchmark_group("sparse_against_dense");
-    for (root, branches, size) in [(6, 4, 9), (6, 4, 28), (6, 8, 28), (30, 4, 22), (48, 2, 35)] {
+/// Structured against dense Cholesky (factorise + solve) on arrow matrices: the
+/// 12-flexible-body vehicle's shape in relative coordinates (6 + 4 × 28 = 118), the rigid
+/// vehicle's (6 + 4 × 9 = 42), and denser ones (a larger root) to find where the fill of
+/// the sparse factor stops paying (`sparse_llt::MAX_FILL`); the arrow form
+/// (`arrow_llt::ArrowLlt`) where it is found.
+fn structured(c: &mut Criterion) {
+    let mut g = c.benchmark_group("structured_against_dense");
+    for (root, branches, size) in [
+        (6, 4, 4),
+        (6, 4, 9),
+        (6, 4, 28),
+        (6, 8, 28),
+        (30, 4, 22),
+        (48, 2, 35),
+    ] {
         let a = arrow(root, branches, size);
         let n = a.nrows();
         let rhs = DVector::from_fn(n, |i, _| (i as f64).cos());
@@ -125,6 +134,15 @@ fn sparse(c: &mut Criterion) {
                 sparse.solve_in_place(&mut x);
             })
         });
+        if let Some(mut arrow) = ArrowLlt::detect(&a) {
+            g.bench_with_input(BenchmarkId::new("arrow_llt", &label), &n, |bch, _| {
+                bch.iter(|| {
+                    arrow.factor(&a).unwrap();
+                    x.copy_from(&rhs);
+                    arrow.solve_in_place(&mut x);
+                })
+            });
+        }
         let mut dense = DenseLlt::new(n);
         g.bench_with_input(BenchmarkId::new("dense_llt", &label), &n, |bch, _| {
             bch.iter(|| {
@@ -140,6 +158,6 @@ fn sparse(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_millis(400)).warm_up_time(std::time::Duration::from_millis(200));
-    targets = dense, sparse
+    targets = dense, structured
 }
 criterion_main!(benches);

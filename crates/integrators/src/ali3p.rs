@@ -44,7 +44,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::lu::{DenseLlt, DenseLu};
 pub use crate::settings::{Ali3pSettings, Stats};
-use crate::sparse_llt::{SPARSE_FROM, SparseLlt};
+use crate::structured::{Fallback, StructuredLlt};
 
 /// Why the integrator stopped.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -110,7 +110,7 @@ pub struct Checkpoint {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Factored {
     Llt,
-    SparseLlt,
+    Structured,
     Lu,
 }
 
@@ -140,10 +140,10 @@ pub struct Ali3p {
     symmetric: bool,
     /// Which kernel holds the last factorisation.
     factored: Factored,
-    /// The sparse Cholesky of large systems whose factor is sparse enough (set up at the
-    /// first factorisation, see `crate::sparse_llt`); `None` keeps the dense kernels.
-    sparse: Option<SparseLlt>,
-    sparse_decided: bool,
+    /// The structured Cholesky chosen at the first factorisation (`crate::structured`);
+    /// `None` keeps the dense kernels.
+    structured: Option<StructuredLlt>,
+    structure_decided: bool,
     /// K and C are state-independent: evaluated once, kept.
     constant_tangents: bool,
     /// M, K and C are all constant: W is formed once (`w_ready` after that).
@@ -192,8 +192,8 @@ impl Ali3p {
             llt: DenseLlt::new(n),
             symmetric: f.symmetric_tangent(),
             factored: Factored::Lu,
-            sparse: None,
-            sparse_decided: false,
+            structured: None,
+            structure_decided: false,
             constant_tangents: f.constant_tangents(),
             constant_w: f.constant_tangents() && f.constant_mass(),
             w_ready: false,
@@ -383,7 +383,11 @@ impl Ali3p {
                 let cj = c * vj;
                 let col = &mut lead[j * n..(j + 1) * n];
                 // `nz` is in increasing j: entries from k on are on or below the diagonal.
-                let rows = if lower_only { &self.nz[k..] } else { &self.nz[..] };
+                let rows = if lower_only {
+                    &self.nz[k..]
+                } else {
+                    &self.nz[..]
+                };
                 for &(i, vi) in rows {
                     col[i] += cj * vi;
                 }
@@ -394,19 +398,24 @@ impl Ali3p {
     /// Factorise the leading matrix: Cholesky when symmetric, LU otherwise or as the fallback.
     fn factor_leading(&mut self) -> Result<(), IntegratorError> {
         self.stats.factorizations += 1;
-        if self.symmetric && !self.sparse_decided {
-            self.sparse_decided = true;
-            self.sparse = (self.settings.sparse_factorisation && self.lead.nrows() >= SPARSE_FROM)
-                .then(|| SparseLlt::new(&self.lead).ok())
-                .flatten()
-                .filter(SparseLlt::worthwhile);
+        if self.symmetric && !self.structure_decided {
+            self.structure_decided = true;
+            self.structured = self
+                .settings
+                .structured_factorisation
+                .then(|| StructuredLlt::choose(&self.lead))
+                .flatten();
         }
-        if let Some(sparse) = self.sparse.as_mut().filter(|_| self.symmetric)
-            && sparse.factor(&self.lead).is_ok()
-        {
-            self.factored = Factored::SparseLlt;
-            self.stats.sparse_factorizations += 1;
-            return Ok(());
+        if let Some(structured) = self.structured.as_mut().filter(|_| self.symmetric) {
+            match structured.factor(&self.lead) {
+                Ok(()) => {
+                    self.factored = Factored::Structured;
+                    self.stats.structured_factorizations += 1;
+                    return Ok(());
+                }
+                Err(Fallback::FromNowOn) => self.structured = None,
+                Err(Fallback::ThisTime) => {}
+            }
         }
         if self.symmetric && self.llt.factor(&self.lead).is_ok() {
             self.factored = Factored::Llt;
@@ -427,8 +436,8 @@ impl Ali3p {
     }
 
     fn solve_leading(&mut self) {
-        match (self.factored, self.sparse.as_mut()) {
-            (Factored::SparseLlt, Some(sparse)) => sparse.solve_in_place(&mut self.rhs),
+        match (self.factored, self.structured.as_mut()) {
+            (Factored::Structured, Some(structured)) => structured.solve_in_place(&mut self.rhs),
             (Factored::Llt, _) => self.llt.solve_in_place(&mut self.rhs),
             _ => self.lu.solve_in_place(&mut self.rhs),
         }

@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod ali3p;
+pub mod arrow_llt;
 mod initial;
 pub mod linearise;
 pub mod lu;
@@ -13,6 +14,7 @@ mod settings;
 pub mod sparse_llt;
 mod start_from;
 pub mod statics;
+mod structured;
 
 pub use ali3p::{Ali3p, Ali3pSettings, Checkpoint, IntegratorError, Stats};
 pub use linearise::{Linearisation, Mode, ModeKind, VibrationError, linearise};

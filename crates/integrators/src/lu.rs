@@ -182,6 +182,21 @@ impl DenseLlt {
         let stack = MemStack::new(&mut self.scratch);
         llt::solve::solve_in_place(l, rhs, Par::Seq, stack);
     }
+
+    /// The factor L of the last factorisation: column-major n × n, L in the lower triangle
+    /// (the strict upper triangle holds whatever the input had there).
+    pub fn factor_data(&self) -> &[f64] {
+        self.l.as_slice()
+    }
+
+    /// L⁻¹ B in place for a column-major n × k matrix B (faer's blocked triangular solve).
+    pub fn solve_lower_many_in_place(&self, b: &mut DMatrix<f64>) {
+        let n = self.n;
+        let k = b.ncols();
+        let l = faer::MatRef::from_column_major_slice(self.l.as_slice(), n, n);
+        let rhs = faer::MatMut::from_column_major_slice_mut(b.as_mut_slice(), n, k);
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, rhs, Par::Seq);
+    }
 }
 
 #[cfg(test)]

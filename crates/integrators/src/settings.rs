@@ -49,14 +49,16 @@ pub struct Ali3pSettings {
     /// Saves factorisations when f_q changes slowly (large n, mild nonlinearity) at the cost
     /// of extra iterations; off, every iteration refactorises.
     pub reuse_tangent: bool,
-    /// Factorise large leading matrices with the sparse Cholesky when their factor is sparse
-    /// (at least [`SPARSE_FROM`](crate::sparse_llt::SPARSE_FROM) coordinates, factor at
-    /// most [`MAX_FILL`](crate::sparse_llt::MAX_FILL) full: natural coordinates of many
-    /// bodies). Default: `true`.
+    /// Factorise the leading matrix with its structure where that pays
+    /// (`crate::structured`): the arrow form of a tree in relative coordinates (a vehicle's
+    /// chassis and corners, [`ARROW_FROM`](crate::arrow_llt::ARROW_FROM) coordinates and
+    /// more), the sparse Cholesky of large systems with a sparse factor
+    /// ([`SPARSE_FROM`](crate::sparse_llt::SPARSE_FROM) coordinates and more: natural
+    /// coordinates of many bodies). Default: `true`.
     ///
-    /// The dense and sparse factorisations give the same trajectories to round-off; `false`
-    /// keeps the dense kernels (the check of that, and of the speed, in benchmarks).
-    pub sparse_factorisation: bool,
+    /// The structured and dense factorisations give the same trajectories to round-off;
+    /// `false` keeps the dense kernels (to check that, and the speed, in tests and benchmarks).
+    pub structured_factorisation: bool,
     /// Time the phases (evaluation, factorisation, projection) on every k-th step only and
     /// scale, so that reading the clock does not cost more than the step. Default: `8`.
     ///
@@ -75,7 +77,7 @@ impl Default for Ali3pSettings {
             accept_phi: 1e-6,
             max_iterations: 20,
             reuse_tangent: false,
-            sparse_factorisation: true,
+            structured_factorisation: true,
             profile_every: 8,
         }
     }
@@ -90,8 +92,8 @@ pub struct Stats {
     pub newton_iterations: usize,
     /// Factorisations of the leading matrix (Cholesky, or LU where it is not SPD).
     pub factorizations: usize,
-    /// Of those, factorisations by the sparse Cholesky (`crate::sparse_llt`).
-    pub sparse_factorizations: usize,
+    /// Of those, factorisations by a structured Cholesky (`crate::structured`).
+    pub structured_factorizations: usize,
     /// Formulation evaluation passes.
     pub evaluations: usize,
     /// Steps accepted at the iteration limit with ‖Φ‖∞ ≤ accept_phi.

@@ -29,7 +29,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// The smallest system for which the sparse factorisation is considered: below it faer's
 /// dense kernels win whatever the pattern (`benches/dense.rs`, group
-/// `sparse_against_dense`: 5.1 against 3.7 µs at n = 42 with a factor 46 % full).
+/// `structured_against_dense`: 5.1 against 3.7 µs at n = 42 with a factor 46 % full).
 pub const SPARSE_FROM: usize = 96;
 
 /// The largest share of a dense factor's n(n+1)/2 entries at which the sparse
