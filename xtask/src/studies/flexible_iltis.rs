@@ -3,8 +3,9 @@
 //! over the ramp and steps (`models/iltis_vehicle.ron`) with 0, 4, 8, 12, both formulations ×
 //! both inertia routes: the histories as the thesis's figures (chassis and front-left wheel
 //! centre, the A-arm's deflection, whether the leaf bump stop closes), the CPU time and
-//! real-time factor against the number of flexible bodies with the split by phase, and the
-//! mesh-size study on the 12-flexible-body vehicle ([`sections::mesh_study`]). Every CPU figure is the median of 3 runs
+//! real-time factor against the number of flexible bodies with the split by phase, the slope of
+//! the cost per step against the coordinate count ([`scaling`]), and the mesh-size study on the
+//! 12-flexible-body vehicle ([`sections::mesh_study`]). Every CPU figure is the median of 3 runs
 //! (one run in `--quick`, and the text says which).
 
 use flexmbd::body::InertiaMethod;
@@ -16,6 +17,7 @@ use super::StudyResult;
 use crate::Settings;
 use crate::report::Report;
 
+mod scaling;
 mod sections;
 
 const FORMS: [(FormulationKind, &str); 2] = [
@@ -233,6 +235,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     sections::vehicle_histories(report, &cases)?;
     sections::cpu_table(report, &cases, reps);
     sections::cpu_chart(report, &cases)?;
+    scaling::cost_slope(report, &cases, reps);
     sections::crossover(report, &cases);
     sections::mesh_study(settings, report, reps)?;
     Ok(())
