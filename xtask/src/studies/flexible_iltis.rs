@@ -3,8 +3,10 @@
 //! over the ramp and steps (`models/iltis_vehicle.ron`) with 0, 4, 8, 12, both formulations ×
 //! both inertia routes: the histories as the thesis's figures (chassis and front-left wheel
 //! centre, the A-arm's deflection, whether the leaf bump stop closes), the CPU time and
-//! real-time factor against the number of flexible bodies with the split by phase, and the
-//! mesh-size study on the 12-flexible-body vehicle ([`sections::mesh_study`]).
+//! real-time factor against the number of flexible bodies with the split by phase, the slope of
+//! the cost per step against the coordinate count ([`scaling`]), and the mesh-size study on the
+//! 12-flexible-body vehicle ([`sections::mesh_study`]). Every CPU figure is the median of 3 runs
+//! (one run in `--quick`, and the text says which).
 
 use flexmbd::body::InertiaMethod;
 use flexmbd::model::{FormulationKind, Scene, parse_set};
@@ -15,6 +17,7 @@ use super::StudyResult;
 use crate::Settings;
 use crate::report::Report;
 
+mod scaling;
 mod sections;
 
 const FORMS: [(FormulationKind, &str); 2] = [
@@ -145,6 +148,32 @@ fn measure_all(configs: Vec<Config>, reps: usize) -> Result<Vec<Case>, Failure> 
     Ok(cases)
 }
 
+/// Run every labelled scene `reps` times, round by round as [`measure_all`], and return the
+/// summary of each one's median repetition (by CPU time), in the order given.
+fn median_runs(runs: &[(String, Scene)], reps: usize) -> Result<Vec<Summary>, Failure> {
+    let mut all: Vec<Vec<Summary>> = vec![Vec::with_capacity(reps); runs.len()];
+    for round in 1..=reps {
+        for ((what, sc), summaries) in runs.iter().zip(&mut all) {
+            let (summary, _) = simulation::run(sc, |_| {})?;
+            super::check_run(&summary, what)?;
+            eprintln!(
+                "   {what} (round {round}/{reps}): {:.3} s",
+                summary.cpu_seconds
+            );
+            summaries.push(summary);
+        }
+    }
+    all.into_iter()
+        .map(|mut r| {
+            r.sort_by(|a, b| a.cpu_seconds.total_cmp(&b.cpu_seconds));
+            let middle = r.len() / 2;
+            (middle < r.len())
+                .then(|| r.swap_remove(middle))
+                .ok_or_else(|| "no repetition".into())
+        })
+        .collect()
+}
+
 /// The flexible-body counts of each scene, and scene C's duration (None: the file's 8 s).
 fn plan(quick: bool) -> (Vec<usize>, Vec<usize>, Option<f64>) {
     if quick {
@@ -206,7 +235,8 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     sections::vehicle_histories(report, &cases)?;
     sections::cpu_table(report, &cases, reps);
     sections::cpu_chart(report, &cases)?;
+    scaling::cost_slope(report, &cases, reps);
     sections::crossover(report, &cases);
-    sections::mesh_study(settings, report)?;
+    sections::mesh_study(settings, report, reps)?;
     Ok(())
 }

@@ -4,9 +4,9 @@
 
 use flexmbd::fe::spec::ReferenceFrame;
 use flexmbd::model::BodyModel;
-use flexmbd::simulation::{self, History};
+use flexmbd::simulation::{History, Summary};
 
-use super::{Case, FORMS, Failure, LEAF_AT_STOP, METHODS, Which, find, scene};
+use super::{Case, FORMS, Failure, LEAF_AT_STOP, METHODS, Which, find, median_runs, scene};
 use crate::Settings;
 use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
@@ -385,26 +385,40 @@ fn set_elements(scene: &mut flexmbd::model::Scene, n: usize) -> Result<(), Failu
     Ok(())
 }
 
-/// The mesh-size study of docs/scenes.md §4 on scene C with 12 flexible bodies.
-pub(super) fn mesh_study(settings: &Settings, report: &mut Report) -> StudyResult {
+/// The mesh study's runs: per formulation, per n of `grid`, per inertia route, the summary of
+/// the median of `reps` runs of `duration` s of scene C with 12 flexible bodies.
+fn mesh_runs(grid: &[usize], duration: f64, reps: usize) -> Result<Vec<Summary>, Failure> {
+    let mut runs = Vec::new();
+    for &(fk, form) in &FORMS {
+        for &n in grid {
+            for &(method, name) in &METHODS {
+                let mut sc = scene(Which::Vehicle, 12, fk, method, Some(duration))?;
+                set_elements(&mut sc, n)?;
+                runs.push((format!("mesh study, {form}, {name}, {n} elements"), sc));
+            }
+        }
+    }
+    median_runs(&runs, reps)
+}
+
+/// The mesh-size study of docs/scenes.md §4 on scene C with 12 flexible bodies, each CPU
+/// figure the median of `reps` runs.
+pub(super) fn mesh_study(settings: &Settings, report: &mut Report, reps: usize) -> StudyResult {
     let (grid, duration): (&[usize], f64) = if settings.quick {
         (&[1, 5, 20], 0.5)
     } else {
         (&[1, 2, 5, 10, 20, 50], 8.0)
     };
+    let mut summaries = mesh_runs(grid, duration, reps)?.into_iter();
     let mut rows = Vec::new();
     let mut crossings = Vec::new();
     let mut preprocessing_share = 0.0_f64;
-    for &(fk, form) in &FORMS {
+    for &(_, form) in &FORMS {
         let mut per_n = Vec::new();
         for &n in grid {
             let mut cpu = [0.0; 2];
-            for (m, &(method, name)) in METHODS.iter().enumerate() {
-                let mut sc = scene(Which::Vehicle, 12, fk, method, Some(duration))?;
-                set_elements(&mut sc, n)?;
-                let (s, _) = simulation::run(&sc, |_| {})?;
-                super::super::check_run(&s, &format!("mesh study, {form}, {name}, {n} elements"))?;
-                eprintln!("   mesh {n:2} {form} {name}: {:.3} s", s.cpu_seconds);
+            for (m, &(_, name)) in METHODS.iter().enumerate() {
+                let s = summaries.next().ok_or("a mesh run is missing")?;
                 cpu[m] = s.cpu_seconds / s.simulated_seconds;
                 // The share the 8 s run would spend preprocessing.
                 let whole = s.preprocessing_seconds + cpu[m] * 8.0;
@@ -433,11 +447,16 @@ pub(super) fn mesh_study(settings: &Settings, report: &mut Report) -> StudyResul
             None => format!("{form}: the B-matrix ahead at every mesh of the grid"),
         });
     }
+    let how = if reps > 1 {
+        format!("the median of {reps} runs each (preprocessing from the same run)")
+    } else {
+        "one run each".to_string()
+    };
     report.text(&format!(
         "**Mesh size on the 12-flexible-body vehicle** (docs/scenes.md §4): every member of the \
          A-arm frames and every segment of the links and tie rods cut into n elements (the \
          bracket members too), the same static and fixed-interface modes, so the coordinates do \
-         not change; {duration} s of scene C, one run each. Preprocessing (the FE \
+         not change; {duration} s of scene C, {how}. Preprocessing (the FE \
          model, its reduction and the inertia invariants) beside the integration's CPU per \
          simulated second."
     ));
