@@ -27,7 +27,8 @@ pub enum Axis {
     Modes {
         /// The body, or every flexible beam body.
         body: Option<String>,
-        /// The counts, each at least 1.
+        /// The counts; 0 keeps the static modes alone (a body model may refuse more
+        /// modes than its interior DOFs, and the run is then listed as failed).
         counts: Vec<usize>,
     },
     /// The kind of dynamic vectors (`mode_selection`, docs/methods.md §1.6) of the beam
@@ -320,8 +321,8 @@ impl Axis {
         }
     }
 
-    /// The settings of this axis for `scene`, checked: at least one value, counts at least
-    /// 1, steps positive and finite, bodies that are flexible beams.
+    /// The settings of this axis for `scene`, checked: at least one value, element counts
+    /// at least 1, steps positive and finite, bodies that are flexible beams.
     fn settings(&self, scene: &Scene) -> Result<Vec<Setting>, SweepError> {
         let bad = |message: String| SweepError::Grid {
             axis: self.name().into(),
@@ -330,7 +331,7 @@ impl Axis {
         if self.len() == 0 {
             return Err(bad("no values: an axis needs at least one".into()));
         }
-        let counts = |counts: &[usize]| match counts.iter().find(|&&n| n == 0) {
+        let elements = |counts: &[usize]| match counts.iter().find(|&&n| n == 0) {
             Some(_) => Err(bad("0 is not a count: at least 1".into())),
             None => Ok(()),
         };
@@ -344,7 +345,6 @@ impl Axis {
                 v.iter().map(|&s| Setting::Stiffening(s)).collect()
             }
             Axis::Modes { body, counts: c } => {
-                counts(c)?;
                 let bodies = self.bodies(body, scene)?;
                 c.iter()
                     .map(|&count| Setting::Modes {
@@ -364,7 +364,7 @@ impl Axis {
                     .collect()
             }
             Axis::Elements { body, counts: c } => {
-                counts(c)?;
+                elements(c)?;
                 let bodies = self.bodies(body, scene)?;
                 c.iter()
                     .map(|&count| Setting::Elements {
@@ -597,6 +597,23 @@ mod tests {
             Some(ModeSelection::Participation)
         );
         assert_eq!(parse_basis("krylov"), None);
+    }
+
+    #[test]
+    fn a_modes_axis_may_keep_the_static_modes_alone() {
+        let scene = spin_up();
+        let grid = Grid {
+            axes: vec![Axis::Modes {
+                body: None,
+                counts: vec![0, 2],
+            }],
+        };
+        let points = grid.points(&scene).unwrap();
+        assert_eq!(points[0].label(), "modes=0");
+        let BodyModel::Beam(spec) = &points[0].scene(&scene, &[]).unwrap().bodies[0].model else {
+            panic!("the spin-up beam is a beam")
+        };
+        assert_eq!(spec.normal_modes, 0);
     }
 
     #[test]
