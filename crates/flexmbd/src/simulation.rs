@@ -84,6 +84,9 @@ pub struct Summary {
     pub newton_iterations: usize,
     /// Factorisations of the leading matrix.
     pub factorizations: usize,
+    /// Of those, by a structured Cholesky: the arrow form of a tree in relative coordinates
+    /// or the sparse one of a large system (docs/methods.md §5.2, "Factorising f_q").
+    pub structured_factorizations: usize,
     /// Steps accepted at the iteration limit with small ‖Φ‖ (singular configurations).
     pub accepted_unconverged: usize,
     /// Failed steps (0 or 1).
@@ -204,6 +207,7 @@ impl Setup {
             steps: 0,
             newton_iterations: 0,
             factorizations: 0,
+            structured_factorizations: 0,
             accepted_unconverged: 0,
             failed_steps: 0,
             simulated_seconds: 0.0,

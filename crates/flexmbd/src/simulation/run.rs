@@ -98,6 +98,7 @@ impl Simulation {
         summary.steps = st.steps;
         summary.newton_iterations = st.newton_iterations;
         summary.factorizations = st.factorizations;
+        summary.structured_factorizations = st.structured_factorizations;
         summary.accepted_unconverged = st.accepted_unconverged;
         summary.failed_steps = st.failed_steps;
         summary.simulated_seconds = st.steps as f64 * h;
