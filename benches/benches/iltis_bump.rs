@@ -5,11 +5,12 @@
 //! target: at most 25 ms (100× real time) in the faster formulation, on one core.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use flexmbd::Simulation;
 use flexmbd::model::{FormulationKind, Scene};
+use flexmbd_benches::time_whole_runs;
 
 fn bump(c: &mut Criterion) {
     let mut group = c.benchmark_group("iltis_bump_2_5_s");
@@ -28,16 +29,7 @@ fn bump(c: &mut Criterion) {
         let start = simulation.checkpoint();
         let duration = scene.solver.duration;
         group.bench_function(name, |b| {
-            b.iter_custom(|iters| {
-                let mut total = Duration::ZERO;
-                for _ in 0..iters {
-                    simulation.restore(&start);
-                    let t = Instant::now();
-                    simulation.advance_to(duration).expect("the run completes");
-                    total += t.elapsed();
-                }
-                total
-            })
+            b.iter_custom(|iters| time_whole_runs(&mut simulation, &start, duration, iters))
         });
     }
     group.finish();

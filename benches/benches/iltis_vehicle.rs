@@ -11,12 +11,13 @@
 //! about 11 runs of each of the four cases. Criterion warns that it cannot complete ten samples
 //! in the target time; that is expected, the target is set low so that a sample stays one run.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use flexmbd::Simulation;
 use flexmbd::body::InertiaMethod;
 use flexmbd::model::FormulationKind;
+use flexmbd_benches::time_whole_runs;
 use flexmbd_test_support::iltis::vehicle_flexible;
 use flexmbd_test_support::scenes::model_with;
 
@@ -38,16 +39,7 @@ fn vehicle(c: &mut Criterion) {
             let start = simulation.checkpoint();
             let duration = scene.solver.duration;
             group.bench_function(format!("{bodies}/{name}"), |b| {
-                b.iter_custom(|iters| {
-                    let mut total = Duration::ZERO;
-                    for _ in 0..iters {
-                        simulation.restore(&start);
-                        let t = Instant::now();
-                        simulation.advance_to(duration).expect("the run completes");
-                        total += t.elapsed();
-                    }
-                    total
-                })
+                b.iter_custom(|iters| time_whole_runs(&mut simulation, &start, duration, iters))
             });
         }
     }
