@@ -40,15 +40,7 @@ pub fn suspension_flexible(k: usize) -> Vec<String> {
 /// `PATH=VALUE` overrides that scale Young's modulus of every suspension beam by `factor`
 /// (steel's 2.1e11 Pa, docs/scenes.md §2.8).
 pub fn suspension_stiffness(factor: f64) -> Vec<String> {
-    SUSPENSION_BEAMS
-        .iter()
-        .map(|b| {
-            format!(
-                "bodies.{b}.model.Beam.material.young_modulus={}",
-                2.1e11 * factor
-            )
-        })
-        .collect()
+    young_modulus_scaled(&SUSPENSION_BEAMS, factor)
 }
 
 /// The vehicle's beam bodies (`models/iltis_vehicle.ron`, scene C) in the order they are
@@ -90,7 +82,12 @@ pub fn vehicle_aarms_flexible() -> Vec<String> {
 /// `PATH=VALUE` overrides that scale Young's modulus of every beam body of the vehicle by
 /// `factor` (steel's 2.1e11 Pa, docs/scenes.md §2.8).
 pub fn vehicle_stiffness(factor: f64) -> Vec<String> {
-    VEHICLE_BEAMS
+    young_modulus_scaled(&VEHICLE_BEAMS, factor)
+}
+
+/// `PATH=VALUE` overrides that set Young's modulus of `beams` to `factor` × steel's.
+fn young_modulus_scaled(beams: &[&str], factor: f64) -> Vec<String> {
+    beams
         .iter()
         .map(|b| {
             format!(
@@ -99,6 +96,24 @@ pub fn vehicle_stiffness(factor: f64) -> Vec<String> {
             )
         })
         .collect()
+}
+
+/// Check equilibrium shifts from the rigid equilibrium, one row per Young's modulus E, 10E,
+/// 100E (steel's first), each row the same quantities with the chassis height first: at
+/// steel's E the chassis sits a few µm lower (the arms and links give way), and every
+/// quantity's shift falls tenfold with each tenfold E (ratio within 9–11), as a deflection
+/// ∝ 1/E does.
+pub fn assert_shifts_fall_as_one_over_e<const N: usize>(shifts: &[[f64; N]]) {
+    assert!(shifts[0][0] < -1e-6 && shifts[0][0] > -1e-4, "{shifts:?}");
+    for k in 0..N {
+        for step in 0..shifts.len() - 1 {
+            let ratio = shifts[step][k] / shifts[step + 1][k];
+            assert!(
+                (9.0..11.0).contains(&ratio),
+                "quantity {k}, E ratio step {step}: {ratio}"
+            );
+        }
+    }
 }
 
 /// `--set`s for scene C (`models/iltis_vehicle.ron`): the §3.5 road moved 9.5 m back: the vehicle starts at rest on the +0.10 m plateau and the
