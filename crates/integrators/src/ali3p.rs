@@ -406,7 +406,8 @@ impl Ali3p {
                 .then(|| StructuredLlt::choose(&self.lead))
                 .flatten();
         }
-        if let Some(structured) = self.structured.as_mut().filter(|_| self.symmetric) {
+        // `structured` is only ever set for a symmetric f_q (above).
+        if let Some(structured) = self.structured.as_mut() {
             match structured.factor(&self.lead) {
                 Ok(()) => {
                     self.factored = Factored::Structured;
