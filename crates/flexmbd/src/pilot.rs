@@ -2,8 +2,10 @@
 //! docs/methods.md §1.6, [`flexmbd_fe::pod`]).
 //!
 //! Before a scene is prepared, every flexible beam that asks for proper orthogonal modes is
-//! given the modal coordinates of a **pilot run**: the same scene (formulation, inertia
-//! route, stiffening, step, start) in which those bodies keep their lowest K fixed-interface
+//! given the modal coordinates of a **pilot run**: the same scene (stiffening, step, start;
+//! in relative coordinates with shape integrals, the cheapest route to the same motion,
+//! unless that formulation cannot start the scene, so that the routes of a sweep share one
+//! pilot) in which those bodies keep their lowest K fixed-interface
 //! normal modes ([`flexmbd_fe::pod::pilot_spec`]), its sensors replaced by one `Modal`
 //! sensor per dynamic mode of each such body, run to the longest of their pilot durations
 //! ([`flexmbd_fe::pod::pilot_duration`]) with every step recorded. All the bodies share
@@ -20,11 +22,12 @@
 use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 
+use flexmbd_body::InertiaMethod;
 use flexmbd_fe::pod::{PilotRecord, candidate_count, pilot_duration, pilot_spec};
 use flexmbd_fe::{BeamBodySpec, FeError, ModeSelection};
 use flexmbd_model::rewrite::rewrite_for_stiffening;
 use flexmbd_model::scene::{BodyModel, Sensor, SensorKind};
-use flexmbd_model::{ModelError, PreparedScene, Scene};
+use flexmbd_model::{FormulationKind, ModelError, PreparedScene, Scene};
 use nalgebra::DMatrix;
 
 use crate::Simulation;
@@ -155,7 +158,7 @@ fn pilot_scene(scene: &Scene, bodies: &[PilotBody]) -> Scene {
 }
 
 /// How many pilot runs [`cached_pilot`] keeps.
-const CACHED_PILOTS: usize = 8;
+const CACHED_PILOTS: usize = 16;
 
 /// The records of the last pilot runs, by their pilot scene and durations (most recent last).
 type PilotCache = Vec<(String, Arc<Vec<PilotRecord>>)>;
@@ -200,7 +203,21 @@ fn run_pilot(
     bodies: &[PilotBody],
 ) -> Result<Vec<PilotRecord>, ModelError> {
     let failed = |e: crate::Error| pilot_failure(scene, bodies, &e.to_string());
-    let mut sim = Simulation::new(pilot).map_err(failed)?;
+    // Relative coordinates with shape integrals, the cheapest route to the same motion
+    // (docs/design.md "Proper orthogonal modes"); the scene's own route when the relative
+    // formulation cannot start it.
+    let relative = Scene {
+        solver: flexmbd_model::Solver {
+            formulation: FormulationKind::Relative,
+            inertia: InertiaMethod::ShapeIntegrals,
+            ..pilot.solver.clone()
+        },
+        ..pilot.clone()
+    };
+    let mut sim = match Simulation::new(&relative) {
+        Ok(sim) => sim,
+        Err(_) => Simulation::new(pilot).map_err(failed)?,
+    };
     let h = sim.step_size();
     let mut times = vec![sim.time()];
     let mut samples = vec![sim.sensors()];

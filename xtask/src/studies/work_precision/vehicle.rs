@@ -33,7 +33,11 @@ fn vehicle_plan(quick: bool) -> VehiclePlan {
             beams: 4,
             duration: Some(1.0),
             modes: vec![0, 2],
-            bases: vec![ModeSelection::LowestFrequency, ModeSelection::LoadRitz],
+            bases: vec![
+                ModeSelection::LowestFrequency,
+                ModeSelection::LoadRitz,
+                ModeSelection::ProperOrthogonal,
+            ],
         }
     } else {
         VehiclePlan {
