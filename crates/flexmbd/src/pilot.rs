@@ -165,17 +165,20 @@ type PilotCache = Vec<(String, Arc<Vec<PilotRecord>>)>;
 static PILOT_CACHE: Mutex<PilotCache> = Mutex::new(Vec::new());
 
 /// The records of `pilot` ([`run_pilot`]), taken from the last [`CACHED_PILOTS`] pilot runs
-/// of this process when one ran the same pilot scene with the same durations: the pilot
-/// is deterministic, so the record is the same bit for bit, and a sweep's runs that differ
-/// only in what the pilot does not see (the count of proper orthogonal modes while K stays,
-/// a run timed again alone) share one pilot.
+/// of this process when one ran the same pilot scene in the same route with the same
+/// durations: the pilot is deterministic, so the record is the same bit for bit, and a
+/// sweep's runs that differ only in what the pilot does not see (the formulation and
+/// inertia route, the count of proper orthogonal modes while K stays, a run timed again
+/// alone) share one pilot. Only pilots run in relative coordinates are kept: the key names
+/// that route, not the scene's own.
 fn cached_pilot(
     scene: &Scene,
     pilot: &Scene,
     bodies: &[PilotBody],
 ) -> Result<Vec<PilotRecord>, ModelError> {
+    let relative = relative_route(pilot);
     let durations: Vec<u64> = bodies.iter().map(|b| b.duration.to_bits()).collect();
-    let key = format!("{pilot:?} {durations:?}");
+    let key = format!("{relative:?} {durations:?}");
     let lookup = |cache: &PilotCache| {
         cache
             .iter()
@@ -185,9 +188,9 @@ fn cached_pilot(
     if let Some(records) = lookup(&PILOT_CACHE.lock().unwrap_or_else(|e| e.into_inner())) {
         return Ok(records.as_ref().clone());
     }
-    let records = run_pilot(scene, pilot, bodies)?;
+    let (records, ran_relative) = run_pilot(scene, &relative, pilot, bodies)?;
     let mut cache = PILOT_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-    if lookup(&cache).is_none() {
+    if ran_relative && lookup(&cache).is_none() {
         if cache.len() == CACHED_PILOTS {
             cache.remove(0);
         }
@@ -196,27 +199,32 @@ fn cached_pilot(
     Ok(records)
 }
 
-/// Run `pilot` and split its samples into one record per body, each up to its duration.
-fn run_pilot(
-    scene: &Scene,
-    pilot: &Scene,
-    bodies: &[PilotBody],
-) -> Result<Vec<PilotRecord>, ModelError> {
-    let failed = |e: crate::Error| pilot_failure(scene, bodies, &e.to_string());
-    // Relative coordinates with shape integrals, the cheapest route to the same motion
-    // (docs/design.md "Proper orthogonal modes"); the scene's own route when the relative
-    // formulation cannot start it.
-    let relative = Scene {
+/// `pilot` in relative coordinates with shape integrals, the cheapest route to the same
+/// motion (docs/design.md "Proper orthogonal modes").
+fn relative_route(pilot: &Scene) -> Scene {
+    Scene {
         solver: flexmbd_model::Solver {
             formulation: FormulationKind::Relative,
             inertia: InertiaMethod::ShapeIntegrals,
             ..pilot.solver.clone()
         },
         ..pilot.clone()
-    };
-    let mut sim = match Simulation::new(&relative) {
-        Ok(sim) => sim,
-        Err(_) => Simulation::new(pilot).map_err(failed)?,
+    }
+}
+
+/// Run the pilot, `relative` (or `pilot`, in the scene's own route, when the relative
+/// formulation cannot start it), and split its samples into one record per body, each up
+/// to its duration; with whether it ran in relative coordinates.
+fn run_pilot(
+    scene: &Scene,
+    relative: &Scene,
+    pilot: &Scene,
+    bodies: &[PilotBody],
+) -> Result<(Vec<PilotRecord>, bool), ModelError> {
+    let failed = |e: crate::Error| pilot_failure(scene, bodies, &e.to_string());
+    let (mut sim, ran_relative) = match Simulation::new(relative) {
+        Ok(sim) => (sim, true),
+        Err(_) => (Simulation::new(pilot).map_err(failed)?, false),
     };
     let h = sim.step_size();
     let mut times = vec![sim.time()];
@@ -249,7 +257,7 @@ fn run_pilot(
             }
         })
         .collect();
-    Ok(records)
+    Ok((records, ran_relative))
 }
 
 /// The error of a failed pilot: the first pilot body's `mode_selection`, the bodies and
