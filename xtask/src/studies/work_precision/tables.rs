@@ -75,7 +75,11 @@ fn against_lowest(
     // (coordinates, modes) of the run of `kind` with the fewest modes that meets `tolerance`.
     let coordinates = |tolerance: f64, kind: ModeSelection| {
         fewest(report, settings, tolerance, kind).and_then(|i| {
-            let modes = modes_of(&settings[i]).map_or("–".into(), |m| m.to_string());
+            let modes = match modes_of(&settings[i]) {
+                Some(1) => "1 mode".to_string(),
+                Some(m) => format!("{m} modes"),
+                None => "–".into(),
+            };
             report.runs[i].n_coordinates.map(|c| (c, modes))
         })
     };
@@ -88,17 +92,17 @@ fn against_lowest(
                 coordinates(tolerance, ModeSelection::LowestFrequency),
             ) {
                 (Some((a, ma)), Some((b, mb))) if a < b => {
-                    format!("fewer ({a} with {ma} modes, against {b} with {mb})")
+                    format!("fewer ({a} with {ma}, against {b} with {mb})")
                 }
-                (Some((a, ma)), Some((b, _))) if a == b => format!("as many ({a}, {ma} modes)"),
+                (Some((a, ma)), Some((b, _))) if a == b => format!("as many ({a}, {ma})"),
                 (Some((a, ma)), Some((b, mb))) => {
-                    format!("more ({a} with {ma} modes, against {b} with {mb})")
+                    format!("more ({a} with {ma}, against {b} with {mb})")
                 }
                 (Some((a, ma)), None) => {
-                    format!("{a} with {ma} modes, where the lowest modes do not meet it")
+                    format!("{a} with {ma}, where the lowest modes do not meet it")
                 }
                 (None, Some((b, mb))) => {
-                    format!("not met, where the lowest modes need {b} ({mb} modes)")
+                    format!("not met, where the lowest modes need {b} ({mb})")
                 }
                 (None, None) => "met by neither".into(),
             };
