@@ -29,8 +29,10 @@ Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
   formulation=absolute,relative   inertia=b-matrix,shape-integrals
   stiffening=linear,fnl1,fnl2,foreshortening,substructuring:N
   modes=1,2,3   modes.BODY=1,2 (one beam body)   elements=10,20   elements.BODY=...
-  basis=lowest,participation,ritz   basis.BODY=... (the kind of the modes: the lowest
-    normal modes, those the body's loads excite most, or load-dependent Ritz vectors)
+  basis=lowest,participation,ritz,pod   basis.BODY=... (the kind of the modes: the lowest
+    normal modes, those the body's loads excite most, load-dependent Ritz vectors, or the
+    proper orthogonal modes of a pilot run of the scene on its lowest max(2n, 4) modes,
+    which is part of the run's preprocessing)
   step=1e-3,5e-4
 
 Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the

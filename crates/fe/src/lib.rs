@@ -20,6 +20,7 @@ pub mod frame;
 pub mod inertia_loads;
 pub mod modal;
 pub mod participation;
+pub mod pod;
 pub mod reduced;
 pub mod rigid;
 pub mod ritz;

@@ -71,7 +71,7 @@ pub fn load_ritz(
         block = p.solve(&next);
     }
     let v = DMatrix::from_fn(ni, n, |i, j| span.vectors[fixed + j][i]);
-    rayleigh_ritz(p, &v)
+    rayleigh_ritz(p, &v, "load-dependent Ritz vectors")
 }
 
 /// Keep vectors of `block` (largest orthogonalised M-norm first) until it is used up or
@@ -118,12 +118,19 @@ fn keep_from_block(
     kept
 }
 
-/// Rayleigh–Ritz in the span of the M-orthonormal columns of `v`.
-fn rayleigh_ritz(p: &InteriorProblem, v: &DMatrix<f64>) -> Result<InteriorBasis, FeError> {
+/// Rayleigh–Ritz in the span of the independent columns of `v` (n_i × n): the n × n
+/// problem (Vᵀ K_ii V) q = ω̃² (Vᵀ M_ii V) q gives vectors V q, M_ii-orthonormal and
+/// K_ii-orthogonal, with their Ritz frequencies ω̃² ascending and signs fixed as for normal
+/// modes (step 5 above; also [`crate::pod`]). `what` names the vectors in errors.
+pub fn rayleigh_ritz(
+    p: &InteriorProblem,
+    v: &DMatrix<f64>,
+    what: &str,
+) -> Result<InteriorBasis, FeError> {
     let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
     let k = sym(v.transpose() * p.kii * v);
     let m = sym(v.transpose() * p.mii * v);
-    let e = generalized_eigen(&k, &m, &format!("{}: load-dependent Ritz vectors", p.name))?;
+    let e = generalized_eigen(&k, &m, &format!("{}: {what}", p.name))?;
     let mut vectors = v * e.vectors;
     fix_signs(&mut vectors);
     Ok(InteriorBasis {

@@ -1,7 +1,8 @@
 //! Which vectors make the dynamic part of a body's Craig–Bampton basis
 //! (`BeamBodySpec::mode_selection`, docs/methods.md §1.6): the lowest fixed-interface
 //! normal modes (the default), the normal modes the body's loads excite most
-//! ([`crate::participation`]), or load-dependent Ritz vectors ([`crate::ritz`]).
+//! ([`crate::participation`]), load-dependent Ritz vectors ([`crate::ritz`]), or the proper
+//! orthogonal modes of a pilot run ([`crate::pod`]).
 //! `normal_modes` counts the kept vectors in every case; with `axial_modes` > 0 the
 //! selection applies to the vectors that are not purely axial, and the axial normal modes
 //! are added as before.
@@ -16,7 +17,7 @@ use crate::error::FeError;
 use crate::inertia_loads::inertia_loads;
 use crate::modal::{Eigenpairs, generalized_eigen};
 use crate::spec::BeamBodySpec;
-use crate::{participation, ritz};
+use crate::{participation, pod, ritz};
 
 /// How the dynamic vectors of a body's basis are chosen (docs/methods.md §1.6).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -31,14 +32,20 @@ pub enum ModeSelection {
     /// `normal_modes` load-dependent Ritz vectors of the same loads (Wilson, Yuan &
     /// Dickens 1982), with their Ritz frequencies.
     LoadRitz,
+    /// The `normal_modes` proper orthogonal modes of a pilot run of the scene with the
+    /// lowest `mode_candidates` normal modes (Kerschen et al. 2005; [`crate::pod`]), with
+    /// their Ritz frequencies. Needs the pilot's record ([`BeamBodySpec::pilot`]), which the
+    /// `flexmbd` facade fills in when it prepares a scene.
+    ProperOrthogonal,
 }
 
 impl ModeSelection {
     /// Every selection, in declaration order.
-    pub const ALL: [ModeSelection; 3] = [
+    pub const ALL: [ModeSelection; 4] = [
         ModeSelection::LowestFrequency,
         ModeSelection::Participation,
         ModeSelection::LoadRitz,
+        ModeSelection::ProperOrthogonal,
     ];
 
     /// The name written in scenes and on the command line (`--set …mode_selection=NAME`).
@@ -47,22 +54,47 @@ impl ModeSelection {
             ModeSelection::LowestFrequency => "LowestFrequency",
             ModeSelection::Participation => "Participation",
             ModeSelection::LoadRitz => "LoadRitz",
+            ModeSelection::ProperOrthogonal => "ProperOrthogonal",
         }
     }
 }
 
-/// `mode_candidates` only with `Participation`, at least `normal_modes` and at most the
-/// interior DOFs left after the axial modes; each refusal names the field and value.
+/// `mode_candidates` only with `Participation` or `ProperOrthogonal`, at least
+/// `normal_modes` and at most the interior DOFs left after the axial modes;
+/// `pilot_duration` only with `ProperOrthogonal`, finite and positive. Each refusal names
+/// the field and value.
 pub(crate) fn check(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
+    if let Some(d) = spec.pilot_duration {
+        if spec.mode_selection != ModeSelection::ProperOrthogonal {
+            return Err(InvalidValue::new(
+                "pilot_duration",
+                d,
+                format!(
+                    "only used with mode_selection: ProperOrthogonal (this body has {})",
+                    spec.mode_selection.name()
+                ),
+            ));
+        }
+        if !(d.is_finite() && d > 0.0) {
+            return Err(InvalidValue::new(
+                "pilot_duration",
+                d,
+                "must be finite and positive (s)",
+            ));
+        }
+    }
     let Some(c) = spec.mode_candidates else {
         return Ok(());
     };
-    if spec.mode_selection != ModeSelection::Participation {
+    if !matches!(
+        spec.mode_selection,
+        ModeSelection::Participation | ModeSelection::ProperOrthogonal
+    ) {
         return Err(InvalidValue::new(
             "mode_candidates",
             c,
             format!(
-                "only used with mode_selection: Participation (this body has {})",
+                "only used with mode_selection: Participation or ProperOrthogonal (this body has {})",
                 spec.mode_selection.name()
             ),
         ));
@@ -153,6 +185,7 @@ pub fn dynamic_basis(
             let columns: Vec<usize> = keep.iter().map(|&k| other[k]).collect();
             pick(&all, &columns)
         }
+        ModeSelection::ProperOrthogonal => proper_orthogonal(spec, p, &all, &other, &axial)?,
         ModeSelection::LoadRitz => {
             // Ritz vectors clear of every axial mode when axial modes are kept apart.
             let avoid = if spec.axial_modes > 0 {
@@ -174,6 +207,65 @@ pub fn dynamic_basis(
         )));
     }
     Ok(merge(chosen, pick(&all, &axial[..spec.axial_modes])))
+}
+
+/// The proper orthogonal modes of `spec`'s pilot record ([`crate::pod`]) among the lowest
+/// [`pod::candidate_count`] eigenpairs of `other` (not purely axial); the record's rows are
+/// the pilot's dynamic modes, those candidates and the `axial_modes` lowest of `axial` in
+/// ascending frequency (the `LowestFrequency` basis of [`pod::pilot_spec`]).
+fn proper_orthogonal(
+    spec: &BeamBodySpec,
+    p: &InteriorProblem,
+    all: &Eigenpairs,
+    other: &[usize],
+    axial: &[usize],
+) -> Result<InteriorBasis, FeError> {
+    let n = spec.normal_modes;
+    if n == 0 {
+        return Ok(pick(all, &[]));
+    }
+    let Some(record) = &spec.pilot else {
+        return Err(FeError::Invalid(InvalidValue::new(
+            "mode_selection",
+            ModeSelection::ProperOrthogonal.name(),
+            "needs the modal coordinates of a pilot run of the scene, which the flexmbd \
+             facade records when it prepares a scene (Simulation::new, simulate, sweep): a \
+             body model on its own has no pilot (methods.md §1.6)",
+        )));
+    };
+    let k = pod::candidate_count(spec);
+    if k > other.len() {
+        return Err(FeError::Invalid(InvalidValue::new(
+            "mode_candidates",
+            k,
+            format!(
+                "the model has only {} normal modes that are not purely axial",
+                other.len()
+            ),
+        )));
+    }
+    let mut pilot_modes: Vec<usize> = other[..k]
+        .iter()
+        .chain(&axial[..spec.axial_modes.min(axial.len())])
+        .copied()
+        .collect();
+    pilot_modes.sort_unstable();
+    let rows: Vec<usize> = other[..k]
+        .iter()
+        .map(|c| pilot_modes.iter().position(|m| m == c).unwrap_or(0))
+        .collect();
+    if record.coordinates.nrows() != pilot_modes.len() {
+        return Err(FeError::Dimension {
+            what: format!("{}: the pilot run's modal coordinates", p.name),
+            detail: format!(
+                "{} recorded per sample, the pilot's basis has {} normal modes",
+                record.coordinates.nrows(),
+                pilot_modes.len()
+            ),
+        });
+    }
+    let eta = record.coordinates.select_rows(&rows);
+    pod::proper_orthogonal_modes(p, &pick(all, &other[..k]), &eta, n)
 }
 
 /// Indices of the eigenpairs that are not purely axial, and of the purely axial ones

@@ -170,9 +170,19 @@ pub struct BeamBodySpec {
     #[serde(default)]
     pub mode_selection: ModeSelection,
     /// With `mode_selection: Participation`: rank the lowest this many (non-axial) normal
-    /// modes (default: all of them).
+    /// modes (default: all of them). With `ProperOrthogonal`: the pilot run's basis, the
+    /// lowest this many (non-axial) normal modes (default [`crate::pod::candidate_count`]:
+    /// max(2 `normal_modes`, 4), at most the interior DOFs left after the axial modes).
     #[serde(default)]
     pub mode_candidates: Option<usize>,
+    /// With `mode_selection: ProperOrthogonal`: how long the pilot run is (s; default:
+    /// [`crate::pod::DEFAULT_PILOT_FRACTION`] of the scene's duration).
+    #[serde(default)]
+    pub pilot_duration: Option<f64>,
+    /// With `mode_selection: ProperOrthogonal`: the modal coordinates the pilot run recorded
+    /// (set by the facade that runs the pilot, `flexmbd::pilot`; never read from RON).
+    #[serde(skip)]
+    pub pilot: Option<std::sync::Arc<crate::pod::PilotRecord>>,
     /// Damping (default `None`).
     #[serde(default)]
     pub damping: Damping,
@@ -215,6 +225,8 @@ impl BeamBodySpec {
             axial_modes: 0,
             mode_selection: ModeSelection::LowestFrequency,
             mode_candidates: None,
+            pilot_duration: None,
+            pilot: None,
             damping: Damping::None,
             origin: String::new(),
         }

@@ -24,9 +24,7 @@
 
 use flexmbd_core::{CompiledScene, State};
 use flexmbd_integrators::{StaticCounters, StaticSettings, StaticSolution, solve_static};
-use flexmbd_model::{
-    ElementQuantity, Force, FormulationKind, PreparedScene, Scene, Sensor, SensorKind,
-};
+use flexmbd_model::{ElementQuantity, Force, FormulationKind, Scene, Sensor, SensorKind};
 use nalgebra::DVector;
 use serde::Serialize;
 
@@ -234,7 +232,7 @@ fn probe(
     with_reactions: bool,
 ) -> Result<(Vec<ElementForce>, Option<Reactions>), Error> {
     let prepared = if with_reactions && !(scene.joints.is_empty() && scene.constraints.is_empty()) {
-        Some(PreparedScene::new(scene)?)
+        Some(crate::pilot::prepared_scene(scene)?)
     } else {
         None
     };

@@ -57,7 +57,8 @@ pub struct Inventory {
     /// Normal modes, in mode order.
     pub normal_modes: Vec<NormalModeRow>,
     /// How they were chosen (`mode_selection`, docs/methods.md §1.6): `LowestFrequency`,
-    /// `Participation` or `LoadRitz` (then they are load-dependent Ritz vectors).
+    /// `Participation`, `LoadRitz` (then they are load-dependent Ritz vectors) or
+    /// `ProperOrthogonal` (the proper orthogonal modes of a pilot run, with Ritz frequencies).
     pub selection: &'static str,
 }
 
@@ -129,7 +130,9 @@ impl Inventory {
             .map(|d| format!("{}@{}", d.dof, d.node))
             .collect();
         let _ = writeln!(s, "frame takes  {}", frame.join(" "));
-        let ritz = self.selection == ModeSelection::LoadRitz.name();
+        // Load-dependent Ritz vectors and proper orthogonal modes both carry Ritz frequencies.
+        let ritz = self.selection == ModeSelection::LoadRitz.name()
+            || self.selection == ModeSelection::ProperOrthogonal.name();
         let kind = if ritz { "Ritz" } else { "normal" };
         let _ = writeln!(
             s,

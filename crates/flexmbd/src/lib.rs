@@ -154,6 +154,7 @@ pub mod equilibrium;
 mod error;
 pub mod inventory;
 pub mod output;
+mod pilot;
 pub mod simulation;
 pub mod sweep;
 pub mod vibration;

@@ -32,9 +32,7 @@ use flexmbd_integrators::{
     solve_static,
 };
 use flexmbd_model::inputs::InputTable;
-use flexmbd_model::{
-    FormulationKind, InitialState, ModelError, PreparedScene, Scene, Solver, Stiffening,
-};
+use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Solver, Stiffening};
 use serde::Serialize;
 
 use crate::Error;
@@ -128,7 +126,8 @@ pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
 fn build_formulation(scene: &Scene) -> Result<(Box<dyn CompiledScene>, InputTable), ModelError> {
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
-    let prepared = PreparedScene::new(scene)?;
+    // With proper orthogonal modes, first their pilot run (crate::pilot).
+    let prepared = crate::pilot::prepared_scene(scene)?;
     let formulation: Box<dyn CompiledScene> = match scene.solver.formulation {
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),

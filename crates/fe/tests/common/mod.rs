@@ -53,6 +53,8 @@ pub fn beam(
         axial_modes: 0,
         mode_selection: ModeSelection::LowestFrequency,
         mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
         damping: Damping::None,
         origin: "test spec".to_string(),
     }

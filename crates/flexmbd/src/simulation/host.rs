@@ -20,8 +20,8 @@
 
 use flexmbd_core::{InvalidValue, Request, State, SystemTerms};
 use flexmbd_integrators::{Ali3p, StartFrom};
+use flexmbd_model::CONSTRAINT_TOLERANCE;
 use flexmbd_model::inputs::InputKind;
-use flexmbd_model::{CONSTRAINT_TOLERANCE, PreparedScene};
 use nalgebra::DVector;
 
 use super::{Simulation, integrator_settings};
@@ -227,7 +227,7 @@ impl Simulation {
     /// The mode inventory of flexible body `body` as the scene reduces it (static modes,
     /// normal modes, frame degrees of freedom; [`Inventory`]).
     pub fn mode_inventory(&self, body: &str) -> Result<Inventory, Error> {
-        let prepared = PreparedScene::new(&self.scene)?;
+        let prepared = crate::pilot::prepared_scene(&self.scene)?;
         let flexible = prepared
             .body_id(body)
             .map(|id| prepared.body(id))

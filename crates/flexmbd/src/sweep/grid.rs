@@ -102,12 +102,14 @@ pub fn inertia_name(i: InertiaMethod) -> &'static str {
     }
 }
 
-/// The name of a mode selection on a `basis` axis: `lowest`, `participation`, `ritz`.
+/// The name of a mode selection on a `basis` axis: `lowest`, `participation`, `ritz`,
+/// `pod`.
 pub fn basis_name(m: ModeSelection) -> &'static str {
     match m {
         ModeSelection::LowestFrequency => "lowest",
         ModeSelection::Participation => "participation",
         ModeSelection::LoadRitz => "ritz",
+        ModeSelection::ProperOrthogonal => "pod",
     }
 }
 

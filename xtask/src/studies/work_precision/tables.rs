@@ -4,12 +4,34 @@
 
 use std::collections::BTreeMap;
 
+use flexmbd::fe::ModeSelection;
 use flexmbd::sweep::{RunStatus, Setting, SweepReport, Tuning, basis_name};
 
 use super::Case;
 use super::charts::{basis_chart, basis_of, method_of, modes_of};
 use crate::report::Report;
 use crate::studies::StudyResult;
+
+/// The run of kind `kind` that meets `tolerance` with the fewest modes (then the fewest
+/// coordinates, then the smallest error), if any.
+fn fewest(
+    report: &SweepReport,
+    settings: &[Vec<Setting>],
+    tolerance: f64,
+    kind: ModeSelection,
+) -> Option<usize> {
+    (0..settings.len())
+        .filter(|&i| {
+            let r = &report.runs[i];
+            r.status == RunStatus::Ok && r.error <= tolerance && basis_of(&settings[i]) == kind
+        })
+        .min_by(|&a, &b| {
+            let key = |i: usize| (modes_of(&settings[i]), report.runs[i].n_coordinates);
+            key(a)
+                .cmp(&key(b))
+                .then(report.runs[a].error.total_cmp(&report.runs[b].error))
+        })
+}
 
 /// Per tolerance of the case's kinds table and kind of modes: the fewest modes with which
 /// some run of that kind meets the tolerance (that run: the fewest coordinates, then the
@@ -19,37 +41,80 @@ fn basis_rows(case: &Case, report: &SweepReport, settings: &[Vec<Setting>]) -> V
     for &tolerance in case.basis_tolerances {
         let mut row = vec![mm(tolerance)];
         for &kind in &case.bases {
-            let best = (0..settings.len())
-                .filter(|&i| {
+            row.push(fewest(report, settings, tolerance, kind).map_or(
+                "none on the grid".into(),
+                |i| {
                     let r = &report.runs[i];
-                    r.status == RunStatus::Ok
-                        && r.error <= tolerance
-                        && basis_of(&settings[i]) == kind
-                })
-                .min_by(|&a, &b| {
-                    let key = |i: usize| (modes_of(&settings[i]), report.runs[i].n_coordinates);
-                    key(a)
-                        .cmp(&key(b))
-                        .then(report.runs[a].error.total_cmp(&report.runs[b].error))
-                });
-            row.push(best.map_or("none on the grid".into(), |i| {
-                let r = &report.runs[i];
-                format!(
-                    "{}: {} ({} mm, {} coordinates)",
-                    match modes_of(&settings[i]) {
-                        Some(1) => "1 mode".to_string(),
-                        Some(n) => format!("{n} modes"),
-                        None => "–".into(),
-                    },
-                    method_of(&settings[i]),
-                    millimetres(r.error),
-                    r.n_coordinates.map_or("–".into(), |n| n.to_string())
-                )
-            }));
+                    format!(
+                        "{}: {} ({} mm, {} coordinates)",
+                        match modes_of(&settings[i]) {
+                            Some(1) => "1 mode".to_string(),
+                            Some(n) => format!("{n} modes"),
+                            None => "–".into(),
+                        },
+                        method_of(&settings[i]),
+                        millimetres(r.error),
+                        r.n_coordinates.map_or("–".into(), |n| n.to_string())
+                    )
+                },
+            ));
         }
         rows.push(row);
     }
     rows
+}
+
+/// Per tolerance, whether `kind` meets it with fewer, as many or more coordinates than the
+/// lowest normal modes (issue 16's check), in one sentence.
+fn against_lowest(
+    case: &Case,
+    report: &SweepReport,
+    settings: &[Vec<Setting>],
+    kind: ModeSelection,
+) -> String {
+    // (coordinates, modes) of the run of `kind` with the fewest modes that meets `tolerance`.
+    let coordinates = |tolerance: f64, kind: ModeSelection| {
+        fewest(report, settings, tolerance, kind).and_then(|i| {
+            let modes = match modes_of(&settings[i]) {
+                Some(1) => "1 mode".to_string(),
+                Some(m) => format!("{m} modes"),
+                None => "–".into(),
+            };
+            report.runs[i].n_coordinates.map(|c| (c, modes))
+        })
+    };
+    let verdicts: Vec<String> = case
+        .basis_tolerances
+        .iter()
+        .map(|&tolerance| {
+            let verdict = match (
+                coordinates(tolerance, kind),
+                coordinates(tolerance, ModeSelection::LowestFrequency),
+            ) {
+                (Some((a, ma)), Some((b, mb))) if a < b => {
+                    format!("fewer ({a} with {ma}, against {b} with {mb})")
+                }
+                (Some((a, ma)), Some((b, _))) if a == b => format!("as many ({a}, {ma})"),
+                (Some((a, ma)), Some((b, mb))) => {
+                    format!("more ({a} with {ma}, against {b} with {mb})")
+                }
+                (Some((a, ma)), None) => {
+                    format!("{a} with {ma}, where the lowest modes do not meet it")
+                }
+                (None, Some((b, mb))) => {
+                    format!("not met, where the lowest modes need {b} ({mb})")
+                }
+                (None, None) => "met by neither".into(),
+            };
+            format!("{}: {verdict}", mm(tolerance))
+        })
+        .collect();
+    format!(
+        "Coordinates with which the {} modes meet each tolerance here, against the lowest \
+         normal modes: {}.",
+        basis_name(kind),
+        verdicts.join("; ")
+    )
 }
 
 /// The kind-of-modes chart and table of a case with a basis axis.
@@ -69,9 +134,10 @@ pub(super) fn basis_section(
     out.text(&format!(
         "Kind of modes on {} (docs/methods.md §1.6): {} — the lowest fixed-interface \
          normal modes, the modes the body's inertia and interface loads excite most \
-         (participation), load-dependent Ritz vectors of the same loads (ritz). The chart \
-         shows per kind the front of all its runs; the table the fewest modes per kind that \
-         meet a tolerance, with the run that does.{note}",
+         (participation), load-dependent Ritz vectors of the same loads (ritz), the proper \
+         orthogonal modes of a pilot run of the scene (pod). The chart shows per kind the \
+         front of all its runs; the table the fewest modes per kind that meet a tolerance, \
+         with the run that does.{note}",
         case.basis_where,
         case.bases
             .iter()
@@ -88,6 +154,14 @@ pub(super) fn basis_section(
     );
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     out.table(&header, &basis_rows(case, report, settings));
+    if case.bases.contains(&ModeSelection::ProperOrthogonal) {
+        out.text(&against_lowest(
+            case,
+            report,
+            settings,
+            ModeSelection::ProperOrthogonal,
+        ));
+    }
     if case.spreads {
         let modes = spread(report, settings, |s| {
             matches!(s, Setting::Modes { .. } | Setting::Basis { .. })
