@@ -88,7 +88,7 @@ fn bad_mode_selections_are_refused_by_name_and_value() {
 }
 
 #[test]
-fn the_sweep_basis_axis_takes_the_three_kinds_and_refuses_others() {
+fn the_sweep_basis_axis_takes_every_kind_and_refuses_others() {
     let scene = model("spin_up_beam_2d.ron");
     let out = flexmbd()
         .args([
@@ -99,7 +99,7 @@ fn the_sweep_basis_axis_takes_the_three_kinds_and_refuses_others() {
             "--set",
             "solver.duration=0.2",
             "--grid",
-            "basis=lowest,participation,ritz",
+            "basis=lowest,participation,ritz,pod",
             "--grid",
             "modes=2",
             "--json",
@@ -115,7 +115,8 @@ fn the_sweep_basis_axis_takes_the_three_kinds_and_refuses_others() {
         [
             "basis=lowest modes=2",
             "basis=participation modes=2",
-            "basis=ritz modes=2"
+            "basis=ritz modes=2",
+            "basis=pod modes=2"
         ]
     );
     assert!(runs.iter().all(|r| r["status"] == "ok"), "{runs:?}");

@@ -10,7 +10,7 @@ use flexmbd::model::{FormulationKind, Stiffening};
 use flexmbd::sweep::{Reference, Sweep, basis_name};
 use flexmbd_test_support::iltis::{VEHICLE_BEAMS, vehicle_flexible};
 
-use super::{Case, TOLERANCES, grid, refined_reference};
+use super::{Case, RichestModel, TOLERANCES, grid, refined_reference};
 
 /// What the vehicle's sweep runs: how many of its beams are flexible ([`vehicle_flexible`]),
 /// for how long (`None`: the file's 8 s), with which mode counts and kinds.
@@ -56,7 +56,15 @@ pub(super) fn vehicle_case(quick: bool, steps: &[f64]) -> Result<Case, Box<dyn s
     let plan = vehicle_plan(quick);
     let mut sweep = vehicle_sweep(&plan, steps);
     let reference_model = (FormulationKind::Relative, InertiaMethod::ShapeIntegrals);
-    refined_reference(&mut sweep, "Iltis vehicle", 4.0, Some(reference_model))?;
+    refined_reference(
+        &mut sweep,
+        "Iltis vehicle",
+        4.0,
+        RichestModel {
+            route: Some(reference_model),
+            modes: None,
+        },
+    )?;
     let span = plan
         .duration
         .map_or("8 s".to_string(), |d| format!("its first {d} s of 8"));
