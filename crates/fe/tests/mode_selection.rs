@@ -83,13 +83,7 @@ fn ritz_basis_of_every_interior_dof_equals_all_normal_modes() {
         let normal = cantilever(dim, rect10x20(), elements, interior);
         let ritz = with(normal.clone(), ModeSelection::LoadRitz);
         let (a, b) = (preprocess(&normal).unwrap(), preprocess(&ritz).unwrap());
-        let worst = a
-            .reduction
-            .omega_sq
-            .iter()
-            .zip(&b.reduction.omega_sq)
-            .map(|(x, y)| (x - y).abs() / x)
-            .fold(0.0, f64::max);
+        let worst = worst_relative_difference(&a.reduction.omega_sq, &b.reduction.omega_sq);
         println!("{dim:?}: {interior} Ritz vectors, worst relative ω² difference {worst:.2e}");
         assert_eq!(b.reduction.omega_sq.len(), interior);
         assert!(worst < 1e-9);

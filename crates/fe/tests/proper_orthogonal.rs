@@ -51,13 +51,7 @@ fn proper_orthogonal_modes_of_every_candidate_are_the_lowest_modes() {
         let mut pod = proper_orthogonal(lowest.clone(), 6, record(6, 400));
         pod.mode_candidates = Some(6);
         let (a, b) = (preprocess(&lowest).unwrap(), preprocess(&pod).unwrap());
-        let worst = a
-            .reduction
-            .omega_sq
-            .iter()
-            .zip(&b.reduction.omega_sq)
-            .map(|(x, y)| (x - y).abs() / x)
-            .fold(0.0, f64::max);
+        let worst = worst_relative_difference(&a.reduction.omega_sq, &b.reduction.omega_sq);
         // Same vectors up to sign: |Φ_lowestᵀ M Φ_pod| is the identity.
         let (xa, xb) = (&a.reduction.x, &b.reduction.x);
         let overlap = (xa.columns(1, 6).transpose() * &a.m * xb.columns(1, 6)).abs();

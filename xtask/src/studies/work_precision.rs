@@ -123,6 +123,22 @@ fn ancf_reference(dim: Dim) -> Result<ReferenceTable, Box<dyn std::error::Error>
     )?)
 }
 
+/// The double four-bar with its five bars flexible over `grid`, judged on point B against
+/// its own converged run until a reference is set.
+fn four_bar(grid: Grid) -> Sweep {
+    Sweep {
+        scene: crate::workspace_root().join("models/double_four_bar.ron"),
+        sets: FLEXIBLE_BARS
+            .iter()
+            .map(|b| format!("bodies.{b}.flexible=true"))
+            .collect(),
+        sensors: vec!["B0_x".into(), "B0_y".into()],
+        reference: Reference::Converged,
+        grid,
+        error_cap: None,
+    }
+}
+
 /// The double four-bar with its five bars flexible over `modes` and `steps`, judged on point
 /// B against the richest model at a step 8 (`quick`) or 16 times smaller than the grid's.
 fn four_bar_sweep(
@@ -131,18 +147,7 @@ fn four_bar_sweep(
     steps: &[f64],
     quick: bool,
 ) -> Result<Sweep, Box<dyn std::error::Error>> {
-    let root = crate::workspace_root();
-    let mut bars = Sweep {
-        scene: root.join("models/double_four_bar.ron"),
-        sets: FLEXIBLE_BARS
-            .iter()
-            .map(|b| format!("bodies.{b}.flexible=true"))
-            .collect(),
-        sensors: vec!["B0_x".into(), "B0_y".into()],
-        reference: Reference::Converged,
-        grid: grid(&[Stiffening::Linear], bases, modes_bars, steps),
-        error_cap: None,
-    };
+    let mut bars = four_bar(grid(&[Stiffening::Linear], bases, modes_bars, steps));
     // The grid's richest model at its smallest step is no reference: the mechanism passes
     // its singular configurations (all bars parallel) where the trajectory is sensitive, and
     // h = 1 ms against 0.5 ms differs by millimetres at B over 5 s (not monotonically in h).
@@ -182,7 +187,6 @@ fn four_bar_basis_sweep(
     bases: &[ModeSelection],
     h: f64,
 ) -> Result<Sweep, Box<dyn std::error::Error>> {
-    let root = crate::workspace_root();
     let axes = |bases: &[ModeSelection], modes: &[usize]| Grid {
         axes: vec![
             Axis::Formulation(vec![FormulationKind::Relative]),
@@ -199,17 +203,10 @@ fn four_bar_basis_sweep(
             Axis::Step(vec![h]),
         ],
     };
-    let mut alone = Sweep {
-        scene: root.join("models/double_four_bar.ron"),
-        sets: FLEXIBLE_BARS
-            .iter()
-            .map(|b| format!("bodies.{b}.flexible=true"))
-            .collect(),
-        sensors: vec!["B0_x".into(), "B0_y".into()],
-        reference: Reference::Converged,
-        grid: axes(&[ModeSelection::LowestFrequency], &[REFERENCE_MODES_BARS]),
-        error_cap: None,
-    };
+    let mut alone = four_bar(axes(
+        &[ModeSelection::LowestFrequency],
+        &[REFERENCE_MODES_BARS],
+    ));
     eprintln!(
         "   reference of the four-bar's kinds: the lowest {REFERENCE_MODES_BARS} modes, h = {h:e} s"
     );

@@ -97,5 +97,13 @@ pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// The largest relative difference |a_k − b_k| / a_k of two lists of ω² (a: the reference).
+pub fn worst_relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / x)
+        .fold(0.0, f64::max)
+}
+
 pub const CANTILEVER_BL: [f64; 3] = [1.875_104_07, 4.694_091_13, 7.854_757_44];
 pub const FREE_FREE_BL: [f64; 3] = [4.730_040_74, 7.853_204_62, 10.995_607_8];
