@@ -176,7 +176,8 @@ pub struct BeamBodySpec {
     #[serde(default)]
     pub mode_candidates: Option<usize>,
     /// With `mode_selection: ProperOrthogonal`: how long the pilot run is (s; default:
-    /// [`crate::pod::DEFAULT_PILOT_FRACTION`] of the scene's duration).
+    /// [`crate::pod::DEFAULT_PILOT_FRACTION`] of the scene's duration; never longer than the
+    /// scene).
     #[serde(default)]
     pub pilot_duration: Option<f64>,
     /// With `mode_selection: ProperOrthogonal`: the modal coordinates the pilot run recorded

@@ -8,7 +8,8 @@
 //! pilot) in which those bodies keep their lowest K fixed-interface
 //! normal modes ([`flexmbd_fe::pod::pilot_spec`]), its sensors replaced by one `Modal`
 //! sensor per dynamic mode of each such body, run to the longest of their pilot durations
-//! ([`flexmbd_fe::pod::pilot_duration`]) with every step recorded. All the bodies share
+//! ([`flexmbd_fe::pod::pilot_duration`], at most the scene's) with every step recorded (every
+//! k-th beyond `MAX_PILOT_SAMPLES` steps, so that the record's memory is bounded). All the bodies share
 //! that one run; each keeps the samples up to its own duration. The FE stage then builds
 //! the body's basis from the record ([`flexmbd_fe::BeamBodySpec::pilot`]). The pilot is
 //! part of preparing the scene: its time is in a run's `preprocessing_seconds`.
@@ -118,7 +119,8 @@ fn pilot_bodies(scene: &Scene) -> Result<Vec<PilotBody>, ModelError> {
             index,
             candidates: candidate_count(spec),
             axial: spec.axial_modes,
-            duration: pilot_duration(spec, scene.solver.duration),
+            // A pilot runs the scene: never past its end (a `--duration` may shorten it).
+            duration: pilot_duration(spec, scene.solver.duration).min(scene.solver.duration),
         });
     }
     Ok(bodies)
@@ -156,6 +158,9 @@ fn pilot_scene(scene: &Scene, bodies: &[PilotBody]) -> Scene {
     }
     pilot
 }
+
+/// The most snapshots a pilot keeps (its record is K × this at most).
+const MAX_PILOT_SAMPLES: usize = 100_000;
 
 /// How many pilot runs [`cached_pilot`] keeps.
 const CACHED_PILOTS: usize = 16;
@@ -227,12 +232,20 @@ fn run_pilot(
         Err(_) => (Simulation::new(pilot).map_err(failed)?, false),
     };
     let h = sim.step_size();
+    // Every step, or every k-th of a pilot longer than MAX_PILOT_SAMPLES steps (bounded
+    // memory; many more snapshots than candidate modes either way).
+    let steps = (pilot.solver.duration / h).round() as usize;
+    let stride = steps.div_ceil(MAX_PILOT_SAMPLES).max(1);
     let mut times = vec![sim.time()];
     let mut samples = vec![sim.sensors()];
+    let mut taken = 0;
     while sim.time() + 0.5 * h <= pilot.solver.duration {
         sim.step().map_err(failed)?;
-        times.push(sim.time());
-        samples.push(sim.sensors());
+        taken += 1;
+        if taken % stride == 0 {
+            times.push(sim.time());
+            samples.push(sim.sensors());
+        }
     }
     if let Some(bad) = samples.iter().flatten().find(|v| !v.is_finite()) {
         return Err(pilot_failure(

@@ -138,7 +138,8 @@ fn a_failed_pilot_names_the_body_and_the_failure() {
         &[
             ("bodies.bar.model.Beam.mode_selection", "ProperOrthogonal"),
             ("bodies.bar.model.Beam.normal_modes", "1"),
-            ("bodies.bar.model.Beam.pilot_duration", "1e7"),
+            // A quarter-second step: the pilot's leading matrix turns singular.
+            ("solver.step", "0.25"),
         ],
     );
     let e = Simulation::new(&scene)
@@ -151,7 +152,7 @@ fn a_failed_pilot_names_the_body_and_the_failure() {
         "mode_selection",
         "ProperOrthogonal",
         "pilot run",
-        "steps",
+        "failed: the leading matrix is singular",
     ] {
         assert!(e.contains(part), "`{part}` missing from: {e}");
     }
@@ -178,4 +179,24 @@ fn a_beam_run_rigid_needs_no_pilot() {
         summary.n_coordinates,
         Simulation::new(&scene).unwrap().n_coordinates()
     );
+}
+
+#[test]
+fn a_pilot_longer_than_the_scene_runs_to_the_scene_end() {
+    // Unbounded, 1e7 s at 1 ms would be 1e10 steps: refused, over the step limit.
+    let history = |pilot: Option<&str>| {
+        let mut sets = vec![
+            ("bodies.bar.model.Beam.mode_selection", "ProperOrthogonal"),
+            ("bodies.bar.model.Beam.normal_modes", "1"),
+            ("solver.duration", "0.2"),
+        ];
+        if let Some(d) = pilot {
+            sets.push(("bodies.bar.model.Beam.pilot_duration", d));
+        }
+        let (summary, history) =
+            run(&scene("flexible_pendulum.ron", |_| {}, &sets), |_| {}).unwrap();
+        assert_eq!(summary.status, "ok", "{:?}", summary.message);
+        history.column("tip_y").unwrap()
+    };
+    assert_eq!(history(Some("1e5")), history(None));
 }
