@@ -6,7 +6,8 @@
 //!
 //! A pilot run of the scene keeps, for this body, its lowest K fixed-interface normal modes
 //! Φ_K (M_ii-orthonormal, [`candidate_count`]) and records their coordinates η(t_j) at every
-//! step: the snapshot matrix H = [η(t_0) … η(t_T)] (K × (T+1)). The facade runs the pilot
+//! step (every k-th of a very long pilot): the snapshot matrix H = [η(t_0) … η(t_T)]
+//! (K × (T+1)). The facade runs the pilot
 //! (`flexmbd::pilot`: this crate runs no simulation) and hands the record to the FE stage in
 //! [`BeamBodySpec::pilot`]; the body's dynamic basis is then built here:
 //!
@@ -32,10 +33,9 @@ use crate::ritz::rayleigh_ritz;
 use crate::selection::ModeSelection;
 use crate::spec::BeamBodySpec;
 
-/// The default pilot duration as a fraction of the scene's duration: all of it. Measured on
-/// the flexible double four-bar (5 s, h = 1 ms, against 8 modes per bar): with the first
-/// 20 % the n = 3 basis misses what the mechanism does later (2.9 mm against 0.017 mm with
-/// the whole run, and the lowest 3 modes' 0.36 mm); docs/design.md "Proper orthogonal modes".
+/// The default pilot duration as a fraction of the scene's duration: all of it, since a
+/// shorter pilot misses what the scene does later (the measurements: docs/design.md,
+/// "Proper orthogonal modes").
 pub const DEFAULT_PILOT_FRACTION: f64 = 1.0;
 
 /// What a pilot run recorded for one body.
