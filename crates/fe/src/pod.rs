@@ -53,11 +53,9 @@ pub struct PilotRecord {
 /// max(2 n, 4) for n = `normal_modes`, at most the interior DOFs left after the axial modes.
 pub fn candidate_count(spec: &BeamBodySpec) -> usize {
     spec.mode_candidates.unwrap_or_else(|| {
-        let interior = spec
-            .n_fe_dofs()
-            .saturating_sub(spec.frame_dofs().len() + spec.boundary.len())
-            .saturating_sub(spec.axial_modes);
-        (2 * spec.normal_modes).max(4).min(interior)
+        (2 * spec.normal_modes)
+            .max(4)
+            .min(crate::selection::interior_after_axial(spec))
     })
 }
 

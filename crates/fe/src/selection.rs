@@ -109,10 +109,7 @@ pub(crate) fn check(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
             ),
         ));
     }
-    let interior = spec
-        .n_fe_dofs()
-        .saturating_sub(spec.frame_dofs().len() + spec.boundary.len())
-        .saturating_sub(spec.axial_modes);
+    let interior = interior_after_axial(spec);
     if c > interior {
         return Err(InvalidValue::new(
             "mode_candidates",
@@ -124,6 +121,24 @@ pub(crate) fn check(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
         ));
     }
     Ok(())
+}
+
+/// The interior DOFs of `spec`'s fixed-interface problem left after its axial modes: the
+/// most candidate modes a selection can take.
+pub(crate) fn interior_after_axial(spec: &BeamBodySpec) -> usize {
+    spec.n_fe_dofs()
+        .saturating_sub(spec.frame_dofs().len() + spec.boundary.len())
+        .saturating_sub(spec.axial_modes)
+}
+
+/// `field = value` asks for more normal modes than the `available` ones that are not purely
+/// axial.
+fn too_few_modes(field: &str, value: usize, available: usize) -> FeError {
+    FeError::Invalid(InvalidValue::new(
+        field,
+        value,
+        format!("the model has only {available} normal modes that are not purely axial"),
+    ))
 }
 
 /// The dynamic basis of `spec` (a selection other than the default path of
@@ -164,14 +179,7 @@ pub fn dynamic_basis(
         ModeSelection::Participation => {
             let n_candidates = spec.mode_candidates.unwrap_or(other.len());
             if n_candidates > other.len() {
-                return Err(FeError::Invalid(InvalidValue::new(
-                    "mode_candidates",
-                    n_candidates,
-                    format!(
-                        "the model has only {} normal modes that are not purely axial",
-                        other.len()
-                    ),
-                )));
+                return Err(too_few_modes("mode_candidates", n_candidates, other.len()));
             }
             let candidates = pick(&all, &other[..n_candidates]);
             let shares = participation::static_response_shares(
@@ -197,14 +205,7 @@ pub fn dynamic_basis(
         }
     };
     if chosen.omega_sq.len() < n {
-        return Err(FeError::Invalid(InvalidValue::new(
-            "normal_modes",
-            n,
-            format!(
-                "the model has only {} normal modes that are not purely axial",
-                other.len()
-            ),
-        )));
+        return Err(too_few_modes("normal_modes", n, other.len()));
     }
     Ok(merge(chosen, pick(&all, &axial[..spec.axial_modes])))
 }
@@ -235,14 +236,7 @@ fn proper_orthogonal(
     };
     let k = pod::candidate_count(spec);
     if k > other.len() {
-        return Err(FeError::Invalid(InvalidValue::new(
-            "mode_candidates",
-            k,
-            format!(
-                "the model has only {} normal modes that are not purely axial",
-                other.len()
-            ),
-        )));
+        return Err(too_few_modes("mode_candidates", k, other.len()));
     }
     let mut pilot_modes: Vec<usize> = other[..k]
         .iter()
