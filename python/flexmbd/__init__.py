@@ -187,7 +187,8 @@ class Result:
 
     - ``status``: ``"ok"``, or ``"failed"`` (a step, the static start or the initial
       conditions failed; ``failed_at`` and ``message`` say when and why, and the rows stop
-      there);
+      there; or the pilot run of proper orthogonal modes failed: no row, no ``failed_at``,
+      the pilot's time in ``message``);
     - ``summary``: the run summary, the fields of ``flexmbd simulate --json``;
     - ``data``: every row, a 2-D float64 array with the columns ``columns`` (``t``, then
       the sensors); ``t`` its first column, ``sensors`` the others, ``names`` their names;
@@ -294,8 +295,9 @@ class Simulation:
     (after the static equilibrium when the scene asks for one) when made.
 
     ``step()`` advances one time step, ``advance_to(t)`` to a time; ``sensors()`` and
-    ``sensor(name)`` read the sensors in between. A failed step raises :class:`RunError`
-    and leaves the simulation at its last good state; ``checkpoint()`` / ``restore()``
+    ``sensor(name)`` read the sensors in between. A failed pilot run of proper orthogonal
+    modes raises :class:`RunError` (``time`` None) when it is made. A failed step raises
+    :class:`RunError` and leaves the simulation at its last good state; ``checkpoint()`` / ``restore()``
     return to a saved one. The simulation runs on a thread of its own; a call waits for it
     with the GIL released, so other Python threads run meanwhile.
 

@@ -190,6 +190,9 @@ pub fn to_py(py: Python<'_>, e: &Error) -> PyErr {
                 ..SceneFields::default()
             },
         ),
+        // A failed pilot run of proper orthogonal modes: the scene is valid, its run failed
+        // (no time: the run took no step; the pilot's is in the message).
+        Error::Pilot(_) => run_error(py, &e.to_string(), None),
         Error::Static(_) | Error::Integrator(_) => run_error(
             py,
             &e.to_string(),

@@ -11,9 +11,10 @@ pub const USAGE: u8 = 2;
 /// written.
 pub const INVALID_INPUT: u8 = 3;
 /// The run failed: a step did not converge or diverged, no static equilibrium, no
-/// consistent initial conditions.
+/// consistent initial conditions, the pilot run of proper orthogonal modes failed.
 pub const RUN_FAILED: u8 = 4;
-/// The run was interrupted (SIGINT, SIGTERM).
+/// The run (or the pilot run of its proper orthogonal modes) was interrupted (SIGINT,
+/// SIGTERM).
 pub const INTERRUPTED: u8 = 5;
 /// `flexmbd tune`: no run of the sweep meets the tolerance (the table is printed all the
 /// same).
@@ -27,9 +28,11 @@ Exit codes:
   0   success
   2   usage error (unknown option, missing or malformed argument)
   3   invalid input: the scene, a body model or a --set refused, a file unreadable or unwritable
-  4   the run failed: a step did not converge or diverged, no static equilibrium, no consistent start
+  4   the run failed: a step did not converge or diverged, no static equilibrium, no consistent start,
+      the pilot run of proper orthogonal modes failed
   5   interrupted by Ctrl-C (SIGINT) or SIGTERM: the rows so far are written, the summary says
-      \"interrupted\" (a second signal ends the program at once, without the summary)
+      \"interrupted\" (during the pilot run: no row, the output files untouched; a second
+      signal ends the program at once, without the summary)
   6   tune: no run of the sweep meets the tolerance (the candidates are printed all the same)
   70  internal error: a bug in flexmbd, please report it";
 

@@ -271,9 +271,9 @@ fn static_scene(args: &StaticArgs) -> Result<Scene, Box<dyn std::error::Error>> 
     Ok(scene)
 }
 
-/// The result of `flexmbd equilibrium` or `flexmbd eigen`; no equilibrium or no modes is
-/// reported on stderr, naming the scene, as a failed run ([`exit::RUN_FAILED`]), a refused
-/// scene as invalid input.
+/// The result of `flexmbd equilibrium` or `flexmbd eigen`; no equilibrium, no modes or a
+/// failed pilot run of proper orthogonal modes is reported on stderr, naming the scene, as
+/// a failed run ([`exit::RUN_FAILED`]), a refused scene as invalid input.
 fn solved<T>(
     args: &StaticArgs,
     result: Result<T, flexmbd::Error>,
@@ -290,6 +290,15 @@ fn solved<T>(
         Err(flexmbd::Error::Vibration(e)) => {
             eprintln!("error: {}: {e}", args.input.scene.display());
             Ok(Err(exit::RUN_FAILED))
+        }
+        // The pilot run of proper orthogonal modes failed (it names the scene's file).
+        Err(flexmbd::Error::Pilot(e)) => {
+            eprintln!("error: {e}");
+            Ok(Err(if e.interrupted() {
+                exit::INTERRUPTED
+            } else {
+                exit::RUN_FAILED
+            }))
         }
         Err(e) => Err(e),
     }

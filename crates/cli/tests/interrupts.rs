@@ -2,7 +2,8 @@
 //! CSV has a few hundred rows: after SIGINT or SIGTERM it ends between two steps with exit
 //! code 5 and a summary with status "interrupted"; after SIGKILL nothing ends it cleanly.
 //! Either way the CSV holds a header and whole rows, equal bit for bit to the rows of an
-//! uninterrupted run to the same time.
+//! uninterrupted run to the same time. A run still in the pilot run of its proper
+//! orthogonal modes ends the same way, before its first row.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -164,4 +165,58 @@ fn sigkill_leaves_a_header_and_whole_rows() {
     let (out, _) = interrupt_with("KILL");
     assert_eq!(out.status.code(), None, "killed by the signal");
     assert!(out.stdout.is_empty(), "no summary");
+}
+
+/// SIGINT during the pilot run of proper orthogonal modes (10⁸ pilot steps, minutes of
+/// CPU): the pilot ends between two steps, exit code 5, a summary "interrupted" that names
+/// the pilot, no row, and the CSV never written (the scene was not compiled).
+#[test]
+fn sigint_ends_the_pilot_run_of_proper_orthogonal_modes_as_interrupted() {
+    let dir = temp_dir("interrupt-pilot");
+    let csv = dir.join("run.csv");
+    let child = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args([
+            "simulate",
+            &format!(
+                "{}/../../models/flexible_pendulum.ron",
+                env!("CARGO_MANIFEST_DIR")
+            ),
+            "--set",
+            "bodies.bar.model.Beam.mode_selection=ProperOrthogonal",
+            "--set",
+            "bodies.bar.model.Beam.normal_modes=1",
+            "--duration",
+            "1e5",
+            "--json",
+            "--output",
+        ])
+        .arg(&csv)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Loading the scene and setting up the signal handlers take milliseconds; the pilot,
+    // minutes. No row comes to wait for: a second is well inside the pilot.
+    std::thread::sleep(Duration::from_secs(1));
+    send(&child, "INT");
+    let out = finish(child);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(5), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "interrupted");
+    assert_eq!(
+        (v["rows"].as_u64(), v["steps"].as_u64()),
+        (Some(0), Some(0))
+    );
+    let message = v["message"].as_str().unwrap();
+    for part in [
+        "body `bar`",
+        "pilot run",
+        "was interrupted at t = ",
+        "the run did not start",
+    ] {
+        assert!(message.contains(part), "`{part}` missing from: {message}");
+    }
+    assert!(!csv.exists(), "the CSV was written");
+    std::fs::remove_dir_all(&dir).ok();
 }

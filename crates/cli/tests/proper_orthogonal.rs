@@ -1,5 +1,6 @@
 //! Proper orthogonal modes from the command line (docs/methods.md §1.6): the pilot run is
-//! deterministic — two processes write the same CSV byte for byte — and a body model on its
+//! deterministic — two processes write the same CSV byte for byte —, a failed pilot is a
+//! failed run (exit 4) that names the body and the pilot's failure, and a body model on its
 //! own (`flexmbd modes`), which has no pilot, is refused by name.
 
 mod common;
@@ -64,4 +65,56 @@ fn a_body_model_on_its_own_has_no_pilot() {
     assert_ne!(code(&out), 0);
     assert_contains_all(&err, &["mode_selection", "ProperOrthogonal", "pilot"]);
     let _ = std::fs::remove_file(path);
+}
+
+/// The flexible pendulum's bar on a proper orthogonal mode, at a quarter-second step: the
+/// pilot's leading matrix turns singular at t = 0.5 s.
+const FAILING_PILOT: [&str; 6] = [
+    "--set",
+    "bodies.bar.model.Beam.mode_selection=ProperOrthogonal",
+    "--set",
+    "bodies.bar.model.Beam.normal_modes=1",
+    "--set",
+    "solver.step=0.25",
+];
+
+#[test]
+fn a_failed_pilot_exits_as_a_failed_run_naming_the_body_and_the_failure() {
+    let csv = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("failed_pilot_{}.csv", std::process::id()));
+    let _ = std::fs::remove_file(&csv);
+    let pendulum = model("flexible_pendulum.ron");
+    let csv_arg = csv.display().to_string();
+    let mut args = vec!["simulate", &pendulum, "--json", "--output", &csv_arg];
+    args.extend(FAILING_PILOT);
+    let out = flexmbd().args(&args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code(&out), 4, "the scene is valid, its run failed: {err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["status"], "failed");
+    assert_eq!(v["rows"], 0);
+    assert_contains_all(
+        v["message"].as_str().unwrap(),
+        &[
+            "flexible_pendulum.ron",
+            "body `bar`",
+            "mode_selection = ProperOrthogonal",
+            "pilot run",
+            "failed: the leading matrix is singular at t = 0.5",
+        ],
+    );
+    assert!(!csv.exists(), "no header: the scene was never compiled");
+
+    // The static analyses prepare the scene too: the same failure, the same exit code.
+    for command in ["equilibrium", "eigen"] {
+        let mut args = vec![command, &pendulum];
+        args.extend(FAILING_PILOT);
+        let out = flexmbd().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(code(&out), 4, "{command}: {err}");
+        assert_contains_all(
+            &err,
+            &["body `bar`", "pilot run", "leading matrix is singular"],
+        );
+    }
 }

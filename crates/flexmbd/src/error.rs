@@ -34,6 +34,12 @@ pub enum Error {
     /// ([`crate::simulation::host`]). Names the field, the value and the reason.
     #[error("refused: {0}")]
     Input(flexmbd_core::InvalidValue),
+    /// The pilot run of a scene's proper orthogonal modes (`mode_selection:
+    /// ProperOrthogonal`, [`crate::simulation`]) failed or was stopped, so the scene, valid,
+    /// could not be prepared: a failure of the run, not a refusal of the input. Boxed, as
+    /// [`Error::Model`] is.
+    #[error(transparent)]
+    Pilot(#[from] Box<PilotError>),
     /// Reading or writing a file failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),
@@ -66,6 +72,69 @@ pub enum Error {
 impl From<ModelError> for Error {
     fn from(error: ModelError) -> Self {
         Error::Model(Box::new(error))
+    }
+}
+
+/// A pilot run of proper orthogonal modes that gave no record ([`Error::Pilot`]): the
+/// body whose `mode_selection` asked for it (the first of the bodies that share the
+/// pilot), where the scene names it, and what stopped the pilot.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{}: body `{body}`: mode_selection = ProperOrthogonal: the pilot run of the proper orthogonal modes (bodies {} on their lowest normal modes, {duration} s) {outcome}",
+    at(.file, *.line),
+    .bodies.join(", ")
+)]
+pub struct PilotError {
+    /// The scene's file.
+    pub file: String,
+    /// 1-based line of the body's `mode_selection` in the file, when it is written there.
+    pub line: Option<u32>,
+    /// The first body that asked for the pilot.
+    pub body: String,
+    /// Every body that shares the pilot.
+    pub bodies: Vec<String>,
+    /// How long the pilot was to run (s).
+    pub duration: f64,
+    /// What stopped it.
+    #[source]
+    pub outcome: PilotOutcome,
+}
+
+impl PilotError {
+    /// Whether the pilot was stopped by the caller's stop flag rather than failing.
+    pub fn interrupted(&self) -> bool {
+        matches!(self.outcome, PilotOutcome::Interrupted { .. })
+    }
+}
+
+/// Why a pilot run gave no record ([`PilotError`]).
+#[derive(Debug, thiserror::Error)]
+pub enum PilotOutcome {
+    /// It could not start, or a step failed: the pilot's own error (time, residual, hint).
+    #[error("failed: {0}")]
+    Failed(#[source] Error),
+    /// A modal coordinate of its record is not finite.
+    #[error("failed: a modal coordinate is {0}")]
+    NotFinite(f64),
+    /// The stop flag was set: the pilot ended between two steps, its record dropped.
+    #[error(
+        "was interrupted at t = {t} s of the pilot, after {done} of {steps} steps; the run did not start"
+    )]
+    Interrupted {
+        /// The pilot's time when it stopped (s).
+        t: f64,
+        /// The pilot steps taken.
+        done: usize,
+        /// The pilot steps it was to take.
+        steps: usize,
+    },
+}
+
+/// `file:line`, or `file` when the line is not known.
+fn at(file: &str, line: Option<u32>) -> String {
+    match line {
+        Some(l) => format!("{file}:{l}"),
+        None => file.to_string(),
     }
 }
 

@@ -160,6 +160,6 @@ pub mod sweep;
 pub mod vibration;
 
 pub use equilibrium::{Equilibrium, equilibrium};
-pub use error::Error;
+pub use error::{Error, PilotError, PilotOutcome};
 pub use simulation::{History, Simulation, Summary, integrator_settings};
 pub use vibration::{Vibration, vibration};

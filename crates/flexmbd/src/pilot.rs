@@ -19,19 +19,25 @@
 //! FNL2 turns the axial DOFs into static modes, re-pointing the `Modal` sensors), and SBn's
 //! substructures keep the lowest modes (no pilot). Deterministic: the same scene gives the
 //! same record, bit for bit.
+//!
+//! A pilot that fails, or that the caller's stop flag ends between two of its steps (the
+//! flag a run looks at: [`crate::simulation::run_into`]), is an [`Error::Pilot`]: the
+//! scene is valid, its run failed or was stopped. Its record is dropped whole: no basis is
+//! built from part of a pilot, and only a finished pilot enters the process's cache.
 
 use std::borrow::Cow;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use flexmbd_body::InertiaMethod;
 use flexmbd_fe::pod::{PilotRecord, candidate_count, pilot_duration, pilot_spec};
-use flexmbd_fe::{BeamBodySpec, FeError, ModeSelection};
+use flexmbd_fe::{BeamBodySpec, ModeSelection};
 use flexmbd_model::rewrite::rewrite_for_stiffening;
 use flexmbd_model::scene::{BodyModel, Sensor, SensorKind};
 use flexmbd_model::{FormulationKind, ModelError, PreparedScene, Scene};
 use nalgebra::DMatrix;
 
-use crate::Simulation;
+use crate::{Error, PilotError, PilotOutcome, Simulation};
 
 /// One body that needs a pilot, as the final reduction sees it (the rewritten spec).
 struct PilotBody {
@@ -52,20 +58,28 @@ impl PilotBody {
     }
 }
 
-/// The scene prepared with its pilot records ([`with_pilot_records`]).
-pub(crate) fn prepared_scene(scene: &Scene) -> Result<PreparedScene, ModelError> {
-    PreparedScene::new(&*with_pilot_records(scene)?)
+/// A stop flag never set: the pilot of a caller that cannot be interrupted runs to its end.
+pub(crate) static NO_STOP: AtomicBool = AtomicBool::new(false);
+
+/// The scene prepared with its pilot records ([`with_pilot_records`]), the pilot ended
+/// between two steps when `stop` is set.
+pub(crate) fn prepared_scene(scene: &Scene, stop: &AtomicBool) -> Result<PreparedScene, Error> {
+    Ok(PreparedScene::new(&*with_pilot_records(scene, stop)?)?)
 }
 
 /// `scene` with the pilot record of every flexible beam that asks for proper orthogonal
-/// modes, from one pilot run (borrowed unchanged when no body asks).
-pub(crate) fn with_pilot_records(scene: &Scene) -> Result<Cow<'_, Scene>, ModelError> {
+/// modes, from one pilot run (borrowed unchanged when no body asks), ended between two
+/// steps when `stop` is set ([`PilotOutcome::Interrupted`]).
+pub(crate) fn with_pilot_records<'a>(
+    scene: &'a Scene,
+    stop: &AtomicBool,
+) -> Result<Cow<'a, Scene>, Error> {
     let bodies = pilot_bodies(scene)?;
     if bodies.is_empty() {
         return Ok(Cow::Borrowed(scene));
     }
     let pilot = pilot_scene(scene, &bodies);
-    let records = cached_pilot(scene, &pilot, &bodies)?;
+    let records = cached_pilot(scene, &pilot, &bodies, stop)?;
     let mut out = scene.clone();
     for (b, record) in bodies.iter().zip(records) {
         if let BodyModel::Beam(spec) = &mut out.bodies[b.index].model {
@@ -175,12 +189,14 @@ static PILOT_CACHE: Mutex<PilotCache> = Mutex::new(Vec::new());
 /// sweep's runs that differ only in what the pilot does not see (the formulation and
 /// inertia route, the count of proper orthogonal modes while K stays, a run timed again
 /// alone) share one pilot. Only pilots run in relative coordinates are kept: the key names
-/// that route, not the scene's own.
+/// that route, not the scene's own. Only a finished pilot is kept: one that failed or was
+/// stopped (`stop`) returns its error before the cache is touched.
 fn cached_pilot(
     scene: &Scene,
     pilot: &Scene,
     bodies: &[PilotBody],
-) -> Result<Vec<PilotRecord>, ModelError> {
+    stop: &AtomicBool,
+) -> Result<Vec<PilotRecord>, Box<PilotError>> {
     let relative = relative_route(pilot);
     let durations: Vec<u64> = bodies.iter().map(|b| b.duration.to_bits()).collect();
     let key = format!("{relative:?} {durations:?}");
@@ -193,7 +209,7 @@ fn cached_pilot(
     if let Some(records) = lookup(&PILOT_CACHE.lock().unwrap_or_else(|e| e.into_inner())) {
         return Ok(records.as_ref().clone());
     }
-    let (records, ran_relative) = run_pilot(scene, &relative, pilot, bodies)?;
+    let (records, ran_relative) = run_pilot(scene, &relative, pilot, bodies, stop)?;
     let mut cache = PILOT_CACHE.lock().unwrap_or_else(|e| e.into_inner());
     if ran_relative && lookup(&cache).is_none() {
         if cache.len() == CACHED_PILOTS {
@@ -219,14 +235,17 @@ fn relative_route(pilot: &Scene) -> Scene {
 
 /// Run the pilot, `relative` (or `pilot`, in the scene's own route, when the relative
 /// formulation cannot start it), and split its samples into one record per body, each up
-/// to its duration; with whether it ran in relative coordinates.
+/// to its duration; with whether it ran in relative coordinates. `stop` is looked at
+/// before each step, as a run does: once set, the pilot ends with
+/// [`PilotOutcome::Interrupted`] and what it recorded is dropped.
 fn run_pilot(
     scene: &Scene,
     relative: &Scene,
     pilot: &Scene,
     bodies: &[PilotBody],
-) -> Result<(Vec<PilotRecord>, bool), ModelError> {
-    let failed = |e: crate::Error| pilot_failure(scene, bodies, &e.to_string());
+    stop: &AtomicBool,
+) -> Result<(Vec<PilotRecord>, bool), Box<PilotError>> {
+    let failed = |e: Error| pilot_failure(scene, bodies, PilotOutcome::Failed(e));
     let (mut sim, ran_relative) = match Simulation::new(relative) {
         Ok(sim) => (sim, true),
         Err(_) => (Simulation::new(pilot).map_err(failed)?, false),
@@ -240,6 +259,11 @@ fn run_pilot(
     let mut samples = vec![sim.sensors()];
     let mut taken = 0;
     while sim.time() + 0.5 * h <= pilot.solver.duration {
+        if stop.load(Ordering::Relaxed) {
+            let (t, done) = (sim.time(), taken);
+            let outcome = PilotOutcome::Interrupted { t, done, steps };
+            return Err(pilot_failure(scene, bodies, outcome));
+        }
         sim.step().map_err(failed)?;
         taken += 1;
         if taken % stride == 0 {
@@ -248,11 +272,7 @@ fn run_pilot(
         }
     }
     if let Some(bad) = samples.iter().flatten().find(|v| !v.is_finite()) {
-        return Err(pilot_failure(
-            scene,
-            bodies,
-            &format!("a modal coordinate is {bad}"),
-        ));
+        return Err(pilot_failure(scene, bodies, PilotOutcome::NotFinite(*bad)));
     }
     let mut first_row = 0;
     let records = bodies
@@ -273,31 +293,23 @@ fn run_pilot(
     Ok((records, ran_relative))
 }
 
-/// The error of a failed pilot: the first pilot body's `mode_selection`, the bodies and
-/// the pilot's own failure.
-fn pilot_failure(scene: &Scene, bodies: &[PilotBody], reason: &str) -> ModelError {
-    let names: Vec<&str> = bodies
+/// The error of a pilot that gave no record: the first pilot body's `mode_selection`,
+/// the bodies, the pilot's duration and `outcome`.
+fn pilot_failure(scene: &Scene, bodies: &[PilotBody], outcome: PilotOutcome) -> Box<PilotError> {
+    let names: Vec<String> = bodies
         .iter()
-        .map(|b| scene.bodies[b.index].name.as_str())
+        .map(|b| scene.bodies[b.index].name.clone())
         .collect();
-    let body = names[0].to_string();
-    let field = "mode_selection";
-    ModelError::Fe {
+    let body = names[0].clone();
+    Box::new(PilotError {
         file: scene.origin.clone(),
         line: flexmbd_model::lines::line_of(
             &scene.source,
-            &format!("bodies[{body}].model.Beam.{field}"),
+            &format!("bodies[{body}].model.Beam.mode_selection"),
         ),
         body,
-        source: Box::new(FeError::Invalid(flexmbd_core::InvalidValue::new(
-            field,
-            ModeSelection::ProperOrthogonal.name(),
-            format!(
-                "the pilot run of the proper orthogonal modes (bodies {} on their lowest \
-                 normal modes, {} s) failed: {reason}",
-                names.join(", "),
-                bodies.iter().map(|b| b.duration).fold(0.0, f64::max)
-            ),
-        ))),
-    }
+        bodies: names,
+        duration: bodies.iter().map(|b| b.duration).fold(0.0, f64::max),
+        outcome,
+    })
 }

@@ -24,6 +24,7 @@
 //! [`HISTORY_MEMORY_LIMIT`](crate::output::HISTORY_MEMORY_LIMIT).
 
 use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use flexmbd_core::CompiledScene;
@@ -32,7 +33,7 @@ use flexmbd_integrators::{
     solve_static,
 };
 use flexmbd_model::inputs::InputTable;
-use flexmbd_model::{FormulationKind, InitialState, ModelError, Scene, Solver, Stiffening};
+use flexmbd_model::{FormulationKind, InitialState, Scene, Solver, Stiffening};
 use serde::Serialize;
 
 use crate::Error;
@@ -52,10 +53,12 @@ pub use run::{run, run_into};
 pub struct Summary {
     /// The scene's name.
     pub scene: String,
-    /// `"ok"`, `"failed"` (a step, the static start or the consistent initial conditions
-    /// failed) or `"interrupted"` (the run was asked to stop between two steps).
+    /// `"ok"`, `"failed"` (a step, the static start, the consistent initial conditions or
+    /// the pilot run of proper orthogonal modes failed) or `"interrupted"` (the run, or its
+    /// pilot run, was asked to stop between two steps).
     pub status: String,
-    /// Time of the failed step (s).
+    /// Time of the failed step (s); none when the pilot run of proper orthogonal modes
+    /// failed (the run took no step: the pilot's time is in `message`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed_at: Option<f64>,
     /// Why it failed, or when it was interrupted.
@@ -117,17 +120,24 @@ pub struct Summary {
 /// Compile a scene with the formulation its solver settings name, for tests and benchmarks
 /// that evaluate the formulation at chosen states or drive [`Ali3p`] by hand;
 /// [`Simulation::new`] is the usual route.
-pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, ModelError> {
-    Ok(build_formulation(scene)?.0)
+///
+/// A refused scene is an [`Error::Model`]; a scene with proper orthogonal modes whose
+/// pilot run fails is an [`Error::Pilot`].
+pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, Error> {
+    Ok(build_formulation(scene, &crate::pilot::NO_STOP)?.0)
 }
 
 /// The one place where a formulation is built from a scene (every route of the facade
 /// comes through here), with the table of the scene's inputs its elements and drivers read.
-fn build_formulation(scene: &Scene) -> Result<(Box<dyn CompiledScene>, InputTable), ModelError> {
+/// A pilot run (proper orthogonal modes) stops between two steps when `stop` is set.
+fn build_formulation(
+    scene: &Scene,
+    stop: &AtomicBool,
+) -> Result<(Box<dyn CompiledScene>, InputTable), Error> {
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
     // With proper orthogonal modes, first their pilot run (crate::pilot).
-    let prepared = crate::pilot::prepared_scene(scene)?;
+    let prepared = crate::pilot::prepared_scene(scene, stop)?;
     let formulation: Box<dyn CompiledScene> = match scene.solver.formulation {
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
@@ -250,18 +260,25 @@ struct Compiled {
 }
 
 /// Compile `scene` (timed as preprocessing) and note its options for the summary. A run
-/// longer than [`MAX_STEPS`] is refused first.
-fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
+/// longer than [`MAX_STEPS`] is refused first; a pilot run stops when `stop` is set.
+fn compile_scene(scene: &Scene, stop: &AtomicBool) -> Result<Compiled, Error> {
     let plan = RunPlan::of(scene)?;
     let clock = Instant::now();
-    let (formulation, inputs) = build_formulation(scene)?;
+    let (formulation, inputs) = build_formulation(scene, stop)?;
     let preprocessing_seconds = clock.elapsed().as_secs_f64();
-    let (formulation_name, inertia, stiffening) = names(scene);
     Ok(Compiled {
         formulation,
         inputs,
         scene: scene.clone(),
-        setup: Setup {
+        setup: Setup::of(scene, plan, preprocessing_seconds),
+    })
+}
+
+impl Setup {
+    /// The options of `scene` run by `plan`, `preprocessing_seconds` spent compiling it.
+    fn of(scene: &Scene, plan: RunPlan, preprocessing_seconds: f64) -> Setup {
+        let (formulation_name, inertia, stiffening) = names(scene);
+        Setup {
             scene: scene.name.clone(),
             solver: scene.solver.clone(),
             formulation: formulation_name,
@@ -273,8 +290,8 @@ fn compile_scene(scene: &Scene) -> Result<Compiled, ModelError> {
             static_iterations: 0,
             start_seconds: 0.0,
             moving_start: scene.moves_at_start(),
-        },
-    })
+        }
+    }
 }
 
 /// A start that failed (no static equilibrium, no consistent initial conditions), with the
@@ -334,7 +351,7 @@ impl Simulation {
     /// conditions consistent (methods.md §5.4). The scene should be validated (as
     /// [`Scene::load`] does).
     pub fn new(scene: &Scene) -> Result<Simulation, Error> {
-        Self::start(compile_scene(scene)?).map_err(|failure| failure.error)
+        Self::start(compile_scene(scene, &crate::pilot::NO_STOP)?).map_err(|failure| failure.error)
     }
 
     /// The static start (if asked for) and ALI3-P's consistent initial conditions.

@@ -1,11 +1,14 @@
 //! Proper orthogonal modes from a pilot run (`mode_selection: ProperOrthogonal`,
 //! docs/methods.md §1.6): what the pilot sees makes the basis, both inertia routes run the
-//! basis alike, and a failed pilot or a body run rigid is handled by name.
+//! basis alike, a failed pilot is a failed run that names the body, a stopped pilot ends
+//! the run as interrupted and leaves nothing behind, and a body run rigid needs no pilot.
 
-use flexmbd::Simulation;
+use std::sync::atomic::AtomicBool;
+
 use flexmbd::fe::ReferenceFrame;
 use flexmbd::model::{BodyModel, Constraint, Marker, Scene, V3};
-use flexmbd::simulation::run;
+use flexmbd::simulation::{run, run_into};
+use flexmbd::{Error, History, PilotOutcome, Simulation};
 
 /// `file` of `models/`, changed by `edit`, then by `sets` (and validated again).
 fn scene(file: &str, edit: impl FnOnce(&mut Scene), sets: &[(&str, &str)]) -> Scene {
@@ -130,32 +133,109 @@ fn both_inertia_routes_run_the_same_proper_orthogonal_modes() {
     assert!(worst < 1e-9);
 }
 
+/// The flexible pendulum's bar on one proper orthogonal mode, `sets` applied after.
+fn pod_pendulum(sets: &[(&str, &str)]) -> Scene {
+    let mut all = vec![
+        ("bodies.bar.model.Beam.mode_selection", "ProperOrthogonal"),
+        ("bodies.bar.model.Beam.normal_modes", "1"),
+    ];
+    all.extend_from_slice(sets);
+    scene("flexible_pendulum.ron", |_| {}, &all)
+}
+
 #[test]
-fn a_failed_pilot_names_the_body_and_the_failure() {
-    let scene = scene(
-        "flexible_pendulum.ron",
-        |_| {},
-        &[
-            ("bodies.bar.model.Beam.mode_selection", "ProperOrthogonal"),
-            ("bodies.bar.model.Beam.normal_modes", "1"),
-            // A quarter-second step: the pilot's leading matrix turns singular.
-            ("solver.step", "0.25"),
-        ],
-    );
-    let e = Simulation::new(&scene)
-        .err()
-        .expect("the pilot is refused")
-        .to_string();
-    println!("{e}");
+fn a_failed_pilot_is_a_failed_run_that_names_the_body_and_the_failure() {
+    // A quarter-second step: the pilot's leading matrix turns singular.
+    let scene = pod_pendulum(&[("solver.step", "0.25")]);
+    let e = Simulation::new(&scene).err().expect("the pilot fails");
+    let text = e.to_string();
+    println!("{text}");
     for part in [
         "body `bar`",
         "mode_selection",
         "ProperOrthogonal",
         "pilot run",
-        "failed: the leading matrix is singular",
+        "failed: the leading matrix is singular at t = 0.5",
+        "check for bodies without mass",
     ] {
-        assert!(e.contains(part), "`{part}` missing from: {e}");
+        assert!(text.contains(part), "`{part}` missing from: {text}");
     }
+    // A failure of the run, typed: not a refusal of the scene.
+    let Error::Pilot(pilot) = &e else {
+        panic!("not a pilot failure: {e:?}")
+    };
+    assert_eq!(pilot.body, "bar");
+    assert!(!pilot.interrupted());
+    let PilotOutcome::Failed(cause) = &pilot.outcome else {
+        panic!("not a failed step: {:?}", pilot.outcome)
+    };
+    assert_eq!(
+        cause.failed_at(),
+        Some(0.5),
+        "the pilot's own time: {cause}"
+    );
+    // A run of the scene: failed, with the pilot's message, no row.
+    let (summary, history) = run(&scene, |_| {}).unwrap();
+    assert_eq!(summary.status, "failed");
+    assert_eq!(summary.message.as_deref(), Some(text.as_str()));
+    assert!(matches!(summary.error.as_deref(), Some(Error::Pilot(_))));
+    assert_eq!((summary.rows, history.rows.len()), (0, 0));
+}
+
+#[test]
+fn a_stop_flag_set_before_the_pilot_interrupts_it_and_nothing_of_it_is_kept() {
+    // 10⁸ pilot steps (10⁵ s at 1 ms): minutes, were the flag not looked at.
+    let long = pod_pendulum(&[("solver.duration", "1e5")]);
+    let mut sink = History::default();
+    let summary = run_into(&long, &mut sink, &AtomicBool::new(true), |_| {}).unwrap();
+    println!("{:?}", summary.message);
+    assert_eq!(summary.status, "interrupted");
+    let message = summary.message.unwrap();
+    for part in [
+        "body `bar`",
+        "pilot run",
+        "was interrupted at t = 0 s",
+        "after 0 of 100000000 steps",
+    ] {
+        assert!(message.contains(part), "`{part}` missing from: {message}");
+    }
+    assert_eq!((summary.steps, summary.rows), (0, 0));
+    assert!(
+        sink.header.is_empty() && sink.rows.is_empty(),
+        "no header, no row"
+    );
+    assert!(summary.error.is_none());
+
+    // The same pilot, stopped then run with the flag clear, gives the basis of a pilot
+    // that never was stopped (the scene renamed: another entry of the pilot cache) bit for
+    // bit: the stopped pilot left nothing behind.
+    let short = pod_pendulum(&[("solver.duration", "0.5")]);
+    let stopped = run_into(
+        &short,
+        &mut History::default(),
+        &AtomicBool::new(true),
+        |_| {},
+    );
+    assert_eq!(stopped.unwrap().status, "interrupted");
+    let tip = |scene: &Scene| {
+        let mut history = History::default();
+        let summary = run_into(scene, &mut history, &AtomicBool::new(false), |_| {}).unwrap();
+        assert_eq!(summary.status, "ok", "{:?}", summary.message);
+        assert_eq!(history.rows.len(), 51);
+        history.column("tip_y").unwrap()
+    };
+    let fresh = Scene {
+        name: "never stopped".into(),
+        ..short.clone()
+    };
+    let (after_stop, never_stopped) = (tip(&short), tip(&fresh));
+    assert!(
+        after_stop
+            .iter()
+            .map(|v| v.to_bits())
+            .eq(never_stopped.iter().map(|v| v.to_bits())),
+        "the run after the stopped pilot differs from a fresh one"
+    );
 }
 
 #[test]
@@ -199,4 +279,36 @@ fn a_pilot_longer_than_the_scene_runs_to_the_scene_end() {
         history.column("tip_y").unwrap()
     };
     assert_eq!(history(Some("1e5")), history(None));
+}
+
+#[test]
+fn a_sweep_row_whose_pilot_fails_is_a_failed_row_and_the_sweep_goes_on() {
+    use flexmbd::sweep::{Axis, Grid, Reference, RunStatus, Sweep};
+    let sweep = Sweep {
+        scene: concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../models/flexible_pendulum.ron"
+        )
+        .into(),
+        sets: vec![
+            "bodies.bar.model.Beam.mode_selection=ProperOrthogonal".into(),
+            "bodies.bar.model.Beam.normal_modes=1".into(),
+            "solver.duration=0.5".into(),
+        ],
+        sensors: vec!["tip_y".into()],
+        reference: Reference::Converged,
+        // At h = 0.25 s the pilot's leading matrix turns singular.
+        grid: Grid {
+            axes: vec![Axis::Step(vec![0.25, 1e-3])],
+        },
+        error_cap: None,
+    };
+    let report = sweep.run().expect("the sweep runs");
+    let (failed, ok) = (&report.runs[0], &report.runs[1]);
+    assert_eq!(failed.status, RunStatus::Failed, "{failed:?}");
+    let reason = failed.reason.as_deref().unwrap_or_default();
+    for part in ["body `bar`", "pilot run", "the leading matrix is singular"] {
+        assert!(reason.contains(part), "`{part}` missing from: {reason}");
+    }
+    assert_eq!(ok.status, RunStatus::Ok, "{ok:?}");
 }

@@ -7,9 +7,10 @@ use std::time::Instant;
 
 use flexmbd_model::Scene;
 
-use super::{Simulation, Summary, columns, compile_scene};
-use crate::Error;
+use super::plan::RunPlan;
+use super::{Setup, Simulation, Summary, columns, compile_scene};
 use crate::output::{History, RowSink};
+use crate::{Error, PilotError};
 
 impl Simulation {
     /// Run from the current state to the scene's duration (or to the first failed step),
@@ -122,6 +123,27 @@ impl Simulation {
 }
 
 impl Summary {
+    /// The summary of a run whose pilot of proper orthogonal modes gave no record: no
+    /// step taken, no row; `status = "interrupted"` when `stop` ended the pilot, else
+    /// `"failed"` with the pilot's error (no `failed_at`: the run itself took no step; the
+    /// pilot's time is in the message).
+    fn of_pilot(
+        scene: &Scene,
+        pilot: Box<PilotError>,
+        preprocessing_seconds: f64,
+    ) -> Result<Self, Error> {
+        let setup = Setup::of(scene, RunPlan::of(scene)?, preprocessing_seconds);
+        let mut summary = setup.summary(0, 0);
+        summary.message = Some(pilot.to_string());
+        if pilot.interrupted() {
+            summary.status = "interrupted".into();
+        } else {
+            summary.status = "failed".into();
+            summary.error = Some(std::sync::Arc::new(Error::Pilot(pilot)));
+        }
+        Ok(summary)
+    }
+
     /// Mark the run interrupted at time `t` (s), after `done` of `steps` steps.
     fn interrupt(&mut self, t: f64, done: usize, steps: usize) {
         self.status = "interrupted".into();
@@ -139,7 +161,9 @@ impl Summary {
 /// history larger than [`HISTORY_MEMORY_LIMIT`](crate::output::HISTORY_MEMORY_LIMIT) are an
 /// `Err`; a run that fails to start (no static equilibrium, no consistent initial conditions)
 /// or fails a step is an `Ok` whose summary says `status = "failed"` with the time, the
-/// message and the typed error, and whose history keeps the rows computed so far.
+/// message and the typed error, and whose history keeps the rows computed so far. A failed
+/// pilot run of proper orthogonal modes is an `Ok` too, `status = "failed"` with the
+/// pilot's [`Error::Pilot`] and no row (the scene is valid, its run failed).
 pub fn run(scene: &Scene, progress: impl FnMut(f64)) -> Result<(Summary, History), Error> {
     let mut history = History::default();
     let summary = run_into(scene, &mut history, &AtomicBool::new(false), progress)?;
@@ -151,6 +175,12 @@ pub fn run(scene: &Scene, progress: impl FnMut(f64)) -> Result<(Summary, History
 /// stop between two steps when `stop` is set (`status = "interrupted"`, the rows so far
 /// written). Nothing is kept in memory but what `sink` keeps.
 ///
+/// The pilot run of proper orthogonal modes, part of compiling the scene, looks at `stop`
+/// between its steps too: stopped, it ends the run with `status = "interrupted"`, a
+/// message that names the pilot, no header and no row (the columns are known once the
+/// scene is compiled, and it is not), and nothing of it kept. A failed pilot is a failed
+/// run, as in [`run`].
+///
 /// The errors are [`run`]'s, and the sink's: an error of the sink ends the run with it.
 pub fn run_into(
     scene: &Scene,
@@ -158,7 +188,14 @@ pub fn run_into(
     stop: &AtomicBool,
     progress: impl FnMut(f64),
 ) -> Result<Summary, Error> {
-    let compiled = compile_scene(scene)?;
+    let clock = Instant::now();
+    let compiled = match compile_scene(scene, stop) {
+        Ok(compiled) => compiled,
+        Err(Error::Pilot(pilot)) => {
+            return Summary::of_pilot(scene, pilot, clock.elapsed().as_secs_f64());
+        }
+        Err(e) => return Err(e),
+    };
     let rows = compiled.setup.plan.rows(0);
     sink.header(&columns(compiled.formulation.sensor_names()), rows)?;
     match Simulation::start(compiled) {
