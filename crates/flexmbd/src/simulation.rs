@@ -24,7 +24,7 @@
 //! [`HISTORY_MEMORY_LIMIT`](crate::output::HISTORY_MEMORY_LIMIT).
 
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use flexmbd_core::CompiledScene;
@@ -434,11 +434,23 @@ impl Simulation {
     /// Step until the time is the multiple of h nearest to `t` (s) (no step when `t` is
     /// not ahead by at least h/2). Stops at the first failed step.
     pub fn advance_to(&mut self, t: f64) -> Result<(), Error> {
+        self.advance_to_or_stop(t, &AtomicBool::new(false))
+            .map(|_| ())
+    }
+
+    /// [`advance_to`](Simulation::advance_to), but `stop` is looked at before each step:
+    /// once it is set the simulation stays where it is, usable, and `Ok(false)` says that
+    /// `t` was not reached (`Ok(true)`: it was). For a host whose user may cancel a long
+    /// advance (Ctrl-C in the Python package).
+    pub fn advance_to_or_stop(&mut self, t: f64, stop: &AtomicBool) -> Result<bool, Error> {
         let h = self.step_size();
         while self.time() + 0.5 * h <= t {
+            if stop.load(Ordering::Relaxed) {
+                return Ok(false);
+            }
             self.step()?;
         }
-        Ok(())
+        Ok(true)
     }
 
     /// Current time (s): t₀ + k h after k steps.

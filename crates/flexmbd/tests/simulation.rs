@@ -174,3 +174,27 @@ fn steps_do_not_allocate() {
         );
     }
 }
+
+/// `advance_to_or_stop` with its flag set takes no step and says `t` was not reached; with
+/// the flag clear it reaches `t` as `advance_to` does, bit for bit.
+#[test]
+fn advance_to_or_stop_stays_put_while_stopped_and_otherwise_advances_as_advance_to() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let scene = model("double_four_bar.ron");
+    let mut plain = Simulation::new(&scene).unwrap();
+    plain.advance_to(0.25).unwrap();
+    let mut host = Simulation::new(&scene).unwrap();
+    let stop = AtomicBool::new(true);
+    assert!(!host.advance_to_or_stop(0.25, &stop).unwrap());
+    assert_eq!((host.time(), host.stats().steps), (0.0, 0));
+    stop.store(false, Ordering::Relaxed);
+    assert!(host.advance_to_or_stop(0.25, &stop).unwrap());
+    assert_eq!(host.time().to_bits(), plain.time().to_bits());
+    let bits = |s: &Simulation| {
+        s.positions()
+            .iter()
+            .map(|x| x.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&host), bits(&plain));
+}
