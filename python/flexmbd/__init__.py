@@ -188,7 +188,8 @@ class Result:
     - ``status``: ``"ok"``, or ``"failed"`` (a step, the static start or the initial
       conditions failed; ``failed_at`` and ``message`` say when and why, and the rows stop
       there; or the pilot run of proper orthogonal modes failed: no row, no ``failed_at``,
-      the pilot's time in ``message``);
+      the pilot's time in ``message``), or ``"interrupted"`` (Ctrl-C: the ``result`` of the
+      ``KeyboardInterrupt`` that :func:`simulate` raised, with the rows so far);
     - ``summary``: the run summary, the fields of ``flexmbd simulate --json``;
     - ``data``: every row, a 2-D float64 array with the columns ``columns`` (``t``, then
       the sensors); ``t`` its first column, ``sensors`` the others, ``names`` their names;
@@ -202,7 +203,7 @@ class Result:
 
     @property
     def status(self) -> str:
-        """``"ok"`` or ``"failed"``."""
+        """``"ok"``, ``"failed"`` or ``"interrupted"``."""
         return self.summary["status"]
 
     @property
@@ -268,12 +269,20 @@ def simulate(
 
     The GIL is released during the run. Raises :class:`SceneError` for refused input; a
     step that fails is reported by ``status == "failed"`` (see ``Result.raise_for_status``).
+
+    Ctrl-C stops the run between two steps and raises ``KeyboardInterrupt`` (or whatever
+    exception a signal handler raised) with the rows so far as its ``result`` attribute, a
+    :class:`Result` with ``status == "interrupted"``.
     """
     scene = load(source, sets)
     scene._scene.set_options(formulation, inertia, stiffening, step, duration)
-    summary, columns, raw, rows = _native.simulate(scene._scene)
+    summary, columns, raw, rows, raised = _native.simulate(scene._scene)
     data = np.frombuffer(raw, dtype=np.float64).reshape(rows, len(columns)).copy()
-    return Result(json.loads(summary), columns, data)
+    result = Result(json.loads(summary), columns, data)
+    if raised is not None:
+        raised.result = result
+        raise raised
+    return result
 
 
 class Checkpoint:
@@ -315,7 +324,8 @@ class Simulation:
         self._sim.step()
 
     def advance_to(self, t: float) -> None:
-        """Step until the time reaches ``t`` (s)."""
+        """Step until the time reaches ``t`` (s). Ctrl-C stops it between two steps and
+        raises ``KeyboardInterrupt``; the simulation stays usable at the time reached."""
         self._sim.advance_to(t)
 
     @property

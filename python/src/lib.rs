@@ -12,6 +12,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod interrupt;
 mod run;
 mod scene;
 mod stepping;

@@ -1,13 +1,20 @@
 //! Whole runs, the static equilibrium, the linearised free vibration and the mode
 //! inventory, with the GIL released while Rust computes.
 
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::channel;
+
+use flexmbd::History;
 use flexmbd::fe::{BeamBodySpec, FeError, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::simulation;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::errors::{SceneFields, fe_fields, scene_error, static_error, to_py};
+use crate::interrupt::wait_for_answer;
 use crate::scene::PyScene;
 
 /// Values as their native-endian bytes, for `numpy.frombuffer` (no rounding: the bits).
@@ -15,25 +22,63 @@ fn as_bytes(values: impl Iterator<Item = f64>) -> Vec<u8> {
     values.flat_map(f64::to_ne_bytes).collect()
 }
 
-/// Run `scene` to its duration as `flexmbd simulate` does (`simulation::run`), with the
-/// GIL released. Returns the summary as the program's `--json` text, the columns (`t`,
-/// then the sensors), the rows as the bytes of a row-major float64 array, and the number
-/// of rows. A failed step is not an exception: the summary says `failed` and the rows
-/// stop there. Refusals before the run (e.g. a history too large for memory) raise.
+/// Run `scene` to its duration as `flexmbd simulate` does (`simulation::run_into`), on a
+/// thread of its own with the GIL released. Returns the summary as the program's `--json`
+/// text, the columns (`t`, then the sensors), the rows as the bytes of a row-major float64
+/// array, the number of rows, and the exception a signal handler raised during the run
+/// (`None` if none did): Ctrl-C stops the run between two steps (`status = "interrupted"`,
+/// the rows so far kept) and its KeyboardInterrupt comes back here for the package to
+/// raise with the rows (`crate::interrupt`). A failed step is not an exception: the summary
+/// says `failed` and the rows stop there. Refusals before the run raise.
 #[pyfunction]
-pub fn simulate<'py>(
-    py: Python<'py>,
-    scene: &PyScene,
-) -> PyResult<(String, Vec<String>, Bound<'py, PyBytes>, usize)> {
+pub fn simulate<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Simulated<'py>> {
     let scene = scene.scene.clone();
-    let outcome = py.detach(move || simulation::run(&scene, |_| {}));
-    let (summary, history) = outcome.map_err(|e| to_py(py, &e))?;
-    let summary_json = serde_json::to_string(&summary)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    let stop = AtomicBool::new(false);
+    let (answer, answers) = channel();
+    let answers = Mutex::new(answers);
+    let (outcome, raised) = std::thread::scope(|threads| {
+        let (scene, stop) = (&scene, &stop);
+        threads.spawn(move || {
+            let mut history = History::default();
+            let outcome = simulation::run_into(scene, &mut history, stop, |_| {});
+            let _ = answer.send(outcome.map(|summary| (summary, history)));
+        });
+        wait_for_answer(py, &answers, || stop.store(true, Ordering::Relaxed))
+    });
+    let outcome = match (outcome, raised) {
+        (Some(Ok(outcome)), raised) => (outcome, raised),
+        (_, Some(raised)) => return Err(raised),
+        (Some(Err(e)), None) => return Err(to_py(py, &e)),
+        (None, None) => {
+            return Err(PyRuntimeError::new_err(
+                "the run's thread ended without an answer",
+            ));
+        }
+    };
+    let ((summary, history), raised) = outcome;
+    let summary_json =
+        serde_json::to_string(&summary).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let rows = history.rows.len();
     let bytes = as_bytes(history.rows.iter().flatten().copied());
-    Ok((summary_json, history.header, PyBytes::new(py, &bytes), rows))
+    let raised = raised.map(|e| e.into_value(py).into_bound(py).into_any());
+    Ok((
+        summary_json,
+        history.header,
+        PyBytes::new(py, &bytes),
+        rows,
+        raised,
+    ))
 }
+
+/// What [`simulate`] returns: summary, columns, rows (bytes), row count, the exception a
+/// signal handler raised during the run.
+type Simulated<'py> = (
+    String,
+    Vec<String>,
+    Bound<'py, PyBytes>,
+    usize,
+    Option<Bound<'py, PyAny>>,
+);
 
 /// The static equilibrium of `scene` at t = 0 as JSON text (the `--json` output of
 /// `flexmbd equilibrium`), solved with the GIL released. No equilibrium found raises
@@ -43,8 +88,7 @@ pub fn equilibrium(py: Python<'_>, scene: &PyScene) -> PyResult<String> {
     let scene = scene.scene.clone();
     let solved = py.detach(|| flexmbd::equilibrium(&scene));
     let equilibrium = solved.map_err(|e| static_error(py, &scene.origin, &e))?;
-    serde_json::to_string(&equilibrium)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+    serde_json::to_string(&equilibrium).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The linearised free vibration of `scene` about its static equilibrium as JSON text (the
@@ -55,8 +99,7 @@ pub fn eigen(py: Python<'_>, scene: &PyScene) -> PyResult<String> {
     let scene = scene.scene.clone();
     let solved = py.detach(|| flexmbd::vibration(&scene));
     let vibration = solved.map_err(|e| static_error(py, &scene.origin, &e))?;
-    serde_json::to_string(&vibration)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+    serde_json::to_string(&vibration).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The mode inventory of the body model at `path` as JSON text (the `--json` output of
@@ -69,8 +112,7 @@ pub fn modes(py: Python<'_>, path: &str) -> PyResult<String> {
         .detach(|| reduce(&spec))
         .map_err(|e| scene_error(py, &format!("{path}: {e}"), file_fields(path, &e)))?;
     let inventory = Inventory::of(path, &body);
-    serde_json::to_string(&inventory)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
+    serde_json::to_string(&inventory).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The fields of a body model's refusal, naming `path` when the error does not.

@@ -9,10 +9,14 @@
 //!
 //! The scene's named inputs are set between steps by name (`set_input`), as
 //! `flexmbd::Simulation::set_input_by_name`.
+//!
+//! Ctrl-C while the Python object waits (`crate::interrupt`) sets the simulation's stop
+//! flag: an `advance_to` under way stops between two steps, the simulation stays usable
+//! where it is, and the KeyboardInterrupt is raised.
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex};
 
 use flexmbd::integrators::Checkpoint;
 use flexmbd::model::Scene;
@@ -21,6 +25,7 @@ use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::errors::to_py;
+use crate::interrupt::wait_for_answer;
 use crate::scene::PyScene;
 
 /// The identity of the next simulation made, so that a checkpoint is restored only into
@@ -61,6 +66,7 @@ type Started = Result<(Vec<String>, Vec<String>, f64), Error>;
 /// answer each request until the Python object (the sender of `requests`) is gone.
 fn serve(
     scene: Scene,
+    stop: Arc<AtomicBool>,
     started: Sender<Started>,
     requests: Receiver<Request>,
     replies: Sender<Reply>,
@@ -84,7 +90,9 @@ fn serve(
     for request in requests {
         let outcome = match request {
             Request::Step => Outcome::Stepped(simulation.step()),
-            Request::AdvanceTo(t) => Outcome::Stepped(simulation.advance_to(t)),
+            Request::AdvanceTo(t) => {
+                Outcome::Stepped(simulation.advance_to_or_stop(t, &stop).map(|_| ()))
+            }
             Request::SetInput(name, values) => {
                 Outcome::Stepped(simulation.set_input_by_name(&name, &values))
             }
@@ -116,6 +124,8 @@ fn serve(
 #[pyclass(name = "Simulation", module = "flexmbd._native")]
 pub struct PySimulation {
     requests: Sender<Request>,
+    /// Set on Ctrl-C while a request is under way; cleared when it is answered.
+    stop: Arc<AtomicBool>,
     /// In a mutex only to make the class `Sync` (the object's `&mut self` already
     /// serialises the requests).
     replies: Mutex<Receiver<Reply>>,
@@ -146,16 +156,21 @@ impl PyCheckpoint {
 
 impl PySimulation {
     /// Send `request` to the simulation's thread and wait for its outcome, the GIL released.
+    /// An exception of a signal handler while waiting (KeyboardInterrupt) stops an advance
+    /// between two steps and is raised once the thread has answered, the time updated.
     fn ask(&mut self, py: Python<'_>, request: Request) -> PyResult<Outcome> {
-        let (requests, replies) = (&self.requests, &self.replies);
-        let reply = py.detach(|| {
-            requests.send(request).ok()?;
-            replies.lock().ok()?.recv().ok()
-        });
-        let reply =
-            reply.ok_or_else(|| PyRuntimeError::new_err("the simulation's thread has ended"))?;
+        let ended = || PyRuntimeError::new_err("the simulation's thread has ended");
+        self.requests.send(request).map_err(|_| ended())?;
+        let stop = &self.stop;
+        let (reply, raised) =
+            wait_for_answer(py, &self.replies, || stop.store(true, Ordering::Relaxed));
+        self.stop.store(false, Ordering::Relaxed);
+        let reply = reply.ok_or_else(ended)?;
         self.time = reply.time;
-        Ok(reply.outcome)
+        match raised {
+            Some(e) => Err(e),
+            None => Ok(reply.outcome),
+        }
     }
 
     /// Step as `request` asks; a failed step as `RunError`.
@@ -182,9 +197,11 @@ impl PySimulation {
         let (started_tx, started_rx) = channel();
         let (requests, requests_rx) = channel();
         let (replies_tx, replies) = channel();
+        let stop = Arc::new(AtomicBool::new(false));
+        let stop_of_thread = Arc::clone(&stop);
         std::thread::Builder::new()
             .name("flexmbd-simulation".into())
-            .spawn(move || serve(scene, started_tx, requests_rx, replies_tx))
+            .spawn(move || serve(scene, stop_of_thread, started_tx, requests_rx, replies_tx))
             .map_err(|e| {
                 PyRuntimeError::new_err(format!("cannot start the simulation's thread: {e}"))
             })?;
@@ -194,6 +211,7 @@ impl PySimulation {
         let (names, inputs, step_size) = started.map_err(|e| to_py(py, &e))?;
         Ok(PySimulation {
             requests,
+            stop,
             replies: Mutex::new(replies),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             names,
