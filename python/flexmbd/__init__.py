@@ -307,11 +307,11 @@ class Simulation:
     ``sensor(name)`` read the sensors in between. A failed pilot run of proper orthogonal
     modes raises :class:`RunError` (``time`` None) when it is made. A failed step raises
     :class:`RunError` and leaves the simulation at its last good state; ``checkpoint()`` / ``restore()``
-    return to a saved one. The simulation runs on a thread of its own; a call waits for it
-    with the GIL released, so other Python threads run meanwhile.
-
-    TODO (issue 15 item 2): inputs between steps — driver values, external forces and
-    torques, parameters — once the Rust ``Simulation`` has them.
+    return to a saved one. ``set_input(name, values)`` sets one of the scene's inputs for
+    the steps that follow. The simulation runs on a thread of its own; a call waits for it
+    with the GIL released, so other Python threads run meanwhile. Ctrl-C stops a pilot run
+    while the simulation is made, or an ``advance_to`` between two steps, and raises
+    ``KeyboardInterrupt``.
     """
 
     __slots__ = ("_sim",)

@@ -71,7 +71,9 @@ fn serve(
     requests: Receiver<Request>,
     replies: Sender<Reply>,
 ) {
-    let mut simulation = match Simulation::new(&scene) {
+    let made = Simulation::new_or_stop(&scene, &stop);
+    stop.store(false, Ordering::Relaxed);
+    let mut simulation = match made {
         Ok(s) => s,
         Err(e) => {
             let _ = started.send(Err(e));
@@ -120,7 +122,9 @@ fn serve(
     }
 }
 
-/// A stepping simulation of a scene, at t = 0 in consistent initial conditions when made.
+/// A stepping simulation of a scene, at t = 0 in consistent initial conditions when made
+/// (Ctrl-C while it is made stops the pilot run of proper orthogonal modes, if any, and
+/// raises KeyboardInterrupt).
 #[pyclass(name = "Simulation", module = "flexmbd._native")]
 pub struct PySimulation {
     requests: Sender<Request>,
@@ -205,9 +209,14 @@ impl PySimulation {
             .map_err(|e| {
                 PyRuntimeError::new_err(format!("cannot start the simulation's thread: {e}"))
             })?;
-        let started = py
-            .detach(move || started_rx.recv())
-            .map_err(|_| PyRuntimeError::new_err("the simulation's thread has ended"))?;
+        let (started, raised) = wait_for_answer(py, &Mutex::new(started_rx), || {
+            stop.store(true, Ordering::Relaxed)
+        });
+        if let Some(raised) = raised {
+            return Err(raised);
+        }
+        let started =
+            started.ok_or_else(|| PyRuntimeError::new_err("the simulation's thread has ended"))?;
         let (names, inputs, step_size) = started.map_err(|e| to_py(py, &e))?;
         Ok(PySimulation {
             requests,

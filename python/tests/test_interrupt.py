@@ -61,3 +61,20 @@ def test_ctrl_c_stops_advance_to_and_the_simulation_goes_on_from_there():
     fresh.step()
     assert fresh.time == sim.time
     assert same_bits(fresh.sensors(), sim.sensors())
+
+
+def test_ctrl_c_stops_the_pilot_run_of_a_simulation_being_made():
+    # Proper orthogonal modes from a pilot run of the scene's length, 10⁵ s: minutes.
+    sets = {
+        "bodies.bar.model.Beam.mode_selection": "ProperOrthogonal",
+        "bodies.bar.model.Beam.normal_modes": 1,
+        "solver.duration": 1e5,
+    }
+    timer = sigint_after(0.5)
+    started = time.monotonic()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            flexmbd.Simulation(model("flexible_pendulum.ron"), sets=sets)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 30.0

@@ -351,7 +351,15 @@ impl Simulation {
     /// conditions consistent (methods.md §5.4). The scene should be validated (as
     /// [`Scene::load`] does).
     pub fn new(scene: &Scene) -> Result<Simulation, Error> {
-        Self::start(compile_scene(scene, &crate::pilot::NO_STOP)?).map_err(|failure| failure.error)
+        Self::new_or_stop(scene, &crate::pilot::NO_STOP)
+    }
+
+    /// [`new`](Simulation::new), with the pilot run of proper orthogonal modes (part of
+    /// compiling a scene that asks for them, [`crate::pilot`]) looking at `stop` between its
+    /// steps: once it is set, the pilot ends and so does this, with [`Error::Pilot`]
+    /// ([`PilotError::interrupted`](crate::PilotError::interrupted)).
+    pub fn new_or_stop(scene: &Scene, stop: &AtomicBool) -> Result<Simulation, Error> {
+        Self::start(compile_scene(scene, stop)?).map_err(|failure| failure.error)
     }
 
     /// The static start (if asked for) and ALI3-P's consistent initial conditions.
