@@ -488,6 +488,15 @@ fn run_with_progress_bar(
 /// the CPU time went, the failure or interruption if any, the warnings, and the files
 /// written (`outputs`).
 fn print_summary(summary: &Summary, outputs: [Option<&Path>; 2]) {
+    if summary.n_coordinates == 0 && summary.steps == 0 {
+        // Stopped while the scene was prepared (its pilot run): no model, no step to report.
+        eprintln!(
+            "{}: {} before the scene was compiled ({} {} {})",
+            summary.scene, summary.status, summary.formulation, summary.inertia, summary.stiffening
+        );
+        print_outcome(summary, outputs);
+        return;
+    }
     eprintln!(
         "{}: {} — {} coordinates, {} constraints, {} {} {}",
         summary.scene,
@@ -513,6 +522,11 @@ fn print_summary(summary: &Summary, outputs: [Option<&Path>; 2]) {
         summary.time_projection,
         summary.preprocessing_seconds
     );
+    print_outcome(summary, outputs);
+}
+
+/// The failure or interruption if any, the warnings and the files written.
+fn print_outcome(summary: &Summary, outputs: [Option<&Path>; 2]) {
     if let (Some(t), Some(m)) = (summary.failed_at, &summary.message) {
         eprintln!("  failed at t = {t:.6} s: {m}");
     } else if let Some(m) = &summary.message {

@@ -104,6 +104,10 @@ fn a_failed_pilot_exits_as_a_failed_run_naming_the_body_and_the_failure() {
         ],
     );
     assert!(!csv.exists(), "no header: the scene was never compiled");
+    assert!(
+        err.contains("failed before the scene was compiled") && !err.contains("0 coordinates"),
+        "the summary reports no model size for a scene never compiled: {err}"
+    );
 
     // The static analyses prepare the scene too: the same failure, the same exit code.
     for command in ["equilibrium", "eigen"] {
