@@ -104,9 +104,15 @@ fn a_failed_pilot_exits_as_a_failed_run_naming_the_body_and_the_failure() {
         ],
     );
     assert!(!csv.exists(), "no header: the scene was never compiled");
+    // Without --json the summary is text on stderr: no model size for a scene never compiled.
+    let mut args = vec!["simulate", &pendulum];
+    args.extend(FAILING_PILOT);
+    let out = flexmbd().args(&args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code(&out), 4, "{err}");
     assert!(
         err.contains("failed before the scene was compiled") && !err.contains("0 coordinates"),
-        "the summary reports no model size for a scene never compiled: {err}"
+        "{err}"
     );
 
     // The static analyses prepare the scene too: the same failure, the same exit code.
