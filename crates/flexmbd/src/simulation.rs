@@ -355,7 +355,7 @@ impl Simulation {
     }
 
     /// [`new`](Simulation::new), with the pilot run of proper orthogonal modes (part of
-    /// compiling a scene that asks for them, [`crate::pilot`]) looking at `stop` between its
+    /// compiling a scene that asks for them, docs/methods.md §1.6) looking at `stop` between its
     /// steps: once it is set, the pilot ends and so does this, with [`Error::Pilot`]
     /// ([`PilotError::interrupted`](crate::PilotError::interrupted)).
     pub fn new_or_stop(scene: &Scene, stop: &AtomicBool) -> Result<Simulation, Error> {
