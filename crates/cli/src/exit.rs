@@ -32,7 +32,9 @@ Exit codes:
       the pilot run of proper orthogonal modes failed
   5   interrupted by Ctrl-C (SIGINT) or SIGTERM: the rows so far are written, the summary says
       \"interrupted\" (during the pilot run: no row, the output files untouched; a second
-      signal ends the program at once, without the summary)
+      signal ends the program at once, without the summary); sweep and tune: the runs
+      finished are printed, the others marked \"interrupted\" (none when it came during the
+      converged reference)
   6   tune: no run of the sweep meets the tolerance (the candidates are printed all the same)
   70  internal error: a bug in flexmbd, please report it";
 

@@ -349,7 +349,7 @@ fn apply_solver_options(
 
 /// A flag that the first SIGINT or SIGTERM sets (the run stops at the next step); a
 /// second one ends the program at once with [`exit::INTERRUPTED`].
-fn stop_on_signals() -> std::io::Result<Arc<AtomicBool>> {
+pub(crate) fn stop_on_signals() -> std::io::Result<Arc<AtomicBool>> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let stop = Arc::new(AtomicBool::new(false));
     for signal in [SIGINT, SIGTERM] {

@@ -15,7 +15,7 @@ use flexmbd::sweep::{
 };
 use serde::Serialize;
 
-use crate::{CliResult, exit, load_scene, parse_stiffening};
+use crate::{CliResult, exit, load_scene, parse_stiffening, stop_on_signals};
 
 /// The default grid as `--help` describes it.
 pub const DEFAULT_GRID_HELP: &str = "\
@@ -189,7 +189,7 @@ impl SweepInput {
         Ok(scene)
     }
 
-    /// Check the sweep, tell stderr what runs, and run it.
+    /// Check the sweep, tell stderr what runs, and run it until Ctrl-C or SIGTERM.
     fn run(&self, sweep: &Sweep) -> Result<SweepReport, SweepError> {
         if let Some(cap) = self.error_cap
             && !(cap.is_finite() && cap > 0.0)
@@ -200,7 +200,11 @@ impl SweepInput {
             });
         }
         eprintln!("sweeping {}…", self.scene.display());
-        sweep.run()
+        match stop_on_signals() {
+            Ok(stop) => sweep.run_or_stop(&stop),
+            // Without the handlers a signal ends the program, as before they existed.
+            Err(_) => sweep.run(),
+        }
     }
 }
 
@@ -210,6 +214,7 @@ fn refused(e: &SweepError) -> u8 {
     eprintln!("error: {e}");
     match e {
         SweepError::ReferenceRun { .. } => exit::RUN_FAILED,
+        SweepError::Interrupted { .. } => exit::INTERRUPTED,
         _ => exit::INVALID_INPUT,
     }
 }
@@ -227,7 +232,24 @@ pub fn sweep(input: &SweepInput) -> CliResult {
     } else {
         write!(out, "{}", table(&report))?;
     }
-    Ok(exit::SUCCESS)
+    Ok(interrupted(&report).unwrap_or(exit::SUCCESS))
+}
+
+/// For a sweep the stop flag ended: say so on stderr and give its exit code.
+fn interrupted(report: &SweepReport) -> Option<u8> {
+    if !report.interrupted {
+        return None;
+    }
+    let finished = report
+        .runs
+        .iter()
+        .filter(|r| r.status != RunStatus::Interrupted)
+        .count();
+    eprintln!(
+        "interrupted: {finished} of {} runs finished (the others are marked interrupted); the Pareto front is of the finished runs, timed in parallel",
+        report.runs.len()
+    );
+    Some(exit::INTERRUPTED)
 }
 
 /// What `flexmbd tune --json` prints: the choice, then the sweep it was made from.
@@ -256,6 +278,21 @@ pub fn tune(args: &TuneArgs) -> CliResult {
         Ok(r) => r,
         Err(e) => return Ok(refused(&e)),
     };
+    if report.interrupted {
+        // No choice from part of the grid: the cheapest run that meets the tolerance may
+        // be one that did not finish.
+        if args.input.json {
+            writeln!(
+                std::io::stdout().lock(),
+                "{}",
+                serde_json::to_string(&report)?
+            )?;
+        } else {
+            write!(std::io::stdout().lock(), "{}", table(&report))?;
+        }
+        eprintln!("tune: no choice is made from an interrupted sweep");
+        return Ok(interrupted(&report).unwrap_or(exit::INTERRUPTED));
+    }
     let tuning = match flexmbd::sweep::tune(&sweep, &mut report, tolerance) {
         Ok(t) => t,
         Err(e) => return Ok(refused(&e)),
@@ -354,7 +391,7 @@ fn table(report: &SweepReport) -> String {
     );
     s += &format!("  {}\n\n", report.timing);
     s += &format!(
-        "{:>5} {:1} {:<48} {:<8} {:>6} {:>11} {:>11} {:>10} {:>8}  reason\n",
+        "{:>5} {:1} {:<48} {:<11} {:>6} {:>11} {:>11} {:>10} {:>8}  reason\n",
         "index", "", "run", "status", "coords", "max error", "rms", "CPU (s)", "timed"
     );
     for r in &report.runs {
@@ -363,6 +400,7 @@ fn table(report: &SweepReport) -> String {
             RunStatus::Ok => "ok",
             RunStatus::Failed => "failed",
             RunStatus::Unstable => "unstable",
+            RunStatus::Interrupted => "interrupted",
         };
         let (error, rms) = if r.status == RunStatus::Ok {
             (format!("{:.3e}", r.error), format!("{rms:.3e}"))
@@ -370,7 +408,7 @@ fn table(report: &SweepReport) -> String {
             ("–".into(), "–".into())
         };
         s += &format!(
-            "{:>5} {:1} {:<48} {:<8} {:>6} {:>11} {:>11} {:>10.4} {:>8}  {}\n",
+            "{:>5} {:1} {:<48} {:<11} {:>6} {:>11} {:>11} {:>10.4} {:>8}  {}\n",
             r.index,
             if report.pareto.contains(&r.index) {
                 "*"

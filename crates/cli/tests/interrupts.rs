@@ -220,3 +220,54 @@ fn sigint_ends_the_pilot_run_of_proper_orthogonal_modes_as_interrupted() {
     assert!(!csv.exists(), "the CSV was written");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// SIGINT during the runs of a sweep: exit 5, the table printed with the runs under way
+/// marked interrupted, stderr saying how many finished. The reference is a file (so the
+/// grid starts at once) and each run is 10⁷ steps, minutes: the signal comes during them.
+#[test]
+fn sigint_during_a_sweep_prints_what_finished_and_exits_interrupted() {
+    let dir = temp_dir("interrupt-sweep");
+    let reference = dir.join("reference.csv");
+    let rows: String = (0..=1000).map(|k| format!("{},0\n", 10 * k)).collect();
+    std::fs::write(&reference, format!("t,B0_x\n{rows}")).unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args([
+            "sweep",
+            &format!(
+                "{}/../../models/double_four_bar.ron",
+                env!("CARGO_MANIFEST_DIR")
+            ),
+            "--sensor",
+            "B0_x",
+            "--set",
+            "solver.duration=1e4",
+            "--set",
+            "solver.output_interval=10",
+            "--grid",
+            "step=1e-3,5e-4",
+            "--reference",
+        ])
+        .arg(&reference)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    send(&child, "INT");
+    let out = finish(child);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(out.status.code(), Some(5), "{stderr}");
+    assert!(
+        stderr.contains("interrupted: 0 of 2 runs finished"),
+        "{stderr}"
+    );
+    let stopped = stdout
+        .lines()
+        .filter(|l| l.contains(" interrupted ") && l.contains("interrupted at t = "))
+        .count();
+    assert_eq!(stopped, 2, "{stdout}");
+    std::fs::remove_dir_all(&dir).ok();
+}

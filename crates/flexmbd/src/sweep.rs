@@ -19,8 +19,13 @@
 //! and their CPU time is the median of [`RETIME_REPEATS`] such runs
 //! ([`RETIME_REPEATS_SHORT`] for a run under [`SHORT_RUN`]; [`RunRecord::timed`] says which
 //! time a record holds).
+//!
+//! [`Sweep::run_or_stop`] looks at a stop flag (Ctrl-C in `flexmbd sweep`) between the
+//! steps of every run: once it is set the runs under way end `interrupted`, those not
+//! started are not made, and the report holds what finished ([`SweepReport::interrupted`]).
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use flexmbd_model::Scene;
@@ -92,6 +97,8 @@ pub enum RunStatus {
     Failed,
     /// Finished, but a judged value is not finite or the error is above the cap.
     Unstable,
+    /// Stopped by the sweep's stop flag, or not started once it was set.
+    Interrupted,
 }
 
 /// Where a record's CPU time comes from.
@@ -168,6 +175,11 @@ pub struct SweepReport {
     /// The wall-clock times of its runs added up (s): about `threads` times the above
     /// when the cores are kept busy.
     pub sum_run_seconds: f64,
+    /// The stop flag ended the sweep ([`Sweep::run_or_stop`]): some runs are
+    /// [`RunStatus::Interrupted`], and the front is of the finished runs, timed in
+    /// parallel (none was timed alone).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
 }
 
 /// A sweep checked and ready to run: the scene as loaded, its grid points, the reference.
@@ -185,6 +197,8 @@ struct Outcome {
     summary: Option<simulation::Summary>,
     history: Option<crate::History>,
     failure: Option<String>,
+    /// Stopped by the flag, or not started because it was set.
+    interrupted: bool,
     wall_seconds: f64,
 }
 
@@ -193,38 +207,45 @@ impl Sweep {
         self.scene.display().to_string()
     }
 
-    /// Run `point`: build its scene and run it to the scene's duration.
-    fn execute(&self, pristine: &Scene, point: &grid::GridPoint) -> Outcome {
+    /// Run `point`: build its scene and run it to the scene's duration, or until `stop` is
+    /// set (not at all if it is set already).
+    fn execute(&self, pristine: &Scene, point: &grid::GridPoint, stop: &AtomicBool) -> Outcome {
         let clock = Instant::now();
+        let ended = |failure: String, interrupted: bool| Outcome {
+            summary: None,
+            history: None,
+            failure: Some(failure),
+            interrupted,
+            wall_seconds: clock.elapsed().as_secs_f64(),
+        };
+        if stop.load(Ordering::Relaxed) {
+            return ended("not run: the sweep was interrupted".into(), true);
+        }
         let scene = match point.scene(pristine, &self.sets) {
             Ok(s) => s,
-            Err(e) => {
-                return Outcome {
-                    summary: None,
-                    history: None,
-                    failure: Some(e.to_string()),
-                    wall_seconds: clock.elapsed().as_secs_f64(),
-                };
-            }
+            Err(e) => return ended(e.to_string(), false),
         };
-        let (summary, history, failure) = match simulation::run(&scene, |_| {}) {
-            Ok((s, h)) => {
-                let failure = (s.status != "ok").then(|| {
-                    let at = s
-                        .failed_at
-                        .map_or(String::new(), |t| format!("at t = {t} s: "));
-                    format!(
-                        "{at}{}",
-                        s.message.clone().unwrap_or_else(|| s.status.clone())
-                    )
-                });
-                (Some(s), Some(h), failure)
-            }
-            Err(e) => (None, None, Some(e.to_string())),
+        let mut history = crate::History::default();
+        let summary = match simulation::run_into(&scene, &mut history, stop, |_| {}) {
+            Ok(s) => s,
+            Err(e) => return ended(e.to_string(), false),
         };
+        let failure = (summary.status != "ok").then(|| {
+            let at = summary
+                .failed_at
+                .map_or(String::new(), |t| format!("at t = {t} s: "));
+            format!(
+                "{at}{}",
+                summary
+                    .message
+                    .clone()
+                    .unwrap_or_else(|| summary.status.clone())
+            )
+        });
         Outcome {
-            summary,
-            history,
+            interrupted: summary.status == "interrupted",
+            summary: Some(summary),
+            history: Some(history),
             failure,
             wall_seconds: clock.elapsed().as_secs_f64(),
         }
@@ -249,7 +270,7 @@ impl Sweep {
     pub fn converged_reference(&self) -> Result<(ReferenceTable, Vec<SensorError>), SweepError> {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
-        let (table, _, margin) = self.converged(&pristine, &base)?;
+        let (table, _, margin) = self.converged(&pristine, &base, &AtomicBool::new(false))?;
         Ok((table, margin.unwrap_or_default()))
     }
 
@@ -272,7 +293,7 @@ impl Sweep {
     /// Check the sweep and make its reference: the scene loads with the base overrides,
     /// the sensors are the scene's, the grid is not empty, the reference has every judged
     /// sensor and covers the run.
-    fn prepare(&self) -> Result<Prepared, SweepError> {
+    fn prepare(&self, stop: &AtomicBool) -> Result<Prepared, SweepError> {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
         let points = self.grid.points(&base)?;
@@ -282,7 +303,7 @@ impl Sweep {
                 (table, path.display().to_string(), None)
             }
             Reference::Table(table) => (table.clone(), table.origin.clone(), None),
-            Reference::Converged => self.converged(&pristine, &base)?,
+            Reference::Converged => self.converged(&pristine, &base, stop)?,
         };
         self.check_reference(&reference, &base)?;
         let largest = self
@@ -337,6 +358,7 @@ impl Sweep {
         &self,
         pristine: &Scene,
         base: &Scene,
+        stop: &AtomicBool,
     ) -> Result<(ReferenceTable, String, Option<Vec<SensorError>>), SweepError> {
         let richest = self.grid.richest(base)?;
         let h = richest
@@ -356,7 +378,10 @@ impl Sweep {
                 label: label.clone(),
                 message,
             };
-            let outcome = self.execute(pristine, point);
+            let outcome = self.execute(pristine, point, stop);
+            if outcome.interrupted {
+                return Err(SweepError::Interrupted { label });
+            }
             if let Some(f) = outcome.failure {
                 return Err(fail(f));
             }
@@ -410,6 +435,9 @@ impl Sweep {
             simulated_seconds: summary.map_or(0.0, |s| s.simulated_seconds),
             costlier_than: None,
         };
+        if outcome.interrupted {
+            record.status = RunStatus::Interrupted;
+        }
         if outcome.failure.is_some() {
             return record;
         }
@@ -442,19 +470,31 @@ impl Sweep {
     /// Run the sweep: check it, run every grid point in parallel, judge each, and time the
     /// runs of the Pareto front alone.
     pub fn run(&self) -> Result<SweepReport, SweepError> {
-        let prepared = self.prepare()?;
+        self.run_or_stop(&AtomicBool::new(false))
+    }
+
+    /// [`run`](Sweep::run), with `stop` looked at between the steps of every run (the
+    /// converged reference's too): set during the reference, the sweep ends with
+    /// [`SweepError::Interrupted`]; during the grid, the runs under way end
+    /// [`RunStatus::Interrupted`], the others are not made, and the report of what finished
+    /// says [`interrupted`](SweepReport::interrupted), its front not timed alone.
+    pub fn run_or_stop(&self, stop: &AtomicBool) -> Result<SweepReport, SweepError> {
+        let prepared = self.prepare(stop)?;
         let clock = Instant::now();
         let outcomes: Vec<(RunRecord, f64)> = prepared
             .points
             .par_iter()
             .map(|p| {
-                let outcome = self.execute(&prepared.pristine, p);
+                let outcome = self.execute(&prepared.pristine, p, stop);
                 let wall = outcome.wall_seconds;
                 (self.record(p, outcome, &prepared), wall)
             })
             .collect();
         let parallel_wall_seconds = clock.elapsed().as_secs_f64();
         let sum_run_seconds = outcomes.iter().map(|o| o.1).sum();
+        let interrupted = outcomes
+            .iter()
+            .any(|o| o.0.status == RunStatus::Interrupted);
         let mut report = SweepReport {
             scene: prepared.pristine.name.clone(),
             sensors: self.sensors.clone(),
@@ -474,8 +514,13 @@ impl Sweep {
             threads: rayon::current_num_threads(),
             parallel_wall_seconds,
             sum_run_seconds,
+            interrupted,
         };
-        self.settle_front(&mut report)?;
+        if interrupted {
+            report.pareto = front_of(&report);
+        } else {
+            self.settle_front(&mut report)?;
+        }
         Ok(report)
     }
 
@@ -483,15 +528,7 @@ impl Sweep {
     /// alone.
     fn settle_front(&self, report: &mut SweepReport) -> Result<(), SweepError> {
         loop {
-            let points: Vec<(f64, f64)> = report
-                .runs
-                .iter()
-                .map(|r| match r.status {
-                    RunStatus::Ok => (r.error, r.cpu_seconds),
-                    _ => (f64::INFINITY, f64::INFINITY),
-                })
-                .collect();
-            let front = pareto_front(&points);
+            let front = front_of(report);
             let pending: Vec<usize> = front
                 .iter()
                 .copied()
@@ -527,7 +564,7 @@ impl Sweep {
             let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);
             let mut repeats = RETIME_REPEATS;
             while times.len() < repeats {
-                let outcome = self.execute(&pristine, &points[i]);
+                let outcome = self.execute(&pristine, &points[i], &AtomicBool::new(false));
                 match (outcome.failure, outcome.summary) {
                     (None, Some(s)) => {
                         if s.cpu_seconds < SHORT_RUN {
@@ -555,4 +592,17 @@ impl Sweep {
         }
         Ok(())
     }
+}
+
+/// The Pareto front of the report's ok runs in (error, CPU time).
+fn front_of(report: &SweepReport) -> Vec<usize> {
+    let points: Vec<(f64, f64)> = report
+        .runs
+        .iter()
+        .map(|r| match r.status {
+            RunStatus::Ok => (r.error, r.cpu_seconds),
+            _ => (f64::INFINITY, f64::INFINITY),
+        })
+        .collect();
+    pareto_front(&points)
 }

@@ -99,3 +99,38 @@ fn refused_sweeps_name_the_sensor_the_axis_and_the_reference() {
         "{e}"
     );
 }
+
+/// A stop flag set before the sweep: with the converged reference nothing runs and the
+/// sweep ends with `Interrupted`; with a reference table every run of the grid is marked
+/// interrupted, none counts on the front, and the report says so. With the flag clear the
+/// same sweep is `run`'s, record for record.
+#[test]
+fn a_set_stop_flag_interrupts_the_sweep_and_keeps_no_half_run() {
+    use std::sync::atomic::AtomicBool;
+    let stop = AtomicBool::new(true);
+    let converged = spin_up(Reference::Converged, modes_and_steps());
+    match converged.run_or_stop(&stop) {
+        Err(SweepError::Interrupted { label }) => assert!(label.contains("modes=2"), "{label}"),
+        other => panic!("expected Interrupted, got {other:?}"),
+    }
+    let (table, _) = converged.converged_reference().unwrap();
+    let judged = spin_up(Reference::Table(table), modes_and_steps());
+    let report = judged.run_or_stop(&stop).unwrap();
+    assert!(report.interrupted);
+    assert!(report.pareto.is_empty());
+    assert_eq!(report.runs.len(), 4);
+    for run in &report.runs {
+        assert_eq!(run.status, RunStatus::Interrupted, "{run:?}");
+        assert!(
+            run.reason.as_deref().unwrap().contains("interrupted"),
+            "{run:?}"
+        );
+    }
+    let whole = judged.run_or_stop(&AtomicBool::new(false)).unwrap();
+    let plain = judged.run().unwrap();
+    assert!(!whole.interrupted);
+    let errors =
+        |r: &flexmbd::sweep::SweepReport| r.runs.iter().map(|r| r.error).collect::<Vec<_>>();
+    assert_eq!(errors(&whole), errors(&plain));
+    assert!(whole.runs.iter().all(|r| r.status == RunStatus::Ok));
+}

@@ -49,6 +49,13 @@ pub enum SweepError {
         /// What is wrong.
         message: String,
     },
+    /// The stop flag ended the sweep while its converged reference ran: no run of the grid
+    /// was made.
+    #[error("interrupted while the converged reference ran ({label}): no run of the grid was made")]
+    Interrupted {
+        /// The grid point of the reference run.
+        label: String,
+    },
     /// A tolerance that is not a positive finite number.
     #[error("tolerance {0}: must be a positive finite number")]
     Tolerance(f64),

@@ -320,6 +320,7 @@ mod tests {
             threads: 1,
             parallel_wall_seconds: 0.0,
             sum_run_seconds: 0.0,
+            interrupted: false,
         };
         let modes = spread(&report, &settings, |s| matches!(s, Setting::Modes { .. }));
         assert!((modes - 0.3e-5).abs() < 1e-12, "{modes}");
