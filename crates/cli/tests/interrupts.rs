@@ -66,6 +66,25 @@ fn send(child: &Child, signal: &str) {
     assert!(status.success(), "kill -s {signal}");
 }
 
+/// The path of a scene of `models/`.
+fn model(name: &str) -> String {
+    format!("{}/../../models/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Start `flexmbd ARGS`, send it SIGINT a second later, and return its output once it has
+/// ended.
+fn interrupted_after_a_second(args: &[&str]) -> Output {
+    let child = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    send(&child, "INT");
+    finish(child)
+}
+
 /// The child's output once it has ended (killed, and the test failed, if that takes over
 /// 120 s: a hang).
 fn finish(mut child: Child) -> Output {
@@ -174,32 +193,23 @@ fn sigkill_leaves_a_header_and_whole_rows() {
 fn sigint_ends_the_pilot_run_of_proper_orthogonal_modes_as_interrupted() {
     let dir = temp_dir("interrupt-pilot");
     let csv = dir.join("run.csv");
-    let child = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args([
-            "simulate",
-            &format!(
-                "{}/../../models/flexible_pendulum.ron",
-                env!("CARGO_MANIFEST_DIR")
-            ),
-            "--set",
-            "bodies.bar.model.Beam.mode_selection=ProperOrthogonal",
-            "--set",
-            "bodies.bar.model.Beam.normal_modes=1",
-            "--duration",
-            "1e5",
-            "--json",
-            "--output",
-        ])
-        .arg(&csv)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let pendulum = model("flexible_pendulum.ron");
+    let csv_arg = csv.display().to_string();
     // Loading the scene and setting up the signal handlers take milliseconds; the pilot,
     // minutes. No row comes to wait for: a second is well inside the pilot.
-    std::thread::sleep(Duration::from_secs(1));
-    send(&child, "INT");
-    let out = finish(child);
+    let out = interrupted_after_a_second(&[
+        "simulate",
+        &pendulum,
+        "--set",
+        "bodies.bar.model.Beam.mode_selection=ProperOrthogonal",
+        "--set",
+        "bodies.bar.model.Beam.normal_modes=1",
+        "--duration",
+        "1e5",
+        "--json",
+        "--output",
+        &csv_arg,
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(5), "{err}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -230,31 +240,24 @@ fn sigint_during_a_sweep_prints_what_finished_and_exits_interrupted() {
     let reference = dir.join("reference.csv");
     let rows: String = (0..=1000).map(|k| format!("{},0\n", 10 * k)).collect();
     std::fs::write(&reference, format!("t,B0_x\n{rows}")).unwrap();
-    let child = Command::new(env!("CARGO_BIN_EXE_flexmbd"))
-        .args([
-            "sweep",
-            &format!(
-                "{}/../../models/double_four_bar.ron",
-                env!("CARGO_MANIFEST_DIR")
-            ),
-            "--sensor",
-            "B0_x",
-            "--set",
-            "solver.duration=1e4",
-            "--set",
-            "solver.output_interval=10",
-            "--grid",
-            "step=1e-3,5e-4",
-            "--reference",
-        ])
-        .arg(&reference)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_secs(1));
-    send(&child, "INT");
-    let out = finish(child);
+    let (four_bar, reference_arg) = (
+        model("double_four_bar.ron"),
+        reference.display().to_string(),
+    );
+    let out = interrupted_after_a_second(&[
+        "sweep",
+        &four_bar,
+        "--sensor",
+        "B0_x",
+        "--set",
+        "solver.duration=1e4",
+        "--set",
+        "solver.output_interval=10",
+        "--grid",
+        "step=1e-3,5e-4",
+        "--reference",
+        &reference_arg,
+    ]);
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr),
