@@ -7,20 +7,21 @@ bit, as ``flexmbd simulate ... --output x.csv`` — or step it by hand::
     import flexmbd
     result = flexmbd.simulate("models/double_four_bar.ron", formulation="relative")
     result.status            # "ok", "failed" or "interrupted"
-    result.t, result["B0"]   # NumPy arrays
+    result.t, result["B0_x"] # NumPy arrays
     sim = flexmbd.Simulation("models/flexible_pendulum.ron")
     sim.advance_to(0.5); sim.sensor("tip_y")
 
 Refused input raises :class:`SceneError` (a ``ValueError``) naming the file, line, field
-and value; a failed step of a stepping simulation raises :class:`RunError`.
+and value; a failed step of a stepping simulation raises :class:`RunError`. Ctrl-C stops a
+run or an advance between two steps and raises ``KeyboardInterrupt`` (``simulate``'s with
+the rows so far as ``.result``). A stepping simulation takes the scene's named inputs
+between steps (``set_input``).
 
 ``sweep`` runs a scene once per set of overrides, in a loop or on Dask distributed.
 
 ``equilibrium`` finds a scene's static equilibrium and ``eigen`` its linearised free
 vibration about it (the ``--json`` output of ``flexmbd equilibrium`` and ``flexmbd eigen``).
 
-Not yet here: inputs to a running simulation (driver values, forces, parameters between
-steps, issue 15 item 2) — the Rust API does not have them yet.
 """
 
 from __future__ import annotations

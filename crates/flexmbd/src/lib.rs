@@ -91,7 +91,9 @@
 //! - [`Simulation`]: a scene compiled and under way — [`Simulation::step`],
 //!   [`Simulation::advance_to`], [`Simulation::read_sensors`] (no allocation),
 //!   [`Simulation::set_input`], [`Simulation::checkpoint`] / [`Simulation::restore`],
-//!   [`Simulation::set_state`], [`Simulation::run`].
+//!   [`Simulation::set_state`], [`Simulation::run`]; a host whose user may cancel passes a
+//!   stop flag to [`Simulation::new_or_stop`], [`Simulation::advance_to_or_stop`] or
+//!   [`simulation::run_into`].
 //! - [`Summary`] and [`History`]: what a run reports (counters, CPU times, status) and the
 //!   sensor values it recorded.
 //! - [`Error`]: every failure, from a refused scene to a step that does not converge, with
