@@ -71,9 +71,7 @@ fn serve(
     requests: Receiver<Request>,
     replies: Sender<Reply>,
 ) {
-    let made = Simulation::new_or_stop(&scene, &stop);
-    stop.store(false, Ordering::Relaxed);
-    let mut simulation = match made {
+    let mut simulation = match Simulation::new_or_stop(&scene, &stop) {
         Ok(s) => s,
         Err(e) => {
             let _ = started.send(Err(e));

@@ -226,13 +226,18 @@ pub fn sweep(input: &SweepInput) -> CliResult {
         Ok(r) => r,
         Err(e) => return Ok(refused(&e)),
     };
+    print_report(input, &report)?;
+    Ok(interrupted(&report).unwrap_or(exit::SUCCESS))
+}
+
+/// The sweep's report on stdout: one JSON object with `--json`, else the table.
+fn print_report(input: &SweepInput, report: &SweepReport) -> std::io::Result<()> {
     let mut out = std::io::stdout().lock();
     if input.json {
-        writeln!(out, "{}", serde_json::to_string(&report)?)?;
+        writeln!(out, "{}", serde_json::to_string(report)?)
     } else {
-        write!(out, "{}", table(&report))?;
+        write!(out, "{}", table(report))
     }
-    Ok(interrupted(&report).unwrap_or(exit::SUCCESS))
 }
 
 /// For a sweep the stop flag ended: say so on stderr and give its exit code.
@@ -281,15 +286,7 @@ pub fn tune(args: &TuneArgs) -> CliResult {
     if report.interrupted {
         // No choice from part of the grid: the cheapest run that meets the tolerance may
         // be one that did not finish.
-        if args.input.json {
-            writeln!(
-                std::io::stdout().lock(),
-                "{}",
-                serde_json::to_string(&report)?
-            )?;
-        } else {
-            write!(std::io::stdout().lock(), "{}", table(&report))?;
-        }
+        print_report(&args.input, &report)?;
         eprintln!("tune: no choice is made from an interrupted sweep");
         return Ok(interrupted(&report).unwrap_or(exit::INTERRUPTED));
     }

@@ -232,7 +232,10 @@ fn probe(
     with_reactions: bool,
 ) -> Result<(Vec<ElementForce>, Option<Reactions>), Error> {
     let prepared = if with_reactions && !(scene.joints.is_empty() && scene.constraints.is_empty()) {
-        Some(crate::pilot::prepared_scene(scene, &crate::pilot::NO_STOP)?)
+        Some(crate::pilot::prepared_scene(
+            scene,
+            &crate::simulation::NO_STOP,
+        )?)
     } else {
         None
     };

@@ -58,9 +58,6 @@ impl PilotBody {
     }
 }
 
-/// A stop flag never set: the pilot of a caller that cannot be interrupted runs to its end.
-pub(crate) static NO_STOP: AtomicBool = AtomicBool::new(false);
-
 /// The scene prepared with its pilot records ([`with_pilot_records`]), the pilot ended
 /// between two steps when `stop` is set.
 pub(crate) fn prepared_scene(scene: &Scene, stop: &AtomicBool) -> Result<PreparedScene, Error> {

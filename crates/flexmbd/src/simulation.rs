@@ -48,6 +48,10 @@ pub use plan::MAX_STEPS;
 use plan::RunPlan;
 pub use run::{run, run_into};
 
+/// A stop flag never set, for the callers that cannot be interrupted: their runs, pilots
+/// and advances go to their end.
+pub(crate) static NO_STOP: AtomicBool = AtomicBool::new(false);
+
 /// Everything a run reports (the `--json` summary of `flexmbd simulate`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
@@ -124,7 +128,7 @@ pub struct Summary {
 /// A refused scene is an [`Error::Model`]; a scene with proper orthogonal modes whose
 /// pilot run fails is an [`Error::Pilot`].
 pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, Error> {
-    Ok(build_formulation(scene, &crate::pilot::NO_STOP)?.0)
+    Ok(build_formulation(scene, &NO_STOP)?.0)
 }
 
 /// The one place where a formulation is built from a scene (every route of the facade
@@ -351,7 +355,7 @@ impl Simulation {
     /// conditions consistent (methods.md §5.4). The scene should be validated (as
     /// [`Scene::load`] does).
     pub fn new(scene: &Scene) -> Result<Simulation, Error> {
-        Self::new_or_stop(scene, &crate::pilot::NO_STOP)
+        Self::new_or_stop(scene, &NO_STOP)
     }
 
     /// [`new`](Simulation::new), with the pilot run of proper orthogonal modes (part of
@@ -442,8 +446,7 @@ impl Simulation {
     /// Step until the time is the multiple of h nearest to `t` (s) (no step when `t` is
     /// not ahead by at least h/2). Stops at the first failed step.
     pub fn advance_to(&mut self, t: f64) -> Result<(), Error> {
-        self.advance_to_or_stop(t, &AtomicBool::new(false))
-            .map(|_| ())
+        self.advance_to_or_stop(t, &NO_STOP).map(|_| ())
     }
 
     /// [`advance_to`](Simulation::advance_to), but `stop` is looked at before each step:

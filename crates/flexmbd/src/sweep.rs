@@ -270,7 +270,7 @@ impl Sweep {
     pub fn converged_reference(&self) -> Result<(ReferenceTable, Vec<SensorError>), SweepError> {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
-        let (table, _, margin) = self.converged(&pristine, &base, &AtomicBool::new(false))?;
+        let (table, _, margin) = self.converged(&pristine, &base, &simulation::NO_STOP)?;
         Ok((table, margin.unwrap_or_default()))
     }
 
@@ -470,7 +470,7 @@ impl Sweep {
     /// Run the sweep: check it, run every grid point in parallel, judge each, and time the
     /// runs of the Pareto front alone.
     pub fn run(&self) -> Result<SweepReport, SweepError> {
-        self.run_or_stop(&AtomicBool::new(false))
+        self.run_or_stop(&simulation::NO_STOP)
     }
 
     /// [`run`](Sweep::run), with `stop` looked at between the steps of every run (the
@@ -564,7 +564,7 @@ impl Sweep {
             let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);
             let mut repeats = RETIME_REPEATS;
             while times.len() < repeats {
-                let outcome = self.execute(&pristine, &points[i], &AtomicBool::new(false));
+                let outcome = self.execute(&pristine, &points[i], &simulation::NO_STOP);
                 match (outcome.failure, outcome.summary) {
                     (None, Some(s)) => {
                         if s.cpu_seconds < SHORT_RUN {

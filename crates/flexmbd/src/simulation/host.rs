@@ -227,7 +227,7 @@ impl Simulation {
     /// The mode inventory of flexible body `body` as the scene reduces it (static modes,
     /// normal modes, frame degrees of freedom; [`Inventory`]).
     pub fn mode_inventory(&self, body: &str) -> Result<Inventory, Error> {
-        let prepared = crate::pilot::prepared_scene(&self.scene, &crate::pilot::NO_STOP)?;
+        let prepared = crate::pilot::prepared_scene(&self.scene, &super::NO_STOP)?;
         let flexible = prepared
             .body_id(body)
             .map(|id| prepared.body(id))

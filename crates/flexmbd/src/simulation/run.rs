@@ -23,7 +23,7 @@ impl Simulation {
     /// streams the rows instead.
     pub fn run(&mut self, progress: impl FnMut(f64)) -> Result<(Summary, History), Error> {
         let mut history = History::default();
-        let summary = self.run_into(&mut history, &AtomicBool::new(false), progress)?;
+        let summary = self.run_into(&mut history, &super::NO_STOP, progress)?;
         Ok((summary, history))
     }
 
@@ -166,7 +166,7 @@ impl Summary {
 /// pilot's [`Error::Pilot`] and no row (the scene is valid, its run failed).
 pub fn run(scene: &Scene, progress: impl FnMut(f64)) -> Result<(Summary, History), Error> {
     let mut history = History::default();
-    let summary = run_into(scene, &mut history, &AtomicBool::new(false), progress)?;
+    let summary = run_into(scene, &mut history, &super::NO_STOP, progress)?;
     Ok((summary, history))
 }
 
