@@ -7,9 +7,9 @@
 //! A pilot run of the scene keeps, for this body, its lowest K fixed-interface normal modes
 //! Φ_K (M_ii-orthonormal, [`candidate_count`]) and records their coordinates η(t_j) at every
 //! step (every k-th of a very long pilot): the snapshot matrix H = [η(t_0) … η(t_T)]
-//! (K × (T+1)). The facade runs the pilot
-//! (`flexmbd::pilot`: this crate runs no simulation) and hands the record to the FE stage in
-//! [`BeamBodySpec::pilot`]; the body's dynamic basis is then built here:
+//! (K × (T+1)). The facade runs the pilot (`flexmbd::pilot`: this crate runs no
+//! simulation) and hands the record to the FE stage in [`BeamBodySpec::pilot`]; the body's
+//! dynamic basis is then built here:
 //!
 //! 1. the snapshot correlation C = H Hᵀ / (T+1) (K × K; the method of snapshots: C's
 //!    eigenvectors are H's left singular vectors, its eigenvalues their σ²);
