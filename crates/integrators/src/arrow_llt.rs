@@ -92,16 +92,7 @@ impl ArrowLlt {
         if blocks.len() < 2 || border.is_empty() {
             return None;
         }
-        let r = border.len() as f64;
-        let work: f64 = blocks
-            .iter()
-            .map(|b| {
-                let s = b.len() as f64;
-                s * s * s / 3.0 + r * s * s + r * r * s
-            })
-            .sum::<f64>()
-            + r * r * r / 3.0;
-        if work > MAX_WORK * (n as f64).powi(3) / 3.0 {
+        if arrow_work(&blocks, border.len()) > MAX_WORK * (n as f64).powi(3) / 3.0 {
             return None;
         }
         Some(Self::with_structure(n, blocks, border))
@@ -143,6 +134,12 @@ impl ArrowLlt {
     /// The number of blocks and the border's size.
     pub fn shape(&self) -> (usize, usize) {
         (self.blocks.len(), self.border.len())
+    }
+
+    /// The floating-point operations of one factorisation, Σ s_k³/3 + r Σ s_k² + r² Σ s_k +
+    /// r³/3 for blocks of s_k and a border of r (leading terms; a dense Cholesky's is n³/3).
+    pub fn work(&self) -> f64 {
+        arrow_work(&self.blocks, self.border.len())
     }
 
     /// Whether `a` still has the arrow form: every entry between blocks zero.
@@ -245,6 +242,19 @@ impl ArrowLlt {
 
 /// L y = b in place for L column-major (s × s, lower triangle) with the reciprocals of its
 /// diagonal.
+/// [`ArrowLlt::work`] of `blocks` and a border of `r` coordinates.
+fn arrow_work(blocks: &[Vec<usize>], r: usize) -> f64 {
+    let r = r as f64;
+    blocks
+        .iter()
+        .map(|b| {
+            let s = b.len() as f64;
+            s * s * s / 3.0 + r * s * s + r * r * s
+        })
+        .sum::<f64>()
+        + r * r * r / 3.0
+}
+
 fn forward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
     let s = y.len();
     for j in 0..s {
