@@ -469,6 +469,10 @@ impl Ali3p {
         // of the step (at most twice). The converged q, λ do not depend on α.
         let alpha_step = self.alpha;
         let (mut slow, mut boosts) = (0, 0);
+        // Modified Newton gives way to full Newton for the rest of the step once an iteration
+        // on a kept tangent fails to halve the correction (the tangent moved: a contact or a
+        // law's breakpoint was crossed).
+        let mut full_newton = !self.settings.reuse_tangent;
         while iterations < self.settings.max_iterations {
             iterations += 1;
             let boost = slow >= 2 && boosts < 2;
@@ -478,10 +482,7 @@ impl Ali3p {
                 slow = 0;
             }
             // Modified Newton: refresh the tangent unless the last correction shrank fast.
-            let refresh = iterations == 1
-                || boost
-                || !self.settings.reuse_tangent
-                || dq_norm >= 0.5 * prev_dq;
+            let refresh = iterations == 1 || boost || full_newton || dq_norm >= 0.5 * prev_dq;
             self.correct(f, iterations, refresh)?;
             prev_dq = dq_norm;
             dq_norm = self.rhs.amax();
@@ -503,7 +504,10 @@ impl Ali3p {
             } else {
                 dq_norm
             };
-            if iterations >= 3 && theta >= 0.5 {
+            // A kept tangent's slow contraction says nothing about Φ_q's rank.
+            if theta >= 0.5 && !refresh {
+                full_newton = true;
+            } else if iterations >= 3 && theta >= 0.5 {
                 slow += 1;
             }
             if error <= self.settings.tol_q * self.q.amax().max(1.0)

@@ -43,7 +43,8 @@ pub struct Ali3pSettings {
     /// A step that needs more is too large for the motion: a higher limit rarely helps,
     /// a smaller `step` does.
     pub max_iterations: usize,
-    /// Modified Newton: keep the factorised f_q while ‖Δq_i‖/‖Δq_{i−1}‖ < 0.5 (methods.md
+    /// Modified Newton: keep the factorised f_q while ‖Δq_i‖/‖Δq_{i−1}‖ < 0.5; an iteration on
+    /// a kept f_q that fails this turns the rest of the step to full Newton (methods.md
     /// §5.2). Default: `false`.
     ///
     /// Saves factorisations when f_q changes slowly (large n, mild nonlinearity) at the cost
