@@ -187,7 +187,12 @@ impl Ali3p {
             stats: Stats::default(),
             terms: SystemTerms::new(n, m),
             lead: DMatrix::zeros(n, n),
-            w: DMatrix::zeros(n, n),
+            // Kept only when M, K and C are constant (`form_w`).
+            w: if f.constant_tangents() && f.constant_mass() {
+                DMatrix::zeros(n, n)
+            } else {
+                DMatrix::zeros(0, 0)
+            },
             lu: DenseLu::new(n),
             llt: DenseLlt::new(n),
             symmetric: f.symmetric_tangent(),
@@ -330,43 +335,56 @@ impl Ali3p {
         }
     }
 
-    /// Form W = M + h/2 C + h²/4 K (the leading matrix without the penalty).
-    fn form_w(&mut self) {
-        if self.constant_w && self.w_ready {
+    /// Write W = M + h/2 C + h²/4 K (the leading matrix without the penalty) into `lead`:
+    /// its lower triangle only when `lower_only`, the whole matrix otherwise. Formed in place
+    /// each time, or once into `w` and copied when M, K and C are constant.
+    fn form_w(&mut self, lower_only: bool) {
+        let h = self.settings.step;
+        let (a, b) = (0.5 * h, 0.25 * h * h);
+        let n = self.lead.nrows();
+        let tt = &self.terms;
+        let (mass, damping, stiffness) = (
+            tt.mass.as_slice(),
+            tt.damping.as_slice(),
+            tt.stiffness.as_slice(),
+        );
+        // Column j's entries from row `first(j)` down: the lower triangle, or all of it.
+        let first = |j: usize| if lower_only { j } else { 0 };
+        let lead = self.lead.as_mut_slice();
+        if self.constant_w {
+            if !self.w_ready {
+                self.w_ready = true;
+                let w = self.w.as_mut_slice().iter_mut();
+                for (((w, m), c), k) in w.zip(mass).zip(damping).zip(stiffness) {
+                    *w = m + a * c + b * k;
+                }
+            }
+            for j in 0..n {
+                let column = j * n + first(j)..(j + 1) * n;
+                lead[column.clone()].copy_from_slice(&self.w.as_slice()[column]);
+            }
             return;
         }
-        self.w_ready = true;
-        let h = self.settings.step;
-        let tt = &self.terms;
-        let (a, b) = (0.5 * h, 0.25 * h * h);
-        for (((w, m), c), k) in self
-            .w
-            .as_mut_slice()
-            .iter_mut()
-            .zip(tt.mass.as_slice())
-            .zip(tt.damping.as_slice())
-            .zip(tt.stiffness.as_slice())
-        {
-            *w = m + a * c + b * k;
+        for j in 0..n {
+            let column = j * n + first(j)..(j + 1) * n;
+            let terms = mass[column.clone()]
+                .iter()
+                .zip(&damping[column.clone()])
+                .zip(&stiffness[column.clone()]);
+            for (l, ((m, c), k)) in lead[column].iter_mut().zip(terms) {
+                *l = m + a * c + b * k;
+            }
         }
     }
 
-    /// Form f_q = W + h²/4 Φ_qᵀ α Φ_q (W is formed first): its lower triangle only when
-    /// `lower_only` (the Cholesky kernels read no more; the strict upper triangle is then
-    /// stale), the whole matrix for the LU.
+    /// Form f_q = W + h²/4 Φ_qᵀ α Φ_q: its lower triangle only when `lower_only` (the
+    /// Cholesky kernels read no more; the strict upper triangle is then stale), the whole
+    /// matrix for the LU.
     fn form_leading(&mut self, lower_only: bool) {
-        self.form_w();
+        self.form_w(lower_only);
         let h = self.settings.step;
         let lead = self.lead.as_mut_slice();
         let (m, n) = self.terms.phi_q.shape();
-        if lower_only {
-            for j in 0..n {
-                let column = j * n + j..(j + 1) * n;
-                lead[column.clone()].copy_from_slice(&self.w.as_slice()[column]);
-            }
-        } else {
-            lead.copy_from_slice(self.w.as_slice());
-        }
         // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
         // handful per row, where a dense product would cost m n². Column-major slices.
         let c = 0.25 * h * h * self.alpha;
