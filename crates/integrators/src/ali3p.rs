@@ -42,6 +42,7 @@ use std::time::Instant;
 use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
+use crate::jacobian_pattern::JacobianPattern;
 use crate::lu::{DenseLlt, DenseLu};
 pub use crate::settings::{Ali3pSettings, Stats};
 use crate::structured::{Fallback, StructuredLlt};
@@ -152,7 +153,8 @@ pub struct Ali3p {
     /// Timing weight of the current step: `profile_every` on sampled steps, 0 otherwise.
     time_weight: f64,
     rhs: DVector<f64>,
-    /// Non-zeros of one Jacobian row (capacity n, reused).
+    /// Φ_q's non-zero pattern, and one row's entries in it (capacity n, reused).
+    pattern: JacobianPattern,
     nz: Vec<(usize, f64)>,
     qd_hat: DVector<f64>,
     qdd_hat: DVector<f64>,
@@ -204,6 +206,7 @@ impl Ali3p {
             w_ready: false,
             time_weight: 1.0,
             rhs: DVector::zeros(n),
+            pattern: JacobianPattern::new(m, n),
             nz: Vec::with_capacity(n),
             qd_hat: DVector::zeros(n),
             qdd_hat: DVector::zeros(n),
@@ -385,18 +388,16 @@ impl Ali3p {
         let h = self.settings.step;
         let lead = self.lead.as_mut_slice();
         let (m, n) = self.terms.phi_q.shape();
-        // Φ_qᵀ α Φ_q row by row over the non-zeros: natural-coordinate Jacobians have a
-        // handful per row, where a dense product would cost m n². Column-major slices.
+        // Φ_qᵀ α Φ_q row by row over Φ_q's non-zero pattern (`JacobianPattern`): natural-
+        // coordinate Jacobians have a handful per row, where a dense product would cost m n².
+        // Column-major slices.
         let c = 0.25 * h * h * self.alpha;
         let pq = self.terms.phi_q.as_slice();
+        self.pattern.cover(pq);
         for r in 0..m {
             self.nz.clear();
-            for j in 0..n {
-                let v = pq[r + j * m];
-                if v != 0.0 {
-                    self.nz.push((j, v));
-                }
-            }
+            self.nz
+                .extend(self.pattern.row(r).iter().map(|&j| (j, pq[r + j * m])));
             for (k, &(j, vj)) in self.nz.iter().enumerate() {
                 let cj = c * vj;
                 let col = &mut lead[j * n..(j + 1) * n];

@@ -8,6 +8,7 @@
 pub mod ali3p;
 pub mod arrow_llt;
 mod initial;
+mod jacobian_pattern;
 pub mod linearise;
 pub mod lu;
 mod settings;
