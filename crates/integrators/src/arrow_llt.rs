@@ -247,8 +247,6 @@ impl ArrowLlt {
     }
 }
 
-/// L y = b in place for L column-major (s × s, lower triangle) with the reciprocals of its
-/// diagonal.
 /// Increasing indices as runs of consecutive ones.
 fn runs(indices: impl Iterator<Item = usize>) -> Vec<std::ops::Range<usize>> {
     let mut runs: Vec<std::ops::Range<usize>> = Vec::new();
@@ -274,6 +272,8 @@ fn arrow_work(blocks: &[Vec<usize>], r: usize) -> f64 {
         + r * r * r / 3.0
 }
 
+/// L y = b in place for L column-major (s × s, lower triangle) with the reciprocals of its
+/// diagonal.
 fn forward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
     let s = y.len();
     for j in 0..s {
