@@ -59,6 +59,12 @@ pub struct ArrowLlt {
     /// The lower-triangle entries between different blocks, as runs of consecutive
     /// column-major indices.
     between_blocks: Vec<std::ops::Range<usize>>,
+    /// Where in the matrix (column-major index of its lower triangle) each entry gathered
+    /// for a factorisation comes from: S's, per block B_k's lower triangle (with its index
+    /// in `gathered`), and W_kᵀ's.
+    schur_sources: Vec<usize>,
+    block_sources: Vec<Vec<(usize, usize)>>,
+    w_sources: Vec<Vec<usize>>,
     /// Solve workspace: the right-hand side per block and on the border.
     y: Vec<Vec<f64>>,
     y_border: DVector<f64>,
@@ -114,7 +120,38 @@ impl ArrowLlt {
             .map(|(i, j)| i + j * n);
         let between_blocks = runs(between_blocks);
         let r = border.len();
+        // The lower triangle's entry (i, j) or (j, i).
+        let lower = |i: usize, j: usize| if i >= j { i + j * n } else { j + i * n };
+        let schur_sources = border
+            .iter()
+            .flat_map(|&bj| border.iter().map(move |&bi| lower(bi, bj)))
+            .collect();
+        let block_sources = blocks
+            .iter()
+            .map(|block| {
+                let s = block.len();
+                let columns = block.iter().enumerate();
+                columns
+                    .flat_map(|(j, &cj)| {
+                        let rows = block.iter().enumerate().skip(j);
+                        rows.map(move |(i, &ci)| (i + j * s, lower(ci, cj)))
+                    })
+                    .collect()
+            })
+            .collect();
+        let w_sources = blocks
+            .iter()
+            .map(|block| {
+                let columns = border.iter();
+                columns
+                    .flat_map(|&bi| block.iter().map(move |&cj| lower(bi, cj)))
+                    .collect()
+            })
+            .collect();
         ArrowLlt {
+            schur_sources,
+            block_sources,
+            w_sources,
             gathered: blocks
                 .iter()
                 .map(|b| DMatrix::zeros(b.len(), b.len()))
@@ -159,33 +196,28 @@ impl ArrowLlt {
         if !self.still_holds(a) {
             return Err(ArrowFailure);
         }
-        let lower = |i: usize, j: usize| if i >= j { a[(i, j)] } else { a[(j, i)] };
-        for (i, &bi) in self.border.iter().enumerate() {
-            for (j, &bj) in self.border.iter().enumerate() {
-                self.schur[(i, j)] = lower(bi, bj);
-            }
+        let a = a.as_slice();
+        let schur = self.schur.as_mut_slice();
+        for (v, &source) in schur.iter_mut().zip(&self.schur_sources) {
+            *v = a[source];
         }
         for k in 0..self.blocks.len() {
-            let block = &self.blocks[k];
             let g = &mut self.gathered[k];
-            // The lower triangle of B_k (a block's coordinates are in increasing order).
-            for (j, &cj) in block.iter().enumerate() {
-                for (i, &ci) in block.iter().enumerate().skip(j) {
-                    g[(i, j)] = a[(ci, cj)];
-                }
+            // The lower triangle of B_k.
+            let gathered = g.as_mut_slice();
+            for &(entry, source) in &self.block_sources[k] {
+                gathered[entry] = a[source];
             }
             self.factors[k].factor(g).map_err(|_| ArrowFailure)?;
-            let s = block.len();
+            let s = self.blocks[k].len();
             let l = self.factors[k].factor_data();
             for (i, d) in self.inverse_diagonals[k].iter_mut().enumerate() {
                 *d = 1.0 / l[i + i * s];
             }
             // W_kᵀ = L_k⁻¹ C_kᵀ: column i is row i of C_k (the border row against the block).
             let w_t = &mut self.w_t[k];
-            for (i, &bi) in self.border.iter().enumerate() {
-                for (v, &cj) in w_t.column_mut(i).iter_mut().zip(block) {
-                    *v = lower(bi, cj);
-                }
+            for (v, &source) in w_t.as_mut_slice().iter_mut().zip(&self.w_sources[k]) {
+                *v = a[source];
             }
             self.factors[k].solve_lower_many_in_place(w_t);
             // S −= W_k W_kᵀ (the border's lower triangle is all the Cholesky reads).
