@@ -23,7 +23,6 @@
 //! factorisation is the one the integrator picks for that f_q (the arrow form for the
 //! vehicle, dense below 32 coordinates); `work` in the output line is its flop count.
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -39,20 +38,11 @@ use nalgebra::{DMatrix, DVector};
 
 /// The relative, shape-integral scene of each case.
 fn cases() -> Vec<(&'static str, Scene)> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/iltis_bump.ron");
-    let mut bump = Scene::load(&path).expect("the bump scene loads");
-    bump.solver.formulation = FormulationKind::Relative;
-    let vehicle = |k| {
-        model_with(
-            "iltis_vehicle.ron",
-            FormulationKind::Relative,
-            &vehicle_flexible(k),
-        )
-    };
+    let relative = |file, k| model_with(file, FormulationKind::Relative, &vehicle_flexible(k));
     let mut cases = vec![
-        ("bump", bump),
-        ("vehicle_rigid", vehicle(0)),
-        ("vehicle_12_flexible", vehicle(12)),
+        ("bump", relative("iltis_bump.ron", 0)),
+        ("vehicle_rigid", relative("iltis_vehicle.ron", 0)),
+        ("vehicle_12_flexible", relative("iltis_vehicle.ron", 12)),
     ];
     for (_, scene) in &mut cases {
         scene.solver.inertia = flexmbd::body::InertiaMethod::ShapeIntegrals;

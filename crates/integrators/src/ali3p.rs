@@ -178,6 +178,7 @@ impl Ali3p {
         settings: Ali3pSettings,
     ) -> Result<Self, IntegratorError> {
         let (n, m) = (f.n_coordinates(), f.n_constraints());
+        let constant_w = f.constant_tangents() && f.constant_mass();
         let mut s = Ali3p {
             alpha: 0.0,
             t: t0,
@@ -190,7 +191,7 @@ impl Ali3p {
             terms: SystemTerms::new(n, m),
             lead: DMatrix::zeros(n, n),
             // Kept only when M, K and C are constant (`form_w`).
-            w: if f.constant_tangents() && f.constant_mass() {
+            w: if constant_w {
                 DMatrix::zeros(n, n)
             } else {
                 DMatrix::zeros(0, 0)
@@ -202,7 +203,7 @@ impl Ali3p {
             structured: None,
             structure_decided: false,
             constant_tangents: f.constant_tangents(),
-            constant_w: f.constant_tangents() && f.constant_mass(),
+            constant_w,
             w_ready: false,
             time_weight: 1.0,
             rhs: DVector::zeros(n),
