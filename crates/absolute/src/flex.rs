@@ -7,9 +7,8 @@
 //! tangents of a body's modal block ([`add_elastic_tangents`]) serve the spatial bodies
 //! too.
 
-use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace};
+use flexmbd_body::{FlexibleBody, InertiaMethod, NaturalState, NaturalWorkspace, NodeRows};
 use flexmbd_core::SystemTerms;
-use flexmbd_fe::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix4, Vector2, Vector3};
 
 /// A flexible body's elastic tangents K_ff (into K) and C_ff (into C), in the diagonal
@@ -41,10 +40,8 @@ pub(crate) fn add_elastic_tangents(
 /// Storage of one flexible body, sized once.
 pub(crate) struct Flex2 {
     n: usize,
-    /// Node rows: X^t_x, X^t_y and X^r_z (n each), node-major.
-    trans_x: Vec<f64>,
-    trans_y: Vec<f64>,
-    rot_z: Vec<f64>,
+    /// Node rows: X^t_x, X^t_y and X^r_z are read.
+    nodes: NodeRows,
     /// Frame-coordinate terms.
     m_f: DMatrix<f64>,
     q_f: DVector<f64>,
@@ -57,23 +54,12 @@ pub(crate) struct Flex2 {
 }
 
 impl Flex2 {
-    pub(crate) fn new(body: &FlexibleBody, reduced: &ReducedBody) -> Self {
+    pub(crate) fn new(body: &FlexibleBody, nodes: &NodeRows) -> Self {
         let n = body.n_modes();
-        let mut trans_x = Vec::with_capacity(reduced.nodes.len() * n);
-        let mut trans_y = Vec::with_capacity(reduced.nodes.len() * n);
-        let mut rot_z = Vec::with_capacity(reduced.nodes.len() * n);
-        for node in &reduced.nodes {
-            for j in 0..n {
-                trans_x.push(node.translation[(0, j)]);
-                trans_y.push(node.translation[(1, j)]);
-                rot_z.push(node.rotation[(2, j)]);
-            }
-        }
+        debug_assert_eq!(n, nodes.n_modes());
         Flex2 {
             n,
-            trans_x,
-            trans_y,
-            rot_z,
+            nodes: nodes.clone(),
             m_f: DMatrix::zeros(4 + n, 4 + n),
             q_f: DVector::zeros(4 + n),
             elastic: vec![0.0; n],
@@ -86,13 +72,15 @@ impl Flex2 {
 
     /// X^r_z row of a node.
     pub(crate) fn rot_row(&self, node: usize) -> &[f64] {
-        &self.rot_z[node * self.n..(node + 1) * self.n]
+        self.nodes.rotation_row(node, 2)
     }
 
     /// X^t_x and X^t_y rows of a node.
     pub(crate) fn trans_rows(&self, node: usize) -> (&[f64], &[f64]) {
-        let r = node * self.n..(node + 1) * self.n;
-        (&self.trans_x[r.clone()], &self.trans_y[r])
+        (
+            self.nodes.translation_row(node, 0),
+            self.nodes.translation_row(node, 1),
+        )
     }
 
     /// M_b and Q_b (inertia, gravity, elastic) at the given frame state.

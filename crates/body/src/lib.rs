@@ -57,6 +57,7 @@ mod kinematics;
 mod layout;
 mod natural;
 mod natural_points;
+mod node_rows;
 mod shape;
 mod state;
 
@@ -65,6 +66,7 @@ pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
 pub use foreshortening::NodeShift;
 pub use natural::{BodyPoint, NaturalState, NaturalWorkspace};
+pub use node_rows::NodeRows;
 
 use construction::{PackedIntegrals, check_reduced};
 use kinematics::{Foreshortened, Linear, PointKinematics, PointScratch};

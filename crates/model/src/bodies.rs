@@ -4,7 +4,7 @@
 //! the elastic model of the scene's stiffening method installed (FNL1, FNL2 from
 //! `flexmbd-stiffening`; FS0's shortening data attached, docs/methods.md §6.2–§6.3).
 
-use flexmbd_body::{ElasticModel, FlexibleBody};
+use flexmbd_body::{ElasticModel, FlexibleBody, NodeRows};
 use flexmbd_core::InvalidValue;
 use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
 use flexmbd_stiffening::Nonlinear;
@@ -21,6 +21,9 @@ pub struct PreparedBody {
     pub reduced: ReducedBody,
     /// The run-time body, its elastic model installed.
     pub body: FlexibleBody,
+    /// Positions and mode rows of the body's nodes, the one view of them the formulations
+    /// read (empty for a rigid body).
+    pub nodes: NodeRows,
     /// True when the body has modal coordinates.
     pub flexible: bool,
     /// For each marker of the body, the FE node it sits on (flexible bodies only).
@@ -65,6 +68,7 @@ impl Scene {
                 Ok(PreparedBody {
                     index,
                     body: self.run_time_body(&reduced)?,
+                    nodes: NodeRows::from_reduced(&reduced),
                     reduced,
                     flexible: false,
                     marker_nodes: vec![None; b.markers.len()],
@@ -79,6 +83,7 @@ impl Scene {
                     spec.normal_modes = 0;
                 }
                 let reduced = reduce(&spec).map_err(fe_err)?;
+                let nodes = NodeRows::from_reduced(&reduced);
                 let mut marker_nodes = Vec::with_capacity(b.markers.len());
                 let length: f64 = spec
                     .geometry
@@ -91,10 +96,7 @@ impl Scene {
                     .sum();
                 for m in &b.markers {
                     let p = m.position.vec();
-                    let node = reduced
-                        .nodes
-                        .iter()
-                        .position(|n| (n.position - p).norm() <= 1e-9 * length.max(1.0));
+                    let node = nodes.node_at(&p, 1e-9 * length.max(1.0));
                     if b.flexible && node.is_none() {
                         return Err(self.invalid(InvalidValue::new(
                             format!("bodies[{}].markers[{}].position", b.name, m.name),
@@ -113,6 +115,7 @@ impl Scene {
                 Ok(PreparedBody {
                     index,
                     body: self.run_time_body(&reduced)?,
+                    nodes,
                     flexible,
                     reduced,
                     marker_nodes,

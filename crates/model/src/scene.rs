@@ -4,11 +4,12 @@
 
 use flexmbd_body::InertiaMethod;
 use flexmbd_core::Dim;
-use flexmbd_fe::BeamBodySpec;
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
 pub use crate::scene_constraints::{CONSTRAINT_TOLERANCE, Constraint};
+/// The beam body of a scene and its nodal DOFs are FE preprocessing's own types.
+pub use flexmbd_fe::{BeamBodySpec, Dof, NodeDof};
 
 /// A vector written with 2 (planar) or 3 numbers; stored with z = 0 in 2D.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

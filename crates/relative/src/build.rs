@@ -16,7 +16,8 @@ use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constr
 use crate::kinematics::angle_of;
 use crate::marker_kinematics::MarkerJacobian;
 use crate::system::{Relative, RunTimeBody, unsupported};
-use crate::topology::{BodyInfo, CoordRef, ElemKind, Frame, FrameKind, NodeRows, Side, Topology};
+use crate::topology::{BodyInfo, CoordRef, ElemKind, Frame, FrameKind, Side, Topology};
+use flexmbd_body::NodeRows;
 
 impl Relative {
     /// Compile a scene (planar or spatial) for the relative formulation.
@@ -239,12 +240,9 @@ fn body_infos(prepared: &PreparedScene) -> Result<(Vec<BodyInfo>, Vec<FlexibleBo
             )));
         }
         let node_rows = if n > 0 {
-            NodeRows::new(&prep.reduced.nodes, n)
+            prep.nodes.clone()
         } else {
-            NodeRows {
-                n,
-                rows: Vec::new(),
-            }
+            NodeRows::default()
         };
         let markers = b
             .markers

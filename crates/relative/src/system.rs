@@ -22,7 +22,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 use crate::constraints::Constraint;
 use crate::marker_kinematics::MarkerJacobian;
 use crate::sensors::RelativeSensors;
-use crate::topology::{NodeRows, Side, Topology};
+use crate::topology::{Side, Topology};
+use flexmbd_body::NodeRows;
 
 /// One body at run time.
 pub(crate) struct RunTimeBody {

@@ -30,8 +30,8 @@
 //! (2D: x, y, θ; 3D: x, y, z and three Cardan angles about the ground axes); any other
 //! body the tree does not reach is refused.
 
+use flexmbd_body::NodeRows;
 use flexmbd_core::Dim;
-use flexmbd_fe::NodeModes;
 use flexmbd_model::{JointKind, MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{Matrix3, Vector3};
 
@@ -102,58 +102,24 @@ pub(crate) struct TreeJoint {
     pub(crate) reversed: bool,
 }
 
-/// Per-body mode rows at its FE nodes (translation, rotation: 3 × n each, row-major).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct NodeRows {
-    pub(crate) n: usize,
-    /// Per node: 3n translation then 3n rotation entries.
-    pub(crate) rows: Vec<Vec<f64>>,
-}
-
-impl NodeRows {
-    /// The rows of `n` modes at every node (X^t, then X^r, row-major).
-    pub(crate) fn new(nodes: &[NodeModes], n: usize) -> NodeRows {
-        let rows = nodes
-            .iter()
-            .map(|nd| {
-                let mut v = Vec::with_capacity(6 * n);
-                for a in 0..3 {
-                    v.extend((0..n).map(|m| nd.translation[(a, m)]));
-                }
-                for a in 0..3 {
-                    v.extend((0..n).map(|m| nd.rotation[(a, m)]));
-                }
-                v
-            })
-            .collect();
-        NodeRows { n, rows }
-    }
-    pub(crate) fn t(&self, node: usize, a: usize, m: usize) -> f64 {
-        self.rows[node][a * self.n + m]
-    }
-    pub(crate) fn r(&self, node: usize, a: usize, m: usize) -> f64 {
-        self.rows[node][3 * self.n + a * self.n + m]
-    }
-    fn scale(&self) -> f64 {
-        self.rows
-            .iter()
-            .flat_map(|r| r.iter())
-            .fold(0.0f64, |a, v| a.max(v.abs()))
-    }
-    /// Mode coefficients of translation (rot = false) or rotation component a at a node.
-    pub(crate) fn nonzero(&self, node: usize, a: usize, rot: bool) -> Vec<(usize, f64)> {
-        let tiny = 1e-12 * self.scale().max(1e-300);
-        (0..self.n)
-            .filter_map(|m| {
-                let v = if rot {
-                    self.r(node, a, m)
-                } else {
-                    self.t(node, a, m)
-                };
-                (v.abs() > tiny).then_some((m, v))
-            })
-            .collect()
-    }
+/// The mode coefficients of translation (`rotation` false) or rotation component `a` at a
+/// node that the tree must carry: those above 1e-12 of the body's largest node-row entry.
+pub(crate) fn nonzero_rows(
+    rows: &NodeRows,
+    node: usize,
+    a: usize,
+    rotation: bool,
+) -> Vec<(usize, f64)> {
+    let tiny = 1e-12 * rows.largest_entry().max(1e-300);
+    let row = if rotation {
+        rows.rotation_row(node, a)
+    } else {
+        rows.translation_row(node, a)
+    };
+    row.iter()
+        .enumerate()
+        .filter_map(|(m, &v)| (v.abs() > tiny).then_some((m, v)))
+        .collect()
 }
 
 /// The built tree.
@@ -350,7 +316,7 @@ impl Topology {
             let translations = (0..dim.n_trans()).map(|a| (a, false, ElemKind::Prismatic));
             let rotations = rotation_axes.iter().map(|&a| (a, true, ElemKind::Revolute));
             for (a, rotation, kind) in translations.chain(rotations) {
-                let nz = rows.nonzero(node, a, rotation);
+                let nz = nonzero_rows(rows, node, a, rotation);
                 if !nz.is_empty() {
                     let rate = nz
                         .iter()
@@ -537,11 +503,13 @@ fn can_carry_frame(
     let Some(node) = side.node else { return false };
     let nt = dim.n_trans();
     let rot = transmits_rotation(dim, &j.kind);
-    (0..nt).all(|a| info.node_rows.nonzero(node, a, false).is_empty())
+    (0..nt).all(|a| nonzero_rows(&info.node_rows, node, a, false).is_empty())
         && (!rot
             || match dim {
-                Dim::Planar => info.node_rows.nonzero(node, 2, true).is_empty(),
-                Dim::Spatial => (0..3).all(|a| info.node_rows.nonzero(node, a, true).is_empty()),
+                Dim::Planar => nonzero_rows(&info.node_rows, node, 2, true).is_empty(),
+                Dim::Spatial => {
+                    (0..3).all(|a| nonzero_rows(&info.node_rows, node, a, true).is_empty())
+                }
             })
 }
 
@@ -649,40 +617,23 @@ fn spanning_tree(
 
 #[cfg(test)]
 mod tests {
-    use nalgebra::DMatrix;
-
     use super::*;
 
     #[test]
-    fn node_rows_keep_translation_then_rotation_rows() {
-        // Two modes at one node: X^t[a, m] = 10 a + m, X^r[a, m] = −(10 a + m) − 1.
-        let translation = DMatrix::from_fn(3, 2, |a, m| (10 * a + m) as f64);
-        let rotation = DMatrix::from_fn(3, 2, |a, m| -((10 * a + m) as f64) - 1.0);
-        let node = NodeModes {
-            position: Vector3::zeros(),
-            translation,
-            rotation,
-        };
-        let rows = NodeRows::new(&[node], 2);
-        for a in 0..3 {
-            for m in 0..2 {
-                assert_eq!(rows.t(0, a, m), (10 * a + m) as f64);
-                assert_eq!(rows.r(0, a, m), -((10 * a + m) as f64) - 1.0);
-            }
-        }
-    }
-
-    #[test]
-    fn node_rows_nonzero_drops_entries_below_the_relative_threshold() {
-        let node = NodeModes {
-            position: Vector3::zeros(),
-            translation: DMatrix::from_row_slice(3, 2, &[1.0, 1e-14, 0.0, 2.0, 0.0, 0.0]),
-            rotation: DMatrix::from_row_slice(3, 2, &[0.0, 0.0, 0.0, 0.0, -3.0, 1e-13]),
-        };
-        let rows = NodeRows::new(&[node], 2);
-        assert_eq!(rows.nonzero(0, 0, false), [(0, 1.0)]);
-        assert_eq!(rows.nonzero(0, 1, false), [(1, 2.0)]);
-        assert_eq!(rows.nonzero(0, 2, false), []);
-        assert_eq!(rows.nonzero(0, 2, true), [(0, -3.0)]);
+    fn nonzero_rows_drop_entries_below_the_relative_threshold() {
+        // One node, two modes: X^t rows then X^r rows, row-major.
+        let rows = [
+            [1.0, 1e-14],
+            [0.0, 2.0],
+            [0.0, 0.0],
+            [0.0, 0.0],
+            [0.0, 0.0],
+            [-3.0, 1e-13],
+        ];
+        let rows = NodeRows::new(2, vec![Vector3::zeros()], rows.concat()).unwrap();
+        assert_eq!(nonzero_rows(&rows, 0, 0, false), [(0, 1.0)]);
+        assert_eq!(nonzero_rows(&rows, 0, 1, false), [(1, 2.0)]);
+        assert_eq!(nonzero_rows(&rows, 0, 2, false), []);
+        assert_eq!(nonzero_rows(&rows, 0, 2, true), [(0, -3.0)]);
     }
 }

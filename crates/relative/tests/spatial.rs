@@ -23,12 +23,12 @@ fn flexible_chain_3d() -> Scene {
     if let BodyModel::Beam(spec) = &mut s.bodies[0].model {
         spec.boundary = ["Ux", "Uy", "Uz"]
             .iter()
-            .map(|d| flexmbd_fe::NodeDof {
+            .map(|d| flexmbd_model::NodeDof {
                 node: 20,
                 dof: match *d {
-                    "Ux" => flexmbd_fe::Dof::Ux,
-                    "Uy" => flexmbd_fe::Dof::Uy,
-                    _ => flexmbd_fe::Dof::Uz,
+                    "Ux" => flexmbd_model::Dof::Ux,
+                    "Uy" => flexmbd_model::Dof::Uy,
+                    _ => flexmbd_model::Dof::Uz,
                 },
             })
             .collect();

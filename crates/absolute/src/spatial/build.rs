@@ -24,8 +24,6 @@ struct BuiltBodies {
     q0: Vec<f64>,
     qd0: Vec<f64>,
     initial_frames: Vec<(Vector3<f64>, Matrix3<f64>)>,
-    node_rotations: Vec<Vec<Option<DMatrix<f64>>>>,
-    node_translations: Vec<Vec<Option<DMatrix<f64>>>>,
 }
 
 impl Spatial {
@@ -49,8 +47,7 @@ impl Spatial {
             constraints: prepared.constraint_markers(),
             bodies: &built.bodies,
             initial_frames: built.initial_frames,
-            node_rotations: built.node_rotations,
-            node_translations: built.node_translations,
+            nodes: prepared.bodies().iter().map(|prep| &prep.nodes).collect(),
         };
         let force_markers: HashMap<_, _> = prepared
             .force_marker_ids()
@@ -117,8 +114,6 @@ fn build_bodies(prepared: &PreparedScene, method: InertiaMethod, g: &Vector3<f64
         q0: Vec::new(),
         qd0: Vec::new(),
         initial_frames: Vec::new(),
-        node_rotations: Vec::new(),
-        node_translations: Vec::new(),
     };
     for (b, prep) in scene.bodies.iter().zip(prepared.bodies()) {
         let body = prep.body.clone();
@@ -137,19 +132,6 @@ fn build_bodies(prepared: &PreparedScene, method: InertiaMethod, g: &Vector3<f64
                 node: if n_modes > 0 { *node } else { None },
             })
             .collect();
-        let nodes = &prep.reduced.nodes;
-        built.node_rotations.push(
-            markers
-                .iter()
-                .map(|site| site.node.map(|k| nodes[k].rotation.clone()))
-                .collect(),
-        );
-        built.node_translations.push(
-            markers
-                .iter()
-                .map(|site| site.node.map(|k| nodes[k].translation.clone()))
-                .collect(),
-        );
         let spatial_body = if n_modes > 0 {
             flexible_body(body, n_modes, offset, markers)
         } else {

@@ -2,14 +2,15 @@
 //! FE node's translation rows, a joint axis a direction term turning with its node
 //! (docs/methods.md §3.3: `V = X_P` for a point, `V = [X^r_j × ā]_j` for a direction).
 
+use flexmbd_body::NodeRows;
 use flexmbd_model::{MarkerId, MarkerPair, Scene};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 use super::SpatialBody;
 use super::kinematics::Term;
 
-/// The data to build marker terms: the bodies' frames at t = 0 and the modal rows
-/// (translation and rotation, `None` on a rigid body) of every marker's node.
+/// The data to build marker terms: the bodies' frames at t = 0 and their node rows (read at
+/// the node of a flexible body's marker; a rigid body's markers have none).
 pub(super) struct TermLookup<'a> {
     pub(super) scene: &'a Scene,
     /// The markers of each joint (the prepared scene's).
@@ -19,10 +20,8 @@ pub(super) struct TermLookup<'a> {
     pub(super) bodies: &'a [SpatialBody],
     /// Origin and rotation of every body at t = 0.
     pub(super) initial_frames: Vec<(Vector3<f64>, Matrix3<f64>)>,
-    /// `[body][marker]`: the node's rotation modes X^r (3 × n).
-    pub(super) node_rotations: Vec<Vec<Option<DMatrix<f64>>>>,
-    /// `[body][marker]`: the node's translation modes X (3 × n).
-    pub(super) node_translations: Vec<Vec<Option<DMatrix<f64>>>>,
+    /// Every body's node rows.
+    pub(super) nodes: Vec<&'a NodeRows>,
 }
 
 impl TermLookup<'_> {
@@ -51,17 +50,8 @@ impl TermLookup<'_> {
             },
             Some(body_index) => {
                 let b = &self.bodies[body_index];
-                let rows = match &self.node_translations[body_index][k] {
-                    Some(translation_modes) => {
-                        let n = translation_modes.ncols();
-                        let mut rows = vec![0.0; 3 * n];
-                        for a in 0..3 {
-                            for j in 0..n {
-                                rows[a * n + j] = translation_modes[(a, j)];
-                            }
-                        }
-                        rows
-                    }
+                let rows = match b.markers[k].node {
+                    Some(node) => self.nodes[body_index].translation(node).to_vec(),
                     None => Vec::new(),
                 };
                 let foreshortening_node = if b.body.has_foreshortening() && !rows.is_empty() {
@@ -95,15 +85,16 @@ impl TermLookup<'_> {
             Some(body_index) => {
                 let k = marker.index;
                 let local = self.initial_frames[body_index].1.tr_mul(&g);
-                let rows = match &self.node_rotations[body_index][k] {
-                    Some(rotation_modes) => {
-                        let n = rotation_modes.ncols();
+                let rows = match self.bodies[body_index].markers[k].node {
+                    Some(node) => {
+                        let nodes = self.nodes[body_index];
+                        let n = nodes.n_modes();
                         let mut rows = vec![0.0; 3 * n];
                         for j in 0..n {
                             let theta = Vector3::new(
-                                rotation_modes[(0, j)],
-                                rotation_modes[(1, j)],
-                                rotation_modes[(2, j)],
+                                nodes.rotation_row(node, 0)[j],
+                                nodes.rotation_row(node, 1)[j],
+                                nodes.rotation_row(node, 2)[j],
                             );
                             let c = theta.cross(&local);
                             for a in 0..3 {

@@ -124,9 +124,7 @@ impl BodyBuilder<'_> {
         } else {
             rigid_terms(&body, &basis.frame_map, self.gravity)
         };
-        let flexible_workspace = prep
-            .flexible
-            .then(|| flex::Flex2::new(&body, &prep.reduced));
+        let flexible_workspace = prep.flexible.then(|| flex::Flex2::new(&body, &prep.nodes));
         PlanarBody {
             body,
             slots: basis.slots,
@@ -197,7 +195,7 @@ impl BodyBuilder<'_> {
             None => {
                 let rbar = match prep.reference_node {
                     Some(node) => {
-                        let pos = prep.reduced.nodes[node].position;
+                        let pos = prep.nodes.position(node);
                         Vector2::new(pos.x, pos.y)
                     }
                     None => Vector2::zeros(),
@@ -290,8 +288,8 @@ fn rigid_terms(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use flexmbd_body::ReducedBody;
     use flexmbd_core::Dim;
-    use flexmbd_fe::ReducedBody;
     use nalgebra::{Matrix3, Vector3};
 
     fn marker(x: f64, y: f64) -> BodyMarker {
