@@ -2,7 +2,8 @@
 //!
 //! - `flexmbd modes MODEL.ron [--json]` prints the mode inventory of a flexible body:
 //!   each static mode with the boundary DOF it belongs to, each normal mode with its
-//!   frequency, and the DOFs the floating frame takes.
+//!   frequency, and the DOFs the floating frame takes; `flexmbd modes SCENE.ron --body
+//!   NAME` that of a flexible body of a scene (given a scene alone, it lists its bodies).
 //! - `flexmbd simulate SCENE.ron [options]` runs a scene, streams the sensor histories to
 //!   a CSV file as they are computed and prints a run summary; Ctrl-C or SIGTERM ends the
 //!   run between two steps with status `interrupted`.
@@ -48,7 +49,7 @@ use csv_output::CsvFile;
 use flexmbd::body::InertiaMethod;
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
-use flexmbd::model::{FormulationKind, Scene, Stiffening, parse_set};
+use flexmbd::model::{BodyModel, FormulationKind, PreparedScene, Scene, Stiffening, parse_set};
 use flexmbd::output::RowSink;
 use flexmbd::simulation::{self, Summary};
 use jsonl_output::JsonlFile;
@@ -82,8 +83,12 @@ enum InertiaArg {
 enum Command {
     /// Reduce a flexible body model and print its mode inventory.
     Modes {
-        /// A body model file (RON), e.g. models/cantilever_2d.ron.
+        /// A body model file (RON), e.g. models/cantilever_2d.ron, or a scene with --body.
         model: PathBuf,
+        /// The flexible body of a scene to reduce (given a scene without it, `modes` lists
+        /// the scene's bodies).
+        #[arg(long)]
+        body: Option<String>,
         /// Print one JSON object on stdout instead of a table.
         #[arg(long)]
         json: bool,
@@ -184,7 +189,7 @@ fn main() -> ExitCode {
             }
         };
         let result = match cli.command {
-            Command::Modes { model, json } => modes(&model, json),
+            Command::Modes { model, body, json } => modes(&model, body.as_deref(), json),
             Command::Simulate(args) => simulate(&args),
             Command::Equilibrium(args) => equilibrium(&args),
             Command::Eigen(args) => eigen(&args),
@@ -202,10 +207,82 @@ fn main() -> ExitCode {
 /// The exit code of a command that ran, or why its input was refused ([`exit::INVALID_INPUT`]).
 type CliResult = Result<u8, Box<dyn std::error::Error>>;
 
-fn modes(model: &Path, json: bool) -> CliResult {
-    let spec = BeamBodySpec::from_file(model)?;
-    let body = reduce(&spec).map_err(|e| format!("{}: {e}", model.display()))?;
-    let inv = Inventory::of(&model.display().to_string(), &body);
+fn modes(model: &Path, body: Option<&str>, json: bool) -> CliResult {
+    let name = model.display().to_string();
+    let text = std::fs::read_to_string(model).map_err(|e| format!("cannot read {name}: {e}"))?;
+    let spec = match BeamBodySpec::from_ron_str(&text, &name) {
+        Ok(_) if body.is_some() => {
+            return Err(format!(
+                "{name}: this is a body model, not a scene; --body picks a body of a scene"
+            )
+            .into());
+        }
+        Ok(spec) => spec,
+        Err(body_error) => {
+            return match Scene::load(model) {
+                Ok(scene) => scene_body_modes(&scene, &name, body, json),
+                Err(scene_error) if looks_like_a_scene(&text) => Err(scene_error.into()),
+                Err(_) => Err(body_error.into()),
+            };
+        }
+    };
+    let reduced = reduce(&spec).map_err(|e| format!("{name}: {e}"))?;
+    let inv = Inventory::of(&name, &reduced);
+    print_json_or_table(&inv, json, Inventory::to_text)
+}
+
+/// A text that names a scene's own fields is read as a scene when it parses as neither,
+/// so its error is the scene parser's.
+fn looks_like_a_scene(text: &str) -> bool {
+    ["bodies:", "joints:", "solver:"]
+        .iter()
+        .any(|field| text.contains(field))
+}
+
+/// `flexmbd modes SCENE --body NAME`: the inventory of one flexible body of a scene as the
+/// scene runs it (prepared: its stiffening method's rewrite applied). Without `--body`,
+/// the scene's bodies are listed in the error.
+fn scene_body_modes(scene: &Scene, file: &str, body: Option<&str>, json: bool) -> CliResult {
+    let listing = || {
+        scene
+            .bodies
+            .iter()
+            .map(|b| {
+                let kind = match (&b.model, b.flexible) {
+                    (BodyModel::Rigid { .. }, _) => "rigid",
+                    (BodyModel::Beam(_), true) => "flexible beam",
+                    (BodyModel::Beam(_), false) => "beam run rigid",
+                };
+                format!("{} ({kind})", b.name)
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let Some(name) = body else {
+        return Err(format!(
+            "{file}: this is a scene, not a body model; its bodies: {}. \
+             `flexmbd modes {file} --body NAME` prints the modes of one flexible body",
+            listing()
+        )
+        .into());
+    };
+    let prepared = PreparedScene::new(scene)?;
+    let index = prepared.scene().bodies.iter().position(|b| b.name == name);
+    let Some(prep) = index.map(|i| &prepared.bodies()[i]) else {
+        return Err(format!(
+            "--body {name}: {file} has no such body; its bodies: {}",
+            listing()
+        )
+        .into());
+    };
+    if !prep.flexible {
+        return Err(format!(
+            "--body {name}: the body is rigid in {file}: it has no modes (a beam body runs \
+             flexible with `flexible: true`)"
+        )
+        .into());
+    }
+    let inv = Inventory::of(&format!("{file}, body {name}"), &prep.reduced);
     print_json_or_table(&inv, json, Inventory::to_text)
 }
 

@@ -474,3 +474,34 @@ fn jsonl_rows_are_the_csv_rows() {
     assert!(err.contains("is the --output file"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Given a scene, `modes` says so and lists its bodies; `--body` reduces one of them as the
+/// scene runs it: the flexible pendulum's bar is a clamped–free Euler–Bernoulli beam, whose
+/// first frequency is (1.8751²/2π) √(EI/(ρA L⁴)) = 9.2155 Hz (E I = 2.1e11 · 1.2914e-9,
+/// ρ A = 7850 · 1.2739e-4, L = 1, models/flexible_pendulum.ron), to 1e-4 with 10 elements.
+#[test]
+fn modes_on_a_scene_lists_its_bodies_and_reduces_one_with_body() {
+    let scene = model("flexible_pendulum.ron");
+    let err = refused(&["modes", &scene]);
+    assert_contains_all(&err, &["is a scene", "bar (flexible beam)", "--body NAME"]);
+    let err = refused(&["modes", &scene, "--body", "beam"]);
+    assert_contains_all(
+        &err,
+        &["--body beam", "no such body", "bar (flexible beam)"],
+    );
+    let err = refused(&["modes", &model("double_four_bar.ron"), "--body", "crank1"]);
+    assert_contains_all(&err, &["crank1", "rigid", "flexible: true"]);
+    let err = refused(&["modes", &model("cantilever_2d.ron"), "--body", "bar"]);
+    assert_contains_all(&err, &["cantilever_2d.ron", "body model, not a scene"]);
+
+    let out = run(["modes", &scene, "--body", "bar", "--json"]);
+    assert_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f0 = v["normal_modes"][0]["frequency_hz"].as_f64().unwrap();
+    let (ei, rho_a): (f64, f64) = (2.1e11 * 1.2914e-9, 7850.0 * 1.2739e-4);
+    let analytic = 1.8751_f64.powi(2) / (2.0 * std::f64::consts::PI) * (ei / rho_a).sqrt();
+    assert!(
+        (f0 / analytic - 1.0).abs() < 1e-4,
+        "{f0} Hz against {analytic} Hz"
+    );
+}
