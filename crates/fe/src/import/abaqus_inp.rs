@@ -294,7 +294,9 @@ fn open(raw: &mut RawInput, scope: &mut Scope, kw: &Keyword, at: At) -> Result<D
             ));
         }
         "PART" => {
-            *scope = Scope::Part(required(at, kw, "NAME")?.to_ascii_uppercase());
+            let name = required(at, kw, "NAME")?.to_ascii_uppercase();
+            raw.parts.entry(name.clone()).or_default();
+            *scope = Scope::Part(name);
             Data::Skip
         }
         "END PART" | "END ASSEMBLY" => {

@@ -7,6 +7,12 @@
 //!   Mapping=YES`: an optional header line (`Matrix Eqn   Node   DOF`), then one line per
 //!   equation, `eqn node label`, label one of `UX UY UZ ROTX ROTY ROTZ`; each
 //!   equation 1…N exactly once (N = number of lines), any order.
+//! - **Ansys node vector** (`parse_ansys_node_vector`): a Matrix Market
+//!   `array integer general` file of N × 1 entries, the user node number of each
+//!   block of three matrix rows (UX, UY, UZ): rows 3k…3k+2 are node v_k. This is the
+//!   vector Exudyn's `FEMinterface.ReadMassMatrixFromAnsys` takes with Ansys MMF
+//!   exports (three DOFs per node, solid meshes); the export command is not documented
+//!   there, and the three-DOF layout is its assumption.
 //! - **CalculiX** (`parse_calculix_dof`): the `jobname.dof` file of `*FREQUENCY,
 //!   SOLVER=MATRIXSTORAGE`: one line per equation, in order, `node.dof` (e.g. `12.3`).
 //!
@@ -135,6 +141,75 @@ pub fn parse_ansys_mapping(text: &str, file: &str) -> Result<Vec<DofEntry>, FeEr
     non_empty(rows.into_iter().map(|(_, e)| e).collect(), file)
 }
 
+/// Parse an Ansys node vector (Matrix Market `array integer general`, N × 1).
+pub fn parse_ansys_node_vector(text: &str, file: &str) -> Result<Vec<DofEntry>, FeError> {
+    let mut lines = numbered_lines(text).filter(|(_, l)| {
+        let t = l.trim();
+        !t.is_empty() && !t.starts_with('%')
+    });
+    let banner = numbered_lines(text)
+        .next()
+        .map(|(_, l)| l.to_ascii_lowercase());
+    let array = banner.is_some_and(|b| {
+        b.split_whitespace().collect::<Vec<_>>()
+            == ["%%matrixmarket", "matrix", "array", "integer", "general"]
+    });
+    if !array {
+        return Err(format_error(
+            file,
+            1,
+            "header",
+            "expected the banner `%%MatrixMarket matrix array integer general`".into(),
+        ));
+    }
+    let (line, size) = lines
+        .next()
+        .ok_or_else(|| format_error(file, 1, "size", "no size line `N 1`".into()))?;
+    let at = At { file, line };
+    let f = fields(size);
+    at.expect_fields(&f, 2, "rows 1")?;
+    let n = at.count("rows", f[0])?;
+    if at.count("cols", f[1])? != 1 {
+        return Err(at.error(
+            "cols",
+            format!("a node vector has 1 column, found {}", f[1]),
+        ));
+    }
+    if n > text.len() {
+        return Err(at.error(
+            "rows",
+            format!("{n} rows cannot be held by a file of {} bytes", text.len()),
+        ));
+    }
+    let mut out = Vec::with_capacity(3 * n);
+    for (line, l) in lines {
+        let at = At { file, line };
+        if out.len() == 3 * n {
+            return Err(at.error("node", format!("more than the {n} declared entries")));
+        }
+        let node = at.integer("node", l.trim())?.to_string();
+        for dof in [Dof::Ux, Dof::Uy, Dof::Uz] {
+            out.push(DofEntry {
+                node: node.clone(),
+                dof,
+                line,
+            });
+        }
+    }
+    if out.len() != 3 * n {
+        return Err(format_error(
+            file,
+            numbered_lines(text).count(),
+            "node",
+            format!(
+                "the file ends after {} of the {n} declared entries",
+                out.len() / 3
+            ),
+        ));
+    }
+    non_empty(out, file)
+}
+
 /// Parse a CalculiX `.dof` file.
 pub fn parse_calculix_dof(text: &str, file: &str) -> Result<Vec<DofEntry>, FeError> {
     let mut out = Vec::new();
@@ -190,6 +265,43 @@ mod tests {
                 .collect::<Vec<_>>(),
             vec![("5", Dof::Ux), ("5", Dof::Uy), ("6", Dof::Rz)]
         );
+        let v = parse_ansys_node_vector(
+            "%%MatrixMarket matrix array integer general\n% c\n2 1\n7\n3\n",
+            "v",
+        )
+        .unwrap();
+        assert_eq!(v.len(), 6);
+        assert_eq!((v[3].node.as_str(), v[3].dof, v[3].line), ("3", Dof::Ux, 5));
+        for (text, want) in [
+            ("", "header"),
+            (
+                "%%MatrixMarket matrix array integer general\n",
+                "no size line",
+            ),
+            (
+                "%%MatrixMarket matrix array integer general\n2 2\n",
+                "1 column",
+            ),
+            (
+                "%%MatrixMarket matrix array integer general\n2 1\n1\n",
+                "ends after 1 of the 2",
+            ),
+            (
+                "%%MatrixMarket matrix array integer general\n1 1\n1\n2\n",
+                "more than the 1",
+            ),
+            (
+                "%%MatrixMarket matrix array integer general\n99999 1\n1\n",
+                "cannot be held",
+            ),
+            (
+                "%%MatrixMarket matrix array integer general\n1 1\nx\n",
+                "node: expected an integer",
+            ),
+        ] {
+            let e = parse_ansys_node_vector(text, "v").unwrap_err().to_string();
+            assert!(e.contains(want), "{text:?}: {e}");
+        }
         let c = parse_calculix_dof("1.1\n1.2\n12.3\n", "c.dof").unwrap();
         assert_eq!(
             (c[2].node.as_str(), c[2].dof, c[2].line),

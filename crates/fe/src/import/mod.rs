@@ -37,7 +37,9 @@ use std::path::Path;
 
 pub use abaqus_inp::parse_abaqus_inp;
 pub use abaqus_mtx::ABAQUS_BC_MARKER;
-pub use dof_map::{DofEntry, parse_ansys_mapping, parse_calculix_dof, parse_dof_map};
+pub use dof_map::{
+    DofEntry, parse_ansys_mapping, parse_ansys_node_vector, parse_calculix_dof, parse_dof_map,
+};
 pub use mesh::{Element, FeMesh};
 pub use model::FeModel;
 pub use nodes::{NodeList, parse_node_list};
@@ -82,8 +84,10 @@ pub fn parse_generic(
     matrix_market_model(nodes, dof_map, &entries, k, m, options)
 }
 
-/// Ansys: a node list (`NLIST` output or `id x y z`), the `HBMAT` `.mapping` file and
-/// K and M exported as Matrix Market (`*EXPORT, …, MMF`).
+/// Ansys: a node list (`NLIST` output, a Workbench table or `id x y z`), the DOF
+/// mapping — the `HBMAT` `.mapping` file, or a node vector in Matrix Market `array`
+/// format (recognised by its banner; see [`dof_map`]) — and K and M exported as
+/// Matrix Market (`*EXPORT, …, MMF`).
 pub fn parse_ansys(
     nodes: Source,
     mapping: Source,
@@ -91,7 +95,16 @@ pub fn parse_ansys(
     m: Source,
     options: &ImportOptions,
 ) -> Result<FeModel, FeError> {
-    let entries = parse_ansys_mapping(mapping.text, mapping.file)?;
+    let is_vector = mapping
+        .text
+        .trim_start_matches('\u{feff}')
+        .get(..14)
+        .is_some_and(|b| b.eq_ignore_ascii_case("%%MatrixMarket"));
+    let entries = if is_vector {
+        parse_ansys_node_vector(mapping.text, mapping.file)?
+    } else {
+        parse_ansys_mapping(mapping.text, mapping.file)?
+    };
     matrix_market_model(nodes, mapping, &entries, k, m, options)
 }
 

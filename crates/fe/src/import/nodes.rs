@@ -8,7 +8,10 @@
 //! is an `NLIST` line whose last three are the nodal coordinate system's rotation
 //! angles THXY, THYZ, THZX (degrees): they must be zero, since the matrices of a
 //! rotated nodal system are in nodal axes (`NROTAT`), which this reader does not
-//! turn back. Node numbers must be unique.
+//! turn back. A line holding a tab is a table exported by Ansys Workbench (a named
+//! selection of mesh nodes, *Export*): its fields are separated by tabs only and a
+//! decimal comma is read as a point (`1,e-001` = 0.1), as that export writes numbers in
+//! the user's locale. Node numbers must be unique.
 
 use std::collections::HashMap;
 
@@ -63,7 +66,17 @@ pub fn parse_node_list(text: &str, file: &str) -> Result<NodeList, FeError> {
             continue;
         }
         let at = At { file, line };
-        let f = fields(t);
+        let tabbed: Vec<String>;
+        let f: Vec<&str> = if t.contains('\t') {
+            tabbed = t
+                .split('\t')
+                .map(|x| x.trim().replace(',', "."))
+                .filter(|x| !x.is_empty())
+                .collect();
+            tabbed.iter().map(String::as_str).collect()
+        } else {
+            fields(t)
+        };
         if f.len() != 4 && f.len() != 7 {
             return Err(at.error(
                 "line",
@@ -121,6 +134,10 @@ mod tests {
         let n = parse_node_list(nlist, "nlist.lis").unwrap();
         assert_eq!(n.ids, vec!["7"]);
         assert_eq!(n.index["7"], 0);
+        let wb = "Knotennummer\tX-Position (m)\tY-Position (m)\tZ-Position (m)\t\n3\t-7,5e-011\t2,1e-014\t1,e-001\t\n";
+        let w = parse_node_list(wb, "wb.txt").unwrap();
+        assert_eq!(w.ids, vec!["3"]);
+        assert_eq!(w.positions[0].z, 0.1);
     }
 
     #[test]
