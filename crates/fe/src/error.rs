@@ -95,6 +95,33 @@ pub enum FeError {
         what: String,
     },
 
+    /// An FE export (crate::import) is malformed at one line: names the file, the
+    /// 1-based line, the field and what was found.
+    #[error("{file}:{line}: {field}: {message}")]
+    Format {
+        /// The file (or the name given to the text).
+        file: String,
+        /// 1-based line of the offence.
+        line: usize,
+        /// Which field of the line (or which keyword) is wrong.
+        field: String,
+        /// What was found and what was expected.
+        message: String,
+    },
+
+    /// An FE export (crate::import) is well formed but not a usable model: a matrix
+    /// that is not symmetric, a mass diagonal that is not positive, a DOF map that does
+    /// not match the matrix size, an unknown node. Names the file and the quantity.
+    #[error("{file}: {field}: {message}")]
+    Import {
+        /// The file (or files) the quantity came from.
+        file: String,
+        /// Which quantity is wrong (e.g. `K[12, 40]`, `point_masses[0].node`).
+        field: String,
+        /// What is wrong, with the values.
+        message: String,
+    },
+
     /// Matrix sizes do not agree.
     #[error("{what}: dimension mismatch ({detail})")]
     Dimension {

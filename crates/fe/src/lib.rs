@@ -17,6 +17,7 @@ pub mod craig_bampton;
 pub mod error;
 pub mod foreshortening;
 pub mod frame;
+pub mod import;
 pub mod inertia_loads;
 pub mod modal;
 pub mod participation;

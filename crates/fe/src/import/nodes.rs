@@ -1,0 +1,162 @@
+//! Node-coordinate lists: the generic `id x y z` file and Ansys `NLIST` output.
+//!
+//! One node per line: an integer node number and three coordinates, separated by
+//! white space and/or commas (`id, x, y, z` is a CSV export). Blank lines and lines
+//! starting with `#`, `!` or `%` are comments. A line starting with a letter or `*`
+//! is a header and skipped (`NLIST` prints `LIST ALL SELECTED NODES. DSYS= 0`,
+//! `NODE X Y Z THXY THYZ THZX` and `*** ANSYS …` page headers). A line of seven fields
+//! is an `NLIST` line whose last three are the nodal coordinate system's rotation
+//! angles THXY, THYZ, THZX (degrees): they must be zero, since the matrices of a
+//! rotated nodal system are in nodal axes (`NROTAT`), which this reader does not
+//! turn back. A line holding a tab is a table exported by Ansys Workbench (a named
+//! selection of mesh nodes, *Export*): its fields are separated by tabs only and a
+//! decimal comma is read as a point (`1,e-001` = 0.1), as that export writes numbers in
+//! the user's locale. Node numbers must be unique.
+
+use std::collections::HashMap;
+
+use nalgebra::Vector3;
+
+use super::text::{At, fields, format_error, numbered_lines};
+use crate::error::FeError;
+
+/// Nodes as read: ids (as written), positions, and the 1-based line of each.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NodeList {
+    /// Node ids as in the file (decimal integers, or `instance.label` for Abaqus).
+    pub ids: Vec<String>,
+    /// Positions in file units (the length scale is applied by the model).
+    pub positions: Vec<Vector3<f64>>,
+    /// id → index into `ids`.
+    pub index: HashMap<String, usize>,
+}
+
+impl NodeList {
+    /// Add a node; a duplicate id is an error at `at`.
+    pub(crate) fn push(&mut self, at: At, id: String, p: Vector3<f64>) -> Result<(), FeError> {
+        if self.index.contains_key(&id) {
+            return Err(at.error("node", format!("node {id} is defined twice")));
+        }
+        self.index.insert(id.clone(), self.ids.len());
+        self.ids.push(id);
+        self.positions.push(p);
+        Ok(())
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// True when there is no node.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+}
+
+/// Parse a node-coordinate list (generic or `NLIST`); `file` names it in errors.
+pub fn parse_node_list(text: &str, file: &str) -> Result<NodeList, FeError> {
+    let mut nodes = NodeList::default();
+    for (line, raw) in numbered_lines(text) {
+        let t = raw.trim();
+        let Some(first) = t.chars().next() else {
+            continue;
+        };
+        if matches!(first, '#' | '!' | '%' | '*') || first.is_alphabetic() {
+            continue;
+        }
+        let at = At { file, line };
+        let tabbed: Vec<String>;
+        let f: Vec<&str> = if t.contains('\t') {
+            tabbed = t
+                .split('\t')
+                .map(|x| x.trim().replace(',', "."))
+                .filter(|x| !x.is_empty())
+                .collect();
+            tabbed.iter().map(String::as_str).collect()
+        } else {
+            fields(t)
+        };
+        if f.len() != 4 && f.len() != 7 {
+            return Err(at.error(
+                "line",
+                format!(
+                    "expected `id x y z` (or NLIST's `id x y z thxy thyz thzx`), found {} fields",
+                    f.len()
+                ),
+            ));
+        }
+        let id = at.integer("id", f[0])?;
+        let p = Vector3::new(
+            at.real("x", f[1])?,
+            at.real("y", f[2])?,
+            at.real("z", f[3])?,
+        );
+        for (k, name) in ["thxy", "thyz", "thzx"]
+            .iter()
+            .enumerate()
+            .take(f.len() - 4)
+        {
+            if at.real(name, f[4 + k])? != 0.0 {
+                return Err(at.error(
+                    name,
+                    format!(
+                        "node {id} has a rotated nodal coordinate system ({name} = {}); \
+                         its matrix rows are in nodal axes, which is not supported",
+                        f[4 + k]
+                    ),
+                ));
+            }
+        }
+        nodes.push(at, id.to_string(), p)?;
+    }
+    if nodes.is_empty() {
+        return Err(format_error(
+            file,
+            1,
+            "node",
+            "the file lists no node".into(),
+        ));
+    }
+    Ok(nodes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_generic_csv_and_nlist() {
+        let g = parse_node_list("# id x y z\n1 0 0 0\n2, 1.5, 0, 0\r\n", "n.txt").unwrap();
+        assert_eq!(g.ids, vec!["1", "2"]);
+        assert_eq!(g.positions[1].x, 1.5);
+        let nlist = " LIST ALL SELECTED NODES.   DSYS=      0\n\n    NODE        X     Y     Z     THXY     THYZ     THZX\n        7   1.0   2.0   3.0   0.00   0.00   0.00\n";
+        let n = parse_node_list(nlist, "nlist.lis").unwrap();
+        assert_eq!(n.ids, vec!["7"]);
+        assert_eq!(n.index["7"], 0);
+        let wb = "Knotennummer\tX-Position (m)\tY-Position (m)\tZ-Position (m)\t\n3\t-7,5e-011\t2,1e-014\t1,e-001\t\n";
+        let w = parse_node_list(wb, "wb.txt").unwrap();
+        assert_eq!(w.ids, vec!["3"]);
+        assert_eq!(w.positions[0].z, 0.1);
+    }
+
+    #[test]
+    fn refuses_bad_lists() {
+        let cases: &[(&str, &str)] = &[
+            ("", "n:1: node: the file lists no node"),
+            ("# only comments\n", "lists no node"),
+            ("1 0 0\n", "n:1: line: expected `id x y z`"),
+            ("1.5 0 0 0\n", "id: expected an integer"),
+            ("1 0 0 nan\n", "z: value `nan` is not finite"),
+            ("1 0 0 0\n1 1 1 1\n", "n:2: node: node 1 is defined twice"),
+            (
+                "1 0 0 0 0 0 30\n",
+                "thzx: node 1 has a rotated nodal coordinate system",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = parse_node_list(text, "n").unwrap_err().to_string();
+            assert!(e.contains(want), "{text:?}: {e}");
+        }
+    }
+}
