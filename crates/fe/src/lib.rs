@@ -26,6 +26,7 @@ pub mod rigid;
 pub mod ritz;
 pub mod section;
 pub mod selection;
+pub mod solid_box;
 pub mod spec;
 pub mod stiffening;
 
