@@ -130,4 +130,49 @@ pub enum FeError {
         /// The sizes.
         detail: String,
     },
+
+    // --- the sparse eigen-solver (crate::sparse, crate::sparse_eigen) ---
+    /// A matrix that must be symmetric is not, or holds a value that is not finite.
+    #[error("{what} is not symmetric: entry ({row}, {col}): {detail}")]
+    NotSymmetric {
+        /// Which matrix.
+        what: String,
+        /// Row of the offending entry.
+        row: usize,
+        /// Column of the offending entry.
+        col: usize,
+        /// The values found.
+        detail: String,
+    },
+
+    /// The shifted pencil K − σM could not be factorised: with σ < 0 it is positive
+    /// definite whenever K is positive semi-definite and M positive definite.
+    #[error(
+        "K - sigma M with shift sigma = {shift:e} is not positive definite (pivot {pivot} of the \
+         permuted matrix failed): K must be positive semi-definite and M positive definite"
+    )]
+    ShiftedNotPositiveDefinite {
+        /// The shift σ.
+        shift: f64,
+        /// Index of the failing pivot, in faer's fill-reducing order.
+        pivot: usize,
+    },
+
+    /// The sparse eigen-solver did not converge within its bound on restarts.
+    #[error(
+        "sparse eigen-solver: {converged} of {requested} eigenpairs converged to {tol:e} after \
+         {restarts} restarts ({solves} solves); raise max_restarts or the basis size"
+    )]
+    SparseEigenNoConvergence {
+        /// Eigenpairs converged.
+        converged: usize,
+        /// Eigenpairs requested.
+        requested: usize,
+        /// The tolerance on the relative residual.
+        tol: f64,
+        /// Restarts done.
+        restarts: usize,
+        /// Solves with the factor done.
+        solves: usize,
+    },
 }

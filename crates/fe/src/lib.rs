@@ -27,6 +27,9 @@ pub mod rigid;
 pub mod ritz;
 pub mod section;
 pub mod selection;
+pub mod solid_box;
+pub mod sparse;
+pub mod sparse_eigen;
 pub mod spec;
 pub mod stiffening;
 
