@@ -24,8 +24,10 @@ fn check_shape(field: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), 
     Ok(())
 }
 
-/// Refuse a reduced body whose sizes disagree, whose cloud has negative or non-finite weights
-/// or non-finite positions and rows, or (2D) leaves the plane z = 0.
+/// Refuse a reduced body whose sizes disagree, whose cloud has non-finite weights, positions
+/// or rows, or (2D) leaves the plane z = 0. A weight may be negative: the cloud of an
+/// imported body is an exact rewriting of a consistent mass matrix, whose node terms are
+/// negative (`flexmbd_fe::imported::inertia`); the mass must be positive.
 pub(crate) fn check_reduced(reduced: &ReducedBody) -> Result<(), InvalidValue> {
     let cloud = &reduced.cloud;
     let n = cloud.n_modes;
@@ -51,11 +53,11 @@ pub(crate) fn check_reduced(reduced: &ReducedBody) -> Result<(), InvalidValue> {
         ));
     }
     for (k, w) in cloud.weights.iter().enumerate() {
-        if !(w.is_finite() && *w >= 0.0) {
+        if !w.is_finite() {
             return Err(InvalidValue::new(
                 format!("cloud.weights[{k}]"),
                 w,
-                "must be finite and >= 0",
+                "must be finite",
             ));
         }
     }

@@ -18,6 +18,7 @@ pub mod error;
 pub mod foreshortening;
 pub mod frame;
 pub mod import;
+pub mod imported;
 pub mod inertia_loads;
 pub mod modal;
 pub mod participation;

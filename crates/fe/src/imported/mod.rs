@@ -1,0 +1,291 @@
+//! A flexible body from an imported FE model (issue 25; docs/import.md for the files,
+//! docs/methods.md §1.3–§1.4 and §2.1–§2.3 for the reduction and the inertia data).
+//!
+//! [`ImportedBodySpec`] names the export ([`ImportSource`]: Abaqus, Ansys, CalculiX or
+//! any FE code through Matrix Market), the [`ImportOptions`], the **interfaces** — node sets
+//! chosen by name or by geometry, each joined to one interface point, the body's marker
+//! site, as a rigid spider (RBE2) or a weighted average (RBE3) — the reference frame and
+//! the modes. [`reduce_imported`] turns it, with the model read, into the same
+//! [`ReducedBody`] a built-in beam gives, through a sparse pipeline:
+//!
+//! 1. interfaces: the multipoint constraints of every interface written as one sparse map
+//!    u = T ũ from the retained coordinates ũ (the FE DOFs left independent and six
+//!    coordinates per interface point) to the FE DOFs ([`interfaces`]);
+//! 2. K̃ = Tᵀ K T, M̃ = Tᵀ M T (sparse);
+//! 3. the reference frame: **clamped** to an interface point (its six coordinates are the
+//!    frame DOFs, zero in every mode) with Craig–Bampton's static modes of the `boundary`
+//!    interfaces (K̃_ii⁻¹ by one sparse Cholesky) and fixed-interface normal modes, or
+//!    **free-free**: the lowest elastic modes of the unconstrained body, its six rigid-body
+//!    modes removed (they are M-orthogonal to them, so the frame follows the mean axes of
+//!    the linear theory) ([`reduction`]);
+//! 4. X = T X̃ on the FE DOFs, the mass cloud as an exact rewriting of the sparse mass
+//!    matrix, the 13 shape integrals from that cloud, and the node rows: the interface
+//!    points first, then every FE node ([`inertia`]).
+//!
+//! An imported body is spatial. Its stiffening data is empty: the stiffening methods that
+//! need element data (FNL1, FNL2, FS0) and substructuring are refused for it by the scene.
+
+pub mod inertia;
+pub mod interfaces;
+pub mod reduction;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::FeError;
+use crate::import::{self, FeModel, ImportOptions};
+use crate::reduced::{Dof, NodeDof, ReducedBody};
+use crate::selection::ModeSelection;
+use crate::spec::Damping;
+
+pub use interfaces::{Coupling, InterfaceSpec, NodeSelection};
+
+/// The files of an FE export (paths relative to the scene or body-model file).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ImportSource {
+    /// Abaqus: the input file and the `*MATRIX GENERATE` output (`_STIF1.mtx`, `_MASS1.mtx`).
+    Abaqus {
+        /// The `.inp` file (nodes, elements, sets).
+        input: PathBuf,
+        /// The stiffness matrix file.
+        stiffness: PathBuf,
+        /// The mass matrix file.
+        mass: PathBuf,
+    },
+    /// Ansys: a node list, the DOF mapping of the matrix export, K and M in Matrix Market.
+    Ansys {
+        /// The node-coordinate list.
+        nodes: PathBuf,
+        /// The `.mapping` file (or the node vector) of the matrix export.
+        mapping: PathBuf,
+        /// K in Matrix Market.
+        stiffness: PathBuf,
+        /// M in Matrix Market.
+        mass: PathBuf,
+    },
+    /// CalculiX `*FREQUENCY, SOLVER=MATRIXSTORAGE`: the input file, `.dof`, `.sti`, `.mas`.
+    Calculix {
+        /// The `.inp` file.
+        input: PathBuf,
+        /// The `.dof` file.
+        dofs: PathBuf,
+        /// The `.sti` file.
+        stiffness: PathBuf,
+        /// The `.mas` file.
+        mass: PathBuf,
+    },
+    /// Any FE code: a node list, a DOF map and K, M in Matrix Market (docs/import.md).
+    MatrixMarket {
+        /// The node-coordinate list.
+        nodes: PathBuf,
+        /// The DOF map (one line per matrix row).
+        dofs: PathBuf,
+        /// K in Matrix Market.
+        stiffness: PathBuf,
+        /// M in Matrix Market.
+        mass: PathBuf,
+    },
+}
+
+impl ImportSource {
+    /// Read the model, the paths taken relative to `base` (the directory of the file
+    /// that names them).
+    pub fn read(&self, base: &Path, options: &ImportOptions) -> Result<FeModel, FeError> {
+        let p = |path: &PathBuf| base.join(path);
+        match self {
+            ImportSource::Abaqus {
+                input,
+                stiffness,
+                mass,
+            } => import::read_abaqus(&p(input), &p(stiffness), &p(mass), options),
+            ImportSource::Ansys {
+                nodes,
+                mapping,
+                stiffness,
+                mass,
+            } => import::read_ansys(&p(nodes), &p(mapping), &p(stiffness), &p(mass), options),
+            ImportSource::Calculix {
+                input,
+                dofs,
+                stiffness,
+                mass,
+            } => import::read_calculix(&p(input), &p(dofs), &p(stiffness), &p(mass), options),
+            ImportSource::MatrixMarket {
+                nodes,
+                dofs,
+                stiffness,
+                mass,
+            } => import::read_generic(&p(nodes), &p(dofs), &p(stiffness), &p(mass), options),
+        }
+    }
+}
+
+/// The reference frame of an imported body.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ImportedFrame {
+    /// Floating: the free-free modes, the six rigid-body modes removed.
+    FreeFree,
+    /// Clamped to the named interface's point: its six coordinates are the frame's.
+    Interface(String),
+}
+
+/// One flexible body from an imported FE model, as written in RON.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImportedBodySpec {
+    /// The export's files.
+    pub source: ImportSource,
+    /// Unit scales and point masses.
+    #[serde(default)]
+    pub options: ImportOptions,
+    /// The interfaces, in the order of the body's interface points (node rows 0, 1, …).
+    #[serde(default)]
+    pub interfaces: Vec<InterfaceSpec>,
+    /// The reference frame.
+    pub frame: ImportedFrame,
+    /// Interfaces whose six coordinates get Craig–Bampton static modes (a clamped frame
+    /// only); they come first in the mode matrix, six per interface.
+    #[serde(default)]
+    pub boundary: Vec<String>,
+    /// Number of normal modes kept (fixed-interface, or free-free elastic).
+    pub normal_modes: usize,
+    /// How the normal modes are chosen; imported bodies take the lowest.
+    #[serde(default)]
+    pub mode_selection: ModeSelection,
+    /// Damping of the modal coordinates.
+    #[serde(default)]
+    pub damping: Damping,
+}
+
+/// The six coordinates of an interface point, in mode order.
+pub const POINT_DOFS: [Dof; 6] = [Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz];
+
+/// The coordinates of interface point `point` as node DOFs of the body's node rows (the
+/// interface points are nodes 0, 1, … of the reduced body).
+pub fn point_dofs(point: usize) -> impl Iterator<Item = NodeDof> {
+    POINT_DOFS
+        .into_iter()
+        .map(move |dof| NodeDof { node: point, dof })
+}
+
+/// The reduced body of an imported model and what the scene needs to place it.
+#[derive(Clone, Debug)]
+pub struct ImportedBody {
+    /// The reduced body: node rows 0..`interfaces.len()` are the interface points, the FE
+    /// nodes follow in the model's order.
+    pub body: ReducedBody,
+    /// Name and position (body components, m) of every interface point.
+    pub interfaces: Vec<(String, nalgebra::Vector3<f64>)>,
+    /// The node ids of the FE model, in node-row order after the interface points.
+    pub node_ids: Vec<String>,
+}
+
+impl ImportedBody {
+    /// The node row of an FE node by its id in the file.
+    pub fn node_row(&self, id: &str) -> Option<usize> {
+        self.node_ids
+            .iter()
+            .position(|n| n == id)
+            .map(|k| k + self.interfaces.len())
+    }
+}
+
+/// Read the export named by `spec` (paths relative to `base`) and reduce it.
+pub fn import_body(
+    spec: &ImportedBodySpec,
+    base: &Path,
+    name: &str,
+) -> Result<ImportedBody, FeError> {
+    let model = spec.source.read(base, &spec.options)?;
+    reduce_imported(spec, &model, name)
+}
+
+/// Reduce an imported model as `spec` says (module docs). `name` names the body in errors.
+pub fn reduce_imported(
+    spec: &ImportedBodySpec,
+    model: &FeModel,
+    name: &str,
+) -> Result<ImportedBody, FeError> {
+    check_spec(spec, name)?;
+    let couplings = interfaces::resolve(&spec.interfaces, model, name)?;
+    let map = interfaces::RetainedMap::new(model, &couplings, name)?;
+    let reduced = reduction::reduce(spec, model, &couplings, &map, name)?;
+    let body = inertia::reduced_body(spec, model, &couplings, &map, reduced, name)?;
+    Ok(ImportedBody {
+        body,
+        interfaces: couplings
+            .iter()
+            .map(|c| (c.name.clone(), c.point))
+            .collect(),
+        node_ids: model.mesh.nodes.ids.clone(),
+    })
+}
+
+fn invalid(field: String, value: impl std::fmt::Display, why: impl Into<String>) -> FeError {
+    FeError::Invalid(flexmbd_core::InvalidValue::new(field, value, why))
+}
+
+/// The checks that need no model: mode selection, frame and boundary names.
+fn check_spec(spec: &ImportedBodySpec, name: &str) -> Result<(), FeError> {
+    if spec.mode_selection != ModeSelection::LowestFrequency {
+        return Err(invalid(
+            format!("{name}.mode_selection"),
+            format!("{:?}", spec.mode_selection),
+            "an imported body takes its lowest normal modes (LowestFrequency); participation, \
+             Ritz and POD bases are for built-in beams",
+        ));
+    }
+    let known = |n: &str| spec.interfaces.iter().any(|i| i.name == n);
+    for (k, i) in spec.interfaces.iter().enumerate() {
+        if spec.interfaces[..k].iter().any(|j| j.name == i.name) {
+            return Err(invalid(
+                format!("{name}.interfaces[{k}].name"),
+                &i.name,
+                "interface names must be unique",
+            ));
+        }
+    }
+    if let ImportedFrame::Interface(f) = &spec.frame
+        && !known(f)
+    {
+        return Err(invalid(
+            format!("{name}.frame"),
+            f,
+            "names no interface of the body",
+        ));
+    }
+    for (k, b) in spec.boundary.iter().enumerate() {
+        if !known(b) {
+            return Err(invalid(
+                format!("{name}.boundary[{k}]"),
+                b,
+                "names no interface of the body",
+            ));
+        }
+        if spec.frame == ImportedFrame::Interface(b.clone()) {
+            return Err(invalid(
+                format!("{name}.boundary[{k}]"),
+                b,
+                "is the frame's interface: its coordinates are the frame's, not static modes",
+            ));
+        }
+        if spec.boundary[..k].contains(b) {
+            return Err(invalid(
+                format!("{name}.boundary[{k}]"),
+                b,
+                "is listed twice",
+            ));
+        }
+    }
+    if spec.frame == ImportedFrame::FreeFree && !spec.boundary.is_empty() {
+        return Err(invalid(
+            format!("{name}.boundary"),
+            spec.boundary.join(", "),
+            "static modes need a clamped frame (frame: Interface(NAME)); a free-free body \
+             takes normal modes only",
+        ));
+    }
+    Ok(())
+}
