@@ -173,14 +173,14 @@ fn gravity_and_elastic_rows() {
 #[test]
 fn routes_agree_on_an_imported_solid() {
     use flexmbd_fe::imported::{
-        Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection,
+        Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection, Xyz,
         import_body,
     };
     let plane = |name: &str, x: f64| InterfaceSpec {
         name: name.into(),
         nodes: NodeSelection::Plane {
-            point: [x, 0.0, 0.0],
-            normal: [1.0, 0.0, 0.0],
+            point: Xyz([x, 0.0, 0.0]),
+            normal: Xyz([1.0, 0.0, 0.0]),
             tolerance: 1e-6,
         },
         coupling: Coupling::Rbe2,

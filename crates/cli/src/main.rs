@@ -252,6 +252,8 @@ fn scene_body_modes(scene: &Scene, file: &str, body: Option<&str>, json: bool) -
                     (BodyModel::Rigid { .. }, _) => "rigid",
                     (BodyModel::Beam(_), true) => "flexible beam",
                     (BodyModel::Beam(_), false) => "beam run rigid",
+                    (BodyModel::Imported(_), true) => "flexible FE import",
+                    (BodyModel::Imported(_), false) => "FE import run rigid",
                 };
                 format!("{} ({kind})", b.name)
             })

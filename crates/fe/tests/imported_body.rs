@@ -52,8 +52,8 @@ fn plane_x(name: &str, x: f64, coupling: Coupling) -> InterfaceSpec {
     InterfaceSpec {
         name: name.into(),
         nodes: NodeSelection::Plane {
-            point: [x, 0.0, 0.0],
-            normal: [1.0, 0.0, 0.0],
+            point: Xyz([x, 0.0, 0.0]),
+            normal: Xyz([1.0, 0.0, 0.0]),
             tolerance: 1e-6,
         },
         coupling,
@@ -378,7 +378,7 @@ fn bad_interfaces_and_frames_are_refused_by_name() {
         refusal(&s)
     );
     let mut s = base.clone();
-    s.interfaces[1].nodes = NodeSelection::Nearest([0.2, 0.0, 0.0]);
+    s.interfaces[1].nodes = NodeSelection::Nearest(Xyz([0.2, 0.0, 0.0]));
     assert!(refusal(&s).contains("rotation free"), "{}", refusal(&s));
     let mut s = base.clone();
     s.frame = ImportedFrame::Interface("hub".into());

@@ -95,7 +95,7 @@ fn asks_for_pilot(spec: &BeamBodySpec, flexible: bool) -> bool {
 fn pilot_bodies(scene: &Scene) -> Result<Vec<PilotBody>, ModelError> {
     let asks = scene.bodies.iter().any(|b| match &b.model {
         BodyModel::Beam(spec) => asks_for_pilot(spec, b.flexible),
-        BodyModel::Rigid { .. } => false,
+        BodyModel::Rigid { .. } | BodyModel::Imported(_) => false,
     });
     if !asks {
         return Ok(Vec::new());

@@ -6,11 +6,12 @@
 
 use flexmbd_body::{ElasticModel, FlexibleBody, NodeRows};
 use flexmbd_core::InvalidValue;
+use flexmbd_fe::imported::import_body;
 use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
 use flexmbd_stiffening::Nonlinear;
 
 use crate::error::ModelError;
-use crate::scene::{Body, BodyModel, Scene, Stiffening};
+use crate::scene::{Body, BodyModel, ImportedBodySpec, ImportedFrame, Scene, Stiffening};
 
 /// The preprocessed form of one scene body.
 #[derive(Clone, Debug)]
@@ -122,6 +123,80 @@ impl Scene {
                     reference_node,
                 })
             }
+            BodyModel::Imported(spec) => self.prepare_imported(index, b, spec),
+        }
+    }
+
+    /// An imported FE body: its export read (paths relative to the scene file) and reduced;
+    /// its markers on interface points or FE nodes. Run rigid, it keeps the model's mass
+    /// properties and no modes.
+    fn prepare_imported(
+        &self,
+        index: usize,
+        b: &Body,
+        spec: &ImportedBodySpec,
+    ) -> Result<PreparedBody, ModelError> {
+        let mut spec = spec.clone();
+        if !b.flexible {
+            spec.boundary.clear();
+            spec.normal_modes = 0;
+            spec.frame = ImportedFrame::FreeFree;
+            spec.interfaces.clear();
+        }
+        let name = format!("bodies[{}].model.Imported", b.name);
+        let imported = import_body(&spec, &self.base_directory(), &name)
+            .map_err(|e| self.fe_error(&b.name, e))?;
+        let reduced = imported.body;
+        let nodes = NodeRows::from_reduced(&reduced);
+        let flexible = b.flexible && reduced.n_modes() > 0;
+        let size = (0..nodes.len())
+            .map(|k| nodes.position(k).norm())
+            .fold(1.0f64, f64::max);
+        let mut marker_nodes = Vec::with_capacity(b.markers.len());
+        for m in &b.markers {
+            let node = nodes.node_at(&m.position.vec(), 1e-9 * size);
+            if flexible && node.is_none() {
+                return Err(self.invalid(InvalidValue::new(
+                    format!("bodies[{}].markers[{}].position", b.name, m.name),
+                    format!("{:?}", m.position.0),
+                    format!(
+                        "a marker of an imported flexible body must sit on an interface point \
+                         ({}) or an FE node",
+                        imported
+                            .interfaces
+                            .iter()
+                            .map(|(n, p)| format!("{n} at [{}, {}, {}]", p.x, p.y, p.z))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )));
+            }
+            marker_nodes.push(if flexible { node } else { None });
+        }
+        let reference_node = match (&spec.frame, flexible) {
+            (ImportedFrame::Interface(frame), true) => {
+                imported.interfaces.iter().position(|(n, _)| n == frame)
+            }
+            _ => None,
+        };
+        Ok(PreparedBody {
+            index,
+            body: self.run_time_body(&reduced)?,
+            nodes,
+            flexible,
+            reduced,
+            marker_nodes,
+            reference_node,
+        })
+    }
+
+    /// The directory an imported body's files are relative to: the scene file's, or the
+    /// working directory for a scene built in code.
+    fn base_directory(&self) -> std::path::PathBuf {
+        let origin = std::path::Path::new(&self.origin);
+        match origin.parent() {
+            Some(dir) if origin.is_file() => dir.to_path_buf(),
+            _ => std::path::PathBuf::from("."),
         }
     }
 

@@ -150,7 +150,7 @@ impl Scene {
                             .saturating_add(axial)
                     }
                 },
-                _ => rigid,
+                _ => rigid.saturating_add(b.declared_modes()),
             })
             .fold(0usize, usize::saturating_add)
     }

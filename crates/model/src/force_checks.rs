@@ -8,7 +8,7 @@ use flexmbd_core::{Dim, InvalidValue};
 use flexmbd_fe::bounds;
 
 use crate::error::ModelError;
-use crate::scene::{BodyModel, Force, GROUND, Scene};
+use crate::scene::{Body, Force, GROUND, Scene};
 
 impl Scene {
     /// Road names unique, each profile valid.
@@ -85,7 +85,7 @@ impl Scene {
             .bodies
             .iter()
             .find(|b| b.name == body1)
-            .is_some_and(|b| b.flexible && matches!(b.model, BodyModel::Beam(_)));
+            .is_some_and(Body::runs_flexible);
         if flexible && body1 != GROUND {
             return Err(self.invalid(InvalidValue::new(
                 f("body1"),

@@ -3,12 +3,14 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use flexmbd_core::{InvalidValue, require_non_negative, require_positive};
+use flexmbd_core::{Dim, InvalidValue, require_non_negative, require_positive};
 use flexmbd_fe::reduced::Dof;
 use serde_json::Value;
 
 use crate::error::ModelError;
-use crate::scene::{Body, BodyModel, GROUND, Joint, JointKind, Marker, Scene, Sensor, SensorKind};
+use crate::scene::{
+    Body, BodyModel, GROUND, Joint, JointKind, Marker, Scene, Sensor, SensorKind, Stiffening,
+};
 
 impl Scene {
     /// Parse RON text; `origin` names the file in errors. Not validated.
@@ -165,7 +167,7 @@ impl Scene {
             BodyModel::Beam(spec) if b.flexible => {
                 spec.boundary.len().saturating_add(spec.normal_modes)
             }
-            _ => 0,
+            _ => b.declared_modes(),
         };
         if b.initial_modes.len() > n_modes {
             return Err(self.invalid(InvalidValue::new(
@@ -203,6 +205,23 @@ impl Scene {
                 }
                 spec.validate()
                     .map_err(|source| self.fe_error(&b.name, source))?;
+            }
+            BodyModel::Imported(_) => {
+                if b.flexible && self.solver.stiffening != Stiffening::Linear {
+                    return Err(ModelError::Unsupported(format!(
+                        "{}: body `{}` is an imported FE model, which has no element data: \
+                         the stiffening methods FNL1, FNL2, FS0 and substructuring are refused \
+                         for it (use `stiffening: Linear`)",
+                        self.origin, b.name
+                    )));
+                }
+                if self.dim != Dim::Spatial {
+                    return Err(self.invalid(InvalidValue::new(
+                        f("model.Imported"),
+                        "an imported FE body",
+                        "an imported body is spatial: the scene must be 3D",
+                    )));
+                }
             }
         }
         Ok(())
@@ -378,14 +397,7 @@ impl Scene {
         let Some(b) = self.bodies.iter().find(|b| b.name == body) else {
             return Err(self.missing(item("body"), "body", body));
         };
-        let n = match &b.model {
-            BodyModel::Beam(spec) if b.flexible => spec
-                .boundary
-                .len()
-                .saturating_add(spec.normal_modes)
-                .saturating_add(spec.axial_modes),
-            _ => 0,
-        };
+        let n = b.declared_modes();
         if index >= n {
             return Err(self.invalid(InvalidValue::new(
                 item("index"),

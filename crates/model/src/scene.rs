@@ -8,7 +8,12 @@ use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
 pub use crate::scene_constraints::{CONSTRAINT_TOLERANCE, Constraint};
-/// The beam body of a scene and its nodal DOFs are FE preprocessing's own types.
+pub use flexmbd_fe::import::{ImportOptions, PointMass};
+/// The beam body of a scene, its nodal DOFs and the imported FE body are FE
+/// preprocessing's own types.
+pub use flexmbd_fe::imported::{
+    Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection, Xyz,
+};
 pub use flexmbd_fe::{BeamBodySpec, Dof, NodeDof};
 
 /// A vector written with 2 (planar) or 3 numbers; stored with z = 0 in 2D.
@@ -221,6 +226,36 @@ pub enum BodyModel {
     },
     /// A flexible Euler–Bernoulli beam body (FE model, Craig–Bampton modes).
     Beam(BeamBodySpec),
+    /// A flexible body from an FE export (Abaqus, Ansys, CalculiX, Matrix Market; 3D
+    /// scenes): its files relative to the scene file, interfaces, frame and modes
+    /// (docs/import.md). Its markers sit on interface points or FE nodes.
+    Imported(ImportedBodySpec),
+}
+
+impl Body {
+    /// The body runs with modal coordinates: a beam or an imported FE model with
+    /// `flexible: true` (its markers sit on nodes).
+    pub fn runs_flexible(&self) -> bool {
+        self.flexible && !matches!(self.model, BodyModel::Rigid { .. })
+    }
+
+    /// The modal coordinates the scene declares for the body (a flexible beam's boundary,
+    /// normal and axial modes; an imported body's six per boundary interface and its normal
+    /// modes; none when it runs rigid). The stiffening rewrite may add more (FNL2).
+    pub fn declared_modes(&self) -> usize {
+        if !self.flexible {
+            return 0;
+        }
+        match &self.model {
+            BodyModel::Rigid { .. } => 0,
+            BodyModel::Beam(spec) => spec
+                .boundary
+                .len()
+                .saturating_add(spec.normal_modes)
+                .saturating_add(spec.axial_modes),
+            BodyModel::Imported(spec) => spec.n_modes(),
+        }
+    }
 }
 
 /// Inertia about the centre of mass (kg·m²), body axes.

@@ -32,6 +32,27 @@ use crate::error::FeError;
 use crate::import::FeModel;
 use crate::reduced::Dof;
 
+/// A point or direction written `[x, y, z]` (exactly three numbers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "Vec<f64>", into = "Vec<f64>")]
+pub struct Xyz(pub [f64; 3]);
+
+impl TryFrom<Vec<f64>> for Xyz {
+    type Error = String;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        match v.as_slice() {
+            [x, y, z] => Ok(Xyz([*x, *y, *z])),
+            _ => Err(format!("expected [x, y, z], found {} numbers", v.len())),
+        }
+    }
+}
+
+impl From<Xyz> for Vec<f64> {
+    fn from(v: Xyz) -> Self {
+        v.0.to_vec()
+    }
+}
+
 /// How an interface picks its FE nodes (positions in the model's units after
 /// `length_scale`, i.e. metres, body components).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,16 +64,16 @@ pub enum NodeSelection {
     /// Nodes within `tolerance` of the plane through `point` with normal `normal`.
     Plane {
         /// A point of the plane.
-        point: [f64; 3],
+        point: Xyz,
         /// Its normal (any length but zero).
-        normal: [f64; 3],
+        normal: Xyz,
         /// Largest distance from the plane (m).
         tolerance: f64,
     },
     /// Nodes within `radius` of `center`.
     Sphere {
         /// The centre.
-        center: [f64; 3],
+        center: Xyz,
         /// The radius (m).
         radius: f64,
     },
@@ -60,16 +81,16 @@ pub enum NodeSelection {
     /// `half_length` of `point` along it: a bore, a journal.
     Cylinder {
         /// A point of the axis (the middle of the selected length).
-        point: [f64; 3],
+        point: Xyz,
         /// The axis direction (any length but zero).
-        axis: [f64; 3],
+        axis: Xyz,
         /// The largest distance from the axis (m).
         radius: f64,
         /// The largest distance from `point` along the axis (m).
         half_length: f64,
     },
     /// The one node nearest to a point.
-    Nearest([f64; 3]),
+    Nearest(Xyz),
 }
 
 /// How an interface's nodes are joined to its point.
@@ -180,8 +201,8 @@ fn node_has_rotations(model: &FeModel) -> Vec<bool> {
     has
 }
 
-fn vector(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, FeError> {
-    let v = Vector3::from(v);
+fn vector(field: &str, v: Xyz) -> Result<Vector3<f64>, FeError> {
+    let v = Vector3::from(v.0);
     if v.iter().all(|x| x.is_finite()) {
         Ok(v)
     } else {
@@ -197,7 +218,7 @@ fn length(field: &str, v: f64) -> Result<f64, FeError> {
     flexmbd_core::require_positive(field, v).map_err(FeError::Invalid)
 }
 
-fn direction(field: &str, v: [f64; 3]) -> Result<Vector3<f64>, FeError> {
+fn direction(field: &str, v: Xyz) -> Result<Vector3<f64>, FeError> {
     let v = vector(field, v)?;
     let n = v.norm();
     if n > 0.0 {

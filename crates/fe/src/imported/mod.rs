@@ -39,7 +39,7 @@ use crate::reduced::{Dof, NodeDof, ReducedBody};
 use crate::selection::ModeSelection;
 use crate::spec::Damping;
 
-pub use interfaces::{Coupling, InterfaceSpec, NodeSelection};
+pub use interfaces::{Coupling, InterfaceSpec, NodeSelection, Xyz};
 
 /// The files of an FE export (paths relative to the scene or body-model file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -157,6 +157,16 @@ pub struct ImportedBodySpec {
     /// Damping of the modal coordinates.
     #[serde(default)]
     pub damping: Damping,
+}
+
+impl ImportedBodySpec {
+    /// Number of modal coordinates: six per boundary interface, then the normal modes.
+    pub fn n_modes(&self) -> usize {
+        self.boundary
+            .len()
+            .saturating_mul(6)
+            .saturating_add(self.normal_modes)
+    }
 }
 
 /// The six coordinates of an interface point, in mode order.

@@ -47,7 +47,7 @@
 use flexmbd_core::{Dim, MarkerKinematics, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{
-    Axis, BodyModel, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
+    Axis, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
 };
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use serde::Serialize;
@@ -169,15 +169,11 @@ impl ReactionProbes {
                 .all(|(p, b)| p.name == b.name);
         // A stiffening rewrite that changes a body's modes (FNL2's axial basis, FS0 without
         // axial modes) leaves modal coordinates the scene's sensors cannot name.
-        let same_modes = scene.bodies.iter().zip(prepared.bodies()).all(|(b, p)| {
-            let n = match &b.model {
-                BodyModel::Beam(spec) if b.flexible => {
-                    spec.boundary.len() + spec.normal_modes + spec.axial_modes
-                }
-                _ => 0,
-            };
-            !p.flexible || p.body.n_modes() == n
-        });
+        let same_modes = scene
+            .bodies
+            .iter()
+            .zip(prepared.bodies())
+            .all(|(b, p)| !p.flexible || p.body.n_modes() == b.declared_modes());
         if !(same_bodies && same_modes) {
             return None;
         }

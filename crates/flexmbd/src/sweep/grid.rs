@@ -421,7 +421,7 @@ impl Grid {
                 .filter(|b| beams.contains(&b.name))
                 .filter_map(|b| match &b.model {
                     BodyModel::Beam(spec) => Some(spec.normal_modes),
-                    BodyModel::Rigid { .. } => None,
+                    BodyModel::Rigid { .. } | BodyModel::Imported(_) => None,
                 })
                 .max()
                 .unwrap_or(0)

@@ -19,7 +19,7 @@ use nalgebra::{DVector, Vector3};
 
 use crate::error::ModelError;
 use crate::inputs::{InputSlots, LOAD};
-use crate::scene::{Body, BodyModel, Force, GROUND, Marker, Scene, V3};
+use crate::scene::{Body, Force, GROUND, Marker, Scene, V3};
 
 /// A compiled load, `M` being the formulation's marker handle.
 #[derive(Clone, Debug)]
@@ -107,10 +107,10 @@ fn add_marker_force<M, K>(
     kinematics.marker_jacobian(marker, q, &mut |i, c| forces[i] += c.dot(force));
 }
 
-/// A body that runs flexible: a beam model with `flexible: true` (its markers sit on FE
-/// nodes, so no axis points can be added to it).
+/// A body that runs flexible (its markers sit on nodes, so no axis points can be added to
+/// it): [`Body::runs_flexible`].
 pub(crate) fn runs_flexible(body: &Body) -> bool {
-    body.flexible && matches!(body.model, BodyModel::Beam(_))
+    body.runs_flexible()
 }
 
 /// The prefix of the auxiliary axis markers' names.
