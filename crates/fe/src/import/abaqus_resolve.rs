@@ -171,7 +171,11 @@ fn add_set(
             continue;
         }
         for tok in items {
-            if tok.parse::<i64>().is_ok() {
+            let is_label = tok
+                .rsplit('.')
+                .next()
+                .is_some_and(|l| l.parse::<i64>().is_ok());
+            if is_label {
                 let id = qualify(item_prefix, tok);
                 members.push(*ids.get(&id).ok_or_else(|| unknown(at, set, &id))?);
             } else {
