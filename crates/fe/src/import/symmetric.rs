@@ -1,6 +1,7 @@
 //! From the entries a matrix file stores to a full-storage symmetric matrix.
 //!
-//! A file stores a symmetric matrix in one of three ways ([`Storage`]); each pair
+//! A file stores a symmetric matrix in one of three ways: one triangle (Matrix Market
+//! `symmetric`, CalculiX), both (Matrix Market `general`) or either (Abaqus); each pair
 //! (i, j), i ≠ j, is then given once or twice. Entries given twice in the same
 //! orientation are refused (whatever their values); a pair given in both orientations
 //! must agree, and a matrix whose worst asymmetry |a_ij − a_ji| exceeds
@@ -191,7 +192,7 @@ impl FullSymmetric {
     }
 
     /// CSC storage (both triangles), duplicates summed in insertion order.
-    pub fn to_csc(mut self) -> CsMat<f64> {
+    pub fn into_csc(mut self) -> CsMat<f64> {
         self.entries.sort_by_key(|&(r, c, _)| (c, r));
         let mut indptr = vec![0usize; self.n + 1];
         let mut indices: Vec<usize> = Vec::with_capacity(self.entries.len());
@@ -237,7 +238,7 @@ mod tests {
             Storage::OneTriangle,
         )
         .unwrap();
-        let a = s.to_csc();
+        let a = s.into_csc();
         assert_eq!(a.get(0, 1), Some(&-1.0));
         assert_eq!(a.get(1, 0), Some(&-1.0));
         assert!(a.is_csc());

@@ -104,12 +104,7 @@ impl At<'_> {
     }
 
     /// Exactly `n` fields, or an error naming what was found.
-    pub fn expect_fields<'s>(
-        &self,
-        fields: &[&'s str],
-        n: usize,
-        layout: &str,
-    ) -> Result<(), FeError> {
+    pub fn expect_fields(&self, fields: &[&str], n: usize, layout: &str) -> Result<(), FeError> {
         if fields.len() != n {
             return Err(self.error(
                 "line",
@@ -120,8 +115,7 @@ impl At<'_> {
     }
 }
 
-/// Fields separated by commas and/or white space (empty fields between two commas
-/// are kept as empty strings only when `keep_empty`).
+/// Fields separated by commas and/or white space (empty fields dropped).
 pub(crate) fn fields(line: &str) -> Vec<&str> {
     line.split(|c: char| c == ',' || c.is_whitespace())
         .filter(|s| !s.is_empty())
