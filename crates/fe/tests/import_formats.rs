@@ -150,3 +150,34 @@ fn rotor(options: &ImportOptions) -> FeModel {
     )
     .unwrap()
 }
+
+/// Abaqus `FORMAT=COORDINATE` as Abaqus/CAE 2021 writes it (Exudyn's
+/// `blockC3D8_STIF1.mtx`: `row col  value`, both triangles): the bar's matrices
+/// written that way read back equal, equations node-major over the input file's nodes.
+#[test]
+fn abaqus_coordinate_layout_reads_node_major() {
+    let reference = calculix();
+    let write = |a: &sprs::CsMat<f64>| {
+        let d = to_dense(a);
+        let mut s = String::new();
+        for j in 0..d.ncols() {
+            for i in 0..d.nrows() {
+                if d[(i, j)] != 0.0 {
+                    s.push_str(&format!("{} {}  {:e}\n", i + 1, j + 1, d[(i, j)]));
+                }
+            }
+        }
+        s
+    };
+    let inp = std::fs::read_to_string(data("bar_mesh.inp")).unwrap();
+    let (k, m) = (write(&reference.k), write(&reference.m));
+    let coordinate = import::parse_abaqus_coordinate(
+        import::Source::new(&inp, "bar_mesh.inp"),
+        import::Source::new(&k, "bar_STIF1.mtx"),
+        import::Source::new(&m, "bar_MASS1.mtx"),
+        &[Dof::Ux, Dof::Uy, Dof::Uz],
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    assert_same(&reference, &coordinate);
+}
