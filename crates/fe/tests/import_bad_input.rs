@@ -251,15 +251,20 @@ fn abaqus_parts_instances_placements_and_sets() {
     assert_eq!(mesh.node_sets["TIPS"], vec![mesh.nodes.index["b.2"]]);
     assert_eq!(mesh.node_sets["MIX"], vec![0, 1]);
     assert_eq!(mesh.node_sets["FROM_E"], vec![1, 2]);
-    assert_eq!(mesh.node_sets["a.ALL"], vec![1, 2]);
-    assert_eq!(mesh.node_sets["b.ENDS"], vec![3, 4]);
-    assert_eq!(mesh.element_sets["b.E"], vec![1]);
+    assert_eq!(mesh.node_sets["A.ALL"], vec![1, 2]);
+    assert_eq!(mesh.node_sets["B.ENDS"], vec![3, 4]);
+    assert_eq!(mesh.element_sets["B.E"], vec![1]);
 }
 
 #[test]
 fn abaqus_matrix_files_refuse_what_they_cannot_map() {
     let m = "1,1, 1,1, 0.5\n2,1, 2,1, 0.5\n";
     let k = "1,1, 1,1, 1\n2,1, 1,1, -1\n2,1, 2,1, 1\n";
+    // Instance names match in any case; a plain label finds the only instance's node.
+    let inst = "*Part, name=P\n*Node\n1, 0, 0, 0\n2, 1, 0, 0\n*End Part\n\
+                *Assembly, name=A\n*Instance, name=Part-1-1, part=P\n*End Instance\n*End Assembly\n";
+    let model = abaqus(inst, "PART-1-1.1,1, PART-1-1.1,1, 1\n2,1, 2,1, 1\n", m).unwrap();
+    assert_eq!(model.mesh.nodes.ids, vec!["Part-1-1.1", "Part-1-1.2"]);
     refused(
         abaqus(INP, "-1,1, -1,1, 1\n", m),
         "job_STIF1.mtx:1: row node: negative label -1 is an Abaqus internal node",

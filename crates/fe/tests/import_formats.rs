@@ -97,7 +97,7 @@ fn abaqus_ids_are_qualified_by_their_instance() {
     let clamp = &a.mesh.node_sets["CLAMP"];
     assert_eq!(clamp.len(), 4);
     assert!(clamp.iter().all(|&n| a.mesh.nodes.positions[n].x == 0.0));
-    assert_eq!(a.mesh.element_sets["BAR-1.bar"].len(), 6);
+    assert_eq!(a.mesh.element_sets["BAR-1.BAR"].len(), 6);
     assert_eq!(a.dof_row("BAR-1.2", Dof::Uy), Some(4));
 }
 
@@ -121,8 +121,8 @@ fn a_real_abaqus_cae_input_file_with_an_instance_mesh() {
     assert_eq!(ids[0], "block-1.10");
     assert_eq!(ids[15], "block-1.62", "the continuation line is joined");
     assert_eq!(ids[19], "block-1.66");
-    assert_eq!(mesh.node_sets["block-1.Set-1"].len(), 171);
-    assert_eq!(mesh.element_sets["block-1.Set-1"].len(), 20);
+    assert_eq!(mesh.node_sets["BLOCK-1.SET-1"].len(), 171);
+    assert_eq!(mesh.element_sets["BLOCK-1.SET-1"].len(), 20);
 }
 
 #[test]

@@ -25,7 +25,8 @@
 //!   `*Instance … *End Instance` belongs to that instance. Nodes, elements and sets at
 //!   the assembly level or outside any part keep plain ids; an assembly set with
 //!   `instance=I` refers to the nodes of I. A data-line item `I.label` always names the
-//!   node of instance I.
+//!   node of instance I. Set names are case-insensitive in Abaqus and are stored upper
+//!   case (`BLOCK-1.SET-1`); node and element ids keep the file's case.
 //!
 //! Source checked against: the Abaqus Keywords Reference (`*NODE`, `*ELEMENT`,
 //! `*NSET`, `*ELSET`, `*INSTANCE`) and a real Abaqus/CAE job, Exudyn's

@@ -147,7 +147,7 @@ fn add_set(
     prefix: Option<&str>,
     file: &str,
 ) -> Result<(), FeError> {
-    let name = qualify(prefix, &set.name);
+    let name = qualify(prefix, &set.name).to_uppercase();
     let item_prefix = set.instance.as_deref().or(prefix);
     let mut members = Vec::new();
     if let Some(elset) = &set.from_elset {
@@ -200,15 +200,14 @@ fn unknown(at: At, set: &RawSet, id: &str) -> FeError {
     at.error(&set.name, format!("{what} {} is not defined", quote(id)))
 }
 
-/// A set by name (case-insensitive, as Abaqus names are).
+/// A set by name (case-insensitive, as Abaqus names are: sets are stored upper case).
 fn named_set<'a>(
     sets: &'a std::collections::BTreeMap<String, Vec<usize>>,
     name: &str,
     at: At,
 ) -> Result<&'a [usize], FeError> {
-    sets.iter()
-        .find(|(k, _)| k.eq_ignore_ascii_case(name))
-        .map(|(_, v)| v.as_slice())
+    sets.get(&name.to_uppercase())
+        .map(Vec::as_slice)
         .ok_or_else(|| {
             at.error(
                 "set",
