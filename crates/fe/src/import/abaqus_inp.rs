@@ -466,3 +466,53 @@ fn place(inst: &mut RawInstance, at: At, t: &str) -> Result<(), FeError> {
 pub(crate) fn no_nodes(file: &str) -> FeError {
     format_error(file, 1, "*Node", "the input file defines no node".into())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shells_solids_spacing_case_and_continuations() {
+        let text = "*HEADING\nshell and solid\n**comment\n\
+                    *node , NSET = All\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,.5,0,0\n7,.5,.5,0\n\
+                    8,0,.5,0\n9,0,0,.5\n10,.5,0,.5\n11,0,.5,.5\n\
+                    *Element ,  TYPE = s4r , ELSET = Shell\n1, 1, 2, 3, 4\n\
+                    *element, type=S3\n2, 1, 2, 3\n\
+                    *ELEMENT, TYPE=C3D10\n3, 1, 2, 4, 5, 6, 7,\n 8, 9, 10, 11\n\
+                    *Element, type=C3D10M\n4, 1, 2, 4, 5, 6, 7\n 8, 9, 10, 11\n\
+                    *Element, type=SPRINGA\n5, 1,\n 2\n\
+                    *Solid Section, elset=Shell, material=steel\n1.0,\n\
+                    *end step\n";
+        let mesh = parse_abaqus_inp(text, "t.inp").unwrap();
+        let kinds: Vec<(&str, usize)> = mesh
+            .elements
+            .iter()
+            .map(|e| (e.kind.as_str(), e.nodes.len()))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                ("S4R", 4),
+                ("S3", 3),
+                ("C3D10", 10),
+                ("C3D10M", 10),
+                ("SPRINGA", 2)
+            ]
+        );
+        assert_eq!(mesh.node_sets["ALL"].len(), 11);
+        assert_eq!(mesh.element_sets["SHELL"], vec![0]);
+        assert_eq!(nodes_of_type("c3d20r"), Some(20));
+        assert_eq!(nodes_of_type("C3D8I"), Some(8));
+        assert_eq!(nodes_of_type("B31"), None);
+    }
+
+    #[test]
+    fn an_element_cut_short_by_a_keyword_is_refused() {
+        let text = "*Node\n1,0,0,0\n*Element, type=C3D8\n1, 1, 1, 1,\n*Nset, nset=A\n1\n";
+        let e = parse_abaqus_inp(text, "t.inp").unwrap_err().to_string();
+        assert!(
+            e.contains("t.inp:4: *Element: element 1 of type C3D8 has 3 nodes, expected 8"),
+            "{e}"
+        );
+    }
+}
