@@ -401,3 +401,75 @@ fn mutated_real_files_never_panic() {
     println!("4000 mutated inputs: {ok} read, {refused} refused, no panic");
     assert!(refused > 1000);
 }
+
+/// Lines of separators, signs, comment and keyword marks inserted into every file of
+/// every reader: each reader returns (Ok or Err) on each.
+#[test]
+fn degenerate_lines_never_panic() {
+    let sets: [&[&str]; 5] = [
+        &["bar_nodes.txt", "bar_dofs.txt", "bar_K.mtx", "bar_M.mtx"],
+        &["bar_nlist.lis", "bar.mapping", "bar_K.mtx", "bar_M.mtx"],
+        &["bar_part.inp", "bar_STIF1.mtx", "bar_MASS1.mtx"],
+        &[
+            "bar_mesh.inp",
+            "bar_free.dof",
+            "bar_free.sti",
+            "bar_free.mas",
+        ],
+        &[
+            "exudyn/rotorAnsysNodalCoordinates.txt",
+            "exudyn/rotorAnsysMatrixDofMappingVector.txt",
+            "exudyn/rotorAnsysStiffnessMatrixSparse.txt",
+            "exudyn/rotorAnsysMassMatrixSparse.txt",
+        ],
+    ];
+    let lines = [
+        ",",
+        " , ",
+        ",,,",
+        "-",
+        "+",
+        ".",
+        "*",
+        "**",
+        "*,",
+        "*=",
+        "%",
+        "#",
+        "\t",
+        "1,",
+        "e",
+        "1 1",
+        "\u{feff}",
+        "9223372036854775807, 1, 1, 1",
+        "1.",
+        ".1",
+    ];
+    let mut count = 0;
+    for (set, names) in sets.iter().enumerate() {
+        let texts: Vec<String> = names
+            .iter()
+            .map(|n| std::fs::read_to_string(data(n)).unwrap())
+            .collect();
+        for which in 0..texts.len() {
+            for bad in lines {
+                for at_line in [0usize, 1, 2, 3, 5] {
+                    let mut t = texts.clone();
+                    let mut v: Vec<&str> = t[which].lines().collect();
+                    let at = at_line.min(v.len());
+                    v.insert(at, bad);
+                    t[which] = v.join("\n");
+                    let s = |i: usize| Source::new(&t[i], "degenerate");
+                    let _ = match set {
+                        0 => import::parse_generic(s(0), s(1), s(2), s(3), &opts()).map(|_| ()),
+                        1 | 4 => import::parse_ansys(s(0), s(1), s(2), s(3), &opts()).map(|_| ()),
+                        2 => import::parse_abaqus(s(0), s(1), s(2), &opts()).map(|_| ()),
+                        _ => import::parse_calculix(s(0), s(1), s(2), s(3), &opts()).map(|_| ()),
+                    };
+                    count += 1;
+                }
+            }
+        }
+    }
+    println!("{count} inputs with a degenerate line: no panic");
+}

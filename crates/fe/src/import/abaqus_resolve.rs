@@ -260,7 +260,10 @@ fn generated(
                 at.error("generate", format!("label {} is not defined", quote(&id)))
             })?,
         );
-        l += step;
+        match l.checked_add(step) {
+            Some(next) => l = next,
+            None => break,
+        }
     }
     Ok(())
 }

@@ -108,7 +108,7 @@ pub fn parse_ansys_mapping(text: &str, file: &str) -> Result<Vec<DofEntry>, FeEr
         }
         let at = At { file, line };
         let f = fields(t);
-        if !seen_data && f[0].parse::<i64>().is_err() {
+        if !seen_data && f.first().is_some_and(|x| x.parse::<i64>().is_err()) {
             continue; // the header line
         }
         seen_data = true;
