@@ -33,7 +33,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use super::dof_map::dof_of_number;
 use super::mesh::FeMesh;
 use super::symmetric::{Entry, Storage};
-use super::text::{At, comma_fields, fields, format_error, import_error, numbered_lines, quote};
+use super::text::{At, comma_fields, format_error, import_error, numbered_lines, quote};
 use crate::error::FeError;
 use crate::reduced::{Dof, NodeDof};
 
@@ -222,8 +222,7 @@ pub(crate) fn parse_coordinate(text: &str, file: &str, n: usize) -> Result<Vec<E
             continue;
         }
         let at = At { file, line };
-        let f = fields(t);
-        at.expect_fields(&f, 3, "row, column, value")?;
+        let f = at.three(t, "row, column, value")?;
         out.push(Entry {
             row: at.index1("row", f[0], n)?,
             col: at.index1("column", f[1], n)?,
