@@ -215,7 +215,7 @@ fn abaqus_input_files_refuse_malformed_meshes() {
         "job.inp:5: A: node `9` is not defined",
     );
     refused(
-        inp("*Assembly, name=A\n*Instance, name=I, part=P\n*End Instance\n"),
+        inp("*Assembly, name=A\n*Instance, name=I, part=P\n*End Instance\n*End Assembly\n"),
         "job.inp:2: part: instance I refers to part P, which is not defined",
     );
     refused(
@@ -226,9 +226,25 @@ fn abaqus_input_files_refuse_malformed_meshes() {
     );
     refused(
         inp(
-            "*Part, name=P\n*Node\n1,0,0,0\n*End Part\n*Instance, name=I, part=P\n0,0,0\n0,0,0, 0,0,0, 90\n",
+            "*Part, name=P\n*Node\n1,0,0,0\n*End Part\n*Assembly, name=A\n*Instance, name=I, part=P\n0,0,0\n0,0,0, 0,0,0, 90\n",
         ),
         "rotation axis points coincide",
+    );
+    refused(
+        inp("*Part, name=P\n*Node\n1, 0, 0, 0\n"),
+        "job.inp:3: end of file: the file ends inside *Part P, before its *End Part",
+    );
+    refused(
+        inp("*Assembly, name=A\n*Instance, name=I, part=P\n*End Assembly\n"),
+        "job.inp:3: *END ASSEMBLY: not allowed here (inside *Instance, before its *End Instance)",
+    );
+    refused(
+        inp("*Node\n1, 0, 0, 0\n*End Part\n"),
+        "job.inp:3: *END PART: not allowed here (outside any part or assembly)",
+    );
+    refused(
+        inp("*Part, name=P\n*Part, name=Q\n"),
+        "job.inp:2: *PART: not allowed here (inside *Part P, before its *End Part)",
     );
 }
 

@@ -7,7 +7,10 @@
 //! and may contain spaces (`*End Part`, `*Solid Section`); `**` starts a comment line;
 //! data lines are comma separated. Every other keyword (materials, sections, steps,
 //! surfaces, …) is skipped with its data lines; `*Include` and `*Node, input=…` are
-//! refused (merge the files first), as is a `*Node, system=…` other than `R`.
+//! refused (merge the files first), as is a `*Node, system=…` other than `R`. Parts and
+//! the assembly nest as Abaqus writes them (`*Part … *End Part` outside the assembly,
+//! `*Instance … *End Instance` inside it); anything else, or a file that ends inside
+//! one of them, is refused.
 //!
 //! - `*Node[, nset=N]`: `label, x[, y[, z]]` (missing coordinates are 0; further fields,
 //!   the normal of a shell node, are ignored).
@@ -224,7 +227,37 @@ fn scan(text: &str, file: &str) -> Result<RawInput, FeError> {
     }
     flush_element(&mut raw, &scope, &data, &mut pending, file)?;
     close(&mut raw, &scope, data);
+    if scope != Scope::Top {
+        let last = numbered_lines(text).count();
+        return Err(format_error(
+            file,
+            last,
+            "end of file",
+            format!("the file ends {}", scope_name(&scope)),
+        ));
+    }
     Ok(raw)
+}
+
+/// Parts and instances nest as `*Part … *End Part` at the top and
+/// `*Assembly (*Instance … *End Instance)* *End Assembly`.
+fn nesting_ok(scope: &Scope, keyword: &str) -> bool {
+    matches!(
+        (scope, keyword),
+        (Scope::Top, "PART" | "ASSEMBLY")
+            | (Scope::Part(_), "END PART")
+            | (Scope::Assembly, "INSTANCE" | "END ASSEMBLY")
+            | (Scope::Instance(_), "END INSTANCE")
+    )
+}
+
+fn scope_name(scope: &Scope) -> String {
+    match scope {
+        Scope::Top => "outside any part or assembly".into(),
+        Scope::Part(p) => format!("inside *Part {p}, before its *End Part"),
+        Scope::Assembly => "inside *Assembly, before its *End Assembly".into(),
+        Scope::Instance(_) => "inside *Instance, before its *End Instance".into(),
+    }
 }
 
 fn block<'a>(raw: &'a mut RawInput, scope: &Scope) -> &'a mut Block {
@@ -292,6 +325,14 @@ fn open(raw: &mut RawInput, scope: &mut Scope, kw: &Keyword, at: At) -> Result<D
             return Err(at.error(
                 "*Include",
                 "included files are not read; merge them into one input file".into(),
+            ));
+        }
+        "PART" | "ASSEMBLY" | "INSTANCE" | "END PART" | "END ASSEMBLY" | "END INSTANCE"
+            if !nesting_ok(scope, &kw.name) =>
+        {
+            return Err(at.error(
+                &format!("*{}", kw.name),
+                format!("not allowed here ({})", scope_name(scope)),
             ));
         }
         "PART" => {
