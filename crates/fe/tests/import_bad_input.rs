@@ -246,6 +246,19 @@ fn abaqus_input_files_refuse_malformed_meshes() {
         inp("*Part, name=P\n*Part, name=Q\n"),
         "job.inp:2: *PART: not allowed here (inside *Part P, before its *End Part)",
     );
+    // A set named over and over: refused by the work budget, not computed for ever.
+    let mut hostile = String::from("*Node, nset=ALL\n");
+    for k in 1..=2000 {
+        hostile.push_str(&format!("{k}, 0, 0, 0\n"));
+    }
+    hostile.push_str("*Nset, nset=MANY\n");
+    for _ in 0..2000 {
+        hostile.push_str("ALL, ALL, ALL, ALL, ALL, ALL, ALL, ALL\n");
+    }
+    refused(
+        inp(&hostile),
+        "the sets of this file name more than 64 members per node and element",
+    );
 }
 
 #[test]
