@@ -7,7 +7,10 @@
 //! and may contain spaces (`*End Part`, `*Solid Section`); `**` starts a comment line;
 //! data lines are comma separated. Every other keyword (materials, sections, steps,
 //! surfaces, …) is skipped with its data lines; `*Include` and `*Node, input=…` are
-//! refused (merge the files first), as is a `*Node, system=…` other than `R`.
+//! refused (merge the files first), as is a `*Node, system=…` other than `R`. Parts and
+//! the assembly nest as Abaqus writes them (`*Part … *End Part` outside the assembly,
+//! `*Instance … *End Instance` inside it); anything else, or a file that ends inside
+//! one of them, is refused.
 //!
 //! - `*Node[, nset=N]`: `label, x[, y[, z]]` (missing coordinates are 0; further fields,
 //!   the normal of a shell node, are ignored).
@@ -25,7 +28,8 @@
 //!   `*Instance … *End Instance` belongs to that instance. Nodes, elements and sets at
 //!   the assembly level or outside any part keep plain ids; an assembly set with
 //!   `instance=I` refers to the nodes of I. A data-line item `I.label` always names the
-//!   node of instance I.
+//!   node of instance I. Set names are case-insensitive in Abaqus and are stored upper
+//!   case (`BLOCK-1.SET-1`); node and element ids keep the file's case.
 //!
 //! Source checked against: the Abaqus Keywords Reference (`*NODE`, `*ELEMENT`,
 //! `*NSET`, `*ELSET`, `*INSTANCE`) and a real Abaqus/CAE job, Exudyn's
@@ -223,7 +227,37 @@ fn scan(text: &str, file: &str) -> Result<RawInput, FeError> {
     }
     flush_element(&mut raw, &scope, &data, &mut pending, file)?;
     close(&mut raw, &scope, data);
+    if scope != Scope::Top {
+        let last = numbered_lines(text).count();
+        return Err(format_error(
+            file,
+            last,
+            "end of file",
+            format!("the file ends {}", scope_name(&scope)),
+        ));
+    }
     Ok(raw)
+}
+
+/// Parts and instances nest as `*Part … *End Part` at the top and
+/// `*Assembly (*Instance … *End Instance)* *End Assembly`.
+fn nesting_ok(scope: &Scope, keyword: &str) -> bool {
+    matches!(
+        (scope, keyword),
+        (Scope::Top, "PART" | "ASSEMBLY")
+            | (Scope::Part(_), "END PART")
+            | (Scope::Assembly, "INSTANCE" | "END ASSEMBLY")
+            | (Scope::Instance(_), "END INSTANCE")
+    )
+}
+
+fn scope_name(scope: &Scope) -> String {
+    match scope {
+        Scope::Top => "outside any part or assembly".into(),
+        Scope::Part(p) => format!("inside *Part {p}, before its *End Part"),
+        Scope::Assembly => "inside *Assembly, before its *End Assembly".into(),
+        Scope::Instance(_) => "inside *Instance, before its *End Instance".into(),
+    }
 }
 
 fn block<'a>(raw: &'a mut RawInput, scope: &Scope) -> &'a mut Block {
@@ -291,6 +325,14 @@ fn open(raw: &mut RawInput, scope: &mut Scope, kw: &Keyword, at: At) -> Result<D
             return Err(at.error(
                 "*Include",
                 "included files are not read; merge them into one input file".into(),
+            ));
+        }
+        "PART" | "ASSEMBLY" | "INSTANCE" | "END PART" | "END ASSEMBLY" | "END INSTANCE"
+            if !nesting_ok(scope, &kw.name) =>
+        {
+            return Err(at.error(
+                &format!("*{}", kw.name),
+                format!("not allowed here ({})", scope_name(scope)),
             ));
         }
         "PART" => {
@@ -464,4 +506,54 @@ fn place(inst: &mut RawInstance, at: At, t: &str) -> Result<(), FeError> {
 /// Check a file-level condition of the scan (used by the resolver too).
 pub(crate) fn no_nodes(file: &str) -> FeError {
     format_error(file, 1, "*Node", "the input file defines no node".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shells_solids_spacing_case_and_continuations() {
+        let text = "*HEADING\nshell and solid\n**comment\n\
+                    *node , NSET = All\n1,0,0,0\n2,1,0,0\n3,1,1,0\n4,0,1,0\n5,0,0,1\n6,.5,0,0\n7,.5,.5,0\n\
+                    8,0,.5,0\n9,0,0,.5\n10,.5,0,.5\n11,0,.5,.5\n\
+                    *Element ,  TYPE = s4r , ELSET = Shell\n1, 1, 2, 3, 4\n\
+                    *element, type=S3\n2, 1, 2, 3\n\
+                    *ELEMENT, TYPE=C3D10\n3, 1, 2, 4, 5, 6, 7,\n 8, 9, 10, 11\n\
+                    *Element, type=C3D10M\n4, 1, 2, 4, 5, 6, 7\n 8, 9, 10, 11\n\
+                    *Element, type=SPRINGA\n5, 1,\n 2\n\
+                    *Solid Section, elset=Shell, material=steel\n1.0,\n\
+                    *end step\n";
+        let mesh = parse_abaqus_inp(text, "t.inp").unwrap();
+        let kinds: Vec<(&str, usize)> = mesh
+            .elements
+            .iter()
+            .map(|e| (e.kind.as_str(), e.nodes.len()))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                ("S4R", 4),
+                ("S3", 3),
+                ("C3D10", 10),
+                ("C3D10M", 10),
+                ("SPRINGA", 2)
+            ]
+        );
+        assert_eq!(mesh.node_sets["ALL"].len(), 11);
+        assert_eq!(mesh.element_sets["SHELL"], vec![0]);
+        assert_eq!(nodes_of_type("c3d20r"), Some(20));
+        assert_eq!(nodes_of_type("C3D8I"), Some(8));
+        assert_eq!(nodes_of_type("B31"), None);
+    }
+
+    #[test]
+    fn an_element_cut_short_by_a_keyword_is_refused() {
+        let text = "*Node\n1,0,0,0\n*Element, type=C3D8\n1, 1, 1, 1,\n*Nset, nset=A\n1\n";
+        let e = parse_abaqus_inp(text, "t.inp").unwrap_err().to_string();
+        assert!(
+            e.contains("t.inp:4: *Element: element 1 of type C3D8 has 3 nodes, expected 8"),
+            "{e}"
+        );
+    }
 }

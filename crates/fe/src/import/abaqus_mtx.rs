@@ -7,7 +7,8 @@
 //!   data lines (Abaqus Keywords Reference, `*MATRIX INPUT`: "a symmetric matrix in
 //!   lower triangular, upper triangular, or square format"). Abaqus writes one
 //!   triangle, column by column; a square file must be symmetric. A node is a label
-//!   (`12`) or an instance-qualified label (`PART-1-1.12`); a plain label that is not a
+//!   (`12`) or an instance-qualified label (`PART-1-1.12`, the instance name in any
+//!   case); a plain label that is not a
 //!   node id is tried as `I.label` when the input file has exactly one instance I.
 //!   DOFs 1…6 are Ux, Uy, Uz, Rx, Ry, Rz. Refused: negative labels (Abaqus's internal
 //!   nodes, e.g. Lagrange multipliers of hybrid elements or constraints), other DOF
@@ -32,7 +33,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use super::dof_map::dof_of_number;
 use super::mesh::FeMesh;
 use super::symmetric::{Entry, Storage};
-use super::text::{At, comma_fields, fields, format_error, import_error, numbered_lines, quote};
+use super::text::{At, comma_fields, format_error, import_error, numbered_lines, quote};
 use crate::error::FeError;
 use crate::reduced::{Dof, NodeDof};
 
@@ -91,9 +92,11 @@ pub(crate) fn parse_labelled(
     Ok(out)
 }
 
-/// Node ids of the mesh, with the single-instance fallback for plain labels.
+/// Node ids of the mesh, case-insensitive (Abaqus may write instance names upper
+/// case), with the single-instance fallback for plain labels.
 struct NodeLookup<'a> {
     mesh: &'a FeMesh,
+    upper: HashMap<String, usize>,
     single_instance: Option<String>,
 }
 
@@ -106,8 +109,16 @@ impl<'a> NodeLookup<'a> {
             .filter_map(|id| id.rsplit_once('.').map(|(p, _)| p))
             .collect();
         let single_instance = (prefixes.len() == 1).then(|| prefixes.first().unwrap().to_string());
+        let upper = mesh
+            .nodes
+            .ids
+            .iter()
+            .enumerate()
+            .map(|(i, id)| (id.to_uppercase(), i))
+            .collect();
         NodeLookup {
             mesh,
+            upper,
             single_instance,
         }
     }
@@ -124,10 +135,13 @@ impl<'a> NodeLookup<'a> {
             ));
         }
         let index = &self.mesh.nodes.index;
-        let found = index.get(node).or_else(|| {
-            let inst = self.single_instance.as_ref()?;
-            index.get(&format!("{inst}.{node}"))
-        });
+        let found = index
+            .get(node)
+            .or_else(|| self.upper.get(&node.to_uppercase()))
+            .or_else(|| {
+                let inst = self.single_instance.as_ref()?;
+                index.get(&format!("{inst}.{node}"))
+            });
         let node_index = *found.ok_or_else(|| {
             at.error(
                 &field,
@@ -208,8 +222,7 @@ pub(crate) fn parse_coordinate(text: &str, file: &str, n: usize) -> Result<Vec<E
             continue;
         }
         let at = At { file, line };
-        let f = fields(t);
-        at.expect_fields(&f, 3, "row, column, value")?;
+        let f = at.three(t, "row, column, value")?;
         out.push(Entry {
             row: at.index1("row", f[0], n)?,
             col: at.index1("column", f[1], n)?,

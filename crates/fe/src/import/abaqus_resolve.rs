@@ -1,7 +1,7 @@
 //! From the scanned Abaqus input to a mesh: parts instantiated, ids qualified by
 //! their instance, connectivity and sets resolved to indices (see [`super::abaqus_inp`]).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use nalgebra::{Rotation3, Unit, Vector3};
 
@@ -65,10 +65,12 @@ pub(crate) fn resolve(raw: RawInput, file: &str) -> Result<FeMesh, FeError> {
         }
     }
     // Sets: the assembly's last, since they may name the instances' sets.
+    let mut budget = SET_WORK_PER_ENTITY * (mesh.nodes.len() + mesh.elements.len());
     for (scope, blocks) in scoped.iter().skip(2).chain(scoped.iter().take(2)) {
         for b in blocks {
             for set in &b.sets {
-                add_set(&mut mesh, &element_index, set, scope.prefix, file)?;
+                let mut members = Members::new(&mut budget, file, set.line);
+                add_set(&mut mesh, &element_index, set, scope.prefix, &mut members)?;
             }
         }
     }
@@ -145,18 +147,18 @@ fn add_set(
     element_index: &HashMap<String, usize>,
     set: &RawSet,
     prefix: Option<&str>,
-    file: &str,
+    members: &mut Members,
 ) -> Result<(), FeError> {
-    let name = qualify(prefix, &set.name);
+    let file = members.file;
+    let name = qualify(prefix, &set.name).to_uppercase();
     let item_prefix = set.instance.as_deref().or(prefix);
-    let mut members = Vec::new();
     if let Some(elset) = &set.from_elset {
         let at = At {
             file,
             line: set.line,
         };
         for &e in named_set(&mesh.element_sets, &qualify(item_prefix, elset), at)? {
-            members.extend_from_slice(&mesh.elements[e].nodes);
+            members.extend(&mesh.elements[e].nodes)?;
         }
     }
     let (ids, sets) = if set.is_node_set {
@@ -167,15 +169,19 @@ fn add_set(
     for (line, items) in &set.items {
         let at = At { file, line: *line };
         if set.generate {
-            generated(at, items, item_prefix, ids, &mut members)?;
+            generated(at, items, item_prefix, ids, members)?;
             continue;
         }
         for tok in items {
-            if tok.parse::<i64>().is_ok() {
+            let is_label = tok
+                .rsplit('.')
+                .next()
+                .is_some_and(|l| l.parse::<i64>().is_ok());
+            if is_label {
                 let id = qualify(item_prefix, tok);
-                members.push(*ids.get(&id).ok_or_else(|| unknown(at, set, &id))?);
+                members.add(*ids.get(&id).ok_or_else(|| unknown(at, set, &id))?)?;
             } else {
-                members.extend_from_slice(named_set(sets, &qualify(item_prefix, tok), at)?);
+                members.extend(named_set(sets, &qualify(item_prefix, tok), at)?)?;
             }
         }
     }
@@ -185,10 +191,60 @@ fn add_set(
         &mut mesh.element_sets
     };
     let entry = target.entry(name).or_default();
-    entry.extend(members);
+    entry.append(&mut members.list);
     entry.sort_unstable();
     entry.dedup();
     Ok(())
+}
+
+/// Work allowed to the sets of a file, per node and element: each member a set
+/// definition adds (a label, a `generate` step, a member of a named set) costs one.
+/// Legitimate files stay far below; a hostile one that names a large set or range
+/// many times would otherwise cost time quadratic in its length.
+const SET_WORK_PER_ENTITY: usize = 64;
+
+/// The members of one set definition, each index once, within the file's budget.
+struct Members<'b> {
+    seen: HashSet<usize>,
+    list: Vec<usize>,
+    budget: &'b mut usize,
+    file: &'b str,
+    line: usize,
+}
+
+impl<'b> Members<'b> {
+    fn new(budget: &'b mut usize, file: &'b str, line: usize) -> Self {
+        Members {
+            seen: HashSet::new(),
+            list: Vec::new(),
+            budget,
+            file,
+            line,
+        }
+    }
+
+    fn add(&mut self, i: usize) -> Result<(), FeError> {
+        if *self.budget == 0 {
+            return Err(format_error(
+                self.file,
+                self.line,
+                "set",
+                format!(
+                    "the sets of this file name more than {SET_WORK_PER_ENTITY} members per \
+                     node and element in all; refused"
+                ),
+            ));
+        }
+        *self.budget -= 1;
+        if self.seen.insert(i) {
+            self.list.push(i);
+        }
+        Ok(())
+    }
+
+    fn extend(&mut self, items: &[usize]) -> Result<(), FeError> {
+        items.iter().try_for_each(|&i| self.add(i))
+    }
 }
 
 fn unknown(at: At, set: &RawSet, id: &str) -> FeError {
@@ -196,15 +252,14 @@ fn unknown(at: At, set: &RawSet, id: &str) -> FeError {
     at.error(&set.name, format!("{what} {} is not defined", quote(id)))
 }
 
-/// A set by name (case-insensitive, as Abaqus names are).
+/// A set by name (case-insensitive, as Abaqus names are: sets are stored upper case).
 fn named_set<'a>(
     sets: &'a std::collections::BTreeMap<String, Vec<usize>>,
     name: &str,
     at: At,
 ) -> Result<&'a [usize], FeError> {
-    sets.iter()
-        .find(|(k, _)| k.eq_ignore_ascii_case(name))
-        .map(|(_, v)| v.as_slice())
+    sets.get(&name.to_uppercase())
+        .map(Vec::as_slice)
         .ok_or_else(|| {
             at.error(
                 "set",
@@ -219,7 +274,7 @@ fn generated(
     items: &[String],
     prefix: Option<&str>,
     ids: &HashMap<String, usize>,
-    members: &mut Vec<usize>,
+    members: &mut Members,
 ) -> Result<(), FeError> {
     if items.len() != 2 && items.len() != 3 {
         return Err(at.error(
@@ -252,12 +307,13 @@ fn generated(
     let mut l = first;
     while l <= last {
         let id = qualify(prefix, &l.to_string());
-        members.push(
-            *ids.get(&id).ok_or_else(|| {
-                at.error("generate", format!("label {} is not defined", quote(&id)))
-            })?,
-        );
-        l += step;
+        members.add(*ids.get(&id).ok_or_else(|| {
+            at.error("generate", format!("label {} is not defined", quote(&id)))
+        })?)?;
+        match l.checked_add(step) {
+            Some(next) => l = next,
+            None => break,
+        }
     }
     Ok(())
 }

@@ -6,7 +6,10 @@
 //! - **Ansys** (`parse_ansys_mapping`): the `Fname.mapping` file of `HBMAT, …,
 //!   Mapping=YES`: an optional header line (`Matrix Eqn   Node   DOF`), then one line per
 //!   equation, `eqn node label`, label one of `UX UY UZ ROTX ROTY ROTZ`; each
-//!   equation 1…N exactly once (N = number of lines), any order.
+//!   equation 1…N exactly once (N = number of lines), any order. Checked against the
+//!   Ansys Command Reference (`HBMAT`: `Mapping=YES` writes `Fname.mapping`) and a public
+//!   reader of such files (HelioAB/CableSSB-zh, `InputAnsysMapping`: `eqn node label`
+//!   lines, labels UX…ROTZ); no real `.mapping` file was available to test.
 //! - **Ansys node vector** (`parse_ansys_node_vector`): a Matrix Market
 //!   `array integer general` file of N × 1 entries, the user node number of each
 //!   block of three matrix rows (UX, UY, UZ): rows 3k…3k+2 are node v_k. This is the
@@ -108,7 +111,7 @@ pub fn parse_ansys_mapping(text: &str, file: &str) -> Result<Vec<DofEntry>, FeEr
         }
         let at = At { file, line };
         let f = fields(t);
-        if !seen_data && f[0].parse::<i64>().is_err() {
+        if !seen_data && f.first().is_some_and(|x| x.parse::<i64>().is_err()) {
             continue; // the header line
         }
         seen_data = true;

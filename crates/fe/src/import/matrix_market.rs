@@ -48,9 +48,12 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<MatrixFile, FeError> {
             continue;
         }
         let at = At { file, line };
-        let f = fields(t);
         match size {
-            None => size = Some(parse_size(at, &f, text.len())?),
+            None => {
+                let (n, nnz) = parse_size(at, &fields(t), text.len())?;
+                entries.reserve(nnz); // bounded by the text's length (parse_size)
+                size = Some((n, nnz));
+            }
             Some((n, nnz)) => {
                 if entries.len() == nnz {
                     return Err(at.error(
@@ -58,7 +61,7 @@ pub(crate) fn parse(text: &str, file: &str) -> Result<MatrixFile, FeError> {
                         format!("more entries than the {nnz} declared in the size line"),
                     ));
                 }
-                at.expect_fields(&f, 3, "row column value")?;
+                let f = at.three(t, "row column value")?;
                 entries.push(Entry {
                     row: at.index1("row", f[0], n)?,
                     col: at.index1("column", f[1], n)?,

@@ -22,15 +22,15 @@
 //! is allocated from them.
 
 pub mod abaqus_inp;
-mod abaqus_mtx;
+pub mod abaqus_mtx;
 mod abaqus_resolve;
 pub mod dof_map;
-mod matrix_market;
+pub mod matrix_market;
 mod mesh;
 mod model;
 pub mod nodes;
-mod options;
-mod symmetric;
+pub mod options;
+pub mod symmetric;
 mod text;
 
 use std::path::Path;

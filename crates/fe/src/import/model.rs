@@ -95,8 +95,8 @@ pub(crate) fn assemble(
     add_point_masses(&mut ms, &mesh, &dofs, options, &source)?;
     let model = FeModel {
         source,
-        k: ks.to_csc(),
-        m: ms.to_csc(),
+        k: ks.into_csc(),
+        m: ms.into_csc(),
         mesh,
         dofs,
     };

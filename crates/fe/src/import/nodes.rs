@@ -8,7 +8,10 @@
 //! is an `NLIST` line whose last three are the nodal coordinate system's rotation
 //! angles THXY, THYZ, THZX (degrees): they must be zero, since the matrices of a
 //! rotated nodal system are in nodal axes (`NROTAT`), which this reader does not
-//! turn back. A line holding a tab is a table exported by Ansys Workbench (a named
+//! turn back. A line that does not split into 4 or 7 fields is tried as a line of an
+//! Ansys `NWRITE` node file (`Jobname.node`; Ansys Command Reference, `NWRITE`: format
+//! (I9, 6G21.13E3), trailing zero fields left blank, so fields may be missing or touch).
+//! A line holding a tab is a table exported by Ansys Workbench (a named
 //! selection of mesh nodes, *Export*): its fields are separated by tabs only and a
 //! decimal comma is read as a point (`1,e-001` = 0.1), as that export writes numbers in
 //! the user's locale. Node numbers must be unique.
@@ -66,44 +69,16 @@ pub fn parse_node_list(text: &str, file: &str) -> Result<NodeList, FeError> {
             continue;
         }
         let at = At { file, line };
-        let tabbed: Vec<String>;
-        let f: Vec<&str> = if t.contains('\t') {
-            tabbed = t
-                .split('\t')
-                .map(|x| x.trim().replace(',', "."))
-                .filter(|x| !x.is_empty())
-                .collect();
-            tabbed.iter().map(String::as_str).collect()
-        } else {
-            fields(t)
-        };
-        if f.len() != 4 && f.len() != 7 {
-            return Err(at.error(
-                "line",
-                format!(
-                    "expected `id x y z` (or NLIST's `id x y z thxy thyz thzx`), found {} fields",
-                    f.len()
-                ),
-            ));
-        }
-        let id = at.integer("id", f[0])?;
-        let p = Vector3::new(
-            at.real("x", f[1])?,
-            at.real("y", f[2])?,
-            at.real("z", f[3])?,
-        );
-        for (k, name) in ["thxy", "thyz", "thzx"]
-            .iter()
-            .enumerate()
-            .take(f.len() - 4)
-        {
-            if at.real(name, f[4 + k])? != 0.0 {
+        let (id, values) = delimited(at, t).or_else(|e| nwrite(at, raw).ok_or(e))?;
+        let p = Vector3::new(values[0], values[1], values[2]);
+        for (k, name) in ["thxy", "thyz", "thzx"].iter().enumerate() {
+            if values[3 + k] != 0.0 {
                 return Err(at.error(
                     name,
                     format!(
                         "node {id} has a rotated nodal coordinate system ({name} = {}); \
                          its matrix rows are in nodal axes, which is not supported",
-                        f[4 + k]
+                        values[3 + k]
                     ),
                 ));
             }
@@ -119,6 +94,61 @@ pub fn parse_node_list(text: &str, file: &str) -> Result<NodeList, FeError> {
         ));
     }
     Ok(nodes)
+}
+
+/// A node line split at white space and/or commas (or at tabs, decimal commas read
+/// as points): `id x y z` or `id x y z thxy thyz thzx`.
+fn delimited(at: At, t: &str) -> Result<(i64, [f64; 6]), FeError> {
+    let tabbed: Vec<String>;
+    let f: Vec<&str> = if t.contains('\t') {
+        tabbed = t
+            .split('\t')
+            .map(|x| x.trim().replace(',', "."))
+            .filter(|x| !x.is_empty())
+            .collect();
+        tabbed.iter().map(String::as_str).collect()
+    } else {
+        fields(t)
+    };
+    if f.len() != 4 && f.len() != 7 {
+        return Err(at.error(
+            "line",
+            format!(
+                "expected `id x y z` (or NLIST's `id x y z thxy thyz thzx`), found {} fields",
+                f.len()
+            ),
+        ));
+    }
+    let id = at.integer("id", f[0])?;
+    let mut v = [0.0; 6];
+    for (k, name) in ["x", "y", "z", "thxy", "thyz", "thzx"].iter().enumerate() {
+        if let Some(s) = f.get(k + 1) {
+            v[k] = at.real(name, s)?;
+        }
+    }
+    Ok((id, v))
+}
+
+/// Width of NWRITE's integer and real fields, format (I9, 6G21.13E3).
+const NWRITE_ID: usize = 9;
+const NWRITE_REAL: usize = 21;
+
+/// A line of an Ansys `NWRITE` node file, read by column: blank fields (NWRITE leaves
+/// trailing zeros blank) are 0, and fields may touch. None if the line is not one.
+fn nwrite(at: At, raw: &str) -> Option<(i64, [f64; 6])> {
+    let raw = raw.trim_end();
+    if !raw.is_ascii() || raw.len() <= NWRITE_ID || raw.len() > NWRITE_ID + 6 * NWRITE_REAL {
+        return None;
+    }
+    let id = raw[..NWRITE_ID].trim().parse::<i64>().ok()?;
+    let mut v = [0.0; 6];
+    for (k, chunk) in raw.as_bytes()[NWRITE_ID..].chunks(NWRITE_REAL).enumerate() {
+        let s = std::str::from_utf8(chunk).ok()?.trim();
+        if !s.is_empty() {
+            v[k] = at.real("x", s).ok()?;
+        }
+    }
+    Some((id, v))
 }
 
 #[cfg(test)]
@@ -138,6 +168,15 @@ mod tests {
         let w = parse_node_list(wb, "wb.txt").unwrap();
         assert_eq!(w.ids, vec!["3"]);
         assert_eq!(w.positions[0].z, 0.1);
+        // NWRITE: fields of 21 characters that touch, trailing zeros left blank.
+        let nw = format!(
+            "{:>9}{:>21}{:>21}\n{:>9}{:>21}\n",
+            4, "-0.1234567890123E+003", "0.5", 5, "2."
+        );
+        let n = parse_node_list(&nw, "j.node").unwrap();
+        assert_eq!(n.ids, vec!["4", "5"]);
+        assert_eq!(n.positions[0], Vector3::new(-123.4567890123, 0.5, 0.0));
+        assert_eq!(n.positions[1], Vector3::new(2.0, 0.0, 0.0));
     }
 
     #[test]

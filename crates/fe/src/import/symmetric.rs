@@ -1,6 +1,7 @@
 //! From the entries a matrix file stores to a full-storage symmetric matrix.
 //!
-//! A file stores a symmetric matrix in one of three ways ([`Storage`]); each pair
+//! A file stores a symmetric matrix in one of three ways: one triangle (Matrix Market
+//! `symmetric`, CalculiX), both (Matrix Market `general`) or either (Abaqus); each pair
 //! (i, j), i ≠ j, is then given once or twice. Entries given twice in the same
 //! orientation are refused (whatever their values); a pair given in both orientations
 //! must agree, and a matrix whose worst asymmetry |a_ij − a_ji| exceeds
@@ -52,11 +53,16 @@ pub(crate) fn symmetrise(
     file: &str,
     what: &str,
     n: usize,
-    mut entries: Vec<Entry>,
+    entries: Vec<Entry>,
     storage: Storage,
 ) -> Result<FullSymmetric, FeError> {
     let key = |e: &Entry| (e.row.min(e.col), e.row.max(e.col), e.row < e.col);
-    entries.sort_by_key(key);
+    let entries = bucket_sort(
+        entries,
+        n,
+        |e| e.row.min(e.col),
+        |e| (key(e).1, key(e).2, e.line),
+    );
     let max_abs = entries.iter().fold(0.0_f64, |m, e| m.max(e.value.abs()));
     let mut out = Vec::with_capacity(2 * entries.len());
     let mut worst = Asymmetry::default();
@@ -95,8 +101,40 @@ pub(crate) fn symmetrise(
             ),
         ));
     }
-    out.sort_by_key(|&(r, c, _)| (c, r));
     Ok(FullSymmetric { n, entries: out })
+}
+
+/// Stable sort of `items` by (`bucket`, `fine`), `bucket` < n: a counting sort by
+/// bucket (O(len + n)), then a stable sort of each bucket by `fine` — the matrices'
+/// rows or columns hold few entries each, where one global sort was most of the time
+/// of reading a large file.
+fn bucket_sort<T: Copy, K: Ord>(
+    items: Vec<T>,
+    n: usize,
+    bucket: impl Fn(&T) -> usize,
+    fine: impl Fn(&T) -> K,
+) -> Vec<T> {
+    let Some(&first) = items.first() else {
+        return items;
+    };
+    let mut start = vec![0usize; n + 1];
+    for it in &items {
+        start[bucket(it) + 1] += 1;
+    }
+    for b in 0..n {
+        start[b + 1] += start[b];
+    }
+    let mut next = start.clone();
+    let mut out = vec![first; items.len()];
+    for it in items {
+        let b = bucket(&it);
+        out[next[b]] = it;
+        next[b] += 1;
+    }
+    for b in 0..n {
+        out[start[b]..start[b + 1]].sort_by_key(&fine);
+    }
+    out
 }
 
 #[derive(Default)]
@@ -191,13 +229,13 @@ impl FullSymmetric {
     }
 
     /// CSC storage (both triangles), duplicates summed in insertion order.
-    pub fn to_csc(mut self) -> CsMat<f64> {
-        self.entries.sort_by_key(|&(r, c, _)| (c, r));
+    pub fn into_csc(self) -> CsMat<f64> {
+        let entries = bucket_sort(self.entries, self.n, |e| e.1, |e| e.0);
         let mut indptr = vec![0usize; self.n + 1];
-        let mut indices: Vec<usize> = Vec::with_capacity(self.entries.len());
-        let mut data: Vec<f64> = Vec::with_capacity(self.entries.len());
+        let mut indices: Vec<usize> = Vec::with_capacity(entries.len());
+        let mut data: Vec<f64> = Vec::with_capacity(entries.len());
         let mut last: Option<(usize, usize)> = None;
-        for &(r, c, v) in &self.entries {
+        for &(r, c, v) in &entries {
             if last == Some((r, c)) {
                 *data.last_mut().expect("an entry was pushed") += v;
                 continue;
@@ -237,7 +275,7 @@ mod tests {
             Storage::OneTriangle,
         )
         .unwrap();
-        let a = s.to_csc();
+        let a = s.into_csc();
         assert_eq!(a.get(0, 1), Some(&-1.0));
         assert_eq!(a.get(1, 0), Some(&-1.0));
         assert!(a.is_csc());

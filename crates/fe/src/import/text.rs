@@ -103,13 +103,18 @@ impl At<'_> {
             .map_err(|_| self.error(field, format!("expected an integer, found {}", quote(t))))
     }
 
+    /// The three fields of `line` (see [`fields`]), or an error naming how many it has.
+    pub fn three<'t>(&self, line: &'t str, layout: &str) -> Result<[&'t str; 3], FeError> {
+        three_fields(line).ok_or_else(|| {
+            self.error(
+                "line",
+                format!("expected 3 fields ({layout}), found {}", fields(line).len()),
+            )
+        })
+    }
+
     /// Exactly `n` fields, or an error naming what was found.
-    pub fn expect_fields<'s>(
-        &self,
-        fields: &[&'s str],
-        n: usize,
-        layout: &str,
-    ) -> Result<(), FeError> {
+    pub fn expect_fields(&self, fields: &[&str], n: usize, layout: &str) -> Result<(), FeError> {
         if fields.len() != n {
             return Err(self.error(
                 "line",
@@ -120,12 +125,21 @@ impl At<'_> {
     }
 }
 
-/// Fields separated by commas and/or white space (empty fields between two commas
-/// are kept as empty strings only when `keep_empty`).
+/// Fields separated by commas and/or white space (empty fields dropped).
 pub(crate) fn fields(line: &str) -> Vec<&str> {
     line.split(|c: char| c == ',' || c.is_whitespace())
         .filter(|s| !s.is_empty())
         .collect()
+}
+
+/// Exactly three fields separated by commas and/or white space (the hot loop of the
+/// matrix readers: no allocation); None otherwise.
+fn three_fields(line: &str) -> Option<[&str; 3]> {
+    let mut it = line
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|s| !s.is_empty());
+    let f = [it.next()?, it.next()?, it.next()?];
+    it.next().is_none().then_some(f)
 }
 
 /// Fields separated by commas only, trimmed (Abaqus data lines).
