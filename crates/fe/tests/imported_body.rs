@@ -10,7 +10,7 @@ use flexmbd_fe::FeError;
 use flexmbd_fe::import::ImportOptions;
 use flexmbd_fe::imported::{
     Coupling, ImportSource, ImportedBody, ImportedBodySpec, ImportedFrame, InterfaceSpec,
-    NodeSelection, import_body,
+    NodeSelection, Xyz, import_body,
 };
 use flexmbd_fe::modal::generalized_eigen;
 use flexmbd_fe::spec::Damping;

@@ -50,7 +50,7 @@ fn beam_of<'a>(scene: &'a mut Scene, body: &str) -> &'a mut flexmbd_fe::BeamBody
     let b = scene.bodies.iter_mut().find(|b| b.name == body).unwrap();
     match &mut b.model {
         BodyModel::Beam(spec) => spec,
-        BodyModel::Rigid { .. } => panic!("{body} is rigid"),
+        BodyModel::Rigid { .. } | BodyModel::Imported(_) => panic!("{body} is not a beam"),
     }
 }
 

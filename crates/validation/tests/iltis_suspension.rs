@@ -70,6 +70,7 @@ fn carried_mass(scene: &Scene) -> f64 {
         .map(|b| match &b.model {
             BodyModel::Rigid { mass, .. } => *mass,
             BodyModel::Beam(spec) => flexmbd_fe::reduce(spec).unwrap().mass(),
+            BodyModel::Imported(_) => unreachable!("the Iltis scenes import no FE model"),
         })
         .sum()
 }
