@@ -47,6 +47,7 @@ use std::sync::atomic::AtomicBool;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use csv_output::CsvFile;
 use flexmbd::body::InertiaMethod;
+use flexmbd::fe::imported::{ImportedBodySpec, import_body};
 use flexmbd::fe::{BeamBodySpec, reduce};
 use flexmbd::inventory::Inventory;
 use flexmbd::model::{BodyModel, FormulationKind, PreparedScene, Scene, Stiffening, parse_set};
@@ -218,6 +219,9 @@ fn modes(model: &Path, body: Option<&str>, json: bool) -> CliResult {
             .into());
         }
         Ok(spec) => spec,
+        Err(_) if ImportedBodySpec::from_ron_str(&text, &name).is_ok() => {
+            return imported_body_modes(&text, model, body, json);
+        }
         Err(body_error) => {
             return match Scene::load(model) {
                 Ok(scene) => scene_body_modes(&scene, &name, body, json),
@@ -228,6 +232,23 @@ fn modes(model: &Path, body: Option<&str>, json: bool) -> CliResult {
     };
     let reduced = reduce(&spec).map_err(|e| format!("{name}: {e}"))?;
     let inv = Inventory::of(&name, &reduced);
+    print_json_or_table(&inv, json, Inventory::to_text)
+}
+
+/// `flexmbd modes BODY.ron` on an imported FE body's model file: its export read (paths
+/// relative to the file) and reduced.
+fn imported_body_modes(text: &str, model: &Path, body: Option<&str>, json: bool) -> CliResult {
+    let name = model.display().to_string();
+    if body.is_some() {
+        return Err(format!(
+            "{name}: this is a body model, not a scene; --body picks a body of a scene"
+        )
+        .into());
+    }
+    let spec = ImportedBodySpec::from_ron_str(text, &name)?;
+    let base = model.parent().unwrap_or(Path::new("."));
+    let imported = import_body(&spec, base, &name)?;
+    let inv = Inventory::of(&name, &imported.body);
     print_json_or_table(&inv, json, Inventory::to_text)
 }
 

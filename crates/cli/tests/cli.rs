@@ -505,3 +505,25 @@ fn modes_on_a_scene_lists_its_bodies_and_reduces_one_with_body() {
         "{f0} Hz against {analytic} Hz"
     );
 }
+
+/// `modes` on an imported body's model file: its export read relative to the file and
+/// reduced (the bar's fixed-interface modes, root and tip held: CalculiX mesh, the
+/// lowest pair 3847.13 Hz); a missing export is named, exit 3.
+#[test]
+fn modes_reads_an_imported_body_model() {
+    let out = run(["modes", &model("imported_bar.ron"), "--json"]);
+    assert_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["n_fe_dofs"], 84);
+    assert_eq!(v["static_modes"].as_array().unwrap().len(), 6);
+    let f0 = v["normal_modes"][0]["frequency_hz"].as_f64().unwrap();
+    assert!((f0 - 3847.1277).abs() < 1e-3, "{f0}");
+    let dir = std::env::temp_dir().join(format!("flexmbd-cli-import-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(model("imported_bar.ron")).unwrap();
+    let moved = dir.join("imported_bar.ron");
+    std::fs::write(&moved, text).unwrap();
+    let err = refused(&["modes", moved.to_str().unwrap()]);
+    assert_contains_all(&err, &["bar_mesh.inp"]);
+    std::fs::remove_dir_all(&dir).ok();
+}

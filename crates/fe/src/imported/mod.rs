@@ -160,6 +160,16 @@ pub struct ImportedBodySpec {
 }
 
 impl ImportedBodySpec {
+    /// Parse a body-model file's RON text (`origin_name` names it in errors).
+    pub fn from_ron_str(text: &str, origin_name: &str) -> Result<Self, FeError> {
+        ron::from_str(text).map_err(|e| FeError::Parse {
+            file: origin_name.to_string(),
+            line: e.span.start.line,
+            column: e.span.start.col,
+            message: e.code.to_string(),
+        })
+    }
+
     /// Number of modal coordinates: six per boundary interface, then the normal modes.
     pub fn n_modes(&self) -> usize {
         self.boundary
