@@ -1,13 +1,14 @@
 //! Whole runs, the static equilibrium, the linearised free vibration and the mode
 //! inventory, with the GIL released while Rust computes.
 
+use std::path::Path;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::channel;
 
 use flexmbd::History;
-use flexmbd::fe::{BeamBodySpec, FeError, reduce};
-use flexmbd::inventory::Inventory;
+use flexmbd::fe::FeError;
+use flexmbd::inventory::{BodyModelFile, Inventory};
 use flexmbd::simulation;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
@@ -106,10 +107,18 @@ pub fn eigen(py: Python<'_>, scene: &PyScene) -> PyResult<String> {
 /// `flexmbd modes`), reduced with the GIL released.
 #[pyfunction]
 pub fn modes(py: Python<'_>, path: &str) -> PyResult<String> {
-    let spec = BeamBodySpec::from_file(path)
+    let file = Path::new(path);
+    let text = std::fs::read_to_string(file).map_err(|source| {
+        let e = FeError::Io {
+            file: path.to_string(),
+            source,
+        };
+        scene_error(py, &e.to_string(), file_fields(path, &e))
+    })?;
+    let spec = BodyModelFile::parse(&text, file)
         .map_err(|e| scene_error(py, &e.to_string(), file_fields(path, &e)))?;
     let body = py
-        .detach(|| reduce(&spec))
+        .detach(|| spec.reduce(file))
         .map_err(|e| scene_error(py, &format!("{path}: {e}"), file_fields(path, &e)))?;
     let inventory = Inventory::of(path, &body);
     serde_json::to_string(&inventory).map_err(|e| PyRuntimeError::new_err(e.to_string()))

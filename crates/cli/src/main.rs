@@ -47,9 +47,8 @@ use std::sync::atomic::AtomicBool;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use csv_output::CsvFile;
 use flexmbd::body::InertiaMethod;
-use flexmbd::fe::imported::{ImportedBodySpec, import_body};
-use flexmbd::fe::{BeamBodySpec, reduce};
-use flexmbd::inventory::Inventory;
+use flexmbd::fe::BeamBodySpec;
+use flexmbd::inventory::{BodyModelFile, Inventory};
 use flexmbd::model::{BodyModel, FormulationKind, PreparedScene, Scene, Stiffening, parse_set};
 use flexmbd::output::RowSink;
 use flexmbd::simulation::{self, Summary};
@@ -211,45 +210,22 @@ type CliResult = Result<u8, Box<dyn std::error::Error>>;
 fn modes(model: &Path, body: Option<&str>, json: bool) -> CliResult {
     let name = model.display().to_string();
     let text = std::fs::read_to_string(model).map_err(|e| format!("cannot read {name}: {e}"))?;
-    let spec = match BeamBodySpec::from_ron_str(&text, &name) {
-        Ok(_) if body.is_some() => {
-            return Err(format!(
-                "{name}: this is a body model, not a scene; --body picks a body of a scene"
-            )
-            .into());
-        }
-        Ok(spec) => spec,
-        Err(_) if ImportedBodySpec::from_ron_str(&text, &name).is_ok() => {
-            return imported_body_modes(&text, model, body, json);
-        }
-        Err(body_error) => {
-            return match Scene::load(model) {
-                Ok(scene) => scene_body_modes(&scene, &name, body, json),
-                Err(scene_error) if looks_like_a_scene(&text) => Err(scene_error.into()),
-                Err(_) => Err(body_error.into()),
-            };
-        }
-    };
-    let reduced = reduce(&spec).map_err(|e| format!("{name}: {e}"))?;
-    let inv = Inventory::of(&name, &reduced);
-    print_json_or_table(&inv, json, Inventory::to_text)
-}
-
-/// `flexmbd modes BODY.ron` on an imported FE body's model file: its export read (paths
-/// relative to the file) and reduced.
-fn imported_body_modes(text: &str, model: &Path, body: Option<&str>, json: bool) -> CliResult {
-    let name = model.display().to_string();
-    if body.is_some() {
-        return Err(format!(
+    match BodyModelFile::parse(&text, model) {
+        Ok(_) if body.is_some() => Err(format!(
             "{name}: this is a body model, not a scene; --body picks a body of a scene"
         )
-        .into());
+        .into()),
+        Ok(file) => {
+            let reduced = file.reduce(model).map_err(|e| format!("{name}: {e}"))?;
+            let inv = Inventory::of(&name, &reduced);
+            print_json_or_table(&inv, json, Inventory::to_text)
+        }
+        Err(body_error) => match Scene::load(model) {
+            Ok(scene) => scene_body_modes(&scene, &name, body, json),
+            Err(scene_error) if looks_like_a_scene(&text) => Err(scene_error.into()),
+            Err(_) => Err(body_error.into()),
+        },
     }
-    let spec = ImportedBodySpec::from_ron_str(text, &name)?;
-    let base = model.parent().unwrap_or(Path::new("."));
-    let imported = import_body(&spec, base, &name)?;
-    let inv = Inventory::of(&name, &imported.body);
-    print_json_or_table(&inv, json, Inventory::to_text)
 }
 
 /// A text that names a scene's own fields is read as a scene when it parses as neither,

@@ -1,7 +1,45 @@
-//! The mode inventory of a reduced body as printed by `flexmbd modes`.
+//! The mode inventory of a reduced body as printed by `flexmbd modes`, and the reduction of
+//! a body-model file of either kind.
 
-use flexmbd_fe::{ModeSelection, ReducedBody};
+use std::path::Path;
+
+use flexmbd_fe::imported::{ImportedBodySpec, import_body};
+use flexmbd_fe::{BeamBodySpec, FeError, ModeSelection, ReducedBody, reduce};
 use serde::Serialize;
+
+/// A body model's text: a beam (`BeamBodySpec`) or an imported FE body
+/// (`ImportedBodySpec`, its export's paths relative to `path`'s directory), or neither
+/// (the beam parser's complaint).
+pub enum BodyModelFile {
+    /// A beam body.
+    Beam(BeamBodySpec),
+    /// An imported FE body.
+    Imported(ImportedBodySpec),
+}
+
+impl BodyModelFile {
+    /// Parse the text of the body-model file `path`.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, FeError> {
+        let name = path.display().to_string();
+        match BeamBodySpec::from_ron_str(text, &name) {
+            Ok(spec) => Ok(BodyModelFile::Beam(spec)),
+            Err(beam) => ImportedBodySpec::from_ron_str(text, &name)
+                .map(BodyModelFile::Imported)
+                .map_err(|_| beam),
+        }
+    }
+
+    /// Reduce it (validated; an imported body's export read relative to `path`).
+    pub fn reduce(&self, path: &Path) -> Result<ReducedBody, FeError> {
+        match self {
+            BodyModelFile::Beam(spec) => reduce(spec),
+            BodyModelFile::Imported(spec) => {
+                let base = path.parent().unwrap_or(Path::new("."));
+                import_body(spec, base, &path.display().to_string()).map(|b| b.body)
+            }
+        }
+    }
+}
 
 /// One static (constraint) mode: the boundary DOF it belongs to.
 #[derive(Debug, Serialize)]
