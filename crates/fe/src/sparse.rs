@@ -11,6 +11,7 @@
 //! ratio picks (supernodal for 3D solids). Everything runs on one thread (`Par::Seq`), so
 //! results are bitwise reproducible.
 
+use std::io::Write;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -114,16 +115,34 @@ pub fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// Write the symmetric `a` as a Matrix Market `coordinate real symmetric` file (its lower
-/// triangle, values in Rust's shortest round-trip decimal form, so a reader gets the same
-/// bits).
+/// Write the symmetric `a` as a Matrix Market `coordinate real symmetric` file: its lower
+/// triangle (row ≥ column, 1-based), column by column, each value in Rust's shortest
+/// round-trip decimal form, so that a reader gets the same bits.
 pub fn write_matrix_market(path: &Path, a: &CsMat<f64>) -> Result<(), FeError> {
-    sprs::io::write_matrix_market_sym(path, a, sprs::io::SymmetryMode::Symmetric).map_err(
-        |source| FeError::Io {
-            file: path.display().to_string(),
-            source,
-        },
-    )
+    let io_error = |source| FeError::Io {
+        file: path.display().to_string(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(io_error)?;
+    let mut out = std::io::BufWriter::new(file);
+    write_lower_triangle(&mut out, a).map_err(io_error)
+}
+
+fn write_lower_triangle(out: &mut impl Write, a: &CsMat<f64>) -> std::io::Result<()> {
+    let cols = Columns::of(a);
+    let n = a.cols();
+    let entries = (0..n)
+        .map(|j| cols.column(j).filter(|&(i, _)| i >= j).count())
+        .sum::<usize>();
+    writeln!(out, "%%MatrixMarket matrix coordinate real symmetric")?;
+    writeln!(out, "% written by flexmbd-fe (lower triangle)")?;
+    writeln!(out, "{} {} {entries}", a.rows(), n)?;
+    for j in 0..n {
+        for (i, v) in cols.column(j).filter(|&(i, _)| i >= j) {
+            writeln!(out, "{} {} {v:?}", i + 1, j + 1)?;
+        }
+    }
+    out.flush()
 }
 
 /// Wall-clock time of the two phases of a sparse Cholesky factorisation.
@@ -309,6 +328,20 @@ mod tests {
             &mut scratch,
         );
         assert!(b.iter().zip(&x).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+
+    #[test]
+    fn writes_the_lower_triangle_in_matrix_market_form() {
+        let a = tridiagonal(3, 0.1 + 0.2, -1.0 / 3.0);
+        let mut text = Vec::new();
+        write_lower_triangle(&mut text, &a).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "%%MatrixMarket matrix coordinate real symmetric");
+        assert_eq!(lines[2], "3 3 5");
+        assert_eq!(lines[3], "1 1 0.30000000000000004");
+        assert_eq!(lines[4], "2 1 -0.3333333333333333");
+        assert_eq!(lines.len(), 8);
     }
 
     #[test]

@@ -67,8 +67,8 @@ use crate::sparse::{Columns, ShiftedCholesky, check_symmetric, norm, symmetric_m
 /// The default shift's fraction of the mean diagonal ratio K_ii / M_ii (module docs).
 pub const SHIFT_FRACTION: f64 = 1e-5;
 
-/// Below this many DOFs per wanted pair (N < 2 (m + p)) the model is solved densely
-/// ([`generalized_eigen`]): the Krylov basis would be most of the space anyway.
+/// Models with N < DENSE_FACTOR · (m + p) DOFs (m the basis size, p the block size) are
+/// solved densely ([`generalized_eigen`]): the Krylov basis would fill much of the space.
 const DENSE_FACTOR: usize = 2;
 
 /// A new direction whose M-norm fell below this fraction of its norm before
