@@ -8,6 +8,7 @@ pub mod four_bar;
 pub mod iltis;
 pub mod inertia_cost;
 pub mod mesh_size;
+pub mod solid_mesh;
 pub mod spin_up;
 pub mod stability_map;
 pub mod work_precision;
@@ -68,6 +69,11 @@ pub fn all() -> Vec<Study> {
             name: "mesh-size",
             title: "CPU time against FE mesh size, both formulations (thesis ch. 3)",
             run: mesh_size::run,
+        },
+        Study {
+            name: "solid-mesh",
+            title: "CPU time against the mesh size of an imported solid part, both formulations (thesis ch. 3, issue 25)",
+            run: solid_mesh::run,
         },
         Study {
             name: "spin-up",
