@@ -416,3 +416,29 @@ fn a_supported_model_is_not_free_free() {
     let err = flexmbd_fe::imported::reduce_imported(&spec, &model, "bar").unwrap_err();
     assert!(err.to_string().contains("six rigid-body modes"), "{err}");
 }
+
+/// Finite but huge values that the readers accept are refused by the reduction, never
+/// returned as a body with NaN in it (the reader fuzzer's findings): a node at 1e160 m, and
+/// an off-diagonal stiffness of −1e308.
+#[test]
+fn huge_values_are_refused_not_reduced_to_nan() {
+    let spec = bar_spec(
+        ImportedFrame::Interface("root".into()),
+        &["tip"],
+        Coupling::Rbe2,
+        4,
+    );
+    let read = || spec.source.read(&data_dir(), &spec.options).unwrap();
+    let reduce = |model| flexmbd_fe::imported::reduce_imported(&spec, &model, "bar");
+    let mut far = read();
+    far.mesh.nodes.positions[8].x = 1e160;
+    let err = reduce(far).unwrap_err().to_string();
+    assert!(err.contains("bar: node") && err.contains("1e160"), "{err}");
+    let mut stiff = read();
+    let mut k = stiff.k.to_dense();
+    k[[7, 3]] = -1e308;
+    k[[3, 7]] = -1e308;
+    stiff.k = sprs::CsMat::csc_from_dense(k.view(), 0.0);
+    let err = reduce(stiff).unwrap_err().to_string();
+    assert!(err.contains("overflowed"), "{err}");
+}

@@ -85,7 +85,6 @@ impl Scene {
                 }
                 let reduced = reduce(&spec).map_err(fe_err)?;
                 let nodes = NodeRows::from_reduced(&reduced);
-                let mut marker_nodes = Vec::with_capacity(b.markers.len());
                 let length: f64 = spec
                     .geometry
                     .points
@@ -95,18 +94,9 @@ impl Scene {
                         d.sqrt()
                     })
                     .sum();
-                for m in &b.markers {
-                    let p = m.position.vec();
-                    let node = nodes.node_at(&p, 1e-9 * length.max(1.0));
-                    if b.flexible && node.is_none() {
-                        return Err(self.invalid(InvalidValue::new(
-                            format!("bodies[{}].markers[{}].position", b.name, m.name),
-                            format!("{:?}", m.position.0),
-                            "a marker of a flexible body must sit on an FE node",
-                        )));
-                    }
-                    marker_nodes.push(node);
-                }
+                let marker_nodes = self.marker_nodes(b, &nodes, length, b.flexible, || {
+                    "a marker of a flexible body must sit on an FE node".to_string()
+                })?;
                 let flexible = b.flexible && reduced.n_modes() > 0;
                 let reference_node = flexible.then(|| match &spec.frame {
                     ReferenceFrame::Clamped { node } => *node,
@@ -152,27 +142,18 @@ impl Scene {
         let size = (0..nodes.len())
             .map(|k| nodes.position(k).norm())
             .fold(1.0f64, f64::max);
-        let mut marker_nodes = Vec::with_capacity(b.markers.len());
-        for m in &b.markers {
-            let node = nodes.node_at(&m.position.vec(), 1e-9 * size);
-            if flexible && node.is_none() {
-                return Err(self.invalid(InvalidValue::new(
-                    format!("bodies[{}].markers[{}].position", b.name, m.name),
-                    format!("{:?}", m.position.0),
-                    format!(
-                        "a marker of an imported flexible body must sit on an interface point \
-                         ({}) or an FE node",
-                        imported
-                            .interfaces
-                            .iter()
-                            .map(|(n, p)| format!("{n} at [{}, {}, {}]", p.x, p.y, p.z))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                )));
-            }
-            marker_nodes.push(if flexible { node } else { None });
-        }
+        let marker_nodes = self.marker_nodes(b, &nodes, size, flexible, || {
+            format!(
+                "a marker of an imported flexible body must sit on an interface point ({}) or \
+                 an FE node",
+                imported
+                    .interfaces
+                    .iter()
+                    .map(|(n, p)| format!("{n} at [{}, {}, {}]", p.x, p.y, p.z))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })?;
         let reference_node = match (&spec.frame, flexible) {
             (ImportedFrame::Interface(frame), true) => {
                 imported.interfaces.iter().position(|(n, _)| n == frame)
@@ -188,6 +169,32 @@ impl Scene {
             marker_nodes,
             reference_node,
         })
+    }
+
+    /// The node each marker of `b` sits on (within 1e-9 of `size`, at least 1e-9 m); when
+    /// `required`, a marker on no node is refused with `why`.
+    fn marker_nodes(
+        &self,
+        b: &Body,
+        nodes: &NodeRows,
+        size: f64,
+        required: bool,
+        why: impl Fn() -> String,
+    ) -> Result<Vec<Option<usize>>, ModelError> {
+        b.markers
+            .iter()
+            .map(|m| {
+                let node = nodes.node_at(&m.position.vec(), 1e-9 * size.max(1.0));
+                if required && node.is_none() {
+                    return Err(self.invalid(InvalidValue::new(
+                        format!("bodies[{}].markers[{}].position", b.name, m.name),
+                        format!("{:?}", m.position.0),
+                        why(),
+                    )));
+                }
+                Ok(node)
+            })
+            .collect()
     }
 
     /// The directory an imported body's files are relative to: the scene file's, or the

@@ -28,9 +28,11 @@ use serde::{Deserialize, Serialize};
 use sprs::{CsMat, TriMat};
 
 use super::invalid;
+use crate::assembly::dof_slot;
 use crate::error::FeError;
 use crate::import::FeModel;
 use crate::reduced::Dof;
+use flexmbd_core::Dim;
 
 /// A point or direction written `[x, y, z]` (exactly three numbers).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -426,20 +428,11 @@ struct Term {
 fn dof_rows(model: &FeModel) -> Vec<[Option<usize>; 6]> {
     let mut rows = vec![[None; 6]; model.mesh.nodes.positions.len()];
     for (r, d) in model.dofs.iter().enumerate() {
-        rows[d.node][slot(d.dof)] = Some(r);
+        if let Some(slot) = dof_slot(Dim::Spatial, d.dof) {
+            rows[d.node][slot] = Some(r);
+        }
     }
     rows
-}
-
-fn slot(d: Dof) -> usize {
-    match d {
-        Dof::Ux => 0,
-        Dof::Uy => 1,
-        Dof::Uz => 2,
-        Dof::Rx => 3,
-        Dof::Ry => 4,
-        Dof::Rz => 5,
-    }
 }
 
 /// u_s = u_P + θ_P × d_s (row a: u_Pa + Σ_b (−d̃)_ab θ_Pb), θ_s = θ_P.

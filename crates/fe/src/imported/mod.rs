@@ -229,10 +229,12 @@ pub fn reduce_imported(
     name: &str,
 ) -> Result<ImportedBody, FeError> {
     check_spec(spec, name)?;
+    check_positions(model, name)?;
     let couplings = interfaces::resolve(&spec.interfaces, model, name)?;
     let map = interfaces::RetainedMap::new(model, &couplings, name)?;
     let reduced = reduction::reduce(spec, model, &couplings, &map, name)?;
     let body = inertia::reduced_body(spec, model, &couplings, &map, reduced, name)?;
+    check_finite(&body, name)?;
     Ok(ImportedBody {
         body,
         interfaces: couplings
@@ -245,6 +247,61 @@ pub fn reduce_imported(
 
 fn invalid(field: String, value: impl std::fmt::Display, why: impl Into<String>) -> FeError {
     FeError::Invalid(flexmbd_core::InvalidValue::new(field, value, why))
+}
+
+/// Every node within the scene's position range (`bounds::POSITION`), so that the inertia
+/// integrals (second moments of the positions) stay finite.
+fn check_positions(model: &FeModel, name: &str) -> Result<(), FeError> {
+    for (k, p) in model.mesh.nodes.positions.iter().enumerate() {
+        let field = format!("{name}: node {}", model.mesh.nodes.ids[k]);
+        crate::bounds::POSITION.check_all(&field, p.as_slice())?;
+    }
+    Ok(())
+}
+
+/// The reduced body holds finite numbers only: an export whose K or M entries are finite but
+/// so large that the reduction overflows is refused here rather than run.
+fn check_finite(body: &ReducedBody, name: &str) -> Result<(), FeError> {
+    fn bad<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<f64> {
+        values.into_iter().copied().find(|v| !v.is_finite())
+    }
+    let si = &body.shape_integrals;
+    let nodes = body.nodes.iter();
+    let found = [
+        ("modes", bad(body.modes.iter())),
+        ("K_ff", bad(body.k_ff.iter())),
+        ("M_ff", bad(body.m_ff.iter())),
+        ("C_ff", bad(body.c_ff.iter())),
+        (
+            "mass cloud",
+            bad(body.cloud.weights.iter().chain(&body.cloud.mode_rows)),
+        ),
+        (
+            "second moment",
+            bad(si.second_moment.iter().chain([&si.mass])),
+        ),
+        (
+            "shape integrals",
+            bad(si.s.iter().chain(si.s_a.iter().flat_map(|m| m.iter()))),
+        ),
+        (
+            "shape integrals S^ab",
+            bad(si.s_ab.iter().flatten().flat_map(|m| m.iter())),
+        ),
+        (
+            "node rows",
+            bad(nodes.flat_map(|n| n.translation.iter().chain(n.rotation.iter()))),
+        ),
+    ];
+    match found.into_iter().find_map(|(what, v)| v.map(|v| (what, v))) {
+        Some((what, v)) => Err(invalid(
+            format!("{name}: the reduced {what}"),
+            v,
+            "the reduction overflowed: an entry of K or M, or a node coordinate, of the export \
+             is too large",
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The checks that need no model: mode selection, frame and boundary names.
