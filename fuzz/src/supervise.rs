@@ -14,7 +14,7 @@ use std::time::Duration;
 use flexmbd::model::FormulationKind;
 
 use crate::execute::{Class, Outcome};
-use crate::worker::{parse_reply, write_request};
+use crate::worker::{Request, parse_reply, write_any_request};
 
 /// How to start a worker and how long to wait for it.
 #[derive(Clone, Debug)]
@@ -55,8 +55,16 @@ impl Supervisor {
         }
     }
 
-    /// Run `text` in `formulation` in the worker and classify the outcome.
+    /// Run the scene `text` in `formulation` in the worker and classify the outcome.
     pub fn execute(&mut self, text: &str, formulation: FormulationKind) -> Outcome {
+        self.run(&Request::Scene {
+            formulation,
+            text: text.to_string(),
+        })
+    }
+
+    /// Run `request` in the worker and classify the outcome.
+    pub fn run(&mut self, request: &Request) -> Outcome {
         if self.running.is_none() {
             match self.start() {
                 Ok(r) => self.running = Some(r),
@@ -66,7 +74,7 @@ impl Supervisor {
             }
         }
         let running = self.running.as_mut().expect("started above");
-        if write_request(&mut running.stdin, formulation, text).is_err() {
+        if write_any_request(&mut running.stdin, request).is_err() {
             return self.death();
         }
         match running.replies.recv_timeout(self.config.timeout) {
