@@ -108,6 +108,7 @@ fn worker_config(cli: &Cli) -> Result<WorkerConfig, String> {
     }
     Ok(WorkerConfig {
         program: std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?,
+        directory: Some(cli.models.clone().unwrap_or_else(default_models_dir)),
         memory_mib: cli.memory_mib,
         max_steps: cli.max_steps,
         timeout: Duration::from_secs_f64(cli.timeout),

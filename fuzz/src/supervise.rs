@@ -27,6 +27,11 @@ pub struct WorkerConfig {
     pub max_steps: usize,
     /// The wall-clock cap of one execution.
     pub timeout: Duration,
+    /// The worker's working directory (`None`: the supervisor's). The campaign gives
+    /// the corpus's, so that the files a scene names relative to itself (an imported
+    /// body's FE export) are found as they are for the seed scene: a mutant is loaded
+    /// from text, and its relative paths are taken from the working directory.
+    pub directory: Option<PathBuf>,
 }
 
 /// A running worker: its pipes and the threads that read them.
@@ -112,7 +117,11 @@ impl Supervisor {
     /// Start a worker.
     fn start(&mut self) -> std::io::Result<Running> {
         let c = &self.config;
-        let mut child = Command::new(&c.program)
+        let mut command = Command::new(&c.program);
+        if let Some(dir) = &c.directory {
+            command.current_dir(dir);
+        }
+        let mut child = command
             .arg("--worker")
             .args(["--memory-mib", &c.memory_mib.to_string()])
             .args(["--max-steps", &c.max_steps.to_string()])

@@ -21,6 +21,7 @@ fn config(timeout: Duration) -> WorkerConfig {
         memory_mib: 2048,
         max_steps: 2,
         timeout,
+        directory: None,
     }
 }
 
