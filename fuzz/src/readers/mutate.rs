@@ -149,7 +149,7 @@ fn hostile_number(old: &str, rng: &mut Rng) -> String {
     if integer && rng.chance(1, 4) {
         let value: i128 = old.parse().unwrap_or(0);
         let step = if rng.chance(1, 2) { 1 } else { -1 };
-        return (value + step).to_string();
+        return value.saturating_add(step).to_string();
     }
     let specials = if integer == rng.chance(7, 8) {
         SPECIAL_COUNTS
