@@ -1,5 +1,6 @@
-//! A campaign: the mutants `0, 1, 2, …` of a seed, each run in both formulations by a
-//! pool of supervised workers, until an execution count or a time budget is spent.
+//! A campaign: the mutants `0, 1, 2, …` of a seed — of the scenes, each run in both
+//! formulations, or of the reader inputs, each run once — by a pool of supervised
+//! workers, until an execution count or a time budget is spent.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -11,14 +12,77 @@ use flexmbd::model::FormulationKind;
 use std::io::Write;
 
 use crate::corpus::SeedScene;
-use crate::execute::formulation_name;
-use crate::findings::Tally;
+use crate::findings::{Reproducer, SceneExecution, Tally};
 use crate::mutate::mutant;
+use crate::readers::corpus::ReaderSeed;
+use crate::readers::mutate::reader_mutant;
 use crate::supervise::{Supervisor, WorkerConfig};
+use crate::worker::Request;
 
 /// The formulations every mutant runs in.
 pub const FORMULATIONS: [FormulationKind; 2] =
     [FormulationKind::Absolute, FormulationKind::Relative];
+
+/// What a campaign mutates.
+#[derive(Clone, Debug)]
+pub enum Corpus {
+    /// Scenes, each mutant run in both [`FORMULATIONS`].
+    Scenes(Vec<SeedScene>),
+    /// Reader inputs, each mutant run once.
+    Readers(Vec<ReaderSeed>),
+}
+
+/// One execution of a mutant: the worker's request and the reproducer of a defect.
+pub struct Job {
+    /// What the worker runs.
+    pub request: Request,
+    /// Its place among the executions of its mutant.
+    pub rank: usize,
+    /// Writes its reproducer.
+    pub reproducer: Box<dyn Reproducer + Send>,
+}
+
+impl Corpus {
+    /// The executions of one mutant.
+    pub fn executions_per_mutant(&self) -> u64 {
+        match self {
+            Corpus::Scenes(_) => FORMULATIONS.len() as u64,
+            Corpus::Readers(_) => 1,
+        }
+    }
+
+    /// The executions of mutant `index` of campaign `seed`.
+    pub fn jobs(&self, seed: u64, index: u64) -> Vec<Job> {
+        match self {
+            Corpus::Scenes(scenes) => {
+                let m = mutant(scenes, seed, index);
+                FORMULATIONS
+                    .iter()
+                    .enumerate()
+                    .map(|(rank, &formulation)| Job {
+                        request: Request::Scene {
+                            formulation,
+                            text: m.text.clone(),
+                        },
+                        rank,
+                        reproducer: Box::new(SceneExecution {
+                            mutant: m.clone(),
+                            formulation,
+                        }),
+                    })
+                    .collect()
+            }
+            Corpus::Readers(seeds) => {
+                let m = reader_mutant(seeds, seed, index);
+                vec![Job {
+                    request: Request::Reader(m.input.clone()),
+                    rank: 0,
+                    reproducer: Box::new(m),
+                }]
+            }
+        }
+    }
+}
 
 /// What a campaign runs and where it writes.
 #[derive(Clone, Debug)]
@@ -51,11 +115,11 @@ pub struct Report {
 }
 
 /// Run `plan` over `corpus`, printing progress to stderr every `progress_every`.
-pub fn run(plan: &Plan, corpus: &[SeedScene], progress_every: Duration) -> std::io::Result<Report> {
+pub fn run(plan: &Plan, corpus: &Corpus, progress_every: Duration) -> std::io::Result<Report> {
     let start = Instant::now();
     let mutants = plan
         .executions
-        .map(|n| n.div_ceil(FORMULATIONS.len() as u64));
+        .map(|n| n.div_ceil(corpus.executions_per_mutant()));
     let deadline = plan.seconds.map(|s| start + Duration::from_secs_f64(s));
     let next = AtomicU64::new(0);
     let tally = Mutex::new(Tally::default());
@@ -79,22 +143,22 @@ pub fn run(plan: &Plan, corpus: &[SeedScene], progress_every: Duration) -> std::
                         if done {
                             break;
                         }
-                        let m = mutant(corpus, plan.seed, index);
-                        for f in FORMULATIONS {
+                        for job in corpus.jobs(plan.seed, index) {
                             let clock = Instant::now();
-                            let outcome = supervisor.execute(&m.text, f);
+                            let outcome = supervisor.run(&job.request);
                             if let Some(log) = &log {
                                 let ms = clock.elapsed().as_secs_f64() * 1e3;
                                 let line = format!(
                                     "{index}\t{}\t{ms:.1}\t{}\t{}\n",
-                                    formulation_name(f),
+                                    job.reproducer.label(),
                                     outcome.class.name(),
                                     outcome.detail
                                 );
                                 log.lock().expect("log").write_all(line.as_bytes())?;
                             }
                             let mut t = tally.lock().expect("tally");
-                            t.record(&m, (plan.seed, index), f, &outcome, &plan.findings)?;
+                            let order = (plan.seed, index, job.rank);
+                            t.record(job.reproducer.as_ref(), order, &outcome, &plan.findings)?;
                             report_progress(&t, start, &last_progress, progress_every);
                         }
                     }

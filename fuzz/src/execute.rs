@@ -209,10 +209,14 @@ mod tests {
         std::fs::read_to_string(default_models_dir().join("flexible_pendulum.ron")).unwrap()
     }
 
+    /// In this process, whose working directory is not `models/`: the scenes with an
+    /// imported body, whose export is named relative to the scene, are run by a worker
+    /// started there (`tests/supervisor.rs`).
     #[test]
     fn every_scene_of_the_corpus_runs_ok_in_both_formulations() {
         let (corpus, _) = load_corpus(&default_models_dir()).unwrap();
-        for seed in &corpus {
+        let self_contained = corpus.iter().filter(|s| !s.text.contains("Imported("));
+        for seed in self_contained {
             for f in [FormulationKind::Absolute, FormulationKind::Relative] {
                 let o = execute(&seed.text, f, 2);
                 assert_eq!(

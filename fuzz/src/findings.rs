@@ -1,7 +1,9 @@
-//! Findings: the tally of a campaign, the reproducer files of its defects
-//! (`<class>-<formulation>-<hash>.ron`: the mutant exactly as it ran, so that its line
-//! numbers are those of the errors and of the mutations, then a newline and a footer of
-//! `// fuzz:` comment lines) and how a reproducer is read back for `--replay`.
+//! Findings: the tally of a campaign, the reproducers of its defects ([`Reproducer`]) —
+//! for a scene, a file `<class>-<formulation>-<hash>.ron`: the mutant exactly as it ran,
+//! so that its line numbers are those of the errors and of the mutations, then a newline
+//! and a footer of `// fuzz:` comment lines; for a reader, a directory
+//! ([`crate::readers::reproducer`]) — and how a scene reproducer is read back for
+//! `--replay`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -17,6 +19,41 @@ const FOOTER: &str = "// fuzz: ";
 
 /// What starts the footer: a newline (added after the mutant) and the formulation line.
 const FOOTER_START: &str = "\n// fuzz: formulation=";
+
+/// What a defect's reproducer is made from: one execution of a campaign.
+pub trait Reproducer {
+    /// What signatures and file names call the execution: the formulation of a scene,
+    /// the entry point of a reader.
+    fn label(&self) -> String;
+    /// Where its reproducer goes in `dir`: named after `class`, the label and a hash of
+    /// the input, so the same input found twice is one reproducer.
+    fn path(&self, dir: &Path, class: Class) -> PathBuf;
+    /// Write the reproducer to `path`; `context` says which campaign and mutant it is.
+    fn write(&self, path: &Path, outcome: &Outcome, context: &str) -> std::io::Result<()>;
+}
+
+/// A scene mutant run in one formulation.
+#[derive(Clone, Debug)]
+pub struct SceneExecution {
+    /// The mutant.
+    pub mutant: Mutant,
+    /// The formulation it ran in.
+    pub formulation: FormulationKind,
+}
+
+impl Reproducer for SceneExecution {
+    fn label(&self) -> String {
+        formulation_name(self.formulation).to_string()
+    }
+
+    fn path(&self, dir: &Path, class: Class) -> PathBuf {
+        reproducer_path(dir, &self.mutant, self.formulation, class)
+    }
+
+    fn write(&self, path: &Path, outcome: &Outcome, context: &str) -> std::io::Result<()> {
+        write_reproducer(path, &self.mutant, self.formulation, outcome, context)
+    }
+}
 
 /// The reproducers kept per signature (a defect seen more often is still counted).
 pub const FILES_PER_SIGNATURE: usize = 3;
@@ -56,14 +93,14 @@ impl Tally {
             .sum()
     }
 
-    /// Count the outcome of mutant `index` of campaign `seed` in `formulation`; for a
-    /// defect, keep its reproducer in `dir` if it is among the [`FILES_PER_SIGNATURE`]
-    /// first executions (by index) of its signature, removing the one it displaces.
+    /// Count the outcome of `execution`, mutant `index` of campaign `seed`, `rank` its
+    /// place among the executions of that mutant (the formulation's); for a defect, keep
+    /// its reproducer in `dir` if it is among the [`FILES_PER_SIGNATURE`] first
+    /// executions (by index and rank) of its signature, removing the one it displaces.
     pub fn record(
         &mut self,
-        mutant: &Mutant,
-        (seed, index): (u64, u64),
-        formulation: FormulationKind,
+        execution: &dyn Reproducer,
+        (seed, index, rank): (u64, u64, usize),
         outcome: &Outcome,
         dir: &Path,
     ) -> std::io::Result<()> {
@@ -73,16 +110,16 @@ impl Tally {
         }
         let (count, kept) = self
             .signatures
-            .entry(signature(formulation, outcome))
+            .entry(signature(&execution.label(), outcome))
             .or_default();
         *count += 1;
-        let order = (index, formulation as usize);
+        let order = (index, rank);
         let last = kept
             .iter()
             .enumerate()
             .max_by_key(|(_, k)| k.order)
             .map(|(i, k)| (i, k.order));
-        let path = reproducer_path(dir, mutant, formulation, outcome.class);
+        let path = execution.path(dir, outcome.class);
         let room = kept.len() < FILES_PER_SIGNATURE || last.is_some_and(|(_, o)| order < o);
         if !room || kept.iter().any(|k| k.path == path) {
             return Ok(());
@@ -90,10 +127,10 @@ impl Tally {
         if kept.len() == FILES_PER_SIGNATURE
             && let Some((i, _)) = last
         {
-            std::fs::remove_file(kept.remove(i).path)?;
+            remove_reproducer(&kept.remove(i).path)?;
         }
         let context = format!("seed {seed}, mutant {index}");
-        write_reproducer(&path, mutant, formulation, outcome, &context)?;
+        execution.write(&path, outcome, &context)?;
         kept.push(Kept { order, path });
         Ok(())
     }
@@ -117,9 +154,18 @@ impl Tally {
     }
 }
 
-/// What groups defects: class, formulation and the detail with digits blanked (but a
-/// panic's location kept whole).
-fn signature(formulation: FormulationKind, outcome: &Outcome) -> String {
+/// A reproducer displaced by an earlier one: a file, or a directory of files.
+fn remove_reproducer(path: &Path) -> std::io::Result<()> {
+    if path.is_dir() {
+        std::fs::remove_dir_all(path)
+    } else {
+        std::fs::remove_file(path)
+    }
+}
+
+/// What groups defects: class, label (formulation or reader) and the detail with digits
+/// blanked (but a panic's location kept whole).
+fn signature(label: &str, outcome: &Outcome) -> String {
     let d = &outcome.detail;
     let (kept, rest) = match d.split_once(": ") {
         Some((location, rest)) if d.starts_with("panicked at ") => (location, rest),
@@ -132,9 +178,8 @@ fn signature(formulation: FormulationKind, outcome: &Outcome) -> String {
         .collect();
     let separator = if kept.is_empty() { "" } else { ": " };
     format!(
-        "{} {}: {kept}{separator}{blanked}",
-        outcome.class.name(),
-        formulation_name(formulation)
+        "{} {label}: {kept}{separator}{blanked}",
+        outcome.class.name()
     )
 }
 
@@ -220,9 +265,11 @@ mod tests {
         let outcome = Outcome::new(Class::Panic, "panicked at a.rs:3: boom");
         let mut tally = Tally::default();
         let relative = FormulationKind::Relative;
-        tally
-            .record(&mutant, (1, 2), relative, &outcome, &dir)
-            .unwrap();
+        let execution = SceneExecution {
+            mutant: mutant.clone(),
+            formulation: relative,
+        };
+        tally.record(&execution, (1, 2, 1), &outcome, &dir).unwrap();
         let (_, kept) = tally.signatures.values().next().unwrap();
         let name = kept[0]
             .path
@@ -259,8 +306,13 @@ mod tests {
             let dir = temp_dir(&format!("order-{run}"));
             let mut tally = Tally::default();
             for &index in arrival {
-                let m = mutant(&format!("mutant {index}"));
-                tally.record(&m, (1, index), f, &outcome, &dir).unwrap();
+                let execution = SceneExecution {
+                    mutant: mutant(&format!("mutant {index}")),
+                    formulation: f,
+                };
+                tally
+                    .record(&execution, (1, index, f as usize), &outcome, &dir)
+                    .unwrap();
             }
             let mut files: Vec<String> = std::fs::read_dir(&dir)
                 .unwrap()
@@ -280,18 +332,9 @@ mod tests {
     fn defects_differing_only_in_numbers_share_a_signature() {
         let a = Outcome::new(Class::Panic, "panicked at a.rs:3: index 5 out of range");
         let b = Outcome::new(Class::Panic, "panicked at a.rs:3: index 7 out of range");
-        assert_eq!(
-            signature(FormulationKind::Absolute, &a),
-            signature(FormulationKind::Absolute, &b)
-        );
-        assert_ne!(
-            signature(FormulationKind::Absolute, &a),
-            signature(FormulationKind::Relative, &a)
-        );
+        assert_eq!(signature("absolute", &a), signature("absolute", &b));
+        assert_ne!(signature("absolute", &a), signature("relative", &a));
         let elsewhere = Outcome::new(Class::Panic, "panicked at a.rs:4: index 5 out of range");
-        assert_ne!(
-            signature(FormulationKind::Absolute, &a),
-            signature(FormulationKind::Absolute, &elsewhere)
-        );
+        assert_ne!(signature("absolute", &a), signature("absolute", &elsewhere));
     }
 }

@@ -1,4 +1,5 @@
-//! `flexmbd-fuzz`: a mutation fuzzer of the scene files in `models/`.
+//! `flexmbd-fuzz`: a mutation fuzzer of the scene files in `models/` and of the FE
+//! import readers ([`readers`]).
 //!
 //! Each mutant is a scene of the corpus ([`corpus`]) with one to three syntax or value
 //! mutations ([`mutate`]), drawn deterministically from the campaign's seed and the
@@ -8,6 +9,8 @@
 //! workers runs the campaign ([`campaign`]), and every defect (a panic, a hang, an abort,
 //! a crash, a non-finite result reported as success, a refusal naming no field) is
 //! written as a reproducer ([`findings`]) that `flexmbd-fuzz --replay FILE` runs again.
+//! With `--target readers` the same machinery runs the readers of
+//! `flexmbd_fe::import` on mutants of their test exports ([`readers`]).
 //! See `docs/fuzzing.md`.
 
 pub mod campaign;
@@ -16,6 +19,7 @@ pub mod execute;
 pub mod findings;
 pub mod lexer;
 pub mod mutate;
+pub mod readers;
 pub mod rng;
 pub mod supervise;
 pub mod worker;

@@ -9,7 +9,7 @@ use crate::lexer::{Token, TokenKind, tokens};
 use crate::rng::Rng;
 
 /// The numbers a real literal is replaced with (`None`: its negation).
-const SPECIAL_REALS: &[Option<&str>] = &[
+pub(crate) const SPECIAL_REALS: &[Option<&str>] = &[
     Some("NaN"),
     Some("inf"),
     Some("-inf"),
@@ -25,7 +25,7 @@ const SPECIAL_REALS: &[Option<&str>] = &[
 ];
 
 /// The numbers an integer literal (a count, a node, an index) is replaced with.
-const SPECIAL_COUNTS: &[Option<&str>] = &[
+pub(crate) const SPECIAL_COUNTS: &[Option<&str>] = &[
     Some("0"),
     Some("1"),
     Some("18446744073709551615"),
@@ -148,7 +148,7 @@ fn other_literal(
 }
 
 /// `-x` for `x`, `x` for `-x`.
-fn negate(number: &str) -> String {
+pub(crate) fn negate(number: &str) -> String {
     match number.strip_prefix('-') {
         Some(positive) => positive.to_string(),
         None => format!("-{number}"),
@@ -159,37 +159,46 @@ fn negate(number: &str) -> String {
 fn syntax_mutation(text: &str, rng: &mut Rng) -> (String, String) {
     let lines: Vec<&str> = text.split_inclusive('\n').collect();
     match rng.below(7) {
-        0 | 1 if !lines.is_empty() => {
-            let i = rng.below(lines.len());
-            let mut out = lines.clone();
-            let what = if rng.chance(1, 2) {
-                out.remove(i);
-                format!("line {}: deleted", i + 1)
-            } else {
-                out.insert(i, lines[i]);
-                format!("line {}: duplicated", i + 1)
-            };
-            (out.concat(), what)
-        }
-        2 if lines.len() > 1 => {
-            let (i, j) = (rng.below(lines.len()), rng.below(lines.len()));
-            let mut out = lines.clone();
-            out.swap(i, j);
-            (
-                out.concat(),
-                format!("lines {} and {}: swapped", i + 1, j + 1),
-            )
-        }
-        3 => {
-            let at = boundary(text, rng.below(text.len() + 1));
-            (
-                text[..at].to_string(),
-                format!("truncated at byte {at} (line {})", line_of(text, at)),
-            )
-        }
+        0 | 1 if !lines.is_empty() => line_deleted_or_duplicated(&lines, rng),
+        2 if lines.len() > 1 => lines_swapped(&lines, rng),
+        3 => truncation(text, rng),
         4 => unbalance(text, rng),
-        _ => byte_mutation(text, rng),
+        _ => byte_mutation(text, rng, BYTES),
     }
+}
+
+/// A line (of `lines`, non-empty, each with its newline) deleted or duplicated.
+pub(crate) fn line_deleted_or_duplicated(lines: &[&str], rng: &mut Rng) -> (String, String) {
+    let i = rng.below(lines.len());
+    let mut out = lines.to_vec();
+    let what = if rng.chance(1, 2) {
+        out.remove(i);
+        format!("line {}: deleted", i + 1)
+    } else {
+        out.insert(i, lines[i]);
+        format!("line {}: duplicated", i + 1)
+    };
+    (out.concat(), what)
+}
+
+/// Two lines of `lines` (each with its newline) swapped.
+pub(crate) fn lines_swapped(lines: &[&str], rng: &mut Rng) -> (String, String) {
+    let (i, j) = (rng.below(lines.len()), rng.below(lines.len()));
+    let mut out = lines.to_vec();
+    out.swap(i, j);
+    (
+        out.concat(),
+        format!("lines {} and {}: swapped", i + 1, j + 1),
+    )
+}
+
+/// The text cut at a random char boundary.
+pub(crate) fn truncation(text: &str, rng: &mut Rng) -> (String, String) {
+    let at = boundary(text, rng.below(text.len() + 1));
+    (
+        text[..at].to_string(),
+        format!("truncated at byte {at} (line {})", line_of(text, at)),
+    )
 }
 
 /// Delete a bracket or insert a stray one.
@@ -216,12 +225,13 @@ fn unbalance(text: &str, rng: &mut Rng) -> (String, String) {
     }
 }
 
-/// Flip a bit of, replace, or insert before a byte (kept ASCII so the text stays UTF-8).
-fn byte_mutation(text: &str, rng: &mut Rng) -> (String, String) {
+/// Flip a bit of, replace, or insert before a byte, the new bytes drawn from `alphabet`
+/// (ASCII, and a flip keeps an ASCII byte ASCII, so the text stays UTF-8).
+pub(crate) fn byte_mutation(text: &str, rng: &mut Rng, alphabet: &[u8]) -> (String, String) {
     let at = boundary(text, rng.below(text.len() + 1));
     let line = line_of(text, at);
     let next = text[at..].chars().next();
-    let byte = *rng.pick(BYTES) as char;
+    let byte = *rng.pick(alphabet) as char;
     match (rng.below(3), next) {
         (0, Some(c)) if c.is_ascii() => {
             let flipped = ((c as u8) ^ (1 << rng.below(7))) as char;
@@ -246,7 +256,7 @@ fn byte_mutation(text: &str, rng: &mut Rng) -> (String, String) {
 }
 
 /// `text` with `start..end` replaced by `with`.
-fn splice(text: &str, start: usize, end: usize, with: &str) -> String {
+pub(crate) fn splice(text: &str, start: usize, end: usize, with: &str) -> String {
     let mut out = String::with_capacity(text.len() + with.len());
     out.push_str(&text[..start]);
     out.push_str(with);
@@ -255,7 +265,7 @@ fn splice(text: &str, start: usize, end: usize, with: &str) -> String {
 }
 
 /// The nearest char boundary at or before `at`.
-fn boundary(text: &str, mut at: usize) -> usize {
+pub(crate) fn boundary(text: &str, mut at: usize) -> usize {
     while !text.is_char_boundary(at) {
         at -= 1;
     }
@@ -263,7 +273,7 @@ fn boundary(text: &str, mut at: usize) -> usize {
 }
 
 /// The 1-based line of byte `at`.
-fn line_of(text: &str, at: usize) -> usize {
+pub(crate) fn line_of(text: &str, at: usize) -> usize {
     text[..at].bytes().filter(|&c| c == b'\n').count() + 1
 }
 

@@ -14,7 +14,7 @@ use std::time::Duration;
 use flexmbd::model::FormulationKind;
 
 use crate::execute::{Class, Outcome};
-use crate::worker::{parse_reply, write_request};
+use crate::worker::{Request, parse_reply, write_any_request};
 
 /// How to start a worker and how long to wait for it.
 #[derive(Clone, Debug)]
@@ -27,6 +27,11 @@ pub struct WorkerConfig {
     pub max_steps: usize,
     /// The wall-clock cap of one execution.
     pub timeout: Duration,
+    /// The worker's working directory (`None`: the supervisor's). The campaign gives
+    /// the corpus's, so that the files a scene names relative to itself (an imported
+    /// body's FE export) are found as they are for the seed scene: a mutant is loaded
+    /// from text, and its relative paths are taken from the working directory.
+    pub directory: Option<PathBuf>,
 }
 
 /// A running worker: its pipes and the threads that read them.
@@ -55,8 +60,16 @@ impl Supervisor {
         }
     }
 
-    /// Run `text` in `formulation` in the worker and classify the outcome.
+    /// Run the scene `text` in `formulation` in the worker and classify the outcome.
     pub fn execute(&mut self, text: &str, formulation: FormulationKind) -> Outcome {
+        self.run(&Request::Scene {
+            formulation,
+            text: text.to_string(),
+        })
+    }
+
+    /// Run `request` in the worker and classify the outcome.
+    pub fn run(&mut self, request: &Request) -> Outcome {
         if self.running.is_none() {
             match self.start() {
                 Ok(r) => self.running = Some(r),
@@ -66,7 +79,7 @@ impl Supervisor {
             }
         }
         let running = self.running.as_mut().expect("started above");
-        if write_request(&mut running.stdin, formulation, text).is_err() {
+        if write_any_request(&mut running.stdin, request).is_err() {
             return self.death();
         }
         match running.replies.recv_timeout(self.config.timeout) {
@@ -104,7 +117,11 @@ impl Supervisor {
     /// Start a worker.
     fn start(&mut self) -> std::io::Result<Running> {
         let c = &self.config;
-        let mut child = Command::new(&c.program)
+        let mut command = Command::new(&c.program);
+        if let Some(dir) = &c.directory {
+            command.current_dir(dir);
+        }
+        let mut child = command
             .arg("--worker")
             .args(["--memory-mib", &c.memory_mib.to_string()])
             .args(["--max-steps", &c.max_steps.to_string()])

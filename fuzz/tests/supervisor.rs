@@ -30,6 +30,7 @@ fn config(program: PathBuf, timeout: f64) -> WorkerConfig {
         memory_mib: 2048,
         max_steps: 2,
         timeout: Duration::from_secs_f64(timeout),
+        directory: None,
     }
 }
 
@@ -65,6 +66,28 @@ fn the_real_worker_serves_several_executions_and_catches_a_refusal() {
     let again = s.execute(&pendulum(), FormulationKind::Absolute);
     assert_eq!(again.class, Class::Ok, "{}", again.detail);
     assert_eq!(s.starts, 1, "one worker served all three");
+}
+
+/// A scene with an imported FE body names its export relative to itself: a worker
+/// started in the scene's directory reads it (a mutant is loaded from text, so the
+/// working directory is where its relative paths lead).
+#[test]
+fn a_worker_in_the_models_directory_runs_a_scene_with_an_imported_body() {
+    let _serial = one_at_a_time();
+    let models = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../models"));
+    let scene = std::fs::read_to_string(models.join("imported_bar_pendulum.ron")).unwrap();
+    let mut there = config(env!("CARGO_BIN_EXE_flexmbd-fuzz").into(), 60.0);
+    there.directory = Some(models);
+    let mut s = Supervisor::new(there);
+    for f in [FormulationKind::Absolute, FormulationKind::Relative] {
+        let o = s.execute(&scene, f);
+        assert_eq!(o.class, Class::Ok, "{f:?}: {}", o.detail);
+    }
+    let mut elsewhere = config(env!("CARGO_BIN_EXE_flexmbd-fuzz").into(), 60.0);
+    elsewhere.directory = Some(std::env::temp_dir());
+    let o = Supervisor::new(elsewhere).execute(&scene, FormulationKind::Absolute);
+    assert_eq!(o.class, Class::Refused, "{}", o.detail);
+    assert!(o.detail.contains("cannot read"), "{}", o.detail);
 }
 
 #[test]
