@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use flexmbd::model::Scene;
+use flexmbd::model::{BodyModel, Scene};
 
 /// One scene file of the corpus.
 #[derive(Clone, Debug)]
@@ -14,8 +14,28 @@ pub struct SeedScene {
     pub text: String,
 }
 
-/// The `*.ron` files of `dir`, in name order, that [`Scene::load`] accepts; the others
-/// (not scenes, or refused) are listed in the returned notes.
+/// Scenes whose imported FE exports exceed this many bytes are left out: every mutant would
+/// spend its time reading them (the rotor's 7 MB take half a second), past the time cap;
+/// the readers are fuzzed on small exports by the reader campaign (`--target readers`).
+pub const MAX_EXPORT_BYTES: u64 = 1 << 20;
+
+/// The bytes of the FE exports a scene's imported bodies read (paths relative to `dir`).
+fn export_bytes(scene: &Scene, dir: &Path) -> u64 {
+    scene
+        .bodies
+        .iter()
+        .filter_map(|b| match &b.model {
+            BodyModel::Imported(spec) => Some(spec.source.paths()),
+            _ => None,
+        })
+        .flatten()
+        .filter_map(|p| std::fs::metadata(dir.join(p)).ok())
+        .map(|m| m.len())
+        .sum()
+}
+
+/// The `*.ron` files of `dir`, in name order, that [`Scene::load`] accepts and whose FE
+/// exports are small ([`MAX_EXPORT_BYTES`]); the others are listed in the returned notes.
 pub fn load_corpus(dir: &Path) -> Result<(Vec<SeedScene>, Vec<String>), String> {
     let entries =
         std::fs::read_dir(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
@@ -28,6 +48,15 @@ pub fn load_corpus(dir: &Path) -> Result<(Vec<SeedScene>, Vec<String>), String> 
     let mut skipped = Vec::new();
     for path in paths {
         match Scene::load(&path) {
+            Ok(scene) if export_bytes(&scene, dir) > MAX_EXPORT_BYTES => {
+                skipped.push(format!(
+                    "{} skipped, its FE exports are {:.1} MB (over {} MB): the readers are fuzzed \
+                     on small exports (--target readers)",
+                    path.display(),
+                    export_bytes(&scene, dir) as f64 / 1e6,
+                    MAX_EXPORT_BYTES >> 20
+                ));
+            }
             Ok(_) => {
                 let text = std::fs::read_to_string(&path)
                     .map_err(|e| format!("cannot read {}: {e}", path.display()))?;

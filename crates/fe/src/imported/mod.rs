@@ -90,6 +90,38 @@ pub enum ImportSource {
 }
 
 impl ImportSource {
+    /// The files it names, as written.
+    pub fn paths(&self) -> Vec<&Path> {
+        match self {
+            ImportSource::Abaqus {
+                input,
+                stiffness,
+                mass,
+            } => vec![input, stiffness, mass],
+            ImportSource::Ansys {
+                nodes,
+                mapping,
+                stiffness,
+                mass,
+            } => vec![nodes, mapping, stiffness, mass],
+            ImportSource::Calculix {
+                input,
+                dofs,
+                stiffness,
+                mass,
+            }
+            | ImportSource::MatrixMarket {
+                nodes: input,
+                dofs,
+                stiffness,
+                mass,
+            } => vec![input, dofs, stiffness, mass],
+        }
+        .into_iter()
+        .map(PathBuf::as_path)
+        .collect()
+    }
+
     /// Read the model, the paths taken relative to `base` (the directory of the file
     /// that names them).
     pub fn read(&self, base: &Path, options: &ImportOptions) -> Result<FeModel, FeError> {
