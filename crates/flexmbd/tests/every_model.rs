@@ -23,7 +23,7 @@ fn every_scene_runs_in_both_formulations() {
             Ok(s) => s,
             Err(e) => {
                 assert!(
-                    flexmbd_fe::BeamBodySpec::from_ron_str(&text, &name).is_ok(),
+                    flexmbd::inventory::BodyModelFile::parse(&text, &path).is_ok(),
                     "{name} is neither a scene nor a body model: {e}"
                 );
                 continue;
