@@ -207,22 +207,7 @@ pub fn reduce_with_basis(
     let m_ff = sym(&(x.transpose() * m * &x));
     let k_ff = sym(&(x.transpose() * k * &x));
 
-    // K_ff must be positive definite: test the unit-consistent problem K_ff v = λ M_ff v.
-    if nb + n_d > 0 {
-        let e = generalized_eigen(&k_ff, &m_ff, &format!("{name}: reduced (K_ff, M_ff)"))?;
-        let lmin = e.omega_sq[0];
-        let lmax = e.omega_sq[e.omega_sq.len() - 1]
-            .abs()
-            .max(f64::MIN_POSITIVE);
-        if lmin <= RIGID_EIGEN_TOL * lmax {
-            return Err(FeError::RigidStaticMode {
-                spec: name.to_string(),
-                frame: frame.to_string(),
-                eigenvalue: lmin,
-                largest: lmax,
-            });
-        }
-    }
+    check_reduced_stiffness(&k_ff, &m_ff, name, frame)?;
     Ok(Reduction {
         sets: sets.clone(),
         x,
@@ -234,6 +219,33 @@ pub fn reduce_with_basis(
 
 fn sym(a: &DMatrix<f64>) -> DMatrix<f64> {
     (a + a.transpose()) * 0.5
+}
+
+/// K_ff must be positive definite: the unit-consistent problem K_ff v = λ M_ff v has no
+/// λ ≤ [`RIGID_EIGEN_TOL`] λ_max, else a static mode moves the body rigidly (§1.4, Pitfall).
+pub fn check_reduced_stiffness(
+    k_ff: &DMatrix<f64>,
+    m_ff: &DMatrix<f64>,
+    name: &str,
+    frame: &str,
+) -> Result<(), FeError> {
+    if k_ff.nrows() == 0 {
+        return Ok(());
+    }
+    let e = generalized_eigen(k_ff, m_ff, &format!("{name}: reduced (K_ff, M_ff)"))?;
+    let lmin = e.omega_sq[0];
+    let lmax = e.omega_sq[e.omega_sq.len() - 1]
+        .abs()
+        .max(f64::MIN_POSITIVE);
+    if lmin <= RIGID_EIGEN_TOL * lmax {
+        return Err(FeError::RigidStaticMode {
+            spec: name.to_string(),
+            frame: frame.to_string(),
+            eigenvalue: lmin,
+            largest: lmax,
+        });
+    }
+    Ok(())
 }
 
 /// Reduced damping C_ff (docs/methods.md §1.5): none, a_K K_ff, or modal ratio ζ

@@ -31,6 +31,7 @@ pub mod selection;
 pub mod solid_box;
 pub mod sparse;
 pub mod sparse_eigen;
+pub mod sparse_reduction;
 pub mod spec;
 pub mod stiffening;
 

@@ -25,7 +25,7 @@
 use nalgebra::{DMatrix, Vector3};
 
 use super::interfaces::{ResolvedInterface, RetainedMap};
-use super::reduction::{RetainedModes, sparse_times_dense};
+use super::reduction::RetainedModes;
 use super::{ImportedBodySpec, invalid, point_dofs};
 use crate::assembly::DofSets;
 use crate::craig_bampton::{Reduction, damping_matrix};
@@ -34,6 +34,7 @@ use crate::import::FeModel;
 use crate::reduced::{
     Dof, MassCloud, ModeInventory, NodeModes, ReducedBody, ShapeIntegrals, StiffeningIntegrals,
 };
+use crate::sparse_reduction::{sparse_times_dense, symmetrise};
 
 /// Relative size (to the largest |M| entry) above which a mass entry that the cloud cannot
 /// hold is refused, and within which the three directions' scalar masses must agree.
@@ -105,10 +106,6 @@ pub fn reduced_body(
         stiffening: StiffeningIntegrals::default(),
         foreshortening: None,
     })
-}
-
-fn symmetrise(a: &DMatrix<f64>) -> DMatrix<f64> {
-    (a + a.transpose()) * 0.5
 }
 
 /// The scalar mass matrix M_s as (i, j, m_ij) over node pairs with i ≤ j, from the Ux–Ux

@@ -2,24 +2,23 @@
 //! K̃ = Tᵀ K T, M̃ = Tᵀ M T, then either
 //!
 //! - a **clamped** frame (interface point F): the r set is F's six coordinates, the b set
-//!   the six of every `boundary` interface, i the rest; static modes
-//!   X̃_s = [𝟙_bb; −K̃_ii⁻¹ K̃_ib] by one sparse Cholesky of K̃_ii and n_b solves, and the n_d
-//!   lowest fixed-interface modes of (K̃_ii, M̃_ii) by shift-invert Lanczos
-//!   ([`crate::sparse_eigen`]);
+//!   the six of every `boundary` interface, i the rest, and Craig–Bampton on sparse
+//!   matrices ([`crate::sparse_reduction`]);
 //! - or **free-free**: the 6 + n_d lowest modes of (K̃, M̃), of which the six lowest must be
 //!   rigid-body modes (|ω²| below 1e-6 of the first elastic ω²) and are dropped.
 //!
 //! No dense matrix larger than Ñ × n is formed.
 
 use nalgebra::DMatrix;
-use sprs::{CsMat, TriMat};
+use sprs::CsMat;
 
 use super::interfaces::{ResolvedInterface, RetainedMap};
 use super::{ImportedBodySpec, ImportedFrame, invalid};
+use crate::assembly::DofSets;
 use crate::error::FeError;
 use crate::import::FeModel;
-use crate::sparse::ShiftedCholesky;
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
+use crate::sparse_reduction::{reduce_sparse, sparse_times_dense, symmetrise};
 
 /// Relative size (to the first elastic ω²) below which a free-free mode counts as rigid.
 pub const RIGID_MODE_TOL: f64 = 1e-6;
@@ -95,77 +94,6 @@ pub fn project(a: &CsMat<f64>, t: &CsMat<f64>) -> CsMat<f64> {
     (&p + &pt).map(|v| 0.5 * v)
 }
 
-/// A (sparse) times X (dense).
-pub fn sparse_times_dense(a: &CsMat<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
-    let mut y = DMatrix::zeros(a.rows(), x.ncols());
-    for (value, (i, j)) in a.iter() {
-        for c in 0..x.ncols() {
-            y[(i, c)] += value * x[(j, c)];
-        }
-    }
-    y
-}
-
-fn symmetrise(a: &DMatrix<f64>) -> DMatrix<f64> {
-    (a + a.transpose()) * 0.5
-}
-
-/// The rows and columns `keep` of A (ascending indices), CSC.
-fn submatrix(a: &CsMat<f64>, keep: &[usize]) -> CsMat<f64> {
-    let mut new_index = vec![usize::MAX; a.rows()];
-    for (k, &i) in keep.iter().enumerate() {
-        new_index[i] = k;
-    }
-    let mut t = TriMat::new((keep.len(), keep.len()));
-    for (value, (i, j)) in a.iter() {
-        let (ni, nj) = (new_index[i], new_index[j]);
-        if ni != usize::MAX && nj != usize::MAX {
-            t.add_triplet(ni, nj, *value);
-        }
-    }
-    t.to_csc()
-}
-
-/// The columns `cols` of the rows `rows` of A, dense (rows.len() × cols.len()).
-fn dense_block(a: &CsMat<f64>, rows: &[usize], cols: &[usize]) -> DMatrix<f64> {
-    let mut row_index = vec![usize::MAX; a.rows()];
-    for (k, &i) in rows.iter().enumerate() {
-        row_index[i] = k;
-    }
-    let mut col_index = vec![usize::MAX; a.cols()];
-    for (k, &j) in cols.iter().enumerate() {
-        col_index[j] = k;
-    }
-    let mut out = DMatrix::zeros(rows.len(), cols.len());
-    for (value, (i, j)) in a.iter() {
-        if row_index[i] != usize::MAX && col_index[j] != usize::MAX {
-            out[(row_index[i], col_index[j])] += value;
-        }
-    }
-    out
-}
-
-/// mean_i K_ii / M_ii: the scale of ω² on the mesh (an element's own frequency squared).
-fn mean_diagonal_ratio(k: &CsMat<f64>, m: &CsMat<f64>) -> f64 {
-    let diagonal = |a: &CsMat<f64>| {
-        let mut d = vec![0.0; a.rows()];
-        for (v, (i, j)) in a.iter() {
-            if i == j {
-                d[i] += v;
-            }
-        }
-        d
-    };
-    let (dk, dm) = (diagonal(k), diagonal(m));
-    let ratios: Vec<f64> = dk
-        .iter()
-        .zip(&dm)
-        .filter(|(_, m)| **m > 0.0)
-        .map(|(k, m)| k / m)
-        .collect();
-    ratios.iter().sum::<f64>() / ratios.len().max(1) as f64
-}
-
 fn free_free(
     kt: &CsMat<f64>,
     mt: &CsMat<f64>,
@@ -216,65 +144,22 @@ fn clamped(
     spec: &ImportedBodySpec,
     body: &str,
 ) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
-    let n = kt.rows();
-    let mut set = vec![0u8; n]; // 0 interior, 1 boundary, 2 frame
-    let fs = map.point_start(frame);
-    set[fs..fs + 6].fill(2);
-    let mut b = Vec::with_capacity(6 * boundary_points.len());
-    for &p in boundary_points {
-        let s = map.point_start(p);
-        set[s..s + 6].fill(1);
-        b.extend(s..s + 6);
-    }
-    let i: Vec<usize> = (0..n).filter(|&r| set[r] == 0).collect();
-    if spec.normal_modes > i.len() {
-        return Err(FeError::TooManyModes {
-            requested: spec.normal_modes,
-            available: i.len(),
-        });
-    }
-    let kii = submatrix(kt, &i);
-    let mii = submatrix(mt, &i);
-    let singular = |e: FeError| match e {
-        FeError::ShiftedNotPositiveDefinite { pivot, .. } => FeError::SingularInterior {
-            spec: body.to_string(),
-            frame: format!("interface {:?}", spec.frame),
-            detail: format!("pivot {pivot} of the interior stiffness"),
-        },
-        other => other,
-    };
-    let n_s = b.len();
-    let n_d = spec.normal_modes;
-    let mut x = DMatrix::zeros(n, n_s + n_d);
-    if n_s > 0 {
-        let chol = ShiftedCholesky::new(&kii, &mii, 0.0).map_err(singular)?;
-        let mut rhs = -dense_block(kt, &i, &b);
-        let mut scratch = chol.solve_scratch(n_s);
-        let view = faer::MatMut::from_column_major_slice_mut(rhs.as_mut_slice(), i.len(), n_s);
-        chol.solve_in_place(view, &mut scratch);
-        for (k, &row) in i.iter().enumerate() {
-            for c in 0..n_s {
-                x[(row, c)] = rhs[(k, c)];
-            }
-        }
-        for (c, &row) in b.iter().enumerate() {
-            x[(row, c)] = 1.0;
-        }
-    }
-    let pairs = lowest_modes(&kii, &mii, n_d, &eigen_options()).map_err(singular)?;
-    if let Some(&lowest) = pairs.omega_sq.first()
-        && lowest <= 1e-12 * mean_diagonal_ratio(&kii, &mii)
-    {
-        return Err(FeError::SingularInterior {
-            spec: body.to_string(),
-            frame: format!("interface {:?}", spec.frame),
-            detail: format!("the lowest fixed-interface mode has ω² = {lowest:e}: a mechanism"),
-        });
-    }
-    for (k, &row) in i.iter().enumerate() {
-        for c in 0..n_d {
-            x[(row, n_s + c)] = pairs.vectors[(k, c)];
-        }
-    }
-    Ok((x, pairs.omega_sq))
+    let coordinates = |p: usize| map.point_start(p)..map.point_start(p) + 6;
+    let r: Vec<usize> = coordinates(frame).collect();
+    let b: Vec<usize> = boundary_points
+        .iter()
+        .flat_map(|&p| coordinates(p))
+        .collect();
+    let sets = DofSets::new(kt.rows(), r, b);
+    let frame_txt = format!("interface {:?}", spec.frame);
+    let reduction = reduce_sparse(
+        kt,
+        mt,
+        &sets,
+        spec.normal_modes,
+        EIGEN_TOL,
+        body,
+        &frame_txt,
+    )?;
+    Ok((reduction.x, reduction.omega_sq))
 }
