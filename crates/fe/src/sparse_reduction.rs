@@ -3,7 +3,7 @@
 //!
 //! - static modes X_s = [𝟙_bb; −K_ii⁻¹ K_ib] by one sparse Cholesky of K_ii and n_b solves;
 //! - the n_d lowest fixed-interface modes of (K_ii, M_ii) by shift-invert Lanczos
-//!   ([`crate::sparse_eigen`]);
+//!   ([`crate::sparse_eigen`], its default shift);
 //! - M_ff = XᵀMX, K_ff = XᵀKX from sparse products with the N × n mode matrix,
 //!
 //! and the same refusals: K_ii singular (a pivot fails, or a fixed-interface mode at ω² ≈ 0,
@@ -140,13 +140,8 @@ pub fn reduce_sparse(
             }
         }
     }
-    // K_ii is positive definite when the r and b sets hold the body (checked by the
-    // Cholesky above, or by the eigen-solver's own factorisation): no shift is needed, and a
-    // negative one would sit far from the lowest ω² of a slender model (its rotational DOFs
-    // make mean K_ii / M_ii huge) and slow the iteration down.
     let options = SparseEigenOptions {
         tol,
-        shift: Some(0.0),
         ..SparseEigenOptions::default()
     };
     let pairs = lowest_modes(&kii, &mii, n_d, &options).map_err(|e| match e {
