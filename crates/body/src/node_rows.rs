@@ -123,6 +123,18 @@ impl NodeRows {
         &self.rotation(node)[a * self.n_modes..(a + 1) * self.n_modes]
     }
 
+    /// Entry (a, m) of X^t at a node (one bounds check: the per-step paths read these).
+    #[inline]
+    pub fn translation_entry(&self, node: usize, a: usize, m: usize) -> f64 {
+        self.rows[(6 * node + a) * self.n_modes + m]
+    }
+
+    /// Entry (a, m) of X^r at a node.
+    #[inline]
+    pub fn rotation_entry(&self, node: usize, a: usize, m: usize) -> f64 {
+        self.rows[(6 * node + 3 + a) * self.n_modes + m]
+    }
+
     /// X^t of a node as a 3 × n matrix.
     pub fn translation_matrix(&self, node: usize) -> DMatrix<f64> {
         DMatrix::from_row_slice(3, self.n_modes, self.translation(node))
@@ -171,6 +183,8 @@ mod tests {
             for m in 0..2 {
                 assert_eq!(rows.translation_row(0, a)[m], t[(a, m)]);
                 assert_eq!(rows.rotation_row(0, a)[m], r[(a, m)]);
+                assert_eq!(rows.translation_entry(0, a, m), t[(a, m)]);
+                assert_eq!(rows.rotation_entry(0, a, m), r[(a, m)]);
             }
         }
         assert_eq!(rows.translation_matrix(0), t);

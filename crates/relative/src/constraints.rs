@@ -326,9 +326,9 @@ impl Relative {
             let mut xy = Vector3::zeros();
             for m in 0..b.n_modes {
                 let col = Vector3::new(
-                    b.node_rows.translation_row(node, 0)[m],
-                    b.node_rows.translation_row(node, 1)[m],
-                    b.node_rows.translation_row(node, 2)[m],
+                    b.node_rows.translation_entry(node, 0, m),
+                    b.node_rows.translation_entry(node, 1, m),
+                    b.node_rows.translation_entry(node, 2, m),
                 );
                 if self.write_jacobian {
                     let ac = a * col;
@@ -369,9 +369,9 @@ impl Relative {
             let mut axy = Vector3::zeros();
             for m in 0..b.n_modes {
                 let col = Vector3::new(
-                    b.node_rows.translation_row(node, 0)[m],
-                    b.node_rows.translation_row(node, 1)[m],
-                    b.node_rows.translation_row(node, 2)[m],
+                    b.node_rows.translation_entry(node, 0, m),
+                    b.node_rows.translation_entry(node, 1, m),
+                    b.node_rows.translation_entry(node, 2, m),
                 );
                 if self.write_jacobian {
                     self.phi_w[(row, b.first_mode + m)] += sg * at_e.dot(&col);
@@ -409,9 +409,9 @@ impl Relative {
             let mut th_d = Vector3::zeros();
             for m in 0..b.n_modes {
                 let col = Vector3::new(
-                    b.node_rows.rotation_row(node, 0)[m],
-                    b.node_rows.rotation_row(node, 1)[m],
-                    b.node_rows.rotation_row(node, 2)[m],
+                    b.node_rows.rotation_entry(node, 0, m),
+                    b.node_rows.rotation_entry(node, 1, m),
+                    b.node_rows.rotation_entry(node, 2, m),
                 );
                 if self.write_jacobian {
                     self.phi_w[(row, b.first_mode + m)] += at_u.dot(&col.cross(dbar));
@@ -433,7 +433,7 @@ impl Relative {
         }
         let b = &self.bodies[k];
         for m in 0..b.n_modes {
-            self.phi_w[(row, b.first_mode + m)] += scale * b.node_rows.rotation_row(node, 2)[m];
+            self.phi_w[(row, b.first_mode + m)] += scale * b.node_rows.rotation_entry(node, 2, m);
         }
     }
 }

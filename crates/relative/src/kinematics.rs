@@ -244,7 +244,7 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
     let mut vl = Vector3::zeros();
     if let Some(node) = s.node {
         add_node_modes(rel, b, &mut pl, &mut vl, |i, m| {
-            b.node_rows.translation_row(node, i)[m]
+            b.node_rows.translation_entry(node, i, m)
         });
         // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.first_mode..b.first_mode + b.n_modes;
@@ -279,7 +279,7 @@ pub(crate) fn dir_at(
     let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
     if let Some(node) = s.node {
         add_node_modes(rel, b, &mut th, &mut thd, |i, m| {
-            b.node_rows.rotation_row(node, i)[m]
+            b.node_rows.rotation_entry(node, i, m)
         });
     }
     let d = a * (dbar + th.cross(dbar));
@@ -312,8 +312,8 @@ pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
     let (mut th, mut thd) = (angle_of(&rel.frame_rotation[f]), rel.frame_velocity[f][5]);
     if let Some(node) = s.node {
         for m in 0..b.n_modes {
-            th += b.node_rows.rotation_row(node, 2)[m] * rel.last_z[b.first_mode + m];
-            thd += b.node_rows.rotation_row(node, 2)[m] * rel.last_zd[b.first_mode + m];
+            th += b.node_rows.rotation_entry(node, 2, m) * rel.last_z[b.first_mode + m];
+            thd += b.node_rows.rotation_entry(node, 2, m) * rel.last_zd[b.first_mode + m];
         }
     }
     (th, thd)

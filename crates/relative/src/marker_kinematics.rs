@@ -99,9 +99,9 @@ impl Relative {
             let a = self.frame_rotation[f];
             for m in 0..b.n_modes {
                 let col = a * Vector3::new(
-                    b.node_rows.translation_row(node, 0)[m],
-                    b.node_rows.translation_row(node, 1)[m],
-                    b.node_rows.translation_row(node, 2)[m],
+                    b.node_rows.translation_entry(node, 0, m),
+                    b.node_rows.translation_entry(node, 1, m),
+                    b.node_rows.translation_entry(node, 2, m),
                 );
                 columns.push((b.first_mode + m, col));
             }
