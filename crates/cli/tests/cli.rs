@@ -23,6 +23,10 @@ fn modes_json_has_the_inventory() {
     assert_eq!(v["static_modes"][0]["node"], 10);
     assert_eq!(v["static_modes"][0]["dof"], "ux");
     assert_eq!(v["static_modes"][1]["dof"], "uy");
+    assert!(
+        v["static_modes"][0].get("interface").is_none(),
+        "a beam's nodes are FE nodes"
+    );
     assert_eq!(v["normal_modes"].as_array().unwrap().len(), 2);
     assert!((v["mass"].as_f64().unwrap() - 1.0).abs() < 1e-4);
     let f0 = v["normal_modes"][0]["frequency_hz"].as_f64().unwrap();
@@ -516,6 +520,9 @@ fn modes_reads_an_imported_body_model() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["n_fe_dofs"], 84);
     assert_eq!(v["static_modes"].as_array().unwrap().len(), 6);
+    // Interface points are named: the tip's static modes, the frame at the root.
+    assert_eq!(v["static_modes"][0]["interface"], "tip");
+    assert_eq!(v["frame_dofs"][0]["interface"], "root");
     let f0 = v["normal_modes"][0]["frequency_hz"].as_f64().unwrap();
     assert!((f0 - 3847.1277).abs() < 1e-3, "{f0}");
     let dir = std::env::temp_dir().join(format!("flexmbd-cli-import-{}", std::process::id()));

@@ -106,6 +106,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         frame_dofs,
         static_modes: spec.boundary.clone(),
         selection: spec.mode_selection,
+        point_names: Vec::new(),
         normal_frequencies_hz: red
             .omega_sq
             .iter()

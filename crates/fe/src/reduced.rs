@@ -66,6 +66,11 @@ pub struct ModeInventory {
     /// Which vectors follow the static modes (docs/methods.md §1.6).
     #[serde(default)]
     pub selection: crate::ModeSelection,
+    /// The names of the body's first nodes when they are interface points (an imported
+    /// body: node k < `point_names.len()` is the point of interface `point_names[k]`);
+    /// empty for a beam, whose nodes are FE nodes.
+    #[serde(default)]
+    pub point_names: Vec<String>,
 }
 
 impl ModeInventory {

@@ -46,8 +46,11 @@ impl BodyModelFile {
 pub struct StaticModeRow {
     /// Mode index in **X** (0-based).
     pub index: usize,
-    /// FE node of the boundary DOF.
+    /// FE node of the boundary DOF (an imported body's interface point: see `interface`).
     pub node: usize,
+    /// The interface whose point the node is (imported bodies only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interface: Option<String>,
     /// The DOF (`ux`, `uy`, `uz`, `rx`, `ry`, `rz`, in body axes).
     pub dof: &'static str,
 }
@@ -64,8 +67,11 @@ pub struct NormalModeRow {
 /// A DOF taken by the floating frame.
 #[derive(Debug, Serialize)]
 pub struct FrameDofRow {
-    /// FE node.
+    /// FE node (an imported body's interface point: see `interface`).
     pub node: usize,
+    /// The interface whose point the node is (imported bodies only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interface: Option<String>,
     /// The DOF.
     pub dof: &'static str,
 }
@@ -122,6 +128,7 @@ impl Inventory {
                 .iter()
                 .map(|d| FrameDofRow {
                     node: d.node,
+                    interface: inv.point_names.get(d.node).cloned(),
                     dof: d.dof.name(),
                 })
                 .collect(),
@@ -132,6 +139,7 @@ impl Inventory {
                 .map(|(index, d)| StaticModeRow {
                     index,
                     node: d.node,
+                    interface: inv.point_names.get(d.node).cloned(),
                     dof: d.dof.name(),
                 })
                 .collect(),
@@ -165,7 +173,10 @@ impl Inventory {
         let frame: Vec<String> = self
             .frame_dofs
             .iter()
-            .map(|d| format!("{}@{}", d.dof, d.node))
+            .map(|d| match &d.interface {
+                Some(name) => format!("{}@{name}", d.dof),
+                None => format!("{}@{}", d.dof, d.node),
+            })
             .collect();
         let _ = writeln!(s, "frame takes  {}", frame.join(" "));
         // Load-dependent Ritz vectors and proper orthogonal modes both carry Ritz frequencies.
@@ -183,7 +194,10 @@ impl Inventory {
             let _ = writeln!(s, "chosen by    {} (methods.md §1.6)", self.selection);
         }
         for m in &self.static_modes {
-            let _ = writeln!(s, "  [{:2}] static  node {:3} {}", m.index, m.node, m.dof);
+            let _ = match &m.interface {
+                Some(name) => writeln!(s, "  [{:2}] static  interface {name} {}", m.index, m.dof),
+                None => writeln!(s, "  [{:2}] static  node {:3} {}", m.index, m.node, m.dof),
+            };
         }
         let row = if ritz { "ritz  " } else { "normal" };
         for m in &self.normal_modes {

@@ -92,6 +92,7 @@ pub fn reduced_body(
             .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
             .collect(),
         selection: spec.mode_selection,
+        point_names: interfaces.iter().map(|i| i.name.clone()).collect(),
     };
     Ok(ReducedBody {
         dim: flexmbd_core::Dim::Spatial,
