@@ -15,7 +15,8 @@ use crate::Settings;
 use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
 
-const VARIANTS: [(FormulationKind, InertiaMethod, &str); 4] = [
+/// The four runs of a mesh-size study: each formulation by each inertia route.
+pub(super) const VARIANTS: [(FormulationKind, InertiaMethod, &str); 4] = [
     (
         FormulationKind::Absolute,
         InertiaMethod::BMatrix,
@@ -74,7 +75,7 @@ struct Point {
 }
 
 /// Median CPU time of `reps` runs, with the summary of the median run.
-fn measure(scene: &Scene, reps: usize) -> Result<Summary, Box<dyn std::error::Error>> {
+pub(super) fn measure(scene: &Scene, reps: usize) -> Result<Summary, Box<dyn std::error::Error>> {
     let mut runs = Vec::new();
     for _ in 0..reps {
         let (summary, _) = simulation::run(scene, |_| {})?;

@@ -13,35 +13,13 @@ use flexmbd::fe::imported::ImportSource;
 use flexmbd::fe::solid_box::SolidBox;
 use flexmbd::fe::sparse::write_matrix_market;
 use flexmbd::model::{BodyModel, FormulationKind, Scene};
-use flexmbd::simulation::{self, Summary};
+use flexmbd::simulation::Summary;
 
-use super::{StudyResult, check_run};
+use super::StudyResult;
+use super::mesh_size::{VARIANTS, measure};
 use crate::Settings;
 use crate::chart::{LineChart, Series, SeriesLabelPosition};
 use crate::report::Report;
-
-const VARIANTS: [(FormulationKind, InertiaMethod, &str); 4] = [
-    (
-        FormulationKind::Absolute,
-        InertiaMethod::BMatrix,
-        "absolute, B-matrix",
-    ),
-    (
-        FormulationKind::Absolute,
-        InertiaMethod::ShapeIntegrals,
-        "absolute, shape integrals",
-    ),
-    (
-        FormulationKind::Relative,
-        InertiaMethod::BMatrix,
-        "relative, B-matrix",
-    ),
-    (
-        FormulationKind::Relative,
-        InertiaMethod::ShapeIntegrals,
-        "relative, shape integrals",
-    ),
-];
 
 /// The step of the scene (0.2 ms) and the steps timed per run.
 const STEP: f64 = 2e-4;
@@ -96,18 +74,6 @@ fn scene(
     scene.solver.output_interval = Some(scene.solver.duration);
     scene.validate()?;
     Ok(scene)
-}
-
-/// The median (by CPU time) of `reps` runs.
-fn measure(scene: &Scene, reps: usize) -> Result<Summary, Box<dyn std::error::Error>> {
-    let mut runs = Vec::new();
-    for _ in 0..reps {
-        let (summary, _) = simulation::run(scene, |_| {})?;
-        check_run(&summary, &scene.name)?;
-        runs.push(summary);
-    }
-    runs.sort_by(|a, b| a.cpu_seconds.total_cmp(&b.cpu_seconds));
-    Ok(runs.swap_remove(runs.len() / 2))
 }
 
 struct Point {

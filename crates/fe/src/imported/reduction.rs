@@ -15,6 +15,7 @@ use sprs::CsMat;
 use super::interfaces::{ResolvedInterface, RetainedMap};
 use super::{ImportedBodySpec, ImportedFrame, invalid};
 use crate::assembly::DofSets;
+use crate::craig_bampton::Reduction;
 use crate::error::FeError;
 use crate::import::FeModel;
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
@@ -63,18 +64,18 @@ pub fn reduce(
     let mt = project(&model.m, &map.t);
     let point = |name: &str| interfaces.iter().position(|i| i.name == name);
     let boundary_points: Vec<usize> = spec.boundary.iter().filter_map(|b| point(b)).collect();
-    let (x, omega_sq, frame_point) = match &spec.frame {
+    let (x, k_ff, omega_sq, frame_point) = match &spec.frame {
         ImportedFrame::FreeFree => {
             let (x, w2) = free_free(&kt, &mt, spec.normal_modes, body)?;
-            (x, w2, None)
+            let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(&kt, &x)));
+            (x, k_ff, w2, None)
         }
         ImportedFrame::Interface(name) => {
             let frame = point(name).unwrap_or_default();
-            let (x, w2) = clamped(&kt, &mt, map, frame, &boundary_points, spec, body)?;
-            (x, w2, Some(frame))
+            let red = clamped(&kt, &mt, map, frame, &boundary_points, spec, body)?;
+            (red.x, red.k_ff, red.omega_sq, Some(frame))
         }
     };
-    let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(&kt, &x)));
     Ok(RetainedModes {
         x,
         k_ff,
@@ -143,7 +144,7 @@ fn clamped(
     boundary_points: &[usize],
     spec: &ImportedBodySpec,
     body: &str,
-) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
+) -> Result<Reduction, FeError> {
     let coordinates = |p: usize| map.point_start(p)..map.point_start(p) + 6;
     let r: Vec<usize> = coordinates(frame).collect();
     let b: Vec<usize> = boundary_points
@@ -152,7 +153,7 @@ fn clamped(
         .collect();
     let sets = DofSets::new(kt.rows(), r, b);
     let frame_txt = format!("interface {:?}", spec.frame);
-    let reduction = reduce_sparse(
+    reduce_sparse(
         kt,
         mt,
         &sets,
@@ -160,6 +161,5 @@ fn clamped(
         EIGEN_TOL,
         body,
         &frame_txt,
-    )?;
-    Ok((reduction.x, reduction.omega_sq))
+    )
 }
