@@ -161,6 +161,18 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         cost(last, 1) / cost(first, 1),
         cost(last, 3) / cost(first, 3),
     ));
+    // Linked relative to the report when it lies under docs/results (the quick and the
+    // full report), else by its absolute path.
+    let results = crate::workspace_root().join("docs/results");
+    let link = match report.dir.strip_prefix(&results) {
+        Ok(below) => format!("{}eigen-vs-scipy.md", "../".repeat(below.components().count())),
+        Err(_) => results.join("eigen-vs-scipy.md").display().to_string(),
+    };
+    report.text(&format!(
+        "The preprocessing's sparse eigen-solver against SciPy's `eigsh` on the same matrices, \
+         from 10³ to 5·10⁵ DOFs (time and peak memory; `benches/eigen_vs_scipy.py`, which needs \
+         Python and SciPy and runs apart from this report): [{link}]({link})."
+    ));
     let series = VARIANTS
         .iter()
         .enumerate()
