@@ -96,6 +96,34 @@ fn stiffening_methods_are_refused_for_an_imported_body() {
     }
 }
 
+const BOTH: [flexmbd_model::FormulationKind; 2] = [
+    flexmbd_model::FormulationKind::Absolute,
+    flexmbd_model::FormulationKind::Relative,
+];
+
+/// The sensor history of `s` run to its end in formulation `f`.
+fn history_in(
+    s: &mut flexmbd_model::Scene,
+    f: flexmbd_model::FormulationKind,
+) -> flexmbd::output::History {
+    s.solver.formulation = f;
+    let (summary, history) = flexmbd::simulation::run(s, |_| {}).unwrap();
+    assert_eq!(summary.status, "ok", "{f:?}");
+    history
+}
+
+/// The imported bar pendulum with a marker `corner` at the tip face's FE corner node
+/// (0.2, 0, 0) and no sensors.
+fn pendulum_with_corner_marker() -> flexmbd_model::Scene {
+    let mut s = model("imported_bar_pendulum.ron");
+    s.bodies[0].markers.push(flexmbd_model::Marker {
+        name: "corner".into(),
+        position: flexmbd_model::V3([0.2, 0.0, 0.0]),
+    });
+    s.sensors.clear();
+    s
+}
+
 /// A mesh node of an imported body is read through a marker on it (issue 25 item 6): the
 /// `Position` sensor in the body's frame with `displacement: true` is the node's elastic
 /// displacement X^t_P y (X^t_P its node rows, y the modal coordinates read by `Modal`
@@ -106,13 +134,8 @@ fn stiffening_methods_are_refused_for_an_imported_body() {
 /// relative formulation's exact frame, 6e-17 m), while the node moves by up to 1.6e-7 m.
 #[test]
 fn a_mesh_node_reads_its_elastic_displacement() {
-    use flexmbd_model::{Axis, Marker, Sensor, SensorKind, V3};
-    let mut s = model("imported_bar_pendulum.ron");
-    s.bodies[0].markers.push(Marker {
-        name: "corner".into(),
-        position: V3([0.2, 0.0, 0.0]),
-    });
-    s.sensors.clear();
+    use flexmbd_model::{Axis, Sensor, SensorKind};
+    let mut s = pendulum_with_corner_marker();
     for (axis, name) in [(Axis::X, "u_x"), (Axis::Y, "u_y"), (Axis::Z, "u_z")] {
         s.sensors.push(Sensor {
             name: name.into(),
@@ -146,13 +169,8 @@ fn a_mesh_node_reads_its_elastic_displacement() {
         node >= 2,
         "the corner is an FE node, after the two interface points"
     );
-    for f in [
-        flexmbd_model::FormulationKind::Absolute,
-        flexmbd_model::FormulationKind::Relative,
-    ] {
-        s.solver.formulation = f;
-        let (summary, history) = flexmbd::simulation::run(&s, |_| {}).unwrap();
-        assert_eq!(summary.status, "ok");
+    for f in BOTH {
+        let history = history_in(&mut s, f);
         let (mut largest, mut worst): (f64, f64) = (0.0, 0.0);
         for row in &history.rows {
             let y = &row[4..4 + n_modes];
@@ -200,13 +218,8 @@ fn a_mesh_node_reads_its_elastic_displacement() {
 /// agree to ε · 0.3 m/s (6e-11 m/s measured; relative 4e-16).
 #[test]
 fn a_mesh_node_reads_its_velocity_in_ground_and_body_components() {
-    use flexmbd_model::{Axis, Marker, Sensor, SensorKind, V3};
-    let mut s = model("imported_bar_pendulum.ron");
-    s.bodies[0].markers.push(Marker {
-        name: "corner".into(),
-        position: V3([0.2, 0.0, 0.0]),
-    });
-    s.sensors.clear();
+    use flexmbd_model::{Axis, Sensor, SensorKind};
+    let mut s = pendulum_with_corner_marker();
     let axes = [Axis::X, Axis::Y, Axis::Z];
     for (kind, frame) in [("r", None), ("v", None), ("v_body", Some("bar"))] {
         for (a, axis) in axes.iter().enumerate() {
@@ -237,13 +250,8 @@ fn a_mesh_node_reads_its_velocity_in_ground_and_body_components() {
     s.solver.duration = 0.1;
     s.solver.output_interval = Some(h);
     let start = [0.015, 0.32, -0.02];
-    for f in [
-        flexmbd_model::FormulationKind::Absolute,
-        flexmbd_model::FormulationKind::Relative,
-    ] {
-        s.solver.formulation = f;
-        let (summary, history) = flexmbd::simulation::run(&s, |_| {}).unwrap();
-        assert_eq!(summary.status, "ok");
+    for f in BOTH {
+        let history = history_in(&mut s, f);
         let rows = &history.rows;
         let (r, v, w) = (1, 4, 7);
         for a in 0..3 {

@@ -165,7 +165,10 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     // full report), else by its absolute path.
     let results = crate::workspace_root().join("docs/results");
     let link = match report.dir.strip_prefix(&results) {
-        Ok(below) => format!("{}eigen-vs-scipy.md", "../".repeat(below.components().count())),
+        Ok(below) => format!(
+            "{}eigen-vs-scipy.md",
+            "../".repeat(below.components().count())
+        ),
         Err(_) => results.join("eigen-vs-scipy.md").display().to_string(),
     };
     report.text(&format!(
