@@ -214,6 +214,7 @@ fn a_mesh_node_reads_its_elastic_displacement() {
 ///   ≈ 1e-8 m/s, is below the elastic vibration's (1.1e-6 m/s measured in both
 ///   formulations); 1e-5 m/s holds it with margin while a velocity off by a part in 10⁴ of
 ///   the node's 0.3 m/s fails.
+///
 /// The absolute formulation's A is orthonormal to its Newton tolerance ε = 1e-9: the lengths
 /// agree to ε · 0.3 m/s (6e-11 m/s measured; relative 4e-16).
 #[test]
