@@ -583,7 +583,7 @@ fn spanning_tree(
                 best.iter().enumerate().find(|(_, b)| b.is_some())
             {
                 return Err(ModelError::Unsupported(format!(
-                    "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent at the frame's reference node (e.g. `frame: Clamped(node: ..)` at that marker's node)",
+                    "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent where the frame is attached: a beam's `frame: Clamped(node: ..)` at that marker's node, an imported body's `frame: Interface(NAME)` with the marker on that interface; a free-free body (`frame: FreeFree`) sits at no node: give it no joint to a parent (a body without joints floats), or use the absolute formulation",
                     scene.origin, bodies[child].name, scene.joints[*ji].name
                 )));
             }
