@@ -51,8 +51,10 @@ flexmbd's JSON cpu_seconds (integration only) and preprocessing_seconds (reading
 sparse free-free modes, the mass cloud) against Exudyn's SolveDynamic wall time and, separately, its
 preprocessing (FEM import of the rewritten files, eigenmodes, the reduced-order interface).
 
-Measured 2026-11-28, 2-core VM shared with other sessions (load ~2 from builds during the run),
-flexmbd at main 3f118a8, Exudyn 1.13.6 (pip wheel), NumPy 2.4.6, SciPy 1.17.1, 5 repetitions:
+Measured 2026-11-28, 2-core VM shared with other sessions (load average 4-4.5 during the runs),
+flexmbd at main 3f118a8 (/work/main/target/release/flexmbd), Exudyn 1.13.6 (pip wheel), NumPy 2.4.6,
+SciPy 1.17.1. Both bodies have the same mass 14.317940 kg, centre of mass y 8.7303e-5 m and modes
+548.1587, 548.1592, 806.2618, 807.4321, 2166.2234, 2171.6241, 2418.0730, 2640.7489 Hz.
 - Histories: the steady whirl (last 5 revolutions) agrees to 0.02 % (absolute) and 0.007 %
   (relative): disc whirl radius 25.720 (Exudyn), 25.715, 25.722 um; sag -21.779 um in all three;
   bearing 1x amplitudes 78.79 / 78.77 / 78.80 N, static bearing load -70.228 N in all three; the
@@ -63,10 +65,16 @@ flexmbd at main 3f118a8, Exudyn 1.13.6 (pip wheel), NumPy 2.4.6, SciPy 1.17.1, 5
   (-0.30 at h/2, h/4) and Exudyn's tends to it (-5.5 at h/2, -1.6 at h/4). Compared at equal spin
   angle the histories agree to 0.31 % (absolute) and 0.13 % (relative) after 0.3 s, 0.74 % and
   0.22 % over the whole run.
-- Times (median of 5, interleaved): Exudyn SolveDynamic 2.49 s wall [1.71-2.97] (1.69 s process
-  CPU; 17 322 Newton iterations, 668 Jacobians); flexmbd absolute 0.041 s [0.035-0.083] (60x faster),
-  relative 0.023 s [0.016-0.029] (109x faster). Preprocessing: Exudyn 0.91 s (FEM import 0.59, eigen
-  0.28, interface 0.07), flexmbd 0.48 s (absolute) and 0.50 s (relative).
+- Times, 11 repetitions (medians [min-max]): Exudyn SolveDynamic 2.30 s wall [2.17-3.10] (1.53 s
+  process CPU; 17 322 Newton iterations, 668 Jacobians, i.e. 8.7 iterations per step: its modified
+  Newton keeps a Jacobian in Euler parameters that goes stale as the rotor turns 0.079 rad a step);
+  flexmbd absolute 0.051 s [0.036-0.072], 45x faster; relative 0.023 s [0.015-0.031], 100x faster.
+  Two 5-repetition runs gave 60x / 109x and 33x / 88x (the flexmbd runs last 15-90 ms and take the
+  other sessions' load in their medians). Preprocessing: Exudyn 0.93 s (FEM import 0.57, eigen 0.30,
+  interface 0.09), flexmbd 0.48 s (absolute) and 0.49 s (relative).
+- Diagnostic, the same model started at rest: Exudyn 0.38 s (one Jacobian, 2 iterations a step),
+  flexmbd 0.033 s (absolute, 12x) and 0.024 s (relative, 16x): without the spin the ratio is below 20x;
+  the rotor's ratio owes much to Exudyn's Newton iterations under spin.
 """
 import json
 import os
@@ -179,7 +187,8 @@ def exudyn_preprocess(files, node_type='NodeType.RotationEulerParameters'):
     return cms, fem, dict(import_=t1 - t0, eigen=t2 - t1, interface=t3 - t2, total=t3 - t0)
 
 
-def exudyn_run(cms, fem, sets, solver='GeneralizedAlpha', sensors=True, timers=False, settings=()):
+def exudyn_run(cms, fem, sets, solver='GeneralizedAlpha', sensors=True, timers=False, settings=(),
+               omega=OMEGA0):
     """build the system and solve; returns (SolveDynamic wall seconds, histories, sizes)"""
     import exudyn as exu
     from exudyn.itemInterface import (ObjectGround, MarkerBodyPosition, MarkerSuperElementPosition,
@@ -188,7 +197,7 @@ def exudyn_run(cms, fem, sets, solver='GeneralizedAlpha', sensors=True, timers=F
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
     ob = cms.AddObjectFFRFreducedOrder(mbs, positionRef=[0, 0, 0], initialVelocity=[0, 0, 0],
-                                       initialAngularVelocity=[OMEGA0, 0, 0],
+                                       initialAngularVelocity=[omega, 0, 0],
                                        gravity=[0, 0, -9.81])
     oF, nRB = ob['oFFRFreducedOrder'], ob['nRigidBody']
     omega = np.sqrt(fem.eigenValues)
@@ -264,9 +273,9 @@ def exudyn_run(cms, fem, sets, solver='GeneralizedAlpha', sensors=True, timers=F
 
 
 # ---------------------------------------------------------------- flexmbd
-def flexmbd(binp, formulation, csv):
+def flexmbd(binp, formulation, csv, extra=()):
     out = subprocess.run([binp, 'simulate', SCENE, '--formulation', formulation, '--json',
-                          '--output', csv], cwd=ROOT, capture_output=True, text=True)
+                          '--output', csv, *extra], cwd=ROOT, capture_output=True, text=True)
     if out.returncode != 0:
         raise RuntimeError(f'flexmbd {formulation}: exit {out.returncode}: {out.stderr}')
     return json.loads(out.stdout)
@@ -344,7 +353,10 @@ def main():
     times = {k: [] for k in ('exudyn solve', 'exudyn solve, rtol 1e-6', 'exudyn solve (process CPU)',
                              'exudyn preprocessing', 'exudyn import', 'exudyn eigen',
                              'exudyn interface', 'flexmbd absolute', 'flexmbd relative',
-                             'flexmbd absolute preprocessing', 'flexmbd relative preprocessing')}
+                             'flexmbd absolute preprocessing', 'flexmbd relative preprocessing',
+                             'no spin: exudyn solve', 'no spin: flexmbd absolute',
+                             'no spin: flexmbd relative')}
+    still = ['--set', 'bodies.rotor.velocity.angular.0=0']
     fx = {}
     for r in range(reps):
         cms, fem, pre = exudyn_preprocess(files)
@@ -361,13 +373,21 @@ def main():
         times['exudyn import'].append(pre['import_'])
         times['exudyn eigen'].append(pre['eigen'])
         times['exudyn interface'].append(pre['interface'])
+        # diagnostic: the same model started at rest (gravity and bearings only, no unbalance
+        # force): Exudyn's modified Newton then keeps one Jacobian for the whole run
+        times['no spin: exudyn solve'].append(exudyn_run(cms, fem, sets, sensors=True, omega=0.0)[0])
+        for f in ('absolute', 'relative'):
+            times[f'no spin: flexmbd {f}'].append(
+                flexmbd(binp, f, csv[f] + '.still', still)['cpu_seconds'])
     hist = {'exudyn': hist_ex, **{f: read_csv(csv[f]) for f in csv}}
 
     print(f"# Exudyn {__import__('exudyn').__version__}: {info['nODE2']} ODE2 coordinates, "
           f"{info['nAE']} algebraic, {info['newton']} Newton iterations, {info['jacobians']} "
           f"Jacobians (rtol 1e-6: {info_fast['newton']}, {info_fast['jacobians']}); "
-          f"whirl radius with rtol 1e-6 {1e6 * whirl_radius(hist_fast):.4f} um; free-free f [Hz] = "
-          + ', '.join(f'{w:.1f}' for w in np.sqrt(fem.eigenValues) / 2 / np.pi))
+          f"whirl radius with rtol 1e-6 {1e6 * whirl_radius(hist_fast):.4f} um")
+    print(f"# Exudyn's body: mass {cms.totalMass:.6f} kg, centre of mass y {cms.chiU[1]:.4e} m; "
+          "free-free f [Hz] = " + ', '.join(f'{w:.4f}' for w in np.sqrt(fem.eigenValues) / 2 / np.pi)
+          + " (flexmbd: `flexmbd modes models/unbalanced_rotor.ron --body rotor`)")
     for f in csv:
         print(f"# flexmbd {f}: {fx[f]['n_coordinates']} coordinates, {fx[f]['n_constraints']} "
               f"constraints, {fx[f]['steps']} steps, {fx[f]['newton_iterations']} Newton "
@@ -411,6 +431,8 @@ def main():
     print(f"\n## times: median of {reps} (interleaved), seconds [min-max]")
     for k, v in times.items():
         ratio = ''
+        if k.startswith('no spin: flexmbd'):
+            ratio = f"  ({med['no spin: exudyn solve'] / med[k]:.1f}x faster than Exudyn, no spin)"
         if k in ('flexmbd absolute', 'flexmbd relative'):
             ratio = (f"  ({med['exudyn solve'] / med[k]:.1f}x faster than Exudyn's SolveDynamic, "
                      f"{med['exudyn solve, rtol 1e-6'] / med[k]:.1f}x than with rtol 1e-6)")
