@@ -66,7 +66,11 @@ SciPy 1.17.1. Both bodies have the same mass 14.317940 kg, centre of mass y 8.73
   histories differ by up to 5.9 % (absolute) and 2.1 % (relative) of the whirl amplitude: that is the
   spin angle, which drifts by O(h^2) in Exudyn (-21.0 mrad at 0.5 s) and flexmbd absolute (-80.9 mrad;
   -20.5 and -5.3 at h/2 and h/4), while the relative formulation's (-0.30 mrad) is step-converged
-  (-0.30 at h/2, h/4) and Exudyn's tends to it (-5.5 at h/2, -1.6 at h/4). Compared at equal spin
+  (-0.30 at h/2, h/4) and Exudyn's tends to it (-5.5 at h/2, -1.6 at h/4). The drifts are the
+  trapezoidal-type phase error of coordinates that oscillate with the spin, (w h)^2 / 12 per radian
+  turned: flexmbd absolute's frame coordinates turn at w = Omega, 157 rad x (Omega h)^2 / 12 = 80.7
+  mrad; Exudyn's Euler parameters at Omega / 2, a quarter of it, 20.2 mrad; the relative
+  formulation's joint coordinates integrate the spin angle itself. Compared at equal spin
   angle the histories agree to 0.31 % (absolute) and 0.13 % (relative) after 0.3 s, 0.74 % and
   0.22 % over the whole run.
 - Times, 11 repetitions (medians [min-max]): Exudyn SolveDynamic 2.30 s wall [2.17-3.10] (1.53 s
