@@ -118,7 +118,8 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          (one from k = 16). \
          Per step: CPU seconds of the whole run over its steps; preprocessing: reading the files, the sparse \
          Craig–Bampton reduction, the mass cloud (nodes and coupled node pairs of the consistent mass) and \
-         its shape integrals, once per run.",
+         its shape integrals, once per run. `--quick` stops at k = 8; the full grid, to k = 24 (90 625 \
+         nodes), is `cargo xtask reproduce-thesis --only solid-mesh --out docs/results/solid-mesh`.",
         STEP * 1e3
     ));
     let per_step = |p: &Point| p.summary.cpu_seconds / p.summary.steps.max(1) as f64;
