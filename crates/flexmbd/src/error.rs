@@ -43,6 +43,20 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// A sensor read a value that is not finite at an output row: the run fails there, the
+    /// rows before it kept (a step can end in a finite state whose energy or a force
+    /// overflows).
+    #[error(
+        "sensor `{sensor}` is not finite ({value}) at t = {t:.6} s: the motion left what the model can represent; try a smaller step"
+    )]
+    NonFiniteSensor {
+        /// Time of the row (s).
+        t: f64,
+        /// The sensor's name.
+        sensor: String,
+        /// Its value.
+        value: f64,
+    },
     /// Writing a run's output (a [`crate::output::RowSink`] streaming to `path`) failed.
     #[error("cannot write {}: {source}", path.display())]
     Output {
@@ -147,6 +161,7 @@ impl Error {
                 | IntegratorError::Diverged { t }
                 | IntegratorError::Singular { t, .. },
             ) => Some(*t),
+            Error::NonFiniteSensor { t, .. } => Some(*t),
             _ => None,
         }
     }

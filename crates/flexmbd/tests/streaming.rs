@@ -170,6 +170,30 @@ fn rounding_to_whole_steps_is_warned() {
     );
 }
 
+/// Issue 26 item 5: a step far too large for the motion (the flexible pendulum at h = 2 s)
+/// used to be accepted at the iteration limit — no constraints, so ‖Φ‖ = 0 — with tip
+/// positions of 1e146 and an infinite energy, written as a row. The iterate is accepted only
+/// when the last correction is small too, so the run fails at the first step, with its time
+/// and the correction's size, and keeps the rows before it (the start).
+#[test]
+fn a_step_whose_newton_iteration_wanders_off_fails_the_run() {
+    use flexmbd::model::FormulationKind;
+    for f in [FormulationKind::Absolute, FormulationKind::Relative] {
+        let mut scene = model("flexible_pendulum.ron");
+        scene.solver.step = 2.0;
+        scene.solver.duration = 4.0;
+        scene.solver.formulation = f;
+        let (summary, history) = run(&scene, |_| {}).unwrap();
+        assert_eq!(summary.status, "failed", "{f:?}");
+        assert_eq!(summary.failed_at, Some(2.0), "{f:?}");
+        assert_eq!(summary.accepted_unconverged, 0, "{f:?}");
+        let message = summary.message.unwrap();
+        assert!(message.contains("did not converge"), "{f:?}: {message}");
+        assert_eq!(history.rows.len(), 1, "{f:?}: only the start is kept");
+        assert!(history.rows[0].iter().all(|v| v.is_finite()));
+    }
+}
+
 /// Issue 12: a run whose steps were accepted unconverged reported a plain "ok". With one
 /// Newton iteration per step, the four-bar accepts steps at the iteration limit: the status
 /// stays "ok" (‖Φ‖ was small) and a warning counts them.

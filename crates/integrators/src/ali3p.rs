@@ -28,8 +28,9 @@
 //!
 //! Deviations from the literal text, both from methods.md's checked corrections:
 //! the penalty scales with h² (α = 4·10⁴ m_ref / h², §5.3), and a step that reaches the
-//! iteration limit with ‖Φ‖∞ ≤ `accept_phi` is accepted and counted (singular
-//! configurations, §5.2). Ours: at a singular configuration the multiplier update converges
+//! iteration limit with ‖Φ‖∞ ≤ `accept_phi` and a last correction ‖Δq‖∞ ≤ `accept_phi` ·
+//! max(‖q‖∞, 1) is accepted and counted (singular configurations, §5.2); any step whose q,
+//! q̇, q̈ or λ* is not finite fails. Ours: at a singular configuration the multiplier update converges
 //! only linearly in the rank-deficient direction of Φ_q (rate ≈ 1/(1 + α σ² h²/4m) for its
 //! small singular value σ; an exact tangent by differences, tried, did not change the rate),
 //! so after two slow corrections (θ ≥ 0.5 from the third iteration) α is raised ×10 for the
@@ -540,7 +541,13 @@ impl Ali3p {
         self.alpha = alpha_step;
         self.stats.newton_iterations += iterations;
         if !converged {
-            if phi_norm <= self.settings.accept_phi && dq_norm.is_finite() {
+            // Accepted only when the iterate has settled: ‖Φ‖∞ and the last correction
+            // (relative to the positions) both below `accept_phi`. A Newton iteration that
+            // wanders off (a step far too large: corrections of 1e146 in a scene without
+            // constraints, whose ‖Φ‖ is 0) is a failure, not an acceptance.
+            if phi_norm <= self.settings.accept_phi
+                && dq_norm <= self.settings.accept_phi * self.q.amax().max(1.0)
+            {
                 self.stats.accepted_unconverged += 1;
             } else {
                 self.stats.failed_steps += 1;
@@ -555,8 +562,20 @@ impl Ali3p {
         self.choose_predictor();
         self.set_newmark_rates();
         self.project(f)?;
+        if !self.state_is_finite() {
+            self.stats.failed_steps += 1;
+            return Err(IntegratorError::Diverged { t: self.t });
+        }
         self.stats.steps += 1;
         Ok(())
+    }
+
+    /// q, q̇, q̈ and λ* all finite (a step that leaves them otherwise fails, whatever its
+    /// convergence said).
+    fn state_is_finite(&self) -> bool {
+        [&self.q, &self.qd, &self.qdd, &self.lambda]
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()))
     }
 
     /// Predictor (docs/methods.md §5.2): the Newmark constants q̂̇, q̂̈ of the step and the

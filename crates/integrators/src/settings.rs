@@ -32,8 +32,9 @@ pub struct Ali3pSettings {
     ///
     /// Usually equal to `tol_q`; both must hold for a step to converge.
     pub tol_phi: f64,
-    /// At the iteration limit, accept the iterate when ‖Φ‖∞ is below this (counted in
-    /// [`Stats::accepted_unconverged`]). Default: `1e-6`.
+    /// At the iteration limit, accept the iterate when ‖Φ‖∞ is below this and the last
+    /// correction ‖Δq‖∞ below this times max(‖q‖∞, 1) (counted in
+    /// [`Stats::accepted_unconverged`]); otherwise the step fails. Default: `1e-6`.
     ///
     /// A safety valve for singular configurations where the multipliers converge slowly;
     /// set it to `tol_phi` to make every such step an error instead.

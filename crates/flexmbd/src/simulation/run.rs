@@ -56,9 +56,15 @@ impl Simulation {
             .setup
             .summary(self.n_coordinates(), self.n_constraints());
         let mut row = vec![0.0; self.sensor_names().len() + 1];
-        self.write_row(&mut row, sink)?;
-        let mut rows = 1;
+        let mut rows = 0;
         let mut cpu = self.setup.start_seconds;
+        if let Err(e) = self.read_row(&mut row) {
+            summary.fail(self.time(), e);
+            self.finish(&mut summary, rows, cpu);
+            return Ok(summary);
+        }
+        sink.row(&row)?;
+        rows += 1;
         let report_every = (steps / 200).max(1);
         for k in self.integrator.stats.steps + 1..=steps {
             if stop.load(Ordering::Relaxed) {
@@ -73,7 +79,11 @@ impl Simulation {
                 break;
             }
             if k % every == 0 || k == steps {
-                self.write_row(&mut row, sink)?;
+                if let Err(e) = self.read_row(&mut row) {
+                    summary.fail(self.time(), e);
+                    break;
+                }
+                sink.row(&row)?;
                 rows += 1;
             }
             if k % report_every == 0 {
@@ -84,11 +94,19 @@ impl Simulation {
         Ok(summary)
     }
 
-    /// Hand `sink` a row (t, then the sensors) of the current state, through `row`.
-    fn write_row(&mut self, row: &mut [f64], sink: &mut dyn RowSink) -> Result<(), Error> {
+    /// Fill `row` with the current state's row (t, then the sensors); refused when a sensor
+    /// is not finite.
+    fn read_row(&mut self, row: &mut [f64]) -> Result<(), Error> {
         row[0] = self.time();
         self.read_sensors(&mut row[1..]);
-        sink.row(row)
+        match row[1..].iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(Error::NonFiniteSensor {
+                t: row[0],
+                sensor: self.sensor_names()[i].clone(),
+                value: row[1 + i],
+            }),
+        }
     }
 
     /// Fill in the counters and times of the run, `rows` rows written, `cpu` seconds of
