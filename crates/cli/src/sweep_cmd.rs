@@ -361,6 +361,9 @@ fn choice_text(report: &SweepReport, tuning: &Tuning) -> String {
         s += &describe("runner-up", r);
     }
     s += &format!("rule: {}\n", tuning.rule);
+    for w in &tuning.warnings {
+        s += &format!("warning: {w}\n");
+    }
     s
 }
 

@@ -381,3 +381,60 @@ fn no_candidate_meeting_the_tolerance_is_its_own_exit_code() {
         "{err}"
     );
 }
+
+/// Issue 27 item 2: without `--reference`, tune judges against the grid's own richest model,
+/// whose modelling error its margin does not hold; the answer says so, and says when the
+/// tolerance is within the reference's own error estimate (its difference from half its
+/// step). With a reference from another model family (the ANCF cable) neither warning.
+#[test]
+fn tune_warns_when_its_reference_is_of_the_grids_own_family() {
+    let _alone = alone();
+    let spin_up = model("spin_up_beam_2d.ron");
+    let grid = [
+        "--set",
+        "solver.duration=2",
+        "--grid",
+        "modes=1,2",
+        "--grid",
+        "step=2e-3",
+    ];
+    let run = |reference: Option<&str>, tolerance: &str| {
+        let mut cmd = flexmbd();
+        cmd.args(["tune", &spin_up, "--sensor", "tip_uy"]);
+        if let Some(r) = reference {
+            cmd.args(["--reference", r]);
+        }
+        let out = cmd
+            .args(grid)
+            .args(["--tolerance", tolerance, "--json"])
+            .output()
+            .unwrap();
+        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let warnings: Vec<String> = json["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap().to_string())
+            .collect();
+        (code(&out), json, warnings)
+    };
+    let (status, json, warnings) = run(None, "1e-2");
+    assert_eq!(status, 0, "{json}");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("the grid's own richest model"),
+        "{warnings:?}"
+    );
+    // Below the reference's margin: no run can be judged there (exit 6, no candidate), and
+    // the second warning names the estimate.
+    let margin = json["reference_margin"][0]["max_abs"].as_f64().unwrap();
+    assert!(margin > 0.0, "{json}");
+    let (_, _, warnings) = run(None, &format!("{:e}", margin / 2.0));
+    assert!(
+        warnings.iter().any(|w| w.contains("cannot be trusted")),
+        "{warnings:?}"
+    );
+    let (status, json, warnings) = run(Some(ancf_reference()), "1e-2");
+    assert_eq!(status, 0, "{json}");
+    assert!(warnings.is_empty(), "{warnings:?}");
+}

@@ -30,6 +30,39 @@ pub struct Tuning {
     pub runner_up: Option<RunRecord>,
     /// The rule the choice follows.
     pub rule: String,
+    /// What limits the answer's truth ([`reference_warnings`]): a reference of the grid's
+    /// own model family, a tolerance within the reference's own error estimate.
+    pub warnings: Vec<String>,
+}
+
+/// The warnings a tuning at `tolerance` carries about its reference (issue 27 item 2):
+/// the default reference ([`super::Reference::Converged`]) is the grid's richest model at a
+/// smaller step, so its margin covers the step, not that model's own modelling error
+/// (a stiffening method, truncated modes, a coarse mesh), and the answer is only as true as
+/// that model; and a tolerance at or below the reference's error estimate cannot be judged.
+pub fn reference_warnings(sweep: &Sweep, report: &SweepReport, tolerance: f64) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if matches!(sweep.reference, super::Reference::Converged) {
+        warnings.push(format!(
+            "the reference is the grid's own richest model ({}): its margin (against half its \
+             step) covers the step only, not the modelling error of its stiffening method, modes or \
+             elements, so the runs are judged against a model of their own family and may be \
+             further from the physics than their errors say; give --reference a more faithful \
+             solution (a large-deformation model, a finer mesh) to judge against",
+            report.reference
+        ));
+    }
+    if let Some(margin) = &report.reference_margin {
+        let bound = margin.iter().map(|m| m.max_abs).fold(0.0f64, f64::max);
+        if tolerance <= bound {
+            warnings.push(format!(
+                "the tolerance {tolerance:e} is within the reference's own error estimate \
+                 {bound:e} (its difference from the same model at half its step): the answer \
+                 cannot be trusted at this tolerance"
+            ));
+        }
+    }
+    warnings
 }
 
 /// Whether `run` meets `tolerance`.
@@ -120,6 +153,7 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
         recommended: recommended.cloned(),
         runner_up: runner_up.cloned(),
         rule,
+        warnings: reference_warnings(sweep, report, tolerance),
     })
 }
 
