@@ -6,8 +6,9 @@
 //! value and the range, instead of overflowing later into a NaN state or a singular matrix.
 //! The bounds are wide: they keep every product the formulations form (stiffness
 //! E·I/L³, inertia forces m·ω²·r, penalty terms) finite in `f64`, not physically plausible.
-//! The sizes (elements, FE DOFs) are bounded so that the dense FE matrices fit in memory;
-//! a refusal states what the model would need.
+//! The sizes (elements, FE DOFs) are bounded so that the FE model fits in memory (a beam of
+//! at least [`SPARSE_FROM_DOFS`] DOFs is reduced on sparse matrices, whose memory grows
+//! linearly with its DOFs); a refusal states what the model would need.
 
 use flexmbd_core::InvalidValue;
 
@@ -192,9 +193,40 @@ pub const PENALTY: Range = Range::positive(1e30, "");
 /// many iterations.
 pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
 
-/// The most FE DOFs one beam may have: its dense stiffness and mass matrices (and their
-/// Craig–Bampton blocks) are N × N.
-pub const MAX_FE_DOFS: usize = 2_400;
+/// Beams with at least this many FE DOFs are reduced on sparse matrices
+/// ([`crate::sparse_reduction`]); below it, on dense N × N matrices
+/// ([`crate::craig_bampton`]), whose memory (8 N² bytes each, 32 MB at 2 000 DOFs) and
+/// time (N³) grow too fast beyond it.
+pub const SPARSE_FROM_DOFS: usize = 2_000;
+
+/// The most FE DOFs one beam may have: the sparse reduction's memory is about
+/// [`SPARSE_BYTES_PER_DOF`] per DOF (3 GB at 10⁶ DOFs; [`sparse_beam_bytes`]).
+pub const MAX_FE_DOFS: usize = 1_000_000;
+
+/// Peak memory of a beam's sparse preprocessing per FE DOF, bytes: the peak RSS
+/// (`/usr/bin/time -v`, release, `examples/large_beam.rs`) of a 3D grillage with 6 static
+/// and 6 normal modes was 684 MB at 240 000 DOFs (2.9 kB per DOF) and 92.6 MB at 23 814
+/// (3.9 kB per DOF, the process's fixed part included): the sparse K and M and their
+/// interior blocks, the Cholesky factor of K_ii, the Lanczos basis (N × 24 twice), the mode
+/// matrix (N × n), the mass cloud and the per-element stiffening data.
+pub const SPARSE_BYTES_PER_DOF: u128 = 3_000;
+
+/// Estimated peak memory of the sparse preprocessing of a beam of `n` FE DOFs, bytes,
+/// saturating (for messages).
+pub fn sparse_beam_bytes(n: u128) -> u128 {
+    n.saturating_mul(SPARSE_BYTES_PER_DOF)
+}
+
+/// Why a beam of `n` > [`MAX_FE_DOFS`] FE DOFs is refused: memory.
+pub fn too_many_dofs(n: u128) -> String {
+    format!(
+        "at most {MAX_FE_DOFS} FE DOFs are allowed, for memory: reduced on sparse matrices \
+         this beam would need about {} ({SPARSE_BYTES_PER_DOF} bytes per DOF), its dense \
+         stiffness and mass matrices {} each",
+        human_bytes(sparse_beam_bytes(n)),
+        human_bytes(n.saturating_mul(n).saturating_mul(8))
+    )
+}
 
 /// Bytes of one dense N × N matrix of `f64`, saturating (for messages).
 pub fn dense_matrix_bytes(n: usize) -> u128 {

@@ -168,7 +168,7 @@ pub enum FeError {
         converged: usize,
         /// Eigenpairs requested.
         requested: usize,
-        /// The tolerance on the relative residual.
+        /// The bound on the backward error of each pair.
         tol: f64,
         /// Restarts done.
         restarts: usize,

@@ -375,7 +375,10 @@ fn check_size(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
         return Err(InvalidValue::new(
             "geometry.members",
             format!("{} members", spec.geometry.members.len()),
-            format!("too large: {dofs} FE DOFs; at most {MAX_FE_DOFS} FE DOFs are allowed"),
+            format!(
+                "too large: {dofs} FE DOFs; {}",
+                bounds::too_many_dofs(dofs as u128)
+            ),
         ));
     }
     Ok(())

@@ -2,7 +2,8 @@
 //!
 //! [`reduce`] turns a [`BeamBodySpec`] into a [`ReducedBody`]:
 //! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4; the dynamic vectors
-//! chosen by [`ModeSelection`], §1.6) → damping (§1.5)
+//! chosen by [`ModeSelection`], §1.6; on dense matrices below [`SPARSE_FROM_DOFS`] FE DOFs,
+//! on sparse ones from there, [`sparse_reduction`]) → damping (§1.5)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 //! The mesh is a polyline or a beam frame of named nodes and members, each with its own
 //! section ([`frame`]).
@@ -37,8 +38,10 @@ pub mod stiffening;
 
 use flexmbd_core::Dim;
 use nalgebra::{DMatrix, Vector3};
+use sprs::CsMat;
 
 pub use assembly::{DofSets, Mesh};
+pub use bounds::SPARSE_FROM_DOFS;
 pub use craig_bampton::Reduction;
 pub use error::FeError;
 pub use foreshortening::ForeshorteningData;
@@ -55,10 +58,10 @@ pub use spec::{BeamBodySpec, Damping, Geometry, Material, ReferenceFrame, Sectio
 pub struct Preprocessed {
     /// The mesh.
     pub mesh: Mesh,
-    /// Free-floating stiffness K (dense, N × N).
-    pub k: DMatrix<f64>,
-    /// Free-floating mass M (dense, N × N; the default mass model of the dimension).
-    pub m: DMatrix<f64>,
+    /// Free-floating stiffness K (sparse, N × N).
+    pub k: CsMat<f64>,
+    /// Free-floating mass M (sparse, N × N; the default mass model of the dimension).
+    pub m: CsMat<f64>,
     /// The Craig–Bampton reduction.
     pub reduction: Reduction,
     /// The reduced body.
@@ -75,8 +78,6 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     spec.validate()?;
     let mesh = Mesh::from_spec(spec);
     let asm = mesh.assemble(mesh.default_mass_model());
-    let k = assembly::to_dense(&asm.k);
-    let m = assembly::to_dense(&asm.m);
     let frame_dofs = spec.frame_dofs();
     let sets = DofSets::from_node_dofs(spec.dim, mesh.n_dofs(), &frame_dofs, &spec.boundary);
     let frame_txt = format_dofs(&frame_dofs);
@@ -85,15 +86,20 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     } else {
         spec.origin.as_str()
     };
-    let red = if spec.mode_selection != ModeSelection::LowestFrequency {
-        craig_bampton::reduce_with_basis(&k, &m, &sets, name, &frame_txt, |p| {
-            selection::dynamic_basis(spec, &mesh, &m, &sets, p)
-        })?
-    } else if spec.axial_modes == 0 {
-        craig_bampton::reduce_matrices(&k, &m, &sets, spec.normal_modes, name, &frame_txt)?
+    let red = if mesh.n_dofs() >= SPARSE_FROM_DOFS {
+        // The spec's checks refused other selections and axial modes here.
+        sparse_reduction::reduce_sparse(
+            &asm.k,
+            &asm.m,
+            &sets,
+            spec.normal_modes,
+            sparse_reduction::BEAM_EIGEN_TOL,
+            Some(0.0),
+            name,
+            &frame_txt,
+        )?
     } else {
-        let all = craig_bampton::reduce_matrices(&k, &m, &sets, sets.i.len(), name, &frame_txt)?;
-        select_axial(all, &mesh, spec.normal_modes, spec.axial_modes)?
+        reduce_dense(spec, &mesh, &asm, &sets, name, &frame_txt)?
     };
     let c_ff = craig_bampton::damping_matrix(&spec.damping, &red);
     let cloud = cloud::build_cloud(&mesh, &red.x);
@@ -132,11 +138,34 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     };
     Ok(Preprocessed {
         mesh,
-        k,
-        m,
+        k: asm.k,
+        m: asm.m,
         reduction: red,
         body,
     })
+}
+
+/// The Craig–Bampton reduction of a beam below [`SPARSE_FROM_DOFS`] FE DOFs, on dense K and M.
+fn reduce_dense(
+    spec: &BeamBodySpec,
+    mesh: &Mesh,
+    asm: &assembly::Assembled,
+    sets: &DofSets,
+    name: &str,
+    frame_txt: &str,
+) -> Result<Reduction, FeError> {
+    let k = assembly::to_dense(&asm.k);
+    let m = assembly::to_dense(&asm.m);
+    if spec.mode_selection != ModeSelection::LowestFrequency {
+        craig_bampton::reduce_with_basis(&k, &m, sets, name, frame_txt, |p| {
+            selection::dynamic_basis(spec, mesh, &m, sets, p)
+        })
+    } else if spec.axial_modes == 0 {
+        craig_bampton::reduce_matrices(&k, &m, sets, spec.normal_modes, name, frame_txt)
+    } else {
+        let all = craig_bampton::reduce_matrices(&k, &m, sets, sets.i.len(), name, frame_txt)?;
+        select_axial(all, mesh, spec.normal_modes, spec.axial_modes)
+    }
 }
 
 /// Nodal mode rows: translation X^t and rotation X^r (3 × n each, body components).

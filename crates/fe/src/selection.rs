@@ -12,6 +12,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::assembly::{DofSets, Mesh};
+use crate::bounds::SPARSE_FROM_DOFS;
 use crate::craig_bampton::{InteriorBasis, InteriorProblem};
 use crate::error::FeError;
 use crate::inertia_loads::inertia_loads;
@@ -64,6 +65,7 @@ impl ModeSelection {
 /// `pilot_duration` only with `ProperOrthogonal`, finite and positive. Each refusal names
 /// the field and value.
 pub(crate) fn check(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
+    check_sparse_route(spec)?;
     if let Some(d) = spec.pilot_duration {
         if spec.mode_selection != ModeSelection::ProperOrthogonal {
             return Err(InvalidValue::new(
@@ -118,6 +120,39 @@ pub(crate) fn check(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
                 "the model has only {interior} interior DOFs (after {} axial modes) to take candidate modes from",
                 spec.axial_modes
             ),
+        ));
+    }
+    Ok(())
+}
+
+/// A beam of at least [`SPARSE_FROM_DOFS`] FE DOFs is reduced on sparse matrices with its
+/// lowest fixed-interface modes only: the other selections and the axial modes start from
+/// every fixed-interface mode (a dense n_i × n_i eigenproblem) or from the dense mass matrix,
+/// so they are refused there, naming the field and the reason.
+fn check_sparse_route(spec: &BeamBodySpec) -> Result<(), InvalidValue> {
+    let n = spec.n_fe_dofs();
+    if n < SPARSE_FROM_DOFS {
+        return Ok(());
+    }
+    let why = |what: &str| {
+        format!(
+            "{what}; this beam has {n} FE DOFs, at least {SPARSE_FROM_DOFS}, and is reduced on \
+             sparse matrices with its lowest fixed-interface modes only (use LowestFrequency, \
+             or fewer elements)"
+        )
+    };
+    if spec.mode_selection != ModeSelection::LowestFrequency {
+        return Err(InvalidValue::new(
+            "mode_selection",
+            spec.mode_selection.name(),
+            why("needs every fixed-interface mode or the dense mass matrix"),
+        ));
+    }
+    if spec.axial_modes > 0 {
+        return Err(InvalidValue::new(
+            "axial_modes",
+            spec.axial_modes,
+            why("the axial modes are picked among every fixed-interface mode"),
         ));
     }
     Ok(())

@@ -18,6 +18,10 @@ use crate::error::FeError;
 use crate::sparse::ShiftedCholesky;
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
 
+/// The eigen-solver's bound on the backward error of each fixed-interface mode of a beam
+/// reduced here (`sparse_eigen`'s module docs; its default).
+pub const BEAM_EIGEN_TOL: f64 = 1e-12;
+
 /// A (sparse) times X (dense).
 pub fn sparse_times_dense(a: &CsMat<f64>, x: &DMatrix<f64>) -> DMatrix<f64> {
     let mut y = DMatrix::zeros(a.rows(), x.ncols());
@@ -91,14 +95,17 @@ fn mean_diagonal_ratio(k: &CsMat<f64>, m: &CsMat<f64>) -> f64 {
 }
 
 /// Reduce the free-floating sparse (K, M) on `sets`, keeping `n_d` fixed-interface modes
-/// found to the residual `tol`. `name` and `frame` name the model in refusals, as for
+/// found to the backward error `tol` with the eigen-solver's `shift` (None: its default).
+/// `name` and `frame` name the model in refusals, as for
 /// [`crate::craig_bampton::reduce_matrices`].
+#[allow(clippy::too_many_arguments)]
 pub fn reduce_sparse(
     k: &CsMat<f64>,
     m: &CsMat<f64>,
     sets: &DofSets,
     n_d: usize,
     tol: f64,
+    shift: Option<f64>,
     name: &str,
     frame: &str,
 ) -> Result<Reduction, FeError> {
@@ -142,6 +149,7 @@ pub fn reduce_sparse(
     }
     let options = SparseEigenOptions {
         tol,
+        shift,
         ..SparseEigenOptions::default()
     };
     let pairs = lowest_modes(&kii, &mii, n_d, &options).map_err(|e| match e {
@@ -155,7 +163,9 @@ pub fn reduce_sparse(
         && lowest <= 1e-12 * mean_diagonal_ratio(&kii, &mii)
     {
         return Err(singular(format!(
-            "the lowest fixed-interface mode has ω² = {lowest:e}: a mechanism"
+            "the lowest fixed-interface mode has ω² = {lowest:e}, at most 1e-12 of the mean \
+             K_ii/M_ii: a mechanism, or a mesh too fine for double precision (the condition \
+             number of a beam's K_ii grows as (length / element length)⁴: fewer elements)"
         )));
     }
     for (a, &row) in i.iter().enumerate() {

@@ -426,8 +426,8 @@ impl BeamBodySpec {
     }
 
     /// Each segment is split into at least one element, no element shorter than
-    /// [`bounds::ELEMENT_LENGTH`], and the mesh has at most [`MAX_FE_DOFS`] DOFs (its
-    /// dense matrices are N × N; the refusal states their size, counted without overflow).
+    /// [`bounds::ELEMENT_LENGTH`], and the mesh has at most [`MAX_FE_DOFS`] DOFs (the
+    /// refusal states the memory it would need, counted without overflow).
     fn check_elements_per_segment(&self) -> Result<(), InvalidValue> {
         let per = self.geometry.elements_per_segment;
         let field = "geometry.elements_per_segment";
@@ -437,15 +437,12 @@ impl BeamBodySpec {
         let segments = self.geometry.points.len() - 1;
         let dofs = (segments as u128 * per as u128 + 1) * self.dofs_per_node() as u128;
         if dofs > MAX_FE_DOFS as u128 {
-            let bytes = dofs.saturating_mul(dofs).saturating_mul(8);
             return Err(InvalidValue::new(
                 field,
                 per,
                 format!(
-                    "too large: {segments} segment(s) × {per} elements give {dofs} FE DOFs, \
-                     whose dense stiffness and mass matrices need {} each; at most {MAX_FE_DOFS} \
-                     FE DOFs are allowed",
-                    bounds::human_bytes(bytes)
+                    "too large: {segments} segment(s) × {per} elements give {dofs} FE DOFs; {}",
+                    bounds::too_many_dofs(dofs)
                 ),
             ));
         }

@@ -5,6 +5,7 @@ mod common;
 
 use common::*;
 use flexmbd_core::Dim;
+use flexmbd_fe::assembly::to_dense;
 use flexmbd_fe::craig_bampton::{InteriorBasis, lowest_normal_modes, reduce_with_basis};
 use flexmbd_fe::inertia_loads::inertia_loads;
 use flexmbd_fe::modal::generalized_eigen;
@@ -40,7 +41,8 @@ fn reduced_deflection(spec: &BeamBodySpec, f: &DVector<f64>) -> DVector<f64> {
 fn full_deflection(spec: &BeamBodySpec, f: &DVector<f64>) -> DVector<f64> {
     let p = preprocess(spec).unwrap();
     let i = &p.reduction.sets.i;
-    let kii = DMatrix::from_fn(i.len(), i.len(), |a, b| p.k[(i[a], i[b])]);
+    let k = to_dense(&p.k);
+    let kii = DMatrix::from_fn(i.len(), i.len(), |a, b| k[(i[a], i[b])]);
     let fi = DVector::from_fn(i.len(), |a, _| f[i[a]]);
     let ui = kii.cholesky().unwrap().solve(&fi);
     let mut u = DVector::zeros(f.len());
@@ -100,7 +102,7 @@ fn one_ritz_vector_reproduces_the_static_deflection_under_gravity() {
     let g = p
         .mesh
         .rigid_field(&nalgebra::Vector3::y(), &nalgebra::Vector3::zeros());
-    let f = &p.m * g * -9.81;
+    let f = to_dense(&p.m) * g * -9.81;
     let exact = full_deflection(&normal, &f);
     let tip = 20 * 3 + 1;
     let err = |u: &DVector<f64>| (u[tip] - exact[tip]).abs() / exact[tip].abs();
@@ -128,7 +130,8 @@ fn one_ritz_vector_of_a_single_load_is_its_static_deflection() {
     f[5 * 3 + 1] = 100.0;
     let fi = DMatrix::from_fn(sets.i.len(), 1, |a, _| f[sets.i[a]]);
     let mut basis = None;
-    reduce_with_basis(&p.k, &p.m, sets, "point load", "{}", |ip| {
+    let (k, m) = (to_dense(&p.k), to_dense(&p.m));
+    reduce_with_basis(&k, &m, sets, "point load", "{}", |ip| {
         let b = load_ritz(ip, &fi, 1, &DMatrix::zeros(sets.i.len(), 0))?;
         basis = Some(b.clone());
         Ok(b)
@@ -151,10 +154,11 @@ fn axial_modes_rank_last_under_a_transverse_load() {
     let p = preprocess(&spec).unwrap();
     let sets = &p.reduction.sets;
     let mut ranked = None;
-    reduce_with_basis(&p.k, &p.m, sets, "transverse", "{}", |ip| {
+    let (k, m) = (to_dense(&p.k), to_dense(&p.m));
+    reduce_with_basis(&k, &m, sets, "transverse", "{}", |ip| {
         let all = generalized_eigen(ip.kii, ip.mii, "all").unwrap();
         // Load 1 of the body's set: translation along y (pure transverse).
-        let loads = inertia_loads(&p.mesh, &p.m, sets, ip.x_static)
+        let loads = inertia_loads(&p.mesh, &m, sets, ip.x_static)
             .columns(1, 1)
             .into_owned();
         let shares = static_response_shares(ip, &all.vectors, &all.omega_sq, &loads);

@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use common::*;
 use flexmbd_core::Dim;
+use flexmbd_fe::assembly::to_dense;
 use flexmbd_fe::pod::{PilotRecord, candidate_count, leading_directions};
 use flexmbd_fe::{BeamBodySpec, Dof, FeError, ModeSelection, NodeDof, preprocess};
 use nalgebra::{DMatrix, DVector};
@@ -54,7 +55,7 @@ fn proper_orthogonal_modes_of_every_candidate_are_the_lowest_modes() {
         let worst = worst_relative_difference(&a.reduction.omega_sq, &b.reduction.omega_sq);
         // Same vectors up to sign: |Φ_lowestᵀ M Φ_pod| is the identity.
         let (xa, xb) = (&a.reduction.x, &b.reduction.x);
-        let overlap = (xa.columns(1, 6).transpose() * &a.m * xb.columns(1, 6)).abs();
+        let overlap = (xa.columns(1, 6).transpose() * to_dense(&a.m) * xb.columns(1, 6)).abs();
         let off = max_abs(&(overlap - DMatrix::identity(6, 6)));
         println!("{dim:?}: worst relative ω² difference {worst:.2e}, |overlap − I| {off:.2e}");
         assert_eq!(b.reduction.omega_sq.len(), 6);
@@ -74,7 +75,8 @@ fn a_record_of_one_mode_gives_that_mode_first() {
     let pod = proper_orthogonal(lowest.clone(), 1, only_third);
     let (a, b) = (preprocess(&lowest).unwrap(), preprocess(&pod).unwrap());
     let (w_lowest, w_pod) = (a.reduction.omega_sq[2], b.reduction.omega_sq[0]);
-    let cosine = (a.reduction.x.column(2).transpose() * &a.m * b.reduction.x.column(0))[0];
+    let cosine =
+        (a.reduction.x.column(2).transpose() * to_dense(&a.m) * b.reduction.x.column(0))[0];
     println!(
         "ω² of mode 3 {w_lowest:.6e}, of the proper orthogonal mode {w_pod:.6e}, cos {cosine}"
     );
