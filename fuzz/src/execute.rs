@@ -123,6 +123,9 @@ pub fn execute(text: &str, formulation: FormulationKind, max_steps: usize) -> Ou
     if let Err(e) = scene.validate() {
         return refusal(&e);
     }
+    if let Some(outcome) = beyond_size_cap(&scene) {
+        return outcome;
+    }
     let mut sim = match Simulation::new(&scene) {
         Ok(sim) => sim,
         Err(Error::Model(e)) => return refusal(&e),
@@ -145,6 +148,31 @@ pub fn execute(text: &str, formulation: FormulationKind, max_steps: usize) -> Ou
         }
     }
     Outcome::new(Class::Ok, format!("{steps} steps to t = {}", sim.time()))
+}
+
+/// The largest built-in beam a mutant is reduced with: the dense route's former limit,
+/// for which the wall-clock cap was sized. Beams up to the library's limit (10⁶ FE DOFs on
+/// the sparse route, about 3 kB per DOF and a minute) are valid input but would turn a
+/// mutated element count (`100000`) into a hang or an out-of-memory of the campaign's
+/// worker, not a defect; their reduction is tested in `crates/fe/tests/sparse_beam.rs`.
+pub const MAX_BEAM_FE_DOFS: usize = 2_400;
+
+/// A mutant with a beam larger than [`MAX_BEAM_FE_DOFS`], counted as refused (by the
+/// campaign, not by flexmbd) without reducing it.
+fn beyond_size_cap(scene: &Scene) -> Option<Outcome> {
+    scene.bodies.iter().find_map(|b| match &b.model {
+        flexmbd::model::BodyModel::Beam(spec) if spec.n_fe_dofs() > MAX_BEAM_FE_DOFS => {
+            Some(Outcome::new(
+                Class::Refused,
+                format!(
+                    "bodies[{}]: {} FE DOFs, above the campaign's cap of {MAX_BEAM_FE_DOFS} (not run)",
+                    b.name,
+                    spec.n_fe_dofs()
+                ),
+            ))
+        }
+        _ => None,
+    })
 }
 
 /// The first non-finite sensor, coordinate or velocity at the current state, named.
