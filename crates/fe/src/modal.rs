@@ -8,6 +8,17 @@
 //!
 //! Works on a free-free model (rigid modes give ω² ≈ 0, possibly slightly
 //! negative by round-off) or on a constrained one ([`constrained_eigen`]).
+//!
+//! The mass factor fails on fine beam meshes: M's rotary entries (ρI h) make it so ill
+//! conditioned that A's largest eigenvalues (~E/ρh²) swamp its smallest, and the lowest ω²
+//! come out wrong (a 1 m, 10 mm steel cantilever of 50 elements: 10.67 Hz for 8.355 Hz).
+//! So the lowest [`CHECKED_PAIRS`] pairs are checked by their normwise backward error
+//! ‖K x − ω² M x‖ / ((‖K‖ + |ω²| ‖M‖) ‖x‖) (∞-norms; Higham & Higham 1998), and when one
+//! exceeds [`BACKWARD_ERROR_TOL`] the problem is solved again in shift-invert form: the
+//! Cholesky factor C = K − σM = L Lᵀ (σ = 0 if K is positive definite, else a small
+//! negative shift), the standard problem L⁻¹ M L⁻ᵀ u = μ u, ω² = σ + 1/μ, x = L⁻ᵀ u / √μ,
+//! whose lowest ω² are its largest μ and keep their relative accuracy. Well-conditioned
+//! problems keep the first solution, bit for bit.
 
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
@@ -74,6 +85,88 @@ pub fn generalized_eigen(
             vectors: DMatrix::zeros(0, 0),
         });
     }
+    let pairs = by_mass_factor(k, m, what)?;
+    if lowest_pairs_hold(k, m, &pairs) {
+        return Ok(pairs);
+    }
+    Ok(by_shifted_stiffness_factor(k, m).unwrap_or(pairs))
+}
+
+/// The pairs whose backward error is checked: the lowest, where the mass factor's error
+/// falls (an absolute error of ε times the largest ω²).
+pub const CHECKED_PAIRS: usize = 32;
+
+/// Largest backward error accepted from the mass-factor solution (well-conditioned
+/// problems give ~1e-15).
+pub const BACKWARD_ERROR_TOL: f64 = 1e-10;
+
+/// Largest absolute row sum.
+fn norm_inf(a: &DMatrix<f64>) -> f64 {
+    a.row_iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Whether each of the lowest [`CHECKED_PAIRS`] pairs has a backward error of at most
+/// [`BACKWARD_ERROR_TOL`].
+fn lowest_pairs_hold(k: &DMatrix<f64>, m: &DMatrix<f64>, pairs: &Eigenpairs) -> bool {
+    let n = pairs.omega_sq.len().min(CHECKED_PAIRS);
+    let x = pairs.vectors.columns(0, n);
+    let (kx, mx) = (k * x, m * x);
+    let (nk, nm) = (norm_inf(k), norm_inf(m));
+    (0..n).all(|j| {
+        let w = pairs.omega_sq[j];
+        let r = (kx.column(j) - w * mx.column(j)).amax();
+        let scale = (nk + w.abs() * nm) * x.column(j).amax();
+        r <= BACKWARD_ERROR_TOL * scale
+    })
+}
+
+/// K x = ω² M x in shift-invert form (see the module documentation); `None` when neither
+/// K nor K − σM has a Cholesky factor.
+fn by_shifted_stiffness_factor(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Option<Eigenpairs> {
+    let n = k.nrows();
+    let factor = |sigma: f64| {
+        to_faer(&(k - sigma * m))
+            .llt(Side::Lower)
+            .ok()
+            .map(|llt| (sigma, llt))
+    };
+    // A shift far below the element frequencies, as the sparse solver's default
+    // (crate::sparse_eigen::default_shift), when K is singular (rigid modes, mechanisms).
+    let ratio = (0..n)
+        .filter(|&i| m[(i, i)] > 0.0)
+        .map(|i| k[(i, i)] / m[(i, i)])
+        .sum::<f64>()
+        / n as f64;
+    let (sigma, llt) = factor(0.0).or_else(|| factor(-1e-5 * ratio.abs()))?;
+    let l = llt.L();
+    let mut y = to_faer(m);
+    solve_lower_triangular_in_place(l, y.as_mut(), Par::Seq);
+    let mut a = y.transpose().to_owned();
+    solve_lower_triangular_in_place(l, a.as_mut(), Par::Seq);
+    let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let eig = a.self_adjoint_eigen(Side::Lower).ok()?;
+    let mu = eig.S().column_vector();
+    let mut x = eig.U().to_owned();
+    solve_upper_triangular_in_place(l.transpose(), x.as_mut(), Par::Seq);
+    // μ ascending, so ω² = σ + 1/μ descending: take the columns from the last.
+    let order: Vec<usize> = (0..n).rev().collect();
+    if order.iter().any(|&c| !(mu[c] > 0.0)) {
+        return None;
+    }
+    let omega_sq: Vec<f64> = order.iter().map(|&c| sigma + 1.0 / mu[c]).collect();
+    let mut vectors = DMatrix::from_fn(n, n, |i, j| {
+        let c = order[j];
+        x[(i, c)] / mu[c].sqrt()
+    });
+    fix_signs(&mut vectors);
+    Some(Eigenpairs { omega_sq, vectors })
+}
+
+/// K x = ω² M x by the Cholesky factor of M (see the module documentation).
+fn by_mass_factor(k: &DMatrix<f64>, m: &DMatrix<f64>, what: &str) -> Result<Eigenpairs, FeError> {
+    let n = k.nrows();
     let mf = to_faer(m);
     let llt = mf
         .llt(Side::Lower)
