@@ -347,18 +347,8 @@ fn check_finite(body: &ReducedBody, name: &str) -> Result<(), FeError> {
 
 /// The checks that need no model: mode selection, frame and boundary names.
 fn check_spec(spec: &ImportedBodySpec, name: &str) -> Result<(), FeError> {
-    match (spec.mode_selection, &spec.frame) {
-        (ModeSelection::LowestFrequency | ModeSelection::Participation, _)
-        | (ModeSelection::LoadRitz, ImportedFrame::Interface(_)) => {}
-        (ModeSelection::LoadRitz, ImportedFrame::FreeFree) => {
-            return Err(invalid(
-                format!("{name}.mode_selection"),
-                "LoadRitz",
-                "load-dependent Ritz vectors need a clamped frame (frame: Interface(NAME)): a \
-                 free-free body has no static response K⁻¹ f to start them from",
-            ));
-        }
-        (other, _) => return Err(selection::refused(other, name)),
+    if spec.mode_selection == ModeSelection::ProperOrthogonal {
+        return Err(selection::refused(spec.mode_selection, name));
     }
     if let Some(c) = spec.mode_candidates {
         if spec.mode_selection != ModeSelection::Participation {

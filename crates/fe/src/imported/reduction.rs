@@ -89,6 +89,10 @@ pub fn reduce(
                         &candidates,
                     )
                 }
+                ModeSelection::LoadRitz => {
+                    let (_, rigid) = free_free_pairs(&kt, &mt, 0, body)?;
+                    selection::free_free_ritz(spec, model, map, &kt, &mt, &rigid, body)?
+                }
                 other => return Err(selection::refused(other, body)),
             };
             let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(&kt, &x)));
@@ -125,6 +129,18 @@ fn free_free(
     n_elastic: usize,
     body: &str,
 ) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
+    let (elastic, _) = free_free_pairs(kt, mt, n_elastic, body)?;
+    Ok((elastic.vectors, elastic.omega_sq))
+}
+
+/// The six rigid-body modes and the `n_elastic` lowest elastic modes of a free body (the
+/// checks of the module docs): the elastic pairs and the rigid vectors.
+pub(crate) fn free_free_pairs(
+    kt: &CsMat<f64>,
+    mt: &CsMat<f64>,
+    n_elastic: usize,
+    body: &str,
+) -> Result<(Eigenpairs, DMatrix<f64>), FeError> {
     let n = kt.rows();
     let wanted = 6 + n_elastic + 1;
     if wanted > n {
@@ -157,7 +173,12 @@ fn free_free(
         ));
     }
     let x = pairs.vectors.columns(6, n_elastic).into_owned();
-    Ok((x, w2[6..6 + n_elastic].to_vec()))
+    let rigid = pairs.vectors.columns(0, 6).into_owned();
+    let elastic = Eigenpairs {
+        omega_sq: w2[6..6 + n_elastic].to_vec(),
+        vectors: x,
+    };
+    Ok((elastic, rigid))
 }
 
 #[allow(clippy::too_many_arguments)]

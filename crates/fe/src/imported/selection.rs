@@ -47,8 +47,24 @@
 //! with the static response of each load measured on the candidates). A load counts when
 //! the candidates' effective mass Σ_j Γ_jl² exceeds [`UNFELT_LOAD`] times
 //! Σ_i f_i² / M̃_ii (the diagonal estimate of f_lᵀ M̃⁻¹ f_l, all modes' together):
-//! otherwise its shares would be its round-off, normalised. `LoadRitz` needs the
-//! elastic flexibility of a free body and is refused for a free-free frame.
+//! otherwise its shares would be its round-off, normalised.
+//!
+//! ## Free-free Ritz vectors
+//!
+//! The static response of a free body is that of inertia relief [R: Craig & Kurdila 2006]:
+//! under the self-equilibrated part g = f − M̃ Φ_r Φ_rᵀ f of a load (Φ_r the M̃-orthonormal
+//! rigid-body modes, found with the elastic ones by the Lanczos solver), the elastic
+//! deflection x solves K̃ x = g with Φ_rᵀ M̃ x = 0. K̃ is singular; with the factor of
+//! K̃ − σ M̃ (σ < 0, the eigen-solver's default shift, [`crate::sparse_eigen::default_shift`])
+//! K̃ x = g reads (K̃ − σM̃) x = g − σ M̃ x, solved by the fixed point
+//!
+//!   x ← P_r (K̃ − σM̃)⁻¹ (g − σ M̃ x),   P_r = 𝟙 − Φ_r Φ_rᵀ M̃,
+//!
+//! whose error on elastic mode k shrinks by |σ| / (ω_k² + |σ|) per sweep (stopped at a
+//! relative change of [`FLEXIBILITY_TOL`]; refused after [`FLEXIBILITY_SWEEPS`]). The block
+//! Ritz sequence of [`crate::ritz`] then runs on this operator with the free-free loads
+//! above, its vectors kept M̃-orthogonal to Φ_r, and the Rayleigh–Ritz step gives elastic
+//! vectors with positive Ritz frequencies.
 
 use nalgebra::{DMatrix, DVector, Vector3};
 use sprs::CsMat;
@@ -62,7 +78,7 @@ use crate::import::FeModel;
 use crate::inertia_loads::centrifugal_tensors;
 use crate::modal::Eigenpairs;
 use crate::selection::ModeSelection;
-use crate::sparse::{Columns, symmetric_matvec};
+use crate::sparse::{Columns, ShiftedCholesky, symmetric_matvec};
 use crate::sparse_reduction::{SparseInteriorProblem, lowest_interior_modes, sparse_times_dense};
 use crate::{participation, ritz};
 use flexmbd_core::Dim;
@@ -146,18 +162,7 @@ pub fn free_free_participation(
     n_points: usize,
     candidates: &Eigenpairs,
 ) -> (DMatrix<f64>, Vec<f64>) {
-    let mut loads: Vec<DVector<f64>> = centrifugal_fields(model)
-        .iter()
-        .map(|u| consistent_load(model, map, u))
-        .collect();
-    for p in 0..n_points {
-        for c in 0..6 {
-            let mut f = DVector::zeros(map.n_retained());
-            f[map.point_start(p) + c] = 1.0;
-            loads.push(f);
-        }
-    }
-    let loads = DMatrix::from_columns(&loads);
+    let loads = free_free_loads(model, map, n_points);
     let gamma = candidates.vectors.transpose() * &loads;
     let m_diagonal = Columns::of(mt);
     let w2 = &candidates.omega_sq;
@@ -198,6 +203,136 @@ pub fn free_free_participation(
     (kept.vectors, kept.omega_sq)
 }
 
+/// The loads of a free body on the retained coordinates (module docs): the six centrifugal
+/// fields, then unit forces and moments at each of the `n_points` interface points.
+fn free_free_loads(model: &FeModel, map: &RetainedMap, n_points: usize) -> DMatrix<f64> {
+    let mut loads: Vec<DVector<f64>> = centrifugal_fields(model)
+        .iter()
+        .map(|u| consistent_load(model, map, u))
+        .collect();
+    for p in 0..n_points {
+        for c in 0..6 {
+            let mut f = DVector::zeros(map.n_retained());
+            f[map.point_start(p) + c] = 1.0;
+            loads.push(f);
+        }
+    }
+    DMatrix::from_columns(&loads)
+}
+
+/// Load-dependent Ritz vectors of a free body (module docs, "Free-free Ritz vectors") on
+/// the retained (K̃, M̃) with its M̃-orthonormal rigid-body modes `rigid` (Ñ × 6):
+/// (vectors, Ritz ω²).
+pub fn free_free_ritz(
+    spec: &ImportedBodySpec,
+    model: &FeModel,
+    map: &RetainedMap,
+    kt: &CsMat<f64>,
+    mt: &CsMat<f64>,
+    rigid: &DMatrix<f64>,
+    body: &str,
+) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
+    let n_points = (map.n_retained() - map.n_independent) / 6;
+    let loads = free_free_loads(model, map, n_points);
+    let shift = crate::sparse_eigen::default_shift(kt, mt)?;
+    let flexibility = ElasticFlexibility {
+        kt,
+        mt,
+        rigid,
+        m_rigid: sparse_times_dense(mt, rigid),
+        chol: ShiftedCholesky::new(kt, mt, shift)?,
+        name: body,
+        unconverged: std::cell::Cell::new(false),
+    };
+    let basis = ritz::load_ritz(&flexibility, &loads, spec.normal_modes, rigid)?;
+    if flexibility.unconverged.get() {
+        return Err(invalid(
+            format!("{body}.mode_selection"),
+            "LoadRitz",
+            format!(
+                "the free body's static responses did not converge in {FLEXIBILITY_SWEEPS} \
+                 sweeps (its first elastic ω² is far below the shift {shift:e} of the \
+                 flexibility solve): take Participation or LowestFrequency"
+            ),
+        ));
+    }
+    Ok((basis.vectors, basis.omega_sq))
+}
+
+/// Largest number of refinement sweeps of a free body's static response (module docs).
+pub const FLEXIBILITY_SWEEPS: usize = 200;
+
+/// Relative change (max norm) at which a refinement sweep counts as converged.
+pub const FLEXIBILITY_TOL: f64 = 1e-14;
+
+/// The elastic flexibility of a free body as a fixed-interface operator for the Ritz
+/// sequence: `solve_block` gives x = G_e f, the deflection M̃-orthogonal to the rigid-body
+/// modes Φ_r under the self-equilibrated part g = f − M̃ Φ_r Φ_rᵀ f of the load, i.e. the
+/// solution of K̃ x = g with Φ_rᵀ M̃ x = 0 (module docs).
+struct ElasticFlexibility<'a> {
+    kt: &'a CsMat<f64>,
+    mt: &'a CsMat<f64>,
+    rigid: &'a DMatrix<f64>,
+    m_rigid: DMatrix<f64>,
+    chol: ShiftedCholesky,
+    name: &'a str,
+    /// Set when a solve ended its sweeps unconverged.
+    unconverged: std::cell::Cell<bool>,
+}
+
+impl ElasticFlexibility<'_> {
+    fn shifted_solve(&self, rhs: &mut DMatrix<f64>) {
+        let (rows, cols) = rhs.shape();
+        let mut scratch = self.chol.solve_scratch(cols);
+        let view = faer::MatMut::from_column_major_slice_mut(rhs.as_mut_slice(), rows, cols);
+        self.chol.solve_in_place(view, &mut scratch);
+    }
+
+    /// x − Φ_r Φ_rᵀ M̃ x.
+    fn remove_rigid(&self, x: &DMatrix<f64>) -> DMatrix<f64> {
+        x - self.rigid * (self.m_rigid.transpose() * x)
+    }
+}
+
+impl InteriorOperator for ElasticFlexibility<'_> {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn n_interior(&self) -> usize {
+        self.kt.rows()
+    }
+    fn solve_block(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
+        let g = b - &self.m_rigid * (self.rigid.transpose() * b);
+        let sigma = self.chol.shift;
+        let mut x = g.clone();
+        self.shifted_solve(&mut x);
+        x = self.remove_rigid(&x);
+        for _ in 0..FLEXIBILITY_SWEEPS {
+            let mut next = &g - sparse_times_dense(self.mt, &x) * sigma;
+            self.shifted_solve(&mut next);
+            next = self.remove_rigid(&next);
+            let change = (&next - &x).amax();
+            x = next;
+            if change <= FLEXIBILITY_TOL * x.amax() {
+                return x;
+            }
+        }
+        self.unconverged.set(true);
+        x
+    }
+    fn mass_times(&self, v: &DVector<f64>) -> DVector<f64> {
+        let mut y = DVector::zeros(v.len());
+        symmetric_matvec(&Columns::of(self.mt), v.as_slice(), y.as_mut_slice());
+        y
+    }
+    fn stiffness_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * sparse_times_dense(self.kt, v)
+    }
+    fn mass_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * sparse_times_dense(self.mt, v)
+    }
+}
+
 /// The `n` candidates with the largest shares, in ascending frequency.
 fn keep_ranked(candidates: &Eigenpairs, shares: &[f64], n: usize) -> InteriorBasis {
     let mut keep: Vec<usize> = participation::rank(shares).into_iter().take(n).collect();
@@ -213,9 +348,8 @@ pub fn refused(selection: ModeSelection, body: &str) -> FeError {
     invalid(
         format!("{body}.mode_selection"),
         selection.name(),
-        "an imported body takes LowestFrequency, Participation or LoadRitz (LoadRitz with a \
-         clamped frame only); ProperOrthogonal needs a pilot run, which is built for beams \
-         only (methods.md §1.6)",
+        "an imported body takes LowestFrequency, Participation or LoadRitz; \
+         ProperOrthogonal needs a pilot run, which is built for beams only (methods.md §1.6)",
     )
 }
 
