@@ -398,6 +398,11 @@ fn bad_selection_input_is_refused_by_name() {
         e.contains("bar.mode_candidates") && e.contains("1000"),
         "{e}"
     );
+    let mut s = bar_spec(ModeSelection::Participation, 1000);
+    s.frame = ImportedFrame::FreeFree;
+    s.boundary.clear();
+    let e = refusal(&s);
+    assert!(e.contains("1000"), "{e}");
     let mut s = bar_spec(ModeSelection::Participation, 4);
     s.mode_candidates = Some(3);
     let e = refusal(&s);

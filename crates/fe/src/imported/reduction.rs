@@ -74,6 +74,12 @@ pub fn reduce(
                 ModeSelection::LowestFrequency => free_free(&kt, &mt, spec.normal_modes, body)?,
                 ModeSelection::Participation => {
                     let available = kt.rows().saturating_sub(7);
+                    if spec.normal_modes > available {
+                        return Err(FeError::TooManyModes {
+                            requested: spec.normal_modes,
+                            available,
+                        });
+                    }
                     let c = selection::candidate_count(spec, available, body)?;
                     let (x, w2) = free_free(&kt, &mt, c, body)?;
                     let candidates = Eigenpairs {
