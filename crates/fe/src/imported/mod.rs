@@ -18,7 +18,7 @@
 //!    **free-free**: the lowest elastic modes of the unconstrained body, its six rigid-body
 //!    modes removed (they are M-orthogonal to them, so the frame follows the mean axes of
 //!    the linear theory) ([`reduction`]); the normal modes are the lowest, or chosen by
-//!    participation, or load-dependent Ritz vectors (clamped), as `mode_selection` says
+//!    participation, or load-dependent Ritz vectors, as `mode_selection` says
 //!    ([`selection`]);
 //! 4. X = T X̃ on the FE DOFs, the mass cloud as an exact rewriting of the sparse mass
 //!    matrix, the 13 shape integrals from that cloud, and the node rows: the interface
@@ -187,7 +187,7 @@ pub struct ImportedBodySpec {
     /// Number of normal modes kept (fixed-interface, or free-free elastic).
     pub normal_modes: usize,
     /// How the normal modes are chosen (docs/methods.md §1.6, [`selection`]): the lowest
-    /// (default), by participation, or load-dependent Ritz vectors (clamped frame only);
+    /// (default), by participation, or load-dependent Ritz vectors;
     /// not `ProperOrthogonal`.
     #[serde(default)]
     pub mode_selection: ModeSelection,
