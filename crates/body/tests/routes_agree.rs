@@ -198,6 +198,7 @@ fn routes_agree_on_an_imported_solid() {
         boundary: vec!["tip".into()],
         normal_modes: 4,
         mode_selection: Default::default(),
+        mode_candidates: None,
         damping: Default::default(),
     };
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fe/tests/data/import");

@@ -16,7 +16,7 @@
 
 use faer::linalg::solvers::{Llt, Solve};
 use faer::{Mat, Side};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use crate::assembly::{DofSets, submatrix};
 use crate::error::FeError;
@@ -78,6 +78,48 @@ impl InteriorProblem<'_> {
     pub fn solve(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
         let z = self.kii_llt.solve(to_faer(b));
         DMatrix::from_fn(b.nrows(), b.ncols(), |i, j| z[(i, j)])
+    }
+}
+
+/// What the dynamic-basis algorithms ([`crate::ritz`], [`crate::participation`],
+/// [`crate::pod`]) need of a fixed-interface problem: solves with K_ii, products with M_ii
+/// and the projections VᵀK_iiV, VᵀM_iiV. Implemented on dense blocks ([`InteriorProblem`],
+/// the built-in beams) and on sparse ones
+/// ([`crate::sparse_reduction::SparseInteriorProblem`], imported bodies), so that the same
+/// algorithm runs on both without an N × N dense matrix on the sparse side.
+pub trait InteriorOperator {
+    /// The spec origin, for errors.
+    fn name(&self) -> &str;
+    /// The number of interior DOFs n_i.
+    fn n_interior(&self) -> usize;
+    /// K_ii⁻¹ B for a block of right-hand sides B (n_i × c).
+    fn solve_block(&self, b: &DMatrix<f64>) -> DMatrix<f64>;
+    /// M_ii v.
+    fn mass_times(&self, v: &DVector<f64>) -> DVector<f64>;
+    /// Vᵀ K_ii V (not symmetrised).
+    fn stiffness_form(&self, v: &DMatrix<f64>) -> DMatrix<f64>;
+    /// Vᵀ M_ii V (not symmetrised).
+    fn mass_form(&self, v: &DMatrix<f64>) -> DMatrix<f64>;
+}
+
+impl InteriorOperator for InteriorProblem<'_> {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn n_interior(&self) -> usize {
+        self.kii.nrows()
+    }
+    fn solve_block(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
+        self.solve(b)
+    }
+    fn mass_times(&self, v: &DVector<f64>) -> DVector<f64> {
+        self.mii * v
+    }
+    fn stiffness_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * self.kii * v
+    }
+    fn mass_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * self.mii * v
     }
 }
 

@@ -76,7 +76,7 @@ fn rigid_fields(mesh: &Mesh) -> Vec<DVector<f64>> {
 }
 
 /// The symmetric tensors S whose fields S r̄ span the centrifugal accelerations.
-fn centrifugal_tensors(dim: Dim) -> Vec<Matrix3<f64>> {
+pub(crate) fn centrifugal_tensors(dim: Dim) -> Vec<Matrix3<f64>> {
     match dim {
         Dim::Planar => vec![Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0)],
         Dim::Spatial => {

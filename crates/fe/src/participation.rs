@@ -18,17 +18,17 @@
 
 use nalgebra::DMatrix;
 
-use crate::craig_bampton::InteriorProblem;
+use crate::craig_bampton::InteriorOperator;
 
 /// Each candidate's share c_k of the static response of `loads` (n_i × L) on `p`; the
 /// candidates are the mass-normalised columns of `vectors` with their `omega_sq`.
-pub fn static_response_shares(
-    p: &InteriorProblem,
+pub fn static_response_shares<P: InteriorOperator + ?Sized>(
+    p: &P,
     vectors: &DMatrix<f64>,
     omega_sq: &[f64],
     loads: &DMatrix<f64>,
 ) -> Vec<f64> {
-    let deflections = p.solve(loads);
+    let deflections = p.solve_block(loads);
     let total: f64 = loads
         .column_iter()
         .zip(deflections.column_iter())

@@ -23,13 +23,16 @@
 //! static response to **each** load, so every static deflection of the load set is
 //! reproduced exactly once n reaches the number of independent loads.
 //!
+//! The sequence runs on any [`InteriorOperator`]: the dense blocks of a built-in beam or the
+//! sparse ones of an imported body ([`crate::imported::selection`]).
+//!
 //! Step 5 makes the basis look like a normal-mode basis to everything downstream:
 //! K_ff stays block-diagonal with ω̃² on the dynamic block, so modal damping, the shape
 //! integrals, the B-matrix route and stiffening work on it unchanged.
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::craig_bampton::{InteriorBasis, InteriorProblem};
+use crate::craig_bampton::{InteriorBasis, InteriorOperator};
 use crate::error::FeError;
 use crate::modal::{fix_signs, generalized_eigen};
 
@@ -40,19 +43,19 @@ pub const DEFLATION_TOL: f64 = 1e-10;
 /// kept M-orthogonal to the M-orthonormal columns of `avoid` (n_i × q; e.g. normal modes
 /// kept beside them). Refused, naming `normal_modes`, when the sequence spans fewer than
 /// `n` independent vectors.
-pub fn load_ritz(
-    p: &InteriorProblem,
+pub fn load_ritz<P: InteriorOperator + ?Sized>(
+    p: &P,
     loads: &DMatrix<f64>,
     n: usize,
     avoid: &DMatrix<f64>,
 ) -> Result<InteriorBasis, FeError> {
-    let ni = p.kii.nrows();
-    let mut span = MSpan::new(p.mii);
+    let ni = p.n_interior();
+    let mut span = MSpan::new(p);
     for c in avoid.column_iter() {
         span.push(c.into_owned());
     }
     let fixed = span.len();
-    let mut block = p.solve(loads);
+    let mut block = p.solve_block(loads);
     while span.len() - fixed < n {
         let kept = keep_from_block(&mut span, &block, fixed + n);
         if kept.is_empty() {
@@ -62,13 +65,13 @@ pub fn load_ritz(
                 format!(
                     "the load-dependent Ritz sequence of {} spans only {} independent vectors \
                      (its inertia and interface loads excite no more; methods.md §1.6)",
-                    p.name,
+                    p.name(),
                     span.len() - fixed
                 ),
             )));
         }
         let next = DMatrix::from_fn(ni, kept.len(), |i, j| kept[j].1[i]);
-        block = p.solve(&next);
+        block = p.solve_block(&next);
     }
     let v = DMatrix::from_fn(ni, n, |i, j| span.vectors[fixed + j][i]);
     rayleigh_ritz(p, &v, "load-dependent Ritz vectors")
@@ -76,8 +79,8 @@ pub fn load_ritz(
 
 /// Keep vectors of `block` (largest orthogonalised M-norm first) until it is used up or
 /// `span` holds `limit` vectors; returns the kept vectors with M times them.
-fn keep_from_block(
-    span: &mut MSpan,
+fn keep_from_block<P: InteriorOperator + ?Sized>(
+    span: &mut MSpan<P>,
     block: &DMatrix<f64>,
     limit: usize,
 ) -> Vec<(DVector<f64>, DVector<f64>)> {
@@ -111,7 +114,7 @@ fn keep_from_block(
         };
         survivors.remove(index);
         let v = r / rn;
-        kept.push((v.clone(), span.mass * &v));
+        kept.push((v.clone(), span.op.mass_times(&v)));
         span.push(v);
         candidates = survivors;
     }
@@ -122,15 +125,15 @@ fn keep_from_block(
 /// problem (Vᵀ K_ii V) q = ω̃² (Vᵀ M_ii V) q gives vectors V q, M_ii-orthonormal and
 /// K_ii-orthogonal, with their Ritz frequencies ω̃² ascending and signs fixed as for normal
 /// modes (step 5 above; also [`crate::pod`]). `what` names the vectors in errors.
-pub fn rayleigh_ritz(
-    p: &InteriorProblem,
+pub fn rayleigh_ritz<P: InteriorOperator + ?Sized>(
+    p: &P,
     v: &DMatrix<f64>,
     what: &str,
 ) -> Result<InteriorBasis, FeError> {
     let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
-    let k = sym(v.transpose() * p.kii * v);
-    let m = sym(v.transpose() * p.mii * v);
-    let e = generalized_eigen(&k, &m, &format!("{}: {what}", p.name))?;
+    let k = sym(p.stiffness_form(v));
+    let m = sym(p.mass_form(v));
+    let e = generalized_eigen(&k, &m, &format!("{}: {what}", p.name()))?;
     let mut vectors = v * e.vectors;
     fix_signs(&mut vectors);
     Ok(InteriorBasis {
@@ -140,16 +143,16 @@ pub fn rayleigh_ritz(
 }
 
 /// M-orthonormal vectors with M times each, for Gram–Schmidt in the M inner product.
-struct MSpan<'a> {
-    mass: &'a DMatrix<f64>,
+struct MSpan<'a, P: ?Sized> {
+    op: &'a P,
     vectors: Vec<DVector<f64>>,
     mass_times: Vec<DVector<f64>>,
 }
 
-impl<'a> MSpan<'a> {
-    fn new(mass: &'a DMatrix<f64>) -> Self {
+impl<'a, P: InteriorOperator + ?Sized> MSpan<'a, P> {
+    fn new(op: &'a P) -> Self {
         MSpan {
-            mass,
+            op,
             vectors: Vec::new(),
             mass_times: Vec::new(),
         }
@@ -160,12 +163,12 @@ impl<'a> MSpan<'a> {
     }
 
     fn push(&mut self, v: DVector<f64>) {
-        self.mass_times.push(self.mass * &v);
+        self.mass_times.push(self.op.mass_times(&v));
         self.vectors.push(v);
     }
 
     fn norm(&self, c: &DVector<f64>) -> f64 {
-        c.dot(&(self.mass * c)).max(0.0).sqrt()
+        c.dot(&self.op.mass_times(c)).max(0.0).sqrt()
     }
 
     /// c minus its M-projection on the span, classical Gram–Schmidt twice.

@@ -9,13 +9,13 @@
 //! and the same refusals: K_ii singular (a pivot fails, or a fixed-interface mode at ω² ≈ 0,
 //! a mechanism), K_ff not positive definite. No dense matrix larger than N × n is formed.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 use sprs::{CsMat, TriMat};
 
 use crate::assembly::DofSets;
-use crate::craig_bampton::{Reduction, check_reduced_stiffness};
+use crate::craig_bampton::{InteriorBasis, InteriorOperator, Reduction, check_reduced_stiffness};
 use crate::error::FeError;
-use crate::sparse::ShiftedCholesky;
+use crate::sparse::{Columns, ShiftedCholesky, symmetric_matvec};
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
 
 /// The eigen-solver's bound on the backward error of each fixed-interface mode of a beam
@@ -109,58 +109,43 @@ pub fn reduce_sparse(
     name: &str,
     frame: &str,
 ) -> Result<Reduction, FeError> {
-    let (i, b) = (&sets.i, &sets.b);
+    let i = &sets.i;
     if n_d > i.len() {
         return Err(FeError::TooManyModes {
             requested: n_d,
             available: i.len(),
         });
     }
-    let singular = |detail: String| FeError::SingularInterior {
-        spec: name.to_string(),
-        frame: frame.to_string(),
-        detail,
-    };
-    let kii = submatrix(k, i);
-    let mii = submatrix(m, i);
-    let n = k.rows();
-    let n_s = b.len();
-    let mut x = DMatrix::zeros(n, n_s + n_d);
-    for (c, &row) in b.iter().enumerate() {
-        x[(row, c)] = 1.0;
-    }
-    if n_s > 0 && !i.is_empty() {
-        let chol = ShiftedCholesky::new(&kii, &mii, 0.0).map_err(|e| match e {
-            FeError::ShiftedNotPositiveDefinite { pivot, .. } => singular(format!(
-                "Cholesky pivot of interior DOF {} is not positive",
-                i.get(pivot).copied().unwrap_or(pivot)
-            )),
-            other => other,
-        })?;
-        let mut rhs = -dense_block(k, i, b);
-        let mut scratch = chol.solve_scratch(n_s);
-        let view = faer::MatMut::from_column_major_slice_mut(rhs.as_mut_slice(), i.len(), n_s);
-        chol.solve_in_place(view, &mut scratch);
-        for (a, &row) in i.iter().enumerate() {
-            for c in 0..n_s {
-                x[(row, c)] = rhs[(a, c)];
-            }
-        }
-    }
+    let parts = Parts::new(k, m, sets, name, frame, !sets.b.is_empty())?;
+    let pairs = lowest_interior_modes(&parts.kii, &parts.mii, n_d, tol, i, &parts.singular())?;
+    parts.finish(k, m, &pairs.vectors, pairs.omega_sq)
+}
+
+/// The `n_d` lowest modes of (K_ii, M_ii) to the residual `tol` (shift-invert Lanczos), a
+/// pivot failure or an ω² ≈ 0 refused through `singular` as a mechanism; `interior` maps
+/// interior indices to DOFs in the messages.
+pub(crate) fn lowest_interior_modes(
+    kii: &CsMat<f64>,
+    mii: &CsMat<f64>,
+    n_d: usize,
+    tol: f64,
+    interior: &[usize],
+    singular: &dyn Fn(String) -> FeError,
+) -> Result<crate::modal::Eigenpairs, FeError> {
     let options = SparseEigenOptions {
         tol,
         shift,
         ..SparseEigenOptions::default()
     };
-    let pairs = lowest_modes(&kii, &mii, n_d, &options).map_err(|e| match e {
+    let pairs = lowest_modes(kii, mii, n_d, &options).map_err(|e| match e {
         FeError::ShiftedNotPositiveDefinite { pivot, .. } => singular(format!(
             "Cholesky pivot of interior DOF {} is not positive",
-            i.get(pivot).copied().unwrap_or(pivot)
+            interior.get(pivot).copied().unwrap_or(pivot)
         )),
         other => other,
     })?;
     if let Some(&lowest) = pairs.omega_sq.first()
-        && lowest <= 1e-12 * mean_diagonal_ratio(&kii, &mii)
+        && lowest <= 1e-12 * mean_diagonal_ratio(kii, mii)
     {
         return Err(singular(format!(
             "the lowest fixed-interface mode has ω² = {lowest:e}, at most 1e-12 of the mean \
@@ -168,19 +153,174 @@ pub fn reduce_sparse(
              number of a beam's K_ii grows as (length / element length)⁴: fewer elements)"
         )));
     }
-    for (a, &row) in i.iter().enumerate() {
-        for c in 0..n_d {
-            x[(row, n_s + c)] = pairs.vectors[(a, c)];
+    Ok(pairs)
+}
+
+/// Reduce the free-floating sparse (K, M) on `sets` with the static modes and the dynamic
+/// basis `dynamic` builds on the sparse fixed-interface problem (not called when there are
+/// no interior DOFs): the sparse counterpart of
+/// [`crate::craig_bampton::reduce_with_basis`].
+pub fn reduce_sparse_with_basis(
+    k: &CsMat<f64>,
+    m: &CsMat<f64>,
+    sets: &DofSets,
+    name: &str,
+    frame: &str,
+    dynamic: impl FnOnce(&SparseInteriorProblem) -> Result<InteriorBasis, FeError>,
+) -> Result<Reduction, FeError> {
+    let parts = Parts::new(k, m, sets, name, frame, true)?;
+    let basis = match &parts.chol {
+        Some(chol) => dynamic(&SparseInteriorProblem {
+            kii: &parts.kii,
+            mii: &parts.mii,
+            kii_chol: chol,
+            x_static: &parts.x_static,
+            name,
+        })?,
+        None => InteriorBasis {
+            vectors: DMatrix::zeros(0, 0),
+            omega_sq: Vec::new(),
+        },
+    };
+    parts.finish(k, m, &basis.vectors, basis.omega_sq)
+}
+
+/// The sparse fixed-interface problem a dynamic basis is built on: the interior blocks, the
+/// factorised K_ii and the static modes (the sparse [`crate::craig_bampton::InteriorProblem`]).
+pub struct SparseInteriorProblem<'a> {
+    /// K_ii (n_i × n_i, sparse).
+    pub kii: &'a CsMat<f64>,
+    /// M_ii (n_i × n_i, sparse).
+    pub mii: &'a CsMat<f64>,
+    /// The Cholesky factorisation of K_ii (shift 0).
+    pub kii_chol: &'a ShiftedCholesky,
+    /// The static modes X_s (N × n_b).
+    pub x_static: &'a DMatrix<f64>,
+    /// The spec origin, for errors.
+    pub name: &'a str,
+}
+
+impl InteriorOperator for SparseInteriorProblem<'_> {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn n_interior(&self) -> usize {
+        self.kii.rows()
+    }
+    fn solve_block(&self, b: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut z = b.clone();
+        let (rows, cols) = z.shape();
+        let mut scratch = self.kii_chol.solve_scratch(cols);
+        let view = faer::MatMut::from_column_major_slice_mut(z.as_mut_slice(), rows, cols);
+        self.kii_chol.solve_in_place(view, &mut scratch);
+        z
+    }
+    fn mass_times(&self, v: &DVector<f64>) -> DVector<f64> {
+        let mut y = DVector::zeros(v.len());
+        symmetric_matvec(&Columns::of(self.mii), v.as_slice(), y.as_mut_slice());
+        y
+    }
+    fn stiffness_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * sparse_times_dense(self.kii, v)
+    }
+    fn mass_form(&self, v: &DMatrix<f64>) -> DMatrix<f64> {
+        v.transpose() * sparse_times_dense(self.mii, v)
+    }
+}
+
+/// What both reductions share: the interior blocks, K_ii's factor (when asked for or
+/// needed by static modes) and the mode matrix with its static modes filled in.
+struct Parts<'a> {
+    sets: &'a DofSets,
+    name: &'a str,
+    frame: &'a str,
+    kii: CsMat<f64>,
+    mii: CsMat<f64>,
+    chol: Option<ShiftedCholesky>,
+    x_static: DMatrix<f64>,
+}
+
+impl<'a> Parts<'a> {
+    fn new(
+        k: &CsMat<f64>,
+        m: &CsMat<f64>,
+        sets: &'a DofSets,
+        name: &'a str,
+        frame: &'a str,
+        factorise: bool,
+    ) -> Result<Self, FeError> {
+        let (i, b) = (&sets.i, &sets.b);
+        let mut parts = Parts {
+            sets,
+            name,
+            frame,
+            kii: submatrix(k, i),
+            mii: submatrix(m, i),
+            chol: None,
+            x_static: DMatrix::zeros(k.rows(), b.len()),
+        };
+        let n_s = b.len();
+        for (c, &row) in b.iter().enumerate() {
+            parts.x_static[(row, c)] = 1.0;
+        }
+        if factorise && !i.is_empty() {
+            let chol = ShiftedCholesky::new(&parts.kii, &parts.mii, 0.0).map_err(|e| match e {
+                FeError::ShiftedNotPositiveDefinite { pivot, .. } => parts.singular()(format!(
+                    "Cholesky pivot of interior DOF {} is not positive",
+                    i.get(pivot).copied().unwrap_or(pivot)
+                )),
+                other => other,
+            })?;
+            if n_s > 0 {
+                let mut rhs = -dense_block(k, i, b);
+                let mut scratch = chol.solve_scratch(n_s);
+                let view =
+                    faer::MatMut::from_column_major_slice_mut(rhs.as_mut_slice(), i.len(), n_s);
+                chol.solve_in_place(view, &mut scratch);
+                for (a, &row) in i.iter().enumerate() {
+                    for c in 0..n_s {
+                        parts.x_static[(row, c)] = rhs[(a, c)];
+                    }
+                }
+            }
+            parts.chol = Some(chol);
+        }
+        Ok(parts)
+    }
+
+    fn singular(&self) -> impl Fn(String) -> FeError + use<'_> {
+        |detail| FeError::SingularInterior {
+            spec: self.name.to_string(),
+            frame: self.frame.to_string(),
+            detail,
         }
     }
-    let m_ff = symmetrise(&(x.transpose() * sparse_times_dense(m, &x)));
-    let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(k, &x)));
-    check_reduced_stiffness(&k_ff, &m_ff, name, frame)?;
-    Ok(Reduction {
-        sets: sets.clone(),
-        x,
-        m_ff,
-        k_ff,
-        omega_sq: pairs.omega_sq,
-    })
+
+    /// X = [X_s, the interior `vectors` on the i rows], M_ff, K_ff and the check of K_ff.
+    fn finish(
+        self,
+        k: &CsMat<f64>,
+        m: &CsMat<f64>,
+        vectors: &DMatrix<f64>,
+        omega_sq: Vec<f64>,
+    ) -> Result<Reduction, FeError> {
+        let (n_s, n_d) = (self.sets.b.len(), omega_sq.len());
+        let mut x = DMatrix::zeros(k.rows(), n_s + n_d);
+        x.columns_mut(0, n_s).copy_from(&self.x_static);
+        for (a, &row) in self.sets.i.iter().enumerate() {
+            for c in 0..n_d {
+                x[(row, n_s + c)] = vectors[(a, c)];
+            }
+        }
+        let m_ff = symmetrise(&(x.transpose() * sparse_times_dense(m, &x)));
+        let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(k, &x)));
+        check_reduced_stiffness(&k_ff, &m_ff, self.name, self.frame)?;
+        Ok(Reduction {
+            sets: self.sets.clone(),
+            x,
+            m_ff,
+            k_ff,
+            omega_sq,
+        })
+    }
 }

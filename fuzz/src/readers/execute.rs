@@ -152,6 +152,7 @@ pub fn reduction_spec(reduction: Reduction) -> ImportedBodySpec {
         boundary,
         normal_modes: 4,
         mode_selection: Default::default(),
+        mode_candidates: None,
         damping: Damping::None,
     }
 }

@@ -17,7 +17,9 @@
 //!    interfaces (K̃_ii⁻¹ by one sparse Cholesky) and fixed-interface normal modes, or
 //!    **free-free**: the lowest elastic modes of the unconstrained body, its six rigid-body
 //!    modes removed (they are M-orthogonal to them, so the frame follows the mean axes of
-//!    the linear theory) ([`reduction`]);
+//!    the linear theory) ([`reduction`]); the normal modes are the lowest, or chosen by
+//!    participation, or load-dependent Ritz vectors, as `mode_selection` says
+//!    ([`selection`]);
 //! 4. X = T X̃ on the FE DOFs, the mass cloud as an exact rewriting of the sparse mass
 //!    matrix, the 13 shape integrals from that cloud, and the node rows: the interface
 //!    points first, then every FE node ([`inertia`]).
@@ -28,6 +30,7 @@
 pub mod inertia;
 pub mod interfaces;
 pub mod reduction;
+pub mod selection;
 
 use std::path::{Path, PathBuf};
 
@@ -183,9 +186,15 @@ pub struct ImportedBodySpec {
     pub boundary: Vec<String>,
     /// Number of normal modes kept (fixed-interface, or free-free elastic).
     pub normal_modes: usize,
-    /// How the normal modes are chosen; imported bodies take the lowest.
+    /// How the normal modes are chosen (docs/methods.md §1.6, [`selection`]): the lowest
+    /// (default), by participation, or load-dependent Ritz vectors;
+    /// not `ProperOrthogonal`.
     #[serde(default)]
     pub mode_selection: ModeSelection,
+    /// `Participation` only: the lowest modes the kept ones are chosen among (default
+    /// max(2 `normal_modes`, 4), at most the model's).
+    #[serde(default)]
+    pub mode_candidates: Option<usize>,
     /// Damping of the modal coordinates.
     #[serde(default)]
     pub damping: Damping,
@@ -338,13 +347,31 @@ fn check_finite(body: &ReducedBody, name: &str) -> Result<(), FeError> {
 
 /// The checks that need no model: mode selection, frame and boundary names.
 fn check_spec(spec: &ImportedBodySpec, name: &str) -> Result<(), FeError> {
-    if spec.mode_selection != ModeSelection::LowestFrequency {
-        return Err(invalid(
-            format!("{name}.mode_selection"),
-            format!("{:?}", spec.mode_selection),
-            "an imported body takes its lowest normal modes (LowestFrequency); participation, \
-             Ritz and POD bases are for built-in beams",
-        ));
+    if spec.mode_selection == ModeSelection::ProperOrthogonal {
+        return Err(selection::refused(spec.mode_selection, name));
+    }
+    if let Some(c) = spec.mode_candidates {
+        if spec.mode_selection != ModeSelection::Participation {
+            return Err(invalid(
+                format!("{name}.mode_candidates"),
+                c,
+                format!(
+                    "only used with mode_selection: Participation (this body has {})",
+                    spec.mode_selection.name()
+                ),
+            ));
+        }
+        if c < spec.normal_modes {
+            return Err(invalid(
+                format!("{name}.mode_candidates"),
+                c,
+                format!(
+                    "must be at least normal_modes ({}): the kept modes are chosen among the \
+                     candidates",
+                    spec.normal_modes
+                ),
+            ));
+        }
     }
     let known = |n: &str| spec.interfaces.iter().any(|i| i.name == n);
     for (k, i) in spec.interfaces.iter().enumerate() {

@@ -13,13 +13,17 @@ use nalgebra::DMatrix;
 use sprs::CsMat;
 
 use super::interfaces::{ResolvedInterface, RetainedMap};
-use super::{ImportedBodySpec, ImportedFrame, invalid};
+use super::{ImportedBodySpec, ImportedFrame, invalid, selection};
 use crate::assembly::DofSets;
 use crate::craig_bampton::Reduction;
 use crate::error::FeError;
 use crate::import::FeModel;
+use crate::modal::Eigenpairs;
+use crate::selection::ModeSelection;
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
-use crate::sparse_reduction::{reduce_sparse, sparse_times_dense, symmetrise};
+use crate::sparse_reduction::{
+    reduce_sparse, reduce_sparse_with_basis, sparse_times_dense, symmetrise,
+};
 
 /// Relative size (to the first elastic ω²) below which a free-free mode counts as rigid.
 pub const RIGID_MODE_TOL: f64 = 1e-6;
@@ -65,13 +69,43 @@ pub fn reduce(
     let boundary_points: Vec<usize> = spec.boundary.iter().filter_map(|b| point(b)).collect();
     let (x, k_ff, omega_sq, frame_point) = match &spec.frame {
         ImportedFrame::FreeFree => {
-            let (x, w2) = free_free(&kt, &mt, spec.normal_modes, body)?;
+            let (x, w2) = match spec.mode_selection {
+                ModeSelection::LowestFrequency => free_free(&kt, &mt, spec.normal_modes, body)?,
+                ModeSelection::Participation => {
+                    let available = kt.rows().saturating_sub(7);
+                    if spec.normal_modes > available {
+                        return Err(FeError::TooManyModes {
+                            requested: spec.normal_modes,
+                            available,
+                        });
+                    }
+                    let c = selection::candidate_count(spec, available, body)?;
+                    let (x, w2) = free_free(&kt, &mt, c, body)?;
+                    let candidates = Eigenpairs {
+                        omega_sq: w2,
+                        vectors: x,
+                    };
+                    selection::free_free_participation(
+                        spec,
+                        model,
+                        map,
+                        &mt,
+                        interfaces.len(),
+                        &candidates,
+                    )
+                }
+                ModeSelection::LoadRitz => {
+                    let (_, rigid) = free_free_pairs(&kt, &mt, 0, body)?;
+                    selection::free_free_ritz(spec, model, map, &kt, &mt, &rigid, body)?
+                }
+                other => return Err(selection::refused(other, body)),
+            };
             let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(&kt, &x)));
             (x, k_ff, w2, None)
         }
         ImportedFrame::Interface(name) => {
             let frame = point(name).unwrap_or_default();
-            let red = clamped(&kt, &mt, map, frame, &boundary_points, spec, body)?;
+            let red = clamped(&kt, &mt, model, map, frame, &boundary_points, spec, body)?;
             (red.x, red.k_ff, red.omega_sq, Some(frame))
         }
     };
@@ -100,6 +134,18 @@ fn free_free(
     n_elastic: usize,
     body: &str,
 ) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
+    let (elastic, _) = free_free_pairs(kt, mt, n_elastic, body)?;
+    Ok((elastic.vectors, elastic.omega_sq))
+}
+
+/// The six rigid-body modes and the `n_elastic` lowest elastic modes of a free body (the
+/// checks of the module docs): the elastic pairs and the rigid vectors.
+pub(crate) fn free_free_pairs(
+    kt: &CsMat<f64>,
+    mt: &CsMat<f64>,
+    n_elastic: usize,
+    body: &str,
+) -> Result<(Eigenpairs, DMatrix<f64>), FeError> {
     let n = kt.rows();
     let wanted = 6 + n_elastic + 1;
     if wanted > n {
@@ -132,12 +178,19 @@ fn free_free(
         ));
     }
     let x = pairs.vectors.columns(6, n_elastic).into_owned();
-    Ok((x, w2[6..6 + n_elastic].to_vec()))
+    let rigid = pairs.vectors.columns(0, 6).into_owned();
+    let elastic = Eigenpairs {
+        omega_sq: w2[6..6 + n_elastic].to_vec(),
+        vectors: x,
+    };
+    Ok((elastic, rigid))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn clamped(
     kt: &CsMat<f64>,
     mt: &CsMat<f64>,
+    model: &FeModel,
     map: &RetainedMap,
     frame: usize,
     boundary_points: &[usize],
@@ -152,6 +205,16 @@ fn clamped(
         .collect();
     let sets = DofSets::new(kt.rows(), r, b);
     let frame_txt = format!("interface {:?}", spec.frame);
+    if spec.mode_selection != ModeSelection::LowestFrequency {
+        let singular = |detail: String| FeError::SingularInterior {
+            spec: body.to_string(),
+            frame: frame_txt.clone(),
+            detail,
+        };
+        return reduce_sparse_with_basis(kt, mt, &sets, body, &frame_txt, |p| {
+            selection::clamped_basis(spec, model, map, mt, &sets, p, EIGEN_TOL, &singular)
+        });
+    }
     reduce_sparse(
         kt,
         mt,
