@@ -152,7 +152,7 @@ fn by_shifted_stiffness_factor(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Option<Eig
     solve_upper_triangular_in_place(l.transpose(), x.as_mut(), Par::Seq);
     // μ ascending, so ω² = σ + 1/μ descending: take the columns from the last.
     let order: Vec<usize> = (0..n).rev().collect();
-    if order.iter().any(|&c| !(mu[c] > 0.0)) {
+    if order.iter().any(|&c| mu[c].is_nan() || mu[c] <= 0.0) {
         return None;
     }
     let omega_sq: Vec<f64> = order.iter().map(|&c| sigma + 1.0 / mu[c]).collect();

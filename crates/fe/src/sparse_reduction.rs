@@ -117,18 +117,27 @@ pub fn reduce_sparse(
         });
     }
     let parts = Parts::new(k, m, sets, name, frame, !sets.b.is_empty())?;
-    let pairs = lowest_interior_modes(&parts.kii, &parts.mii, n_d, tol, i, &parts.singular())?;
+    let pairs = lowest_interior_modes(
+        &parts.kii,
+        &parts.mii,
+        n_d,
+        tol,
+        shift,
+        i,
+        &parts.singular(),
+    )?;
     parts.finish(k, m, &pairs.vectors, pairs.omega_sq)
 }
 
-/// The `n_d` lowest modes of (K_ii, M_ii) to the residual `tol` (shift-invert Lanczos), a
-/// pivot failure or an ω² ≈ 0 refused through `singular` as a mechanism; `interior` maps
-/// interior indices to DOFs in the messages.
+/// The `n_d` lowest modes of (K_ii, M_ii) to the backward error `tol` (shift-invert
+/// Lanczos with `shift`, None: its default), a pivot failure or an ω² ≈ 0 refused through
+/// `singular` as a mechanism; `interior` maps interior indices to DOFs in the messages.
 pub(crate) fn lowest_interior_modes(
     kii: &CsMat<f64>,
     mii: &CsMat<f64>,
     n_d: usize,
     tol: f64,
+    shift: Option<f64>,
     interior: &[usize],
     singular: &dyn Fn(String) -> FeError,
 ) -> Result<crate::modal::Eigenpairs, FeError> {

@@ -138,7 +138,7 @@ pub fn clamped_basis(
         ModeSelection::LoadRitz => ritz::load_ritz(p, &loads, n, &DMatrix::zeros(ni, 0)),
         ModeSelection::Participation => {
             let c = candidate_count(spec, ni, p.name)?;
-            let candidates = lowest_interior_modes(p.kii, p.mii, c, tol, &sets.i, singular)?;
+            let candidates = lowest_interior_modes(p.kii, p.mii, c, tol, None, &sets.i, singular)?;
             let shares = participation::static_response_shares(
                 p,
                 &candidates.vectors,
