@@ -107,6 +107,19 @@ pub struct Checkpoint {
     pred_err: Vec<(f64, f64)>,
 }
 
+impl Checkpoint {
+    /// The time of the saved state (s).
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The sizes of the integrator it was taken from: coordinates n and constraints m
+    /// ([`Ali3p::restore`] accepts it only into one of these sizes).
+    pub fn size(&self) -> (usize, usize) {
+        (self.q.len(), self.lambda.len())
+    }
+}
+
 /// The kernel of the last factorisation of the leading matrix.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Factored {

@@ -1,0 +1,381 @@
+//! One FMU instance in safe Rust: the scene read from the FMU's resources, its
+//! [`Simulation`], the input values the master sets, the state machine of FMI 3.0
+//! co-simulation (instantiated → initialisation mode → step mode → terminated), and the
+//! checks that turn a bad call into an error message instead of a loop or a panic. The C
+//! API ([`crate::fmi3`]) is a thin layer over this.
+//!
+//! - **Inputs** (value references: [`crate::variables`]) are checked when set: a NaN or an
+//!   infinite value, or a value the scene's input refuses (a negative scale), is an error
+//!   and changes nothing. A value set is handed to the simulation at once
+//!   ([`Simulation::set_input`]) and holds through the steps that follow, as in the
+//!   library.
+//! - **doStep** from the current communication point t_c over h_c takes n = h_c / h steps
+//!   of the scene's own step h. h_c must be positive and finite, and a whole number of
+//!   steps within a relative 10⁻⁹ (the rule of a run's duration); t_c must be the current
+//!   time within h/2. A failed step leaves the simulation at its last good state and the
+//!   instance in an error state: every later `doStep` is refused until `reset`.
+//! - **FMU state** is a checkpoint of the integrator ([`Simulation::checkpoint`]) with
+//!   the input values: restoring one returns the inputs to their saved values.
+
+use std::path::Path;
+
+use flexmbd::integrators::Checkpoint;
+use flexmbd::model::Scene;
+use flexmbd::simulation::MAX_STEPS;
+use flexmbd::{Error, Simulation};
+
+use crate::variables::{Reference, Variables};
+
+/// The scene's file in the FMU's `resources/`.
+pub const SCENE_FILE: &str = "scene.ron";
+
+/// A refused call: what the logger is told.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CallError(pub String);
+
+impl std::fmt::Display for CallError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+fn refuse<T>(message: impl Into<String>) -> Result<T, CallError> {
+    Err(CallError(message.into()))
+}
+
+/// Where an instance is in its life (FMI 3.0 co-simulation states).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Made, not yet initialising: inputs may be set.
+    Instantiated,
+    /// Between `enterInitializationMode` and `exitInitializationMode`.
+    Initialization,
+    /// Stepping.
+    Step,
+    /// After `terminate`.
+    Terminated,
+    /// A step failed: only reading, `terminate`, `reset` and `freeInstance` are allowed.
+    Failed,
+}
+
+/// A saved state of an instance ([`Instance::state`]).
+#[derive(Clone, Debug)]
+pub struct FmuState {
+    checkpoint: Checkpoint,
+    input_values: Vec<f64>,
+    touched: Vec<bool>,
+}
+
+/// One instance of the FMU (see the module documentation).
+pub struct Instance {
+    scene: Scene,
+    simulation: Simulation,
+    variables: Variables,
+    /// The value of each input variable, as last set (or its start value).
+    input_values: Vec<f64>,
+    /// Per input of the scene: its first input variable and its number of values.
+    input_ranges: Vec<(usize, usize)>,
+    /// Per input of the scene: set by the master since the start (a driver follows its
+    /// law until then).
+    touched: Vec<bool>,
+    sensors: Vec<f64>,
+    sensors_fresh: bool,
+    mode: Mode,
+}
+
+/// The instantiation token of the FMU of a scene whose `scene.ron` is `text`: FNV-1a (64
+/// bits) of the text, so that an FMU's binary refuses another FMU's resources.
+pub fn token(text: &str) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for byte in text.bytes() {
+        hash ^= u64::from(byte);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{{flexmbd-{hash:016x}}}")
+}
+
+impl Instance {
+    /// Read `scene.ron` from the FMU's resource directory `resources`, check it against
+    /// the instantiation `token` and start its simulation.
+    pub fn from_resources(resources: &Path, token_given: &str) -> Result<Instance, CallError> {
+        let path = resources.join(SCENE_FILE);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            CallError(format!(
+                "cannot read the scene {}: {e} (is the resource path the FMU's resources/ folder?)",
+                path.display()
+            ))
+        })?;
+        let expected = token(&text);
+        if token_given != expected {
+            return refuse(format!(
+                "instantiation token {token_given} is not this FMU's ({expected}): the model description and {} differ",
+                path.display()
+            ));
+        }
+        let scene = Scene::load(&path).map_err(|e| CallError(e.to_string()))?;
+        Instance::new(scene)
+    }
+
+    /// An instance of `scene` (validated), at t = 0.
+    pub fn new(scene: Scene) -> Result<Instance, CallError> {
+        let simulation = Simulation::new(&scene).map_err(|e| CallError(e.to_string()))?;
+        let variables = Variables::of(&simulation, &scene);
+        let mut input_ranges: Vec<(usize, usize)> = Vec::new();
+        for (k, v) in variables.inputs.iter().enumerate() {
+            match input_ranges.get_mut(v.input) {
+                Some(range) => range.1 += 1,
+                None => input_ranges.push((k, 1)),
+            }
+        }
+        Ok(Instance {
+            input_values: variables.inputs.iter().map(|v| v.start).collect(),
+            touched: vec![false; input_ranges.len()],
+            input_ranges,
+            sensors: vec![0.0; variables.outputs.len()],
+            sensors_fresh: false,
+            variables,
+            simulation,
+            scene,
+            mode: Mode::Instantiated,
+        })
+    }
+
+    /// The FMU's variables.
+    pub fn variables(&self) -> &Variables {
+        &self.variables
+    }
+
+    /// Where the instance is in its life.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// The simulation, for tests and measurements.
+    pub fn simulation(&self) -> &Simulation {
+        &self.simulation
+    }
+
+    /// `enterInitializationMode`: from the instantiated state only. The start time must
+    /// be 0 (the scene starts there).
+    pub fn enter_initialization(&mut self, start_time: f64) -> Result<(), CallError> {
+        self.require(&[Mode::Instantiated], "enterInitializationMode")?;
+        if start_time != 0.0 {
+            return refuse(format!(
+                "startTime = {start_time}: the scene's simulation starts at t = 0"
+            ));
+        }
+        self.mode = Mode::Initialization;
+        Ok(())
+    }
+
+    /// `exitInitializationMode`: step mode follows.
+    pub fn exit_initialization(&mut self) -> Result<(), CallError> {
+        self.require(&[Mode::Initialization], "exitInitializationMode")?;
+        self.mode = Mode::Step;
+        Ok(())
+    }
+
+    /// `terminate`.
+    pub fn terminate(&mut self) -> Result<(), CallError> {
+        self.require(&[Mode::Step, Mode::Failed], "terminate")?;
+        self.mode = Mode::Terminated;
+        Ok(())
+    }
+
+    /// `reset`: a new simulation of the same scene, inputs at their start values.
+    pub fn reset(&mut self) -> Result<(), CallError> {
+        *self = Instance::new(self.scene.clone())?;
+        Ok(())
+    }
+
+    fn require(&self, modes: &[Mode], call: &str) -> Result<(), CallError> {
+        if modes.contains(&self.mode) {
+            return Ok(());
+        }
+        let after = if self.mode == Mode::Failed {
+            " (a step failed: reset or free the instance)"
+        } else {
+            ""
+        };
+        refuse(format!(
+            "{call} is not allowed in the {:?} state{after}",
+            self.mode
+        ))
+    }
+
+    /// The values of the variables `vrs`, into `values`.
+    pub fn get(&mut self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
+        if vrs.len() != values.len() {
+            return refuse(format!(
+                "{} value references but room for {} values",
+                vrs.len(),
+                values.len()
+            ));
+        }
+        for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
+            *value = match self.reference(vr)? {
+                Reference::Time => self.simulation.time(),
+                Reference::Input(k) => self.input_values[k],
+                Reference::Output(k) => {
+                    if !self.sensors_fresh {
+                        self.simulation.read_sensors(&mut self.sensors);
+                        self.sensors_fresh = true;
+                    }
+                    self.sensors[k]
+                }
+            };
+        }
+        Ok(())
+    }
+
+    /// Set the input variables `vrs` to `values`, each checked (finite, accepted by its
+    /// input) before any is set: a refused call changes nothing.
+    pub fn set(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
+        self.require(
+            &[Mode::Instantiated, Mode::Initialization, Mode::Step],
+            "setFloat64",
+        )?;
+        if vrs.len() != values.len() {
+            return refuse(format!(
+                "{} value references but {} values",
+                vrs.len(),
+                values.len()
+            ));
+        }
+        let mut candidate = self.input_values.clone();
+        let mut changed = vec![false; self.input_ranges.len()];
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let k = match self.reference(vr)? {
+                Reference::Input(k) => k,
+                _ => {
+                    return refuse(format!(
+                        "value reference {vr} is not an input: only inputs can be set"
+                    ));
+                }
+            };
+            let variable = &self.variables.inputs[k];
+            if !value.is_finite() {
+                return refuse(format!(
+                    "{} (value reference {vr}) = {value}: must be finite",
+                    variable.name
+                ));
+            }
+            candidate[k] = value;
+            changed[variable.input] = true;
+        }
+        // Each changed input whole, checked by the simulation; undone if a later one is
+        // refused.
+        let before = self.input_values.clone();
+        for (input, _) in changed.iter().enumerate().filter(|(_, c)| **c) {
+            if let Err(e) = self.push_input(input, &candidate) {
+                for (other, _) in changed.iter().enumerate().filter(|(_, c)| **c) {
+                    if self.touched[other] {
+                        let _ = self.push_input(other, &before);
+                    }
+                }
+                return refuse(e.to_string());
+            }
+        }
+        for (input, &c) in changed.iter().enumerate() {
+            self.touched[input] |= c;
+        }
+        self.input_values = candidate;
+        self.sensors_fresh = false;
+        Ok(())
+    }
+
+    /// Hand input `input` its values from `values` (all input variables).
+    fn push_input(&mut self, input: usize, values: &[f64]) -> Result<(), Error> {
+        let (first, n) = self.input_ranges[input];
+        let name = self.variables.inputs[first]
+            .name
+            .split_once('.')
+            .map_or("", |(name, _)| name);
+        let id = self.simulation.input(name)?;
+        self.simulation.set_input(id, &values[first..first + n])
+    }
+
+    fn reference(&self, vr: u32) -> Result<Reference, CallError> {
+        self.variables.reference(vr).ok_or_else(|| {
+            CallError(format!(
+                "unknown value reference {vr}: this FMU's are 0 to {}",
+                self.variables.inputs.len() + self.variables.outputs.len()
+            ))
+        })
+    }
+
+    /// `doStep` from `t_c` over `h_c` (see the module documentation). On a failed step the
+    /// error is returned and the time of the last good state is [`Simulation::time`].
+    pub fn do_step(&mut self, t_c: f64, h_c: f64) -> Result<(), CallError> {
+        self.require(&[Mode::Step], "doStep")?;
+        let h = self.simulation.step_size();
+        if !(h_c.is_finite() && h_c > 0.0) {
+            return refuse(format!(
+                "communicationStepSize = {h_c}: must be positive and finite"
+            ));
+        }
+        let time = self.simulation.time();
+        if !(t_c.is_finite() && (t_c - time).abs() <= 0.5 * h) {
+            return refuse(format!(
+                "currentCommunicationPoint = {t_c} s, but the FMU is at t = {time} s"
+            ));
+        }
+        let ratio = h_c / h;
+        let n = ratio.round();
+        if n < 1.0 || (ratio - n).abs() > 1e-9 * n || n > MAX_STEPS as f64 {
+            return refuse(format!(
+                "communicationStepSize = {h_c} s is not a whole number (1 to {MAX_STEPS}) of the scene's steps h = {h} s ({ratio} steps)"
+            ));
+        }
+        self.sensors_fresh = false;
+        for _ in 0..n as u64 {
+            if let Err(e) = self.simulation.step() {
+                self.mode = Mode::Failed;
+                return refuse(format!(
+                    "the step from t = {} s failed: {e}",
+                    self.simulation.time()
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The current state (integrator and inputs), to return to with
+    /// [`set_state`](Instance::set_state).
+    pub fn state(&self) -> FmuState {
+        FmuState {
+            checkpoint: self.simulation.checkpoint(),
+            input_values: self.input_values.clone(),
+            touched: self.touched.clone(),
+        }
+    }
+
+    /// Return to `state`, a state of this instance or of another instance of the same
+    /// FMU. The inputs return to their saved values; an input the master had not set
+    /// when the state was saved keeps the values it has now.
+    pub fn set_state(&mut self, state: &FmuState) -> Result<(), CallError> {
+        let size = (
+            self.simulation.n_coordinates(),
+            self.simulation.n_constraints(),
+        );
+        if state.input_values.len() != self.input_values.len() || state.checkpoint.size() != size {
+            return refuse("the FMU state was taken from another FMU");
+        }
+        self.simulation.restore(&state.checkpoint);
+        for input in 0..self.input_ranges.len() {
+            if state.touched[input] {
+                self.push_input(input, &state.input_values)
+                    .map_err(|e| CallError(e.to_string()))?;
+                let (first, n) = self.input_ranges[input];
+                self.input_values[first..first + n]
+                    .copy_from_slice(&state.input_values[first..first + n]);
+                self.touched[input] = true;
+            }
+        }
+        self.sensors_fresh = false;
+        if self.mode == Mode::Failed {
+            self.mode = Mode::Step;
+        }
+        Ok(())
+    }
+}
