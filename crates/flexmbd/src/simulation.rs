@@ -366,6 +366,27 @@ impl Simulation {
         Self::start(compile_scene(scene, stop)?).map_err(|failure| failure.error)
     }
 
+    /// [`new`](Simulation::new), with some of the scene's named inputs set before the
+    /// start: the static equilibrium (when the scene asks for one) and the consistent
+    /// initial conditions are found with them, as with the same values written into the
+    /// scene. For a host that sets inputs before the first step and wants them to hold
+    /// from t = 0 (an FMU's initialisation mode). An unknown name or a refused value is an
+    /// [`Error::Input`] naming it.
+    pub fn with_inputs(scene: &Scene, inputs: &[(&str, &[f64])]) -> Result<Simulation, Error> {
+        let compiled = compile_scene(scene, &NO_STOP)?;
+        for (name, values) in inputs {
+            let k = compiled.inputs.find(name).ok_or_else(|| {
+                Error::Input(flexmbd_core::InvalidValue::new(
+                    "input",
+                    name,
+                    "the scene declares no such input",
+                ))
+            })?;
+            compiled.inputs.set(k, values).map_err(Error::Input)?;
+        }
+        Self::start(compiled).map_err(|failure| failure.error)
+    }
+
     /// The static start (if asked for) and ALI3-P's consistent initial conditions.
     fn start(mut compiled: Compiled) -> Result<Simulation, Box<StartFailure>> {
         let setup = &mut compiled.setup;

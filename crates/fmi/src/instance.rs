@@ -14,6 +14,8 @@
 //!   steps within a relative 10⁻⁹ (the rule of a run's duration); t_c must be the current
 //!   time within h/2. A failed step leaves the simulation at its last good state and the
 //!   instance in an error state: every later `doStep` is refused until `reset`.
+//! - **Inputs set before `exitInitializationMode`** hold from t = 0: the simulation starts
+//!   with them ([`Simulation::with_inputs`]).
 //! - **FMU state** is a checkpoint of the integrator ([`Simulation::checkpoint`]) with
 //!   the input values: restoring one returns the inputs to their saved values.
 
@@ -21,6 +23,7 @@ use std::path::Path;
 
 use flexmbd::integrators::Checkpoint;
 use flexmbd::model::Scene;
+use flexmbd::model::inputs::InputKind;
 use flexmbd::simulation::MAX_STEPS;
 use flexmbd::{Error, Simulation};
 
@@ -78,6 +81,8 @@ pub struct Instance {
     /// Per input of the scene: set by the master since the start (a driver follows its
     /// law until then).
     touched: Vec<bool>,
+    /// Per input of the scene: a driver's.
+    drivers: Vec<bool>,
     sensors: Vec<f64>,
     sensors_fresh: bool,
     mode: Mode,
@@ -127,7 +132,17 @@ impl Instance {
                 None => input_ranges.push((k, 1)),
             }
         }
+        let drivers = simulation
+            .input_names()
+            .map(|name| {
+                let kind = simulation
+                    .input(name)
+                    .and_then(|id| simulation.input_kind(id));
+                matches!(kind, Ok(InputKind::Driver { .. }))
+            })
+            .collect();
         Ok(Instance {
+            drivers,
             input_values: variables.inputs.iter().map(|v| v.start).collect(),
             touched: vec![false; input_ranges.len()],
             input_ranges,
@@ -168,11 +183,38 @@ impl Instance {
         Ok(())
     }
 
-    /// `exitInitializationMode`: step mode follows.
+    /// `exitInitializationMode`: step mode follows. When inputs were set before, the
+    /// simulation starts again with them ([`Simulation::with_inputs`]): its consistent
+    /// initial conditions (and static equilibrium, if the scene asks for one) hold them,
+    /// as with the same values written into the scene.
     pub fn exit_initialization(&mut self) -> Result<(), CallError> {
         self.require(&[Mode::Initialization], "exitInitializationMode")?;
+        if self.touched.iter().any(|&t| t) {
+            let names: Vec<String> = (0..self.input_ranges.len())
+                .map(|input| self.input_name(input).to_string())
+                .collect();
+            let inputs: Vec<(&str, &[f64])> = (0..self.input_ranges.len())
+                .filter(|&input| self.touched[input])
+                .map(|input| {
+                    let (first, n) = self.input_ranges[input];
+                    (names[input].as_str(), &self.input_values[first..first + n])
+                })
+                .collect();
+            self.simulation = Simulation::with_inputs(&self.scene, &inputs)
+                .map_err(|e| CallError(e.to_string()))?;
+            self.sensors_fresh = false;
+        }
         self.mode = Mode::Step;
         Ok(())
+    }
+
+    /// The name of input `input` of the scene.
+    fn input_name(&self, input: usize) -> &str {
+        let (first, _) = self.input_ranges[input];
+        self.variables.inputs[first]
+            .name
+            .rsplit_once('.')
+            .map_or("", |(name, _)| name)
     }
 
     /// `terminate`.
@@ -287,11 +329,7 @@ impl Instance {
     /// Hand input `input` its values from `values` (all input variables).
     fn push_input(&mut self, input: usize, values: &[f64]) -> Result<(), Error> {
         let (first, n) = self.input_ranges[input];
-        let name = self.variables.inputs[first]
-            .name
-            .split_once('.')
-            .map_or("", |(name, _)| name);
-        let id = self.simulation.input(name)?;
+        let id = self.simulation.input(self.input_name(input))?;
         self.simulation.set_input(id, &values[first..first + n])
     }
 
@@ -351,8 +389,9 @@ impl Instance {
     }
 
     /// Return to `state`, a state of this instance or of another instance of the same
-    /// FMU. The inputs return to their saved values; an input the master had not set
-    /// when the state was saved keeps the values it has now.
+    /// FMU. The inputs return to their saved values, except a driver input the master
+    /// had not set when the state was saved: it keeps what it has now (a driver set once
+    /// does not return to its law).
     pub fn set_state(&mut self, state: &FmuState) -> Result<(), CallError> {
         let size = (
             self.simulation.n_coordinates(),
@@ -363,13 +402,13 @@ impl Instance {
         }
         self.simulation.restore(&state.checkpoint);
         for input in 0..self.input_ranges.len() {
-            if state.touched[input] {
+            if state.touched[input] || !self.drivers[input] {
                 self.push_input(input, &state.input_values)
                     .map_err(|e| CallError(e.to_string()))?;
                 let (first, n) = self.input_ranges[input];
                 self.input_values[first..first + n]
                     .copy_from_slice(&state.input_values[first..first + n]);
-                self.touched[input] = true;
+                self.touched[input] |= state.touched[input];
             }
         }
         self.sensors_fresh = false;
