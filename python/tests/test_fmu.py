@@ -54,16 +54,38 @@ def simulate_rows(cli: str, scene: str, tmp_path: pathlib.Path, duration: float)
     return read_csv(out)
 
 
-def test_the_double_four_bar_fmu_validates_and_gives_simulate_s_rows_bit_for_bit(cli, tmp_path):
-    fmu = export(cli, model("double_four_bar.ron"), tmp_path / "double_four_bar.fmu")
+def iltis_with_road_input(tmp_path: pathlib.Path) -> str:
+    """models/iltis_vehicle.ron with an input `road_offset` on its road."""
+    text = pathlib.Path(model("iltis_vehicle.ron")).read_text()
+    text = text.replace(
+        "    sensors: [", '    inputs: [(name: "road_offset", kind: Road(road: "road"))],\n    sensors: [', 1
+    )
+    path = tmp_path / "iltis_road.ron"
+    path.write_text(text)
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    "scene, duration, interval, count",
+    [
+        ("double_four_bar.ron", 1.0, 0.01, 101),
+        # A flexible body imported from CalculiX: its files go into resources/data/.
+        ("imported_bar_pendulum.ron", 0.05, 0.005, 11),
+        # 204 coordinates, a static start, a road input left at its start values.
+        ("iltis_road", 0.2, 0.005, 41),
+    ],
+)
+def test_the_fmu_validates_and_gives_simulate_s_rows_bit_for_bit(cli, tmp_path, scene, duration, interval, count):
+    path = iltis_with_road_input(tmp_path) if scene == "iltis_road" else model(scene)
+    fmu = export(cli, path, tmp_path / "scene.fmu")
     assert validate_fmu(fmu) == []
-    result = fmpy.simulate_fmu(fmu, stop_time=1.0, output_interval=0.01)
-    names, rows = simulate_rows(cli, model("double_four_bar.ron"), tmp_path, 1.0)
+    result = fmpy.simulate_fmu(fmu, stop_time=duration, output_interval=interval)
+    names, expected = simulate_rows(cli, path, tmp_path, duration)
     assert list(result.dtype.names) == ["time", *names[1:]]
-    assert len(result) == len(rows) == 101
-    np.testing.assert_allclose(result["time"], rows[:, 0], rtol=0, atol=1e-12)
+    assert len(result) == len(expected) == count
+    np.testing.assert_allclose(result["time"], expected[:, 0], rtol=0, atol=1e-12)
     for k, name in enumerate(names[1:], start=1):
-        assert np.array_equal(result[name], rows[:, k]), name
+        assert np.array_equal(result[name], expected[:, k]), name
 
 
 def test_an_input_file_gives_the_scene_with_the_value_written_bit_for_bit(cli, tmp_path):
