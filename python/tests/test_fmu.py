@@ -1,4 +1,4 @@
-"""`flexmbd fmu` (issue 28): the FMI 3.0 co-simulation FMU of a scene, checked with FMPy —
+"""`flexmbd fmu` (issue 28): the FMI 3.0 and 2.0 co-simulation FMUs of a scene, checked with FMPy —
 `fmpy validate` finds no problem; `fmpy simulate` gives the rows of `flexmbd simulate` bit
 for bit, with and without an input file; a state saved, stepped on and restored replays the
 same steps; bad calls are FMI errors with a message through the logger, not a crash."""
@@ -75,9 +75,11 @@ def iltis_with_road_input(tmp_path: pathlib.Path) -> str:
         ("iltis_road", 0.2, 0.005, 41),
     ],
 )
-def test_the_fmu_validates_and_gives_simulate_s_rows_bit_for_bit(cli, tmp_path, scene, duration, interval, count):
+@pytest.mark.parametrize("fmi", ["3", "2"])
+def test_the_fmu_validates_and_gives_simulate_s_rows_bit_for_bit(cli, tmp_path, scene, duration, interval, count, fmi):
     path = iltis_with_road_input(tmp_path) if scene == "iltis_road" else model(scene)
-    fmu = export(cli, path, tmp_path / "scene.fmu")
+    fmu = export(cli, path, tmp_path / "scene.fmu", "--fmi", fmi)
+    assert fmpy.read_model_description(fmu).fmiVersion == fmi + ".0"
     assert validate_fmu(fmu) == []
     result = fmpy.simulate_fmu(fmu, stop_time=duration, output_interval=interval)
     names, expected = simulate_rows(cli, path, tmp_path, duration)
@@ -88,12 +90,13 @@ def test_the_fmu_validates_and_gives_simulate_s_rows_bit_for_bit(cli, tmp_path, 
         assert np.array_equal(result[name], expected[:, k]), name
 
 
-def test_an_input_file_gives_the_scene_with_the_value_written_bit_for_bit(cli, tmp_path):
+@pytest.mark.parametrize("fmi", ["3", "2"])
+def test_an_input_file_gives_the_scene_with_the_value_written_bit_for_bit(cli, tmp_path, fmi):
     # motor.tau_z = 2 N.m from FMPy's input file (set in initialisation mode, held through
     # every step) against `flexmbd simulate` of the scene with the torque written in it.
     driven = four_bar_with_motor(tmp_path, "driven.ron", 0.0, True)
     written = four_bar_with_motor(tmp_path, "written.ron", 2.0, False)
-    fmu = export(cli, driven, tmp_path / "motor.fmu")
+    fmu = export(cli, driven, tmp_path / "motor.fmu", "--fmi", fmi)
     assert validate_fmu(fmu) == []
     description = fmpy.read_model_description(fmu)
     inputs = [v.name for v in description.modelVariables if v.causality == "input"]
@@ -219,8 +222,65 @@ def test_a_missing_resource_or_a_wrong_token_is_logged_and_instantiation_fails(c
         assert ("cannot read the scene" if remove else "instantiation token {wrong}") in messages[0][1]
 
 
-def test_fmu_refuses_fmi_2_and_a_name_without_fmu(cli, tmp_path):
-    done = run_cli(cli, "fmu", model("double_four_bar.ron"), "--output", str(tmp_path / "a.fmu"), "--fmi", "2")
-    assert done.returncode != 0 and "--fmi 2" in done.stderr
+def test_fmi_2_restores_states_and_refuses_bad_calls_with_a_logged_message(cli, tmp_path):
+    from fmpy.fmi2 import (FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
+                           fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE)
+    from fmpy import calloc, free
+
+    scene = four_bar_with_motor(tmp_path, "driven.ron", 0.0, True)
+    unzipped = fmpy.extract(export(cli, scene, tmp_path / "m2.fmu", "--fmi", "2"))
+    description = fmpy.read_model_description(unzipped)
+    messages = []
+
+    def log(environment, name, status, category, message):
+        messages.append((status, message.decode()))
+
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(log)
+    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    fmu = FMU2Slave(guid=description.guid, unzipDirectory=unzipped,
+                    modelIdentifier=description.coSimulation.modelIdentifier, instanceName="m2")
+    fmu.instantiate(callbacks=callbacks)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    tau_z, outputs, h = 6, [7, 8, 9], 0.001
+    fmu.doStep(0.0, 50 * h)
+    saved = fmu.getFMUstate()
+
+    def run():
+        rows, t = [], 50 * h
+        for k in range(10):
+            fmu.setReal([tau_z], [math.cos(k)])
+            fmu.doStep(t, 3 * h)
+            t += 3 * h
+            rows.append(fmu.getReal(outputs))
+        return rows
+
+    first = run()
+    fmu.setFMUstate(saved)
+    assert run() == first
+    fmu.freeFMUstate(saved)
+    assert messages == []
+    for call, words in [
+        (lambda: fmu.setReal([tau_z], [float("nan")]), ["motor.tau_z", "NaN"]),
+        (lambda: fmu.getReal([999]), ["unknown value reference 999"]),
+        (lambda: fmu.doStep(0.08, -0.01), ["communicationStepSize = -0.01"]),
+        (lambda: fmu.getInteger([1]), ["Real"]),
+    ]:
+        messages.clear()
+        with pytest.raises(FMICallException):
+            call()
+        assert len(messages) == 1 and messages[0][0] == 3, messages
+        for word in words:
+            assert word in messages[0][1], messages[0][1]
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_fmu_refuses_an_unknown_fmi_version_and_a_name_without_fmu(cli, tmp_path):
+    done = run_cli(cli, "fmu", model("double_four_bar.ron"), "--output", str(tmp_path / "a.fmu"), "--fmi", "1")
+    assert done.returncode != 0 and "--fmi 1" in done.stderr
     done = run_cli(cli, "fmu", model("double_four_bar.ron"), "--output", str(tmp_path / "a.zip"))
     assert done.returncode != 0 and ".fmu" in done.stderr

@@ -1,4 +1,5 @@
-//! `flexmbd fmu SCENE --output NAME.fmu`: the FMI 3.0 co-simulation FMU of a scene
+//! `flexmbd fmu SCENE --output NAME.fmu [--fmi 3|2]`: the FMI 3.0 (or 2.0) co-simulation
+//! FMU of a scene
 //! (`flexmbd_fmi`): the scene with its `--set` values applied and the files it reads go
 //! into the FMU's `resources/`, the shared library `libflexmbd_fmi` (built with
 //! `cargo build --release -p flexmbd-fmi`, found beside this program or named with
@@ -7,6 +8,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use flexmbd_fmi::package::Version;
 
 use crate::{CliResult, SceneInput, exit};
 
@@ -22,7 +24,7 @@ pub(crate) struct FmuArgs {
     /// The FMU file to write (NAME.fmu; NAME, made a C identifier, is the model identifier).
     #[arg(long)]
     output: PathBuf,
-    /// FMI version: 3 (2 is not made yet).
+    /// FMI version: 3 or 2 (one library serves both).
     #[arg(long, default_value_t = 3)]
     fmi: u8,
     /// The FMU's shared library (default: libflexmbd_fmi beside this program).
@@ -32,13 +34,13 @@ pub(crate) struct FmuArgs {
 
 /// `flexmbd fmu`: load the scene, apply the command line, validate it and write the FMU.
 pub(crate) fn fmu(args: &FmuArgs) -> CliResult {
-    if args.fmi != 3 {
-        return Err(format!(
-            "--fmi {}: this version writes FMI 3.0 FMUs only (--fmi 3)",
-            args.fmi
-        )
-        .into());
-    }
+    let version = match args.fmi {
+        3 => Version::Fmi3,
+        2 => Version::Fmi2,
+        other => {
+            return Err(format!("--fmi {other}: the FMI versions written are 3 and 2").into());
+        }
+    };
     if args.output.extension().is_none_or(|e| e != "fmu") {
         return Err(format!(
             "--output {}: an FMU's name ends in .fmu",
@@ -55,7 +57,7 @@ pub(crate) fn fmu(args: &FmuArgs) -> CliResult {
         Some(path) => path.clone(),
         None => default_library()?,
     };
-    flexmbd_fmi::package::write_fmu(&scene, &args.output, &library)?;
+    flexmbd_fmi::package::write_fmu(&scene, &args.output, &library, version)?;
     println!("wrote {}", args.output.display());
     Ok(exit::SUCCESS)
 }

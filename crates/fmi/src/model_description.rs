@@ -129,3 +129,92 @@ pub fn fmi3(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
 fn unit_attribute(unit: Option<&str>) -> String {
     unit.map_or_else(String::new, |u| format!(r#" unit="{u}""#))
 }
+
+/// The FMI 2.0 model description of the same FMU: the same value references (no `time`
+/// variable: FMI 2.0 has none), `ScalarVariable`s of type `Real`, the model structure by
+/// 1-based indices into the variable list, and the GUID `token`.
+pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str) -> String {
+    let s = &scene.solver;
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" description="{}" guid="{}" generationTool="flexmbd {}" variableNamingConvention="flat" numberOfEventIndicators="0">"#,
+        escape(&scene.name),
+        escape(&scene.description),
+        escape(token),
+        env!("CARGO_PKG_VERSION"),
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
+    );
+    let used: Vec<&str> = variables
+        .inputs
+        .iter()
+        .filter_map(|v| v.unit)
+        .chain(variables.outputs.iter().filter_map(|v| v.unit))
+        .collect();
+    let units: Vec<_> = UNITS.iter().filter(|(u, _)| used.contains(u)).collect();
+    if !units.is_empty() {
+        let _ = writeln!(x, "  <UnitDefinitions>");
+        for (name, base) in units {
+            let _ = writeln!(x, r#"    <Unit name="{name}"><BaseUnit {base}/></Unit>"#);
+        }
+        let _ = writeln!(x, "  </UnitDefinitions>");
+    }
+    let _ = writeln!(
+        x,
+        r#"  <LogCategories>
+    <Category name="logStatusError" description="a refused call or a failed step"/>
+    <Category name="logStatusFatal" description="an internal error"/>
+  </LogCategories>"#
+    );
+    let _ = writeln!(
+        x,
+        r#"  <DefaultExperiment startTime="0" stopTime="{}" stepSize="{}"/>"#,
+        s.duration,
+        s.output_interval.unwrap_or(s.step)
+    );
+    let _ = writeln!(x, "  <ModelVariables>");
+    for (k, v) in variables.inputs.iter().enumerate() {
+        let _ = writeln!(
+            x,
+            r#"    <ScalarVariable name="{}" valueReference="{}" causality="input" variability="continuous" description="{}"><Real start="{}"{}/></ScalarVariable>"#,
+            escape(&v.name),
+            variables.input_reference(k),
+            escape(&v.description),
+            v.start,
+            unit_attribute(v.unit),
+        );
+    }
+    for (k, v) in variables.outputs.iter().enumerate() {
+        let _ = writeln!(
+            x,
+            r#"    <ScalarVariable name="{}" valueReference="{}" causality="output" variability="continuous" initial="calculated" description="sensor {}"><Real{}/></ScalarVariable>"#,
+            escape(&v.name),
+            variables.output_reference(k),
+            escape(&v.name),
+            unit_attribute(v.unit),
+        );
+    }
+    let _ = writeln!(x, "  </ModelVariables>");
+    let _ = writeln!(x, "  <ModelStructure>");
+    let first_output = variables.inputs.len() + 1;
+    let n = variables.outputs.len();
+    if n > 0 {
+        let _ = writeln!(x, "    <Outputs>");
+        for k in 0..n {
+            let _ = writeln!(x, r#"      <Unknown index="{}"/>"#, first_output + k);
+        }
+        let _ = writeln!(x, "    </Outputs>");
+        let _ = writeln!(x, "    <InitialUnknowns>");
+        for k in 0..n {
+            let _ = writeln!(x, r#"      <Unknown index="{}"/>"#, first_output + k);
+        }
+        let _ = writeln!(x, "    </InitialUnknowns>");
+    }
+    let _ = writeln!(x, "  </ModelStructure>");
+    let _ = writeln!(x, "</fmiModelDescription>");
+    x
+}

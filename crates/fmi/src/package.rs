@@ -16,6 +16,15 @@ use crate::instance::{SCENE_FILE, token};
 use crate::model_description;
 use crate::variables::Variables;
 
+/// The FMI version of an FMU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    /// FMI 2.0.
+    Fmi2,
+    /// FMI 3.0.
+    Fmi3,
+}
+
 /// The FMI 3.0 platform folder of the machine this runs on, and its shared-library
 /// extension; `None` for a platform the FMU is not made for.
 pub fn host_platform() -> Option<(&'static str, &'static str)> {
@@ -26,6 +35,21 @@ pub fn host_platform() -> Option<(&'static str, &'static str)> {
         ("aarch64", "macos") => Some(("aarch64-darwin", "dylib")),
         ("x86_64", "windows") => Some(("x86_64-windows", "dll")),
         _ => None,
+    }
+}
+
+/// The platform folder of `version` for the machine this runs on (FMI 2.0 names only
+/// the 64-bit desktop platforms: linux64, darwin64, win64).
+fn platform_folder(version: Version) -> Option<&'static str> {
+    let (fmi3, _) = host_platform()?;
+    match version {
+        Version::Fmi3 => Some(fmi3),
+        Version::Fmi2 => match fmi3 {
+            "x86_64-linux" => Some("linux64"),
+            "x86_64-darwin" => Some("darwin64"),
+            "x86_64-windows" => Some("win64"),
+            _ => None,
+        },
     }
 }
 
@@ -96,17 +120,26 @@ pub fn resources(scene: &Scene) -> Result<Resources, String> {
     Ok(Resources { scene_text, files })
 }
 
-/// Write the FMI 3.0 co-simulation FMU of `scene` (validated; `origin` its file) to
-/// `output`, with `library` (this crate built as a shared library for the host) as its
-/// binary. The scene is compiled and started once, for its variables.
-pub fn write_fmu(scene: &Scene, output: &Path, library: &Path) -> Result<(), String> {
-    let (platform, extension) = host_platform().ok_or_else(|| {
-        format!(
-            "no FMI platform name for {}-{}",
-            std::env::consts::ARCH,
-            std::env::consts::OS
-        )
-    })?;
+/// Write the FMI `version` co-simulation FMU of `scene` (validated; `origin` its file) to
+/// `output`, with `library` (this crate built as a shared library for the host: it holds
+/// both APIs) as its binary. The scene is compiled and started once, for its variables.
+pub fn write_fmu(
+    scene: &Scene,
+    output: &Path,
+    library: &Path,
+    version: Version,
+) -> Result<(), String> {
+    let platform = platform_folder(version);
+    let (platform, extension) = host_platform()
+        .zip(platform)
+        .map(|((_, extension), platform)| (platform, extension))
+        .ok_or_else(|| {
+            format!(
+                "no FMI {version:?} platform name for {}-{}",
+                std::env::consts::ARCH,
+                std::env::consts::OS
+            )
+        })?;
     let binary = std::fs::read(library).map_err(|e| {
         format!(
             "cannot read the FMU library {}: {e} (build it with `cargo build --release -p flexmbd-fmi`, or name it with --library)",
@@ -117,8 +150,11 @@ pub fn write_fmu(scene: &Scene, output: &Path, library: &Path) -> Result<(), Str
     let simulation = Simulation::new(scene).map_err(|e| e.to_string())?;
     let variables = Variables::of(&simulation, scene);
     let id = identifier(output);
-    let description =
-        model_description::fmi3(scene, &variables, &id, &token(&resources.scene_text));
+    let token = token(&resources.scene_text);
+    let description = match version {
+        Version::Fmi3 => model_description::fmi3(scene, &variables, &id, &token),
+        Version::Fmi2 => model_description::fmi2(scene, &variables, &id, &token),
+    };
     let file = std::fs::File::create(output)
         .map_err(|e| format!("cannot create {}: {e}", output.display()))?;
     let mut zip = zip::ZipWriter::new(file);
