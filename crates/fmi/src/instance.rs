@@ -305,13 +305,16 @@ impl Instance {
             candidate[k] = value;
             changed[variable.input] = true;
         }
-        // Each changed input whole, checked by the simulation; undone if a later one is
-        // refused.
+        // Each changed input whole, checked by the simulation; those already handed over
+        // are given their values back if a later one is refused (a driver never set
+        // before cannot return to its law: its values are checked against a wide position
+        // range, rarely refused).
         let before = self.input_values.clone();
-        for (input, _) in changed.iter().enumerate().filter(|(_, c)| **c) {
+        let changed_inputs: Vec<usize> = (0..changed.len()).filter(|&i| changed[i]).collect();
+        for (done, &input) in changed_inputs.iter().enumerate() {
             if let Err(e) = self.push_input(input, &candidate) {
-                for (other, _) in changed.iter().enumerate().filter(|(_, c)| **c) {
-                    if self.touched[other] {
+                for &other in &changed_inputs[..done] {
+                    if self.touched[other] || !self.drivers[other] {
                         let _ = self.push_input(other, &before);
                     }
                 }

@@ -251,3 +251,49 @@ fn two_instances_are_independent() {
         assert_ne!(bits(&outputs(&mut a)), bits(&outputs(&mut b)));
     }
 }
+
+/// A call that sets two inputs, the second refused (a force out of the plane of a planar
+/// scene), changes neither: the first, already handed to the simulation, gets its values
+/// back, and the steps are those of an instance that never saw the call.
+#[test]
+fn a_call_refused_part_way_changes_no_input() {
+    let mut scene = four_bar_with_motor(0.0, true);
+    scene.forces.insert(
+        0,
+        Force::Load {
+            name: "brake".into(),
+            body: "crank3".into(),
+            marker: "A".into(),
+            force: V3([0.0; 3]),
+            torque: V3([0.0, 0.0, 0.5]),
+        },
+    );
+    scene.inputs.insert(
+        0,
+        Input {
+            name: "brake".into(),
+            kind: InputKind::Load {
+                force: "brake".into(),
+            },
+        },
+    );
+    let mut fmu = stepping(scene.clone());
+    let mut twin = stepping(scene);
+    let names: Vec<&str> = fmu
+        .variables()
+        .inputs
+        .iter()
+        .map(|v| v.name.as_str())
+        .collect();
+    let vr = |name: &str| 1 + names.iter().position(|n| *n == name).unwrap() as u32;
+    let (brake_tau, motor_fz) = (vr("brake.tau_z"), vr("motor.F_z"));
+    let message = fmu.set(&[brake_tau, motor_fz], &[5.0, 1.0]).unwrap_err().0;
+    assert!(message.contains("motor"), "{message}");
+    let mut read = [0.0; 2];
+    fmu.get(&[brake_tau, motor_fz], &mut read).unwrap();
+    assert_eq!(read, [0.5, 0.0]);
+    let h = fmu.simulation().step_size();
+    fmu.do_step(0.0, 20.0 * h).unwrap();
+    twin.do_step(0.0, 20.0 * h).unwrap();
+    assert_eq!(bits(&outputs(&mut fmu)), bits(&outputs(&mut twin)));
+}
