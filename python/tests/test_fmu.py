@@ -284,3 +284,28 @@ def test_fmu_refuses_an_unknown_fmi_version_and_a_name_without_fmu(cli, tmp_path
     assert done.returncode != 0 and "--fmi 1" in done.stderr
     done = run_cli(cli, "fmu", model("double_four_bar.ron"), "--output", str(tmp_path / "a.zip"))
     assert done.returncode != 0 and ".fmu" in done.stderr
+
+
+@pytest.mark.parametrize("fmi", ["3", "2"])
+def test_a_parameter_set_before_the_start_gives_simulate_with_it(cli, tmp_path, fmi):
+    # `--parameter solver.step`: FMPy's start value 5e-4 gives `flexmbd simulate --step 5e-4`
+    # bit for bit; the density of crank1, a second parameter, left at the scene's.
+    fmu = export(cli, model("double_four_bar.ron"), tmp_path / "p.fmu", "--fmi", fmi,
+                 "--parameter", "solver.step", "--parameter", "bodies.crank1.model.Beam.material.density")
+    assert validate_fmu(fmu) == []
+    parameters = {v.name: v for v in fmpy.read_model_description(fmu).modelVariables
+                  if v.causality == "parameter"}
+    assert float(parameters["solver.step"].start) == 1e-3
+    assert float(parameters["bodies.crank1.model.Beam.material.density"].start) == 7850.0
+    result = fmpy.simulate_fmu(fmu, stop_time=0.2, output_interval=0.01, start_values={"solver.step": 5e-4})
+    out = tmp_path / "cli.csv"
+    done = run_cli(cli, "simulate", model("double_four_bar.ron"), "--duration", "0.2", "--step", "5e-4",
+                   "--output", str(out))
+    assert done.returncode == 0, done.stderr
+    names, expected = read_csv(out)
+    assert len(result) == len(expected) == 21
+    for k, name in enumerate(names[1:], start=1):
+        assert np.array_equal(result[name], expected[:, k]), name
+    done = run_cli(cli, "fmu", model("double_four_bar.ron"), "--output", str(tmp_path / "q.fmu"),
+                   "--parameter", "solver.max_iterations")
+    assert done.returncode != 0 and "solver.max_iterations" in done.stderr

@@ -27,6 +27,10 @@ pub(crate) struct FmuArgs {
     /// FMI version: 3 or 2 (one library serves both).
     #[arg(long, default_value_t = 3)]
     fmi: u8,
+    /// A real number of the scene (a --set path, e.g. solver.step or
+    /// bodies.chassis.model.Rigid.mass) offered as an FMU parameter, set before the start.
+    #[arg(long = "parameter", value_name = "PATH")]
+    parameters: Vec<String>,
     /// The FMU's shared library (default: libflexmbd_fmi beside this program).
     #[arg(long)]
     library: Option<PathBuf>,
@@ -57,7 +61,7 @@ pub(crate) fn fmu(args: &FmuArgs) -> CliResult {
         Some(path) => path.clone(),
         None => default_library()?,
     };
-    flexmbd_fmi::package::write_fmu(&scene, &args.output, &library, version)?;
+    flexmbd_fmi::package::write_fmu(&scene, &args.output, &library, version, &args.parameters)?;
     println!("wrote {}", args.output.display());
     Ok(exit::SUCCESS)
 }

@@ -31,6 +31,8 @@ use crate::variables::{Reference, Variables};
 
 /// The scene's file in the FMU's `resources/`.
 pub const SCENE_FILE: &str = "scene.ron";
+/// The parameters' `--set` paths in the FMU's `resources/`, one a line (absent: none).
+pub const PARAMETERS_FILE: &str = "parameters.txt";
 
 /// A refused call: what the logger is told.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,13 +88,22 @@ pub struct Instance {
     sensors: Vec<f64>,
     sensors_fresh: bool,
     mode: Mode,
+    /// Each parameter's value, as last set (or the scene's).
+    parameter_values: Vec<f64>,
+    /// A parameter was set: the simulation starts again from the changed scene.
+    parameters_changed: bool,
 }
 
-/// The instantiation token of the FMU of a scene whose `scene.ron` is `text`: FNV-1a (64
-/// bits) of the text, so that an FMU's binary refuses another FMU's resources.
-pub fn token(text: &str) -> String {
+/// The instantiation token of the FMU of a scene whose `scene.ron` is `text` and whose
+/// parameters are `parameters`: FNV-1a (64 bits) of both, so that an FMU's binary refuses
+/// another FMU's resources.
+pub fn token(text: &str, parameters: &[String]) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-    for byte in text.bytes() {
+    let tail = parameters
+        .iter()
+        .map(|p| format!("\n{p}"))
+        .collect::<String>();
+    for byte in text.bytes().chain(tail.bytes()) {
         hash ^= u64::from(byte);
         hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
     }
@@ -110,7 +121,12 @@ impl Instance {
                 path.display()
             ))
         })?;
-        let expected = token(&text);
+        let parameters: Vec<String> = match std::fs::read_to_string(resources.join(PARAMETERS_FILE))
+        {
+            Ok(list) => list.lines().map(String::from).collect(),
+            Err(_) => Vec::new(),
+        };
+        let expected = token(&text, &parameters);
         if token_given != expected {
             return refuse(format!(
                 "instantiation token {token_given} is not this FMU's ({expected}): the model description and {} differ",
@@ -118,13 +134,14 @@ impl Instance {
             ));
         }
         let scene = Scene::load(&path).map_err(|e| CallError(e.to_string()))?;
-        Instance::new(scene)
+        Instance::new(scene, &parameters)
     }
 
-    /// An instance of `scene` (validated), at t = 0.
-    pub fn new(scene: Scene) -> Result<Instance, CallError> {
+    /// An instance of `scene` (validated), at t = 0, with the real numbers at the `--set`
+    /// paths `parameters` as parameters.
+    pub fn new(scene: Scene, parameters: &[String]) -> Result<Instance, CallError> {
         let simulation = Simulation::new(&scene).map_err(|e| CallError(e.to_string()))?;
-        let variables = Variables::of(&simulation, &scene);
+        let variables = Variables::of(&simulation, &scene, parameters).map_err(CallError)?;
         let mut input_ranges: Vec<(usize, usize)> = Vec::new();
         for (k, v) in variables.inputs.iter().enumerate() {
             match input_ranges.get_mut(v.input) {
@@ -142,6 +159,8 @@ impl Instance {
             })
             .collect();
         Ok(Instance {
+            parameter_values: variables.parameters.iter().map(|p| p.start).collect(),
+            parameters_changed: false,
             drivers,
             input_values: variables.inputs.iter().map(|v| v.start).collect(),
             touched: vec![false; input_ranges.len()],
@@ -189,7 +208,7 @@ impl Instance {
     /// as with the same values written into the scene.
     pub fn exit_initialization(&mut self) -> Result<(), CallError> {
         self.require(&[Mode::Initialization], "exitInitializationMode")?;
-        if self.touched.iter().any(|&t| t) {
+        if self.touched.iter().any(|&t| t) || self.parameters_changed {
             let names: Vec<String> = (0..self.input_ranges.len())
                 .map(|input| self.input_name(input).to_string())
                 .collect();
@@ -200,8 +219,19 @@ impl Instance {
                     (names[input].as_str(), &self.input_values[first..first + n])
                 })
                 .collect();
-            self.simulation = Simulation::with_inputs(&self.scene, &inputs)
+            let sets: Vec<(String, String)> = self
+                .variables
+                .parameters
+                .iter()
+                .zip(&self.parameter_values)
+                .map(|(p, v)| (p.name.clone(), format!("{v:?}")))
+                .collect();
+            let mut scene = self.scene.clone();
+            scene
+                .apply_sets(&sets)
                 .map_err(|e| CallError(e.to_string()))?;
+            self.simulation =
+                Simulation::with_inputs(&scene, &inputs).map_err(|e| CallError(e.to_string()))?;
             self.sensors_fresh = false;
         }
         self.mode = Mode::Step;
@@ -226,7 +256,13 @@ impl Instance {
 
     /// `reset`: a new simulation of the same scene, inputs at their start values.
     pub fn reset(&mut self) -> Result<(), CallError> {
-        *self = Instance::new(self.scene.clone())?;
+        let parameters: Vec<String> = self
+            .variables
+            .parameters
+            .iter()
+            .map(|p| p.name.clone())
+            .collect();
+        *self = Instance::new(self.scene.clone(), &parameters)?;
         Ok(())
     }
 
@@ -258,6 +294,7 @@ impl Instance {
             *value = match self.reference(vr)? {
                 Reference::Time => self.simulation.time(),
                 Reference::Input(k) => self.input_values[k],
+                Reference::Parameter(k) => self.parameter_values[k],
                 Reference::Output(k) => {
                     if !self.sensors_fresh {
                         self.simulation.read_sensors(&mut self.sensors);
@@ -286,12 +323,30 @@ impl Instance {
         }
         let mut candidate = self.input_values.clone();
         let mut changed = vec![false; self.input_ranges.len()];
+        let mut parameters = self.parameter_values.clone();
+        let mut parameters_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let k = match self.reference(vr)? {
                 Reference::Input(k) => k,
+                Reference::Parameter(k) => {
+                    let name = &self.variables.parameters[k].name;
+                    if self.mode == Mode::Step {
+                        return refuse(format!(
+                            "parameter {name} (value reference {vr}) is fixed: it is set before exitInitializationMode"
+                        ));
+                    }
+                    if !value.is_finite() {
+                        return refuse(format!(
+                            "{name} (value reference {vr}) = {value}: must be finite"
+                        ));
+                    }
+                    parameters[k] = value;
+                    parameters_changed = true;
+                    continue;
+                }
                 _ => {
                     return refuse(format!(
-                        "value reference {vr} is not an input: only inputs can be set"
+                        "value reference {vr} is not an input or a parameter: it cannot be set"
                     ));
                 }
             };
@@ -325,6 +380,8 @@ impl Instance {
             self.touched[input] |= c;
         }
         self.input_values = candidate;
+        self.parameter_values = parameters;
+        self.parameters_changed |= parameters_changed;
         self.sensors_fresh = false;
         Ok(())
     }
@@ -340,7 +397,7 @@ impl Instance {
         self.variables.reference(vr).ok_or_else(|| {
             CallError(format!(
                 "unknown value reference {vr}: this FMU's are 0 to {}",
-                self.variables.inputs.len() + self.variables.outputs.len()
+                self.variables.len() - 1
             ))
         })
     }

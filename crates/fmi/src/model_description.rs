@@ -105,6 +105,16 @@ pub fn fmi3(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
             escape(&v.name),
         );
     }
+    for (k, p) in variables.parameters.iter().enumerate() {
+        let _ = writeln!(
+            x,
+            r#"    <Float64 name="{}" valueReference="{}" causality="parameter" variability="fixed" initial="exact" start="{}" description="the scene's {}, set before the start"/>"#,
+            escape(&p.name),
+            variables.parameter_reference(k),
+            p.start,
+            escape(&p.name),
+        );
+    }
     let _ = writeln!(x, "  </ModelVariables>");
     let _ = writeln!(x, "  <ModelStructure>");
     for k in 0..variables.outputs.len() {
@@ -196,6 +206,16 @@ pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
             variables.output_reference(k),
             escape(&v.name),
             unit_attribute(v.unit),
+        );
+    }
+    for (k, p) in variables.parameters.iter().enumerate() {
+        let _ = writeln!(
+            x,
+            r#"    <ScalarVariable name="{}" valueReference="{}" causality="parameter" variability="fixed" initial="exact" description="the scene's {}, set before the start"><Real start="{}"/></ScalarVariable>"#,
+            escape(&p.name),
+            variables.parameter_reference(k),
+            escape(&p.name),
+            p.start,
         );
     }
     let _ = writeln!(x, "  </ModelVariables>");

@@ -12,7 +12,7 @@ use flexmbd::Simulation;
 use flexmbd::model::{BodyModel, Scene};
 use zip::write::SimpleFileOptions;
 
-use crate::instance::{SCENE_FILE, token};
+use crate::instance::{PARAMETERS_FILE, SCENE_FILE, token};
 use crate::model_description;
 use crate::variables::Variables;
 
@@ -122,12 +122,14 @@ pub fn resources(scene: &Scene) -> Result<Resources, String> {
 
 /// Write the FMI `version` co-simulation FMU of `scene` (validated; `origin` its file) to
 /// `output`, with `library` (this crate built as a shared library for the host: it holds
-/// both APIs) as its binary. The scene is compiled and started once, for its variables.
+/// both APIs) as its binary, and the real numbers of the scene at the `--set` paths
+/// `parameters` as parameters. The scene is compiled and started once, for its variables.
 pub fn write_fmu(
     scene: &Scene,
     output: &Path,
     library: &Path,
     version: Version,
+    parameters: &[String],
 ) -> Result<(), String> {
     let platform = platform_folder(version);
     let (platform, extension) = host_platform()
@@ -148,9 +150,9 @@ pub fn write_fmu(
     })?;
     let resources = resources(scene)?;
     let simulation = Simulation::new(scene).map_err(|e| e.to_string())?;
-    let variables = Variables::of(&simulation, scene);
+    let variables = Variables::of(&simulation, scene, parameters)?;
     let id = identifier(output);
-    let token = token(&resources.scene_text);
+    let token = token(&resources.scene_text, parameters);
     let description = match version {
         Version::Fmi3 => model_description::fmi3(scene, &variables, &id, &token),
         Version::Fmi2 => model_description::fmi2(scene, &variables, &id, &token),
@@ -172,6 +174,10 @@ pub fn write_fmu(
         &format!("resources/{SCENE_FILE}"),
         resources.scene_text.as_bytes(),
     )?;
+    if !parameters.is_empty() {
+        let list: String = parameters.iter().map(|p| format!("{p}\n")).collect();
+        add(&format!("resources/{PARAMETERS_FILE}"), list.as_bytes())?;
+    }
     for (name, path) in &resources.files {
         let bytes = std::fs::read(path)
             .map_err(|e| format!("cannot read {} (the scene reads it): {e}", path.display()))?;

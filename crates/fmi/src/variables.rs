@@ -6,6 +6,7 @@
 //! | 0 | `time` (s) | independent |
 //! | 1 … | one per value of each named input of the scene, in the scene's order (a `Load`'s F_x … τ_z, a `Driver`'s θ, θ̇, θ̈, a `Road`'s Δx, Δz, a `Scale`'s s_k, s_c) | input |
 //! | then | each sensor, in [`Simulation::sensor_names`] order | output |
+//! | then | each parameter named at export (`flexmbd fmu --parameter PATH`), a real number of the scene at that `--set` path | parameter (fixed: set before `exitInitializationMode`) |
 //!
 //! An input variable is named `INPUT.COMPONENT` (e.g. `motor.tau_z`) and starts at the
 //! value the input holds before the host sets it ([`Simulation::input_values`]).
@@ -40,6 +41,15 @@ pub struct OutputVariable {
     pub unit: Option<&'static str>,
 }
 
+/// A real number of the scene, tunable before the start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterVariable {
+    /// Its `--set` path, e.g. `solver.step`.
+    pub name: String,
+    /// Its value in the scene.
+    pub start: f64,
+}
+
 /// Every variable of the FMU of a scene, numbered as the module documentation says.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Variables {
@@ -47,6 +57,8 @@ pub struct Variables {
     pub inputs: Vec<InputVariable>,
     /// Sensors, value references after the inputs'.
     pub outputs: Vec<OutputVariable>,
+    /// Parameters, value references after the outputs'.
+    pub parameters: Vec<ParameterVariable>,
 }
 
 /// The value reference of `time`.
@@ -61,11 +73,18 @@ pub enum Reference {
     Input(usize),
     /// Sensor `k` of [`Variables::outputs`].
     Output(usize),
+    /// Parameter `k` of [`Variables::parameters`].
+    Parameter(usize),
 }
 
 impl Variables {
-    /// The variables of `simulation`, a simulation of `scene` (for the sensors' units).
-    pub fn of(simulation: &Simulation, scene: &Scene) -> Variables {
+    /// The variables of `simulation`, a simulation of `scene` (for the sensors' units),
+    /// with the real numbers of `scene` at the `--set` paths `parameters` as parameters.
+    pub fn of(
+        simulation: &Simulation,
+        scene: &Scene,
+        parameters: &[String],
+    ) -> Result<Variables, String> {
         let mut inputs = Vec::new();
         for (index, name) in simulation.input_names().enumerate() {
             let id = simulation
@@ -101,7 +120,23 @@ impl Variables {
                     .and_then(|s| sensor_unit(&s.kind)),
             })
             .collect();
-        Variables { inputs, outputs }
+        let parameters = parameters
+            .iter()
+            .map(|path| {
+                let start = scene
+                    .real_at(path)
+                    .map_err(|e| format!("parameter {path}: {e}"))?;
+                Ok(ParameterVariable {
+                    name: path.clone(),
+                    start,
+                })
+            })
+            .collect::<Result<_, String>>()?;
+        Ok(Variables {
+            inputs,
+            outputs,
+            parameters,
+        })
     }
 
     /// The value reference of input value `k`.
@@ -114,6 +149,21 @@ impl Variables {
         1 + (self.inputs.len() + k) as u32
     }
 
+    /// The value reference of parameter `k`.
+    pub fn parameter_reference(&self, k: usize) -> u32 {
+        1 + (self.inputs.len() + self.outputs.len() + k) as u32
+    }
+
+    /// The number of value references (`time` included).
+    pub fn len(&self) -> usize {
+        1 + self.inputs.len() + self.outputs.len() + self.parameters.len()
+    }
+
+    /// Whether there is no variable but `time`.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 1
+    }
+
     /// What value reference `vr` names, `None` when none.
     pub fn reference(&self, vr: u32) -> Option<Reference> {
         let k = vr as usize;
@@ -122,6 +172,7 @@ impl Variables {
             0 => Some(Reference::Time),
             k if k <= n_in => Some(Reference::Input(k - 1)),
             k if k <= n_in + n_out => Some(Reference::Output(k - 1 - n_in)),
+            k if k < self.len() => Some(Reference::Parameter(k - 1 - n_in - n_out)),
             _ => None,
         }
     }

@@ -35,7 +35,7 @@ fn four_bar_with_motor(tau: f64, input: bool) -> Scene {
 
 /// An instance of `scene` in step mode.
 fn stepping(scene: Scene) -> Instance {
-    let mut fmu = Instance::new(scene).unwrap();
+    let mut fmu = Instance::new(scene, &[]).unwrap();
     fmu.enter_initialization(0.0).unwrap();
     fmu.exit_initialization().unwrap();
     fmu
@@ -61,7 +61,7 @@ fn bits(values: &[f64]) -> Vec<u64> {
 /// bit for bit (the start holds the input).
 #[test]
 fn an_input_set_by_value_reference_gives_the_scene_with_that_value() {
-    let mut fmu = Instance::new(four_bar_with_motor(0.0, true)).unwrap();
+    let mut fmu = Instance::new(four_bar_with_motor(0.0, true), &[]).unwrap();
     fmu.enter_initialization(0.0).unwrap();
     let names: Vec<&str> = fmu
         .variables()
@@ -169,7 +169,7 @@ fn a_restored_state_replays_the_same_steps() {
 /// Each bad call is refused with a message that names the value, and changes nothing.
 #[test]
 fn bad_calls_are_refused_with_a_message() {
-    let mut fmu = Instance::new(four_bar_with_motor(0.0, true)).unwrap();
+    let mut fmu = Instance::new(four_bar_with_motor(0.0, true), &[]).unwrap();
     let h = fmu.simulation().step_size();
     let refused = |r: Result<(), flexmbd_fmi::CallError>, words: &[&str]| {
         let message = r.expect_err("refused").0;
@@ -296,4 +296,42 @@ fn a_call_refused_part_way_changes_no_input() {
     fmu.do_step(0.0, 20.0 * h).unwrap();
     twin.do_step(0.0, 20.0 * h).unwrap();
     assert_eq!(bits(&outputs(&mut fmu)), bits(&outputs(&mut twin)));
+}
+
+/// A parameter (`solver.step`) set before the start gives the scene with that value
+/// written in, bit for bit; in step mode it is refused; a path that is not a real number
+/// of the scene is refused when the instance is made.
+#[test]
+fn a_parameter_set_before_the_start_gives_the_scene_with_it_written() {
+    let scene = model("double_four_bar.ron");
+    let parameters = ["solver.step".to_string()];
+    let mut fmu = Instance::new(scene.clone(), &parameters).unwrap();
+    let step = fmu.variables().parameter_reference(0);
+    let mut start = [0.0];
+    fmu.get(&[step], &mut start).unwrap();
+    assert_eq!(start, [scene.solver.step]);
+    fmu.enter_initialization(0.0).unwrap();
+    fmu.set(&[step], &[5e-4]).unwrap();
+    fmu.exit_initialization().unwrap();
+    let mut written = scene.clone();
+    written.solver.step = 5e-4;
+    let mut library = Simulation::new(&written).unwrap();
+    for k in 0..10 {
+        fmu.do_step(k as f64 * 4e-3, 4e-3).unwrap();
+        for _ in 0..8 {
+            library.step().unwrap();
+        }
+        assert_eq!(bits(&outputs(&mut fmu)), bits(&library.sensors()));
+    }
+    let message = fmu.set(&[step], &[1e-3]).unwrap_err().0;
+    assert!(
+        message.contains("solver.step") && message.contains("fixed"),
+        "{message}"
+    );
+    for path in ["solver.max_iterations", "solver.nothing", "name"] {
+        let refused = Instance::new(scene.clone(), &[path.to_string()])
+            .err()
+            .unwrap();
+        assert!(refused.0.contains(path), "{}", refused.0);
+    }
 }
