@@ -464,6 +464,88 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(c: *mut c_void, state: *mut *mut c_voi
     })
 }
 
+/// `fmi2SerializedFMUstateSize`.
+///
+/// # Safety
+/// `c` is one of this library's components, or null; `state` one of this library's FMU
+/// states or null; `size` valid or null.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: *mut c_void,
+    state: *mut c_void,
+    size: *mut usize,
+) -> Status {
+    with(c, "fmi2SerializedFMUstateSize", |_| {
+        if state.is_null() || size.is_null() {
+            return Err(CallError("FMUstate or size is a null pointer".into()));
+        }
+        // SAFETY: an FMU state of this library; the importer's out-pointer.
+        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
+        unsafe { *size = bytes.len() };
+        Ok(())
+    })
+}
+
+/// `fmi2SerializeFMUstate`.
+///
+/// # Safety
+/// `c` is one of this library's components, or null; `state` one of this library's FMU
+/// states or null; `bytes` holds `size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: *mut c_void,
+    state: *mut c_void,
+    bytes: *mut c_char,
+    size: usize,
+) -> Status {
+    with(c, "fmi2SerializeFMUstate", |_| {
+        if state.is_null() {
+            return Err(CallError("FMUstate is a null pointer".into()));
+        }
+        // SAFETY: an FMU state of this library; the importer's array of `size` bytes.
+        let serialised = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
+        let out = unsafe { slice_mut(bytes.cast::<u8>(), size, "serializedState")? };
+        if out.len() != serialised.len() {
+            return Err(CallError(format!(
+                "size = {size}, but the state takes {} bytes (fmi2SerializedFMUstateSize)",
+                serialised.len()
+            )));
+        }
+        out.copy_from_slice(&serialised);
+        Ok(())
+    })
+}
+
+/// `fmi2DeSerializeFMUstate`.
+///
+/// # Safety
+/// `c` is one of this library's components, or null; `bytes` holds `size` bytes; `state`
+/// valid, a non-null `*state` one of this library's FMU states.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: *mut c_void,
+    bytes: *const c_char,
+    size: usize,
+    state: *mut *mut c_void,
+) -> Status {
+    with(c, "fmi2DeSerializeFMUstate", |_| {
+        if state.is_null() {
+            return Err(CallError("FMUstate is a null pointer".into()));
+        }
+        // SAFETY: the importer's array and pointer; a non-null *state made here.
+        let read =
+            FmuState::from_bytes(unsafe { slice(bytes.cast::<u8>(), size, "serializedState")? })?;
+        unsafe {
+            if (*state).is_null() {
+                *state = Box::into_raw(Box::new(read)).cast();
+            } else {
+                *(*state).cast::<FmuState>() = read;
+            }
+        }
+        Ok(())
+    })
+}
+
 /// Functions of the standard this FMU does not support: exported with their C signatures,
 /// each refusing with a message.
 macro_rules! unsupported {
@@ -515,9 +597,6 @@ no_variables_of_type! {
 }
 
 unsupported! {
-    fmi2SerializedFMUstateSize(s: *mut c_void, n: *mut usize) "canSerializeFMUstate is false";
-    fmi2SerializeFMUstate(s: *mut c_void, b: *mut c_char, n: usize) "canSerializeFMUstate is false";
-    fmi2DeSerializeFMUstate(b: *const c_char, n: usize, s: *mut *mut c_void) "canSerializeFMUstate is false";
     fmi2GetDirectionalDerivative(u: *const c_uint, nu: usize, k: *const c_uint, nk: usize, dk: *const f64, du: *mut f64) "no directional derivatives";
     fmi2EnterEventMode() "a co-simulation FMU only";
     fmi2NewDiscreteStates(e: *mut c_void) "a co-simulation FMU only";

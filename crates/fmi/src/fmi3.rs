@@ -9,8 +9,7 @@
 //! call is `fmi3Error` with the reason through the logger (category `logStatusError`),
 //! whether or not logging was switched on. Every function of the standard is exported
 //! (importers look them all up); those of model exchange, scheduled execution, clocks,
-//! the integer, Boolean, string and binary types, derivatives and serialised states
-//! answer `fmi3Error` (or `fmi3OK` for an empty request of a type the FMU has none of).
+//! the integer, Boolean, string and binary types and derivatives answer `fmi3Error` (or `fmi3OK` for an empty request of a type the FMU has none of).
 
 use std::ffi::{CStr, c_char, c_int, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -461,6 +460,91 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     })
 }
 
+/// `fmi3SerializedFMUStateSize`: the length of the state's bytes ([`FmuState::to_bytes`]).
+///
+/// # Safety
+/// `instance` is one of this library's, or null; `state` one of this library's FMU states
+/// or null; `size` valid or null.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    instance: *mut c_void,
+    state: *mut c_void,
+    size: *mut usize,
+) -> Status {
+    with(instance, "fmi3SerializedFMUStateSize", |_| {
+        if state.is_null() || size.is_null() {
+            return Err(CallError("FMUState or size is a null pointer".into()));
+        }
+        // SAFETY: an FMU state of this library; the importer's out-pointer.
+        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
+        unsafe { *size = bytes.len() };
+        Ok(())
+    })
+}
+
+/// `fmi3SerializeFMUState`: the state's bytes into `serialized_state` of `size` bytes (the
+/// size `fmi3SerializedFMUStateSize` gave).
+///
+/// # Safety
+/// `instance` is one of this library's, or null; `state` one of this library's FMU states
+/// or null; `serialized_state` holds `size` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    instance: *mut c_void,
+    state: *mut c_void,
+    serialized_state: *mut u8,
+    size: usize,
+) -> Status {
+    with(instance, "fmi3SerializeFMUState", |_| {
+        if state.is_null() {
+            return Err(CallError("FMUState is a null pointer".into()));
+        }
+        // SAFETY: an FMU state of this library; the importer's array of `size` bytes.
+        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
+        let out = unsafe { slice_mut(serialized_state, size, "serializedState")? };
+        if out.len() != bytes.len() {
+            return Err(CallError(format!(
+                "size = {size}, but the state takes {} bytes (fmi3SerializedFMUStateSize)",
+                bytes.len()
+            )));
+        }
+        out.copy_from_slice(&bytes);
+        Ok(())
+    })
+}
+
+/// `fmi3DeserializeFMUState`: a new FMU state (or `*state` overwritten) from bytes of
+/// `fmi3SerializeFMUState`; other bytes are refused.
+///
+/// # Safety
+/// `instance` is one of this library's, or null; `serialized_state` holds `size` bytes;
+/// `state` valid, a non-null `*state` one of this library's FMU states.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    instance: *mut c_void,
+    serialized_state: *const u8,
+    size: usize,
+    state: *mut *mut c_void,
+) -> Status {
+    with(instance, "fmi3DeserializeFMUState", |_| {
+        if state.is_null() {
+            return Err(CallError("FMUState is a null pointer".into()));
+        }
+        // SAFETY: the importer's array of `size` bytes and its pointer; a non-null *state
+        // was made by Box::into_raw here.
+        let read =
+            FmuState::from_bytes(unsafe { slice(serialized_state, size, "serializedState")? })?;
+        unsafe {
+            if (*state).is_null() {
+                *state = Box::into_raw(Box::new(read)).cast();
+            } else {
+                *(*state).cast::<FmuState>() = read;
+            }
+        }
+        Ok(())
+    })
+}
+
 /// Functions of the standard this FMU does not support: exported with their C
 /// signatures (importers look every one up), each refusing with a message.
 macro_rules! unsupported {
@@ -549,9 +633,6 @@ unsupported! {
     fmi3EnterEventMode() "the FMU has no event mode";
     fmi3GetNumberOfVariableDependencies(vr: u32, n: *mut usize) "no dependency information";
     fmi3GetVariableDependencies(vr: u32, e: *mut usize, i: *mut u32, ei: *mut usize, k: *mut c_int, n: usize) "no dependency information";
-    fmi3SerializedFMUStateSize(s: *mut c_void, n: *mut usize) "canSerializeFMUState is false";
-    fmi3SerializeFMUState(s: *mut c_void, b: *mut u8, n: usize) "canSerializeFMUState is false";
-    fmi3DeserializeFMUState(b: *const u8, n: usize, s: *mut *mut c_void) "canSerializeFMUState is false";
     fmi3GetDirectionalDerivative(u: *const u32, nu: usize, k: *const u32, nk: usize, s: *const f64, ns: usize, r: *mut f64, nr: usize) "no directional derivatives";
     fmi3GetAdjointDerivative(u: *const u32, nu: usize, k: *const u32, nk: usize, s: *const f64, ns: usize, r: *mut f64, nr: usize) "no adjoint derivatives";
     fmi3EnterConfigurationMode() "the FMU has no structural parameters";

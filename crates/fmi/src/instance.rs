@@ -63,12 +63,31 @@ pub enum Mode {
     Failed,
 }
 
-/// A saved state of an instance ([`Instance::state`]).
-#[derive(Clone, Debug)]
+/// A saved state of an instance ([`Instance::state`]); serialised as RON text
+/// ([`FmuState::to_bytes`]), which keeps every `f64` exactly.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct FmuState {
     checkpoint: Checkpoint,
     input_values: Vec<f64>,
     touched: Vec<bool>,
+}
+
+impl FmuState {
+    /// The state as bytes (`serializeFMUState`).
+    pub fn to_bytes(&self) -> Result<Vec<u8>, CallError> {
+        ron::to_string(self)
+            .map(String::into_bytes)
+            .map_err(|e| CallError(format!("cannot serialise the FMU state: {e}")))
+    }
+
+    /// A state from bytes of [`to_bytes`](FmuState::to_bytes) (`deserializeFMUState`);
+    /// anything else is refused.
+    pub fn from_bytes(bytes: &[u8]) -> Result<FmuState, CallError> {
+        let text = std::str::from_utf8(bytes)
+            .map_err(|_| CallError("not a serialised state of this FMU (not UTF-8)".into()))?;
+        ron::from_str(text)
+            .map_err(|e| CallError(format!("not a serialised state of this FMU: {e}")))
+    }
 }
 
 /// One instance of the FMU (see the module documentation).
@@ -457,7 +476,10 @@ impl Instance {
             self.simulation.n_coordinates(),
             self.simulation.n_constraints(),
         );
-        if state.input_values.len() != self.input_values.len() || state.checkpoint.size() != size {
+        if state.input_values.len() != self.input_values.len()
+            || state.touched.len() != self.touched.len()
+            || state.checkpoint.size() != size
+        {
             return refuse("the FMU state was taken from another FMU");
         }
         self.simulation.restore(&state.checkpoint);

@@ -1,7 +1,7 @@
 //! `modelDescription.xml` of the FMU of a scene (FMI 3.0, co-simulation): the variables
 //! of [`crate::variables`], their units, the default experiment (the scene's duration and
 //! output interval) and the capabilities — fixed internal step h, variable communication
-//! steps (whole numbers of h), get and set of the FMU state, no serialised state.
+//! steps (whole numbers of h), get, set and serialisation of the FMU state.
 
 use std::fmt::Write as _;
 
@@ -53,7 +53,7 @@ pub fn fmi3(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{}" canGetAndSetFMUState="true" canSerializeFMUState="false" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
+        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{}" canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
         s.step
     );
     let used: Vec<&str> = std::iter::once("s")
@@ -157,7 +157,7 @@ pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
     );
     let _ = writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
+        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" canNotUseMemoryManagementFunctions="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
     );
     let used: Vec<&str> = variables
         .inputs

@@ -92,8 +92,10 @@ pub enum IntegratorError {
     },
 }
 
-/// The state of an [`Ali3p`] integrator between steps (see [`Ali3p::checkpoint`]).
-#[derive(Clone, Debug)]
+/// The state of an [`Ali3p`] integrator between steps (see [`Ali3p::checkpoint`]);
+/// serialisable (an FMU's saved state), every number kept exactly by a format that
+/// round-trips `f64`.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
     t: f64,
     q: DVector<f64>,
