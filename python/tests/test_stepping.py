@@ -140,3 +140,16 @@ def test_bad_inputs_raise_scene_error_naming_the_field_and_value():
     assert raised.value.field == "inputs[motor][5]"
     with pytest.raises(flexmbd.SceneError, match="takes 6 values"):
         sim.set_input("motor", [1.0])
+
+
+@pytest.mark.parametrize("t", [float("nan"), float("inf"), -float("inf"), 1e12])
+def test_advance_to_refuses_nan_infinite_and_too_far_targets(t):
+    # Before, advance_to(inf) and advance_to(1e12) looped without end and NaN returned
+    # silently: now each is a SceneError naming `t`, and the simulation goes on.
+    sim = flexmbd.Simulation(model("double_four_bar.ron"))
+    with pytest.raises(flexmbd.SceneError) as raised:
+        sim.advance_to(t)
+    assert raised.value.field == "t"
+    assert sim.time == 0.0
+    sim.advance_to(10 * sim.step_size)
+    assert sim.time == pytest.approx(10 * sim.step_size)

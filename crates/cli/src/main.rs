@@ -22,6 +22,8 @@
 //! - `flexmbd tune SCENE.ron --sensor NAME[,NAME…] --tolerance X` prints the cheapest run
 //!   of that sweep whose error is at most X, and the `flexmbd simulate` arguments that
 //!   reproduce it.
+//! - `flexmbd fmu SCENE.ron --output NAME.fmu` writes the scene's FMI 3.0 co-simulation
+//!   FMU ([`fmu_cmd`]).
 //!
 //! Each kind of outcome has its exit code ([`exit`]); a panic is reported as one line
 //! with [`exit::INTERNAL_ERROR`].
@@ -30,6 +32,7 @@
 
 mod csv_output;
 mod exit;
+mod fmu_cmd;
 mod jsonl_output;
 mod output_file;
 mod sweep_cmd;
@@ -112,6 +115,9 @@ enum Command {
     /// tolerance, with the `flexmbd simulate` arguments that reproduce it.
     #[command(after_help = sweep_cmd::help())]
     Tune(sweep_cmd::TuneArgs),
+    /// Export a scene as an FMI 3.0 co-simulation FMU (a shared library and the scene
+    /// with the files it reads), to run it in another simulator.
+    Fmu(fmu_cmd::FmuArgs),
 }
 
 /// The scene and the options that change it, shared by `simulate`, `equilibrium` and
@@ -195,6 +201,7 @@ fn main() -> ExitCode {
             Command::Eigen(args) => eigen(&args),
             Command::Sweep(args) => sweep_cmd::sweep(&args),
             Command::Tune(args) => sweep_cmd::tune(&args),
+            Command::Fmu(args) => fmu_cmd::fmu(&args),
         };
         result.unwrap_or_else(|e| {
             eprintln!("error: {e}");

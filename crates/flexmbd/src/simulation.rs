@@ -366,6 +366,27 @@ impl Simulation {
         Self::start(compile_scene(scene, stop)?).map_err(|failure| failure.error)
     }
 
+    /// [`new`](Simulation::new), with some of the scene's named inputs set before the
+    /// start: the static equilibrium (when the scene asks for one) and the consistent
+    /// initial conditions are found with them, as with the same values written into the
+    /// scene. For a host that sets inputs before the first step and wants them to hold
+    /// from t = 0 (an FMU's initialisation mode). An unknown name or a refused value is an
+    /// [`Error::Input`] naming it.
+    pub fn with_inputs(scene: &Scene, inputs: &[(&str, &[f64])]) -> Result<Simulation, Error> {
+        let compiled = compile_scene(scene, &NO_STOP)?;
+        for (name, values) in inputs {
+            let k = compiled.inputs.find(name).ok_or_else(|| {
+                Error::Input(flexmbd_core::InvalidValue::new(
+                    "input",
+                    name,
+                    "the scene declares no such input",
+                ))
+            })?;
+            compiled.inputs.set(k, values).map_err(Error::Input)?;
+        }
+        Self::start(compiled).map_err(|failure| failure.error)
+    }
+
     /// The static start (if asked for) and ALI3-P's consistent initial conditions.
     fn start(mut compiled: Compiled) -> Result<Simulation, Box<StartFailure>> {
         let setup = &mut compiled.setup;
@@ -445,6 +466,10 @@ impl Simulation {
 
     /// Step until the time is the multiple of h nearest to `t` (s) (no step when `t` is
     /// not ahead by at least h/2). Stops at the first failed step.
+    ///
+    /// A `t` that is NaN or infinite, or more than [`MAX_STEPS`] steps ahead, is refused
+    /// ([`Error::Input`] naming `t`) before any step: a host (an FMU master, a script) that
+    /// sends one gets an error instead of a loop without end.
     pub fn advance_to(&mut self, t: f64) -> Result<(), Error> {
         self.advance_to_or_stop(t, &NO_STOP).map(|_| ())
     }
@@ -455,6 +480,7 @@ impl Simulation {
     /// advance (Ctrl-C in the Python package).
     pub fn advance_to_or_stop(&mut self, t: f64, stop: &AtomicBool) -> Result<bool, Error> {
         let h = self.step_size();
+        self.check_target(t, h)?;
         while self.time() + 0.5 * h <= t {
             if stop.load(Ordering::Relaxed) {
                 return Ok(false);
@@ -462,6 +488,27 @@ impl Simulation {
             self.step()?;
         }
         Ok(true)
+    }
+
+    /// Refuse a target time `t` that is not finite or is more than [`MAX_STEPS`] steps of
+    /// `h` ahead of the current time.
+    fn check_target(&self, t: f64, h: f64) -> Result<(), Error> {
+        let refuse = |reason: String| {
+            Err(Error::Input(flexmbd_core::InvalidValue::new(
+                "t", t, reason,
+            )))
+        };
+        if !t.is_finite() {
+            return refuse("the time to advance to must be a finite number of seconds".into());
+        }
+        let ahead = (t - self.time()) / h;
+        if ahead > MAX_STEPS as f64 {
+            return refuse(format!(
+                "{ahead:.3e} steps of h = {h} s ahead of t = {} s, more than the limit of {MAX_STEPS} steps",
+                self.time()
+            ));
+        }
+        Ok(())
     }
 
     /// Current time (s): t₀ + k h after k steps.

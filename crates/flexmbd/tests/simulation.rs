@@ -198,3 +198,32 @@ fn advance_to_or_stop_stays_put_while_stopped_and_otherwise_advances_as_advance_
     };
     assert_eq!(bits(&host), bits(&plain));
 }
+
+/// A target time that is NaN, infinite or more than `MAX_STEPS` steps ahead is refused by
+/// name (`t`) before any step, where it used to loop without end (infinite, huge) or
+/// return silently (NaN); the simulation stays usable.
+#[test]
+fn advance_to_refuses_nan_infinite_and_too_far_targets() {
+    let mut sim = Simulation::new(&model("double_four_bar.ron")).unwrap();
+    let h = sim.step_size();
+    let far = (flexmbd::simulation::MAX_STEPS as f64 + 2.0) * h;
+    for t in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, far] {
+        match sim.advance_to(t) {
+            Err(Error::Input(e)) => {
+                assert_eq!(e.field, "t", "{t}: {e}");
+                assert!(e.to_string().contains("finite") || e.to_string().contains("limit"));
+            }
+            other => panic!("advance_to({t}): expected an input error, got {other:?}"),
+        }
+        assert_eq!(sim.stats().steps, 0, "advance_to({t}) took a step");
+    }
+    // The largest target allowed is not refused (checked on a stop flag already set, so
+    // that no step is taken), and the simulation goes on.
+    let stop = std::sync::atomic::AtomicBool::new(true);
+    let reached = sim
+        .advance_to_or_stop(flexmbd::simulation::MAX_STEPS as f64 * h, &stop)
+        .unwrap();
+    assert!(!reached);
+    sim.advance_to(10.0 * h).unwrap();
+    assert_eq!(sim.stats().steps, 10);
+}

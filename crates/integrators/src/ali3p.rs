@@ -93,8 +93,10 @@ pub enum IntegratorError {
     },
 }
 
-/// The state of an [`Ali3p`] integrator between steps (see [`Ali3p::checkpoint`]).
-#[derive(Clone, Debug)]
+/// The state of an [`Ali3p`] integrator between steps (see [`Ali3p::checkpoint`]);
+/// serialisable (an FMU's saved state), every number kept exactly by a format that
+/// round-trips `f64`.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Checkpoint {
     t: f64,
     q: DVector<f64>,
@@ -106,6 +108,19 @@ pub struct Checkpoint {
     have_qdd_prev: bool,
     extrapolate: Vec<bool>,
     pred_err: Vec<(f64, f64)>,
+}
+
+impl Checkpoint {
+    /// The time of the saved state (s).
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The sizes of the integrator it was taken from: coordinates n and constraints m
+    /// ([`Ali3p::restore`] accepts it only into one of these sizes).
+    pub fn size(&self) -> (usize, usize) {
+        (self.q.len(), self.lambda.len())
+    }
 }
 
 /// The kernel of the last factorisation of the leading matrix.

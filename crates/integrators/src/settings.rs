@@ -86,7 +86,7 @@ impl Default for Ali3pSettings {
 }
 
 /// What a run did (russell-style counters, asserted by tests).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     /// Steps taken.
     pub steps: usize,

@@ -609,6 +609,37 @@ fn enters_variant(map: &serde_json::Map<String, Value>, part: &str) -> bool {
 }
 
 fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError> {
+    let node = node_at(tree, path)?;
+    *node = replacement(node, value).map_err(|m| ModelError::Set {
+        path: path.to_string(),
+        message: m,
+    })?;
+    Ok(())
+}
+
+impl Scene {
+    /// The number at `path` (a `--set` path, e.g. `solver.step`), when it is a real number
+    /// of the scene (not an integer count, a flag or a name): what an FMU offers as a
+    /// parameter (`flexmbd fmu --parameter`).
+    pub fn real_at(&self, path: &str) -> Result<f64, ModelError> {
+        let mut tree = serde_json::to_value(self).map_err(|e| ModelError::Set {
+            path: path.to_string(),
+            message: e.to_string(),
+        })?;
+        let node = node_at(&mut tree, path)?;
+        match node {
+            Value::Number(x) if x.is_f64() => Ok(x.as_f64().unwrap_or(f64::NAN)),
+            other => Err(ModelError::Set {
+                path: path.to_string(),
+                message: format!("`{other}` is not a real number"),
+            }),
+        }
+    }
+}
+
+/// The node of `tree` at `path` (the `--set` rules: named list items, named variants'
+/// fields with or without the variant's name).
+fn node_at<'a>(tree: &'a mut Value, path: &str) -> Result<&'a mut Value, ModelError> {
     let err = |m: String| ModelError::Set {
         path: path.to_string(),
         message: m,
@@ -663,8 +694,7 @@ fn set_path(tree: &mut Value, path: &str, value: &str) -> Result<(), ModelError>
             }
         };
     }
-    *node = replacement(node, value).map_err(err)?;
-    Ok(())
+    Ok(node)
 }
 
 /// The value that replaces `node` for the text `value`, of the node's type (the reason when it

@@ -125,6 +125,35 @@ impl ImportSource {
         .collect()
     }
 
+    /// The files it names, to rewrite them (e.g. an FMU that ships them in its own folder).
+    pub fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
+        match self {
+            ImportSource::Abaqus {
+                input,
+                stiffness,
+                mass,
+            } => vec![input, stiffness, mass],
+            ImportSource::Ansys {
+                nodes,
+                mapping,
+                stiffness,
+                mass,
+            } => vec![nodes, mapping, stiffness, mass],
+            ImportSource::Calculix {
+                input,
+                dofs,
+                stiffness,
+                mass,
+            }
+            | ImportSource::MatrixMarket {
+                nodes: input,
+                dofs,
+                stiffness,
+                mass,
+            } => vec![input, dofs, stiffness, mass],
+        }
+    }
+
     /// Read the model, the paths taken relative to `base` (the directory of the file
     /// that names them).
     pub fn read(&self, base: &Path, options: &ImportOptions) -> Result<FeModel, FeError> {
