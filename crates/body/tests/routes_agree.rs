@@ -199,6 +199,8 @@ fn routes_agree_on_an_imported_solid() {
         normal_modes: 4,
         mode_selection: Default::default(),
         mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
         damping: Default::default(),
     };
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fe/tests/data/import");

@@ -27,7 +27,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::craig_bampton::{InteriorBasis, InteriorProblem};
+use crate::craig_bampton::{InteriorBasis, InteriorOperator};
 use crate::error::FeError;
 use crate::ritz::rayleigh_ritz;
 use crate::selection::ModeSelection;
@@ -96,15 +96,15 @@ pub fn leading_directions(eta: &DMatrix<f64>, n: usize) -> DMatrix<f64> {
 
 /// The `n` proper orthogonal modes of `candidates` (the pilot's K lowest modes, its
 /// `eta` rows in the same order) on `p`, Rayleigh–Ritz'd in their span.
-pub fn proper_orthogonal_modes(
-    p: &InteriorProblem,
+pub fn proper_orthogonal_modes<P: InteriorOperator + ?Sized>(
+    p: &P,
     candidates: &InteriorBasis,
     eta: &DMatrix<f64>,
     n: usize,
 ) -> Result<InteriorBasis, FeError> {
     if eta.nrows() != candidates.vectors.ncols() {
         return Err(FeError::Dimension {
-            what: format!("{}: the pilot run's modal coordinates", p.name),
+            what: format!("{}: the pilot run's modal coordinates", p.name()),
             detail: format!(
                 "{} recorded coordinates for {} candidate modes",
                 eta.nrows(),

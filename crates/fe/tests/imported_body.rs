@@ -78,6 +78,8 @@ fn bar_spec(
         normal_modes,
         mode_selection: Default::default(),
         mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
         damping: Damping::None,
     }
 }
@@ -158,6 +160,8 @@ fn ansys_rotor_free_free_agrees_with_scipy() {
         normal_modes: 10,
         mode_selection: Default::default(),
         mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
         damping: Damping::None,
     };
     let body = import_body(&spec, &data_dir(), "rotor").unwrap();

@@ -113,6 +113,8 @@ fn imported_spec(
         normal_modes,
         mode_selection: selection,
         mode_candidates: candidates,
+        pilot_duration: None,
+        pilot: None,
         damping: Damping::None,
     }
 }
@@ -495,6 +497,8 @@ fn free_free_participation_keeps_the_modes_the_centrifugal_loads_excite() {
         interfaces: Vec::new(),
         boundary: Vec::new(),
         mode_candidates: candidates,
+        pilot_duration: None,
+        pilot: None,
         ..bar_spec(selection, n)
     };
     let lowest = import_body(

@@ -30,6 +30,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use flexmbd_body::InertiaMethod;
+use flexmbd_fe::imported::ImportedBodySpec;
 use flexmbd_fe::pod::{PilotRecord, candidate_count, pilot_duration, pilot_spec};
 use flexmbd_fe::{BeamBodySpec, ModeSelection};
 use flexmbd_model::rewrite::rewrite_for_stiffening;
@@ -79,8 +80,10 @@ pub(crate) fn with_pilot_records<'a>(
     let records = cached_pilot(scene, &pilot, &bodies, stop)?;
     let mut out = scene.clone();
     for (b, record) in bodies.iter().zip(records) {
-        if let BodyModel::Beam(spec) = &mut out.bodies[b.index].model {
-            spec.pilot = Some(Arc::new(record));
+        match &mut out.bodies[b.index].model {
+            BodyModel::Beam(spec) => spec.pilot = Some(Arc::new(record)),
+            BodyModel::Imported(spec) => spec.pilot = Some(Arc::new(record)),
+            BodyModel::Rigid { .. } => {}
         }
     }
     Ok(Cow::Owned(out))
@@ -91,11 +94,17 @@ fn asks_for_pilot(spec: &BeamBodySpec, flexible: bool) -> bool {
     flexible && spec.mode_selection == ModeSelection::ProperOrthogonal && spec.normal_modes > 0
 }
 
+/// An imported body of `scene` that runs flexible with proper orthogonal modes.
+fn imported_asks_for_pilot(spec: &ImportedBodySpec, flexible: bool) -> bool {
+    flexible && spec.mode_selection == ModeSelection::ProperOrthogonal && spec.normal_modes > 0
+}
+
 /// The bodies that need a pilot, judged on the scene as its stiffening method rewrites it.
 fn pilot_bodies(scene: &Scene) -> Result<Vec<PilotBody>, ModelError> {
     let asks = scene.bodies.iter().any(|b| match &b.model {
         BodyModel::Beam(spec) => asks_for_pilot(spec, b.flexible),
-        BodyModel::Rigid { .. } | BodyModel::Imported(_) => false,
+        BodyModel::Imported(spec) => imported_asks_for_pilot(spec, b.flexible),
+        BodyModel::Rigid { .. } => false,
     });
     if !asks {
         return Ok(Vec::new());
@@ -103,12 +112,20 @@ fn pilot_bodies(scene: &Scene) -> Result<Vec<PilotBody>, ModelError> {
     let rewritten = rewrite_for_stiffening(scene)?;
     let mut bodies = Vec::new();
     for b in &rewritten.bodies {
-        let BodyModel::Beam(spec) = &b.model else {
-            continue;
+        let (candidates, axial, duration) = match &b.model {
+            BodyModel::Beam(spec) if asks_for_pilot(spec, b.flexible) => (
+                candidate_count(spec),
+                spec.axial_modes,
+                pilot_duration(spec, scene.solver.duration),
+            ),
+            BodyModel::Imported(spec) if imported_asks_for_pilot(spec, b.flexible) => (
+                spec.pilot_candidates(),
+                0,
+                spec.pilot_duration
+                    .unwrap_or(flexmbd_fe::pod::DEFAULT_PILOT_FRACTION * scene.solver.duration),
+            ),
+            _ => continue,
         };
-        if !asks_for_pilot(spec, b.flexible) {
-            continue;
-        }
         let Some(index) = scene.bodies.iter().position(|o| o.name == b.name) else {
             continue;
         };
@@ -128,10 +145,10 @@ fn pilot_bodies(scene: &Scene) -> Result<Vec<PilotBody>, ModelError> {
         }
         bodies.push(PilotBody {
             index,
-            candidates: candidate_count(spec),
-            axial: spec.axial_modes,
+            candidates,
+            axial,
             // A pilot runs the scene: never past its end (a `--duration` may shorten it).
-            duration: pilot_duration(spec, scene.solver.duration).min(scene.solver.duration),
+            duration: duration.min(scene.solver.duration),
         });
     }
     Ok(bodies)
@@ -147,15 +164,21 @@ fn pilot_scene(scene: &Scene, bodies: &[PilotBody]) -> Scene {
     pilot.solver.duration = bodies.iter().map(|b| b.duration).fold(0.0, f64::max);
     for b in bodies {
         let body = &mut pilot.bodies[b.index];
-        let BodyModel::Beam(spec) = &mut body.model else {
-            continue;
+        let n_static = match &mut body.model {
+            BodyModel::Beam(spec) => {
+                *spec = BeamBodySpec {
+                    normal_modes: b.candidates,
+                    axial_modes: b.axial,
+                    ..pilot_spec(spec)
+                };
+                spec.boundary.len()
+            }
+            BodyModel::Imported(spec) => {
+                *spec = spec.pilot_spec();
+                spec.n_modes() - spec.normal_modes
+            }
+            BodyModel::Rigid { .. } => continue,
         };
-        *spec = BeamBodySpec {
-            normal_modes: b.candidates,
-            axial_modes: b.axial,
-            ..pilot_spec(spec)
-        };
-        let n_static = spec.boundary.len();
         for j in 0..b.modes() {
             pilot.sensors.push(Sensor {
                 name: format!("pilot_{}_{j}", body.name),
@@ -298,11 +321,15 @@ fn pilot_failure(scene: &Scene, bodies: &[PilotBody], outcome: PilotOutcome) -> 
         .map(|b| scene.bodies[b.index].name.clone())
         .collect();
     let body = names[0].clone();
+    let variant = match &scene.bodies[bodies[0].index].model {
+        BodyModel::Imported(_) => "Imported",
+        _ => "Beam",
+    };
     Box::new(PilotError {
         file: scene.origin.clone(),
         line: flexmbd_model::lines::line_of(
             &scene.source,
-            &format!("bodies[{body}].model.Beam.mode_selection"),
+            &format!("bodies[{body}].model.{variant}.mode_selection"),
         ),
         body,
         bodies: names,

@@ -216,14 +216,22 @@ pub struct ImportedBodySpec {
     /// Number of normal modes kept (fixed-interface, or free-free elastic).
     pub normal_modes: usize,
     /// How the normal modes are chosen (docs/methods.md §1.6, [`selection`]): the lowest
-    /// (default), by participation, or load-dependent Ritz vectors;
-    /// not `ProperOrthogonal`.
+    /// (default), by participation, load-dependent Ritz vectors, or the proper orthogonal
+    /// modes of a pilot run.
     #[serde(default)]
     pub mode_selection: ModeSelection,
-    /// `Participation` only: the lowest modes the kept ones are chosen among (default
-    /// max(2 `normal_modes`, 4), at most the model's).
+    /// `Participation` and `ProperOrthogonal` only: the lowest modes the kept ones are
+    /// chosen among (default max(2 `normal_modes`, 4), at most the model's).
     #[serde(default)]
     pub mode_candidates: Option<usize>,
+    /// `ProperOrthogonal` only: how long the pilot run is (s; default: the scene's
+    /// duration, [`crate::pod::DEFAULT_PILOT_FRACTION`]; never longer than the scene).
+    #[serde(default)]
+    pub pilot_duration: Option<f64>,
+    /// `ProperOrthogonal` only: the modal coordinates the pilot run recorded (set by the
+    /// facade that runs the pilot, `flexmbd::pilot`; never read from RON).
+    #[serde(skip)]
+    pub pilot: Option<std::sync::Arc<crate::pod::PilotRecord>>,
     /// Damping of the modal coordinates.
     #[serde(default)]
     pub damping: Damping,
@@ -238,6 +246,41 @@ impl ImportedBodySpec {
             column: e.span.start.col,
             message: e.code.to_string(),
         })
+    }
+
+    /// K, the lowest normal modes a `ProperOrthogonal` body's pilot run keeps and its proper
+    /// orthogonal modes are taken from: `mode_candidates`, or max(2 `normal_modes`, 4).
+    pub fn pilot_candidates(&self) -> usize {
+        self.mode_candidates
+            .unwrap_or_else(|| (2 * self.normal_modes).max(4))
+    }
+
+    /// The body the pilot runs in place of this one: its lowest [`Self::pilot_candidates`]
+    /// normal modes.
+    pub fn pilot_spec(&self) -> ImportedBodySpec {
+        ImportedBodySpec {
+            normal_modes: self.pilot_candidates(),
+            mode_selection: ModeSelection::LowestFrequency,
+            mode_candidates: None,
+            pilot_duration: None,
+            pilot: None,
+            ..self.clone()
+        }
+    }
+
+    /// The pilot record's modal coordinates (K × samples) of a `ProperOrthogonal` body,
+    /// refused by name when no pilot ran (a body-model file on its own).
+    pub(crate) fn pilot_coordinates(&self, body: &str) -> Result<&nalgebra::DMatrix<f64>, FeError> {
+        match &self.pilot {
+            Some(record) => Ok(&record.coordinates),
+            None => Err(invalid(
+                format!("{body}.mode_selection"),
+                ModeSelection::ProperOrthogonal.name(),
+                "needs the modal coordinates of a pilot run of the scene, which the flexmbd \
+                 facade records when it prepares a scene (Simulation::new, simulate, sweep): a \
+                 body model on its own has no pilot (methods.md §1.6)",
+            )),
+        }
     }
 
     /// Number of modal coordinates: six per boundary interface, then the normal modes.
@@ -376,16 +419,36 @@ fn check_finite(body: &ReducedBody, name: &str) -> Result<(), FeError> {
 
 /// The checks that need no model: mode selection, frame and boundary names.
 fn check_spec(spec: &ImportedBodySpec, name: &str) -> Result<(), FeError> {
-    if spec.mode_selection == ModeSelection::ProperOrthogonal {
-        return Err(selection::refused(spec.mode_selection, name));
+    if let Some(d) = spec.pilot_duration {
+        if spec.mode_selection != ModeSelection::ProperOrthogonal {
+            return Err(invalid(
+                format!("{name}.pilot_duration"),
+                d,
+                format!(
+                    "only used with mode_selection: ProperOrthogonal (this body has {})",
+                    spec.mode_selection.name()
+                ),
+            ));
+        }
+        if !(d.is_finite() && d > 0.0) {
+            return Err(invalid(
+                format!("{name}.pilot_duration"),
+                d,
+                "must be finite and positive (s)",
+            ));
+        }
     }
     if let Some(c) = spec.mode_candidates {
-        if spec.mode_selection != ModeSelection::Participation {
+        if !matches!(
+            spec.mode_selection,
+            ModeSelection::Participation | ModeSelection::ProperOrthogonal
+        ) {
             return Err(invalid(
                 format!("{name}.mode_candidates"),
                 c,
                 format!(
-                    "only used with mode_selection: Participation (this body has {})",
+                    "only used with mode_selection: Participation or ProperOrthogonal (this \
+                     body has {})",
                     spec.mode_selection.name()
                 ),
             ));

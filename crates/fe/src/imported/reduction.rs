@@ -98,7 +98,20 @@ pub fn reduce(
                     let (_, rigid) = free_free_pairs(&kt, &mt, 0, body)?;
                     selection::free_free_ritz(spec, model, map, &kt, &mt, &rigid, body)?
                 }
-                other => return Err(selection::refused(other, body)),
+                ModeSelection::ProperOrthogonal => {
+                    let eta = spec.pilot_coordinates(body)?;
+                    let (x, w2) = free_free(&kt, &mt, eta.nrows(), body)?;
+                    let candidates = Eigenpairs {
+                        omega_sq: w2,
+                        vectors: x,
+                    };
+                    selection::free_free_proper_orthogonal(
+                        &candidates,
+                        eta,
+                        spec.normal_modes,
+                        body,
+                    )?
+                }
             };
             let k_ff = symmetrise(&(x.transpose() * sparse_times_dense(&kt, &x)));
             (x, k_ff, w2, None)

@@ -76,11 +76,11 @@ use crate::craig_bampton::{InteriorBasis, InteriorOperator};
 use crate::error::FeError;
 use crate::import::FeModel;
 use crate::inertia_loads::centrifugal_tensors;
-use crate::modal::Eigenpairs;
+use crate::modal::{Eigenpairs, fix_signs, generalized_eigen};
 use crate::selection::ModeSelection;
 use crate::sparse::{Columns, ShiftedCholesky, symmetric_matvec};
 use crate::sparse_reduction::{SparseInteriorProblem, lowest_interior_modes, sparse_times_dense};
-use crate::{participation, ritz};
+use crate::{participation, pod, ritz};
 use flexmbd_core::Dim;
 
 /// Relative effective mass (Σ_j Γ_jl² over f_lᵀ M⁻¹ f_l) below which a load counts as
@@ -147,8 +147,52 @@ pub fn clamped_basis(
             );
             Ok(keep_ranked(&candidates, &shares, n))
         }
-        other => Err(refused(other, p.name)),
+        ModeSelection::ProperOrthogonal => {
+            // The pilot kept the lowest K modes by this same call (LowestFrequency with
+            // K normal modes): its record holds their coordinates.
+            let eta = spec.pilot_coordinates(p.name)?;
+            let candidates =
+                lowest_interior_modes(p.kii, p.mii, eta.nrows(), tol, None, &sets.i, singular)?;
+            pod::proper_orthogonal_modes(
+                p,
+                &InteriorBasis {
+                    vectors: candidates.vectors,
+                    omega_sq: candidates.omega_sq,
+                },
+                eta,
+                n,
+            )
+        }
+        ModeSelection::LowestFrequency => {
+            let lowest = lowest_interior_modes(p.kii, p.mii, n, tol, None, &sets.i, singular)?;
+            Ok(InteriorBasis {
+                vectors: lowest.vectors,
+                omega_sq: lowest.omega_sq,
+            })
+        }
     }
+}
+
+/// The `n` proper orthogonal modes of a free body (docs/methods.md §1.6, [`crate::pod`])
+/// from its free-free elastic `candidates` (M-orthonormal, K-orthogonal: the pilot's lowest
+/// K modes) and the pilot's record `eta` of their coordinates: the leading directions U of
+/// the snapshots, then Rayleigh–Ritz in the span of Φ U, whose projected matrices are
+/// Uᵀ diag(ω²) U and Uᵀ U by the candidates' orthogonality.
+pub fn free_free_proper_orthogonal(
+    candidates: &Eigenpairs,
+    eta: &DMatrix<f64>,
+    n: usize,
+    body: &str,
+) -> Result<(DMatrix<f64>, Vec<f64>), FeError> {
+    let u = pod::leading_directions(eta, n);
+    let lambda = DMatrix::from_diagonal(&DVector::from_column_slice(&candidates.omega_sq));
+    let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
+    let k = sym(u.transpose() * lambda * &u);
+    let m = sym(u.transpose() * &u);
+    let e = generalized_eigen(&k, &m, &format!("{body}: proper orthogonal modes"))?;
+    let mut vectors = &candidates.vectors * u * e.vectors;
+    fix_signs(&mut vectors);
+    Ok((vectors, e.omega_sq))
 }
 
 /// The free-free elastic modes ranked by participation (module docs): of the
@@ -341,16 +385,6 @@ fn keep_ranked(candidates: &Eigenpairs, shares: &[f64], n: usize) -> InteriorBas
         vectors: candidates.vectors.select_columns(&keep),
         omega_sq: keep.iter().map(|&k| candidates.omega_sq[k]).collect(),
     }
-}
-
-/// The refusal of a selection an imported body does not take.
-pub fn refused(selection: ModeSelection, body: &str) -> FeError {
-    invalid(
-        format!("{body}.mode_selection"),
-        selection.name(),
-        "an imported body takes LowestFrequency, Participation or LoadRitz; \
-         ProperOrthogonal needs a pilot run, which is built for beams only (methods.md §1.6)",
-    )
 }
 
 /// The interior loads of a clamped body (module docs): translations, Euler fields,
