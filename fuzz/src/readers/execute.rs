@@ -153,6 +153,8 @@ pub fn reduction_spec(reduction: Reduction) -> ImportedBodySpec {
         normal_modes: 4,
         mode_selection: Default::default(),
         mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
         damping: Damping::None,
     }
 }
