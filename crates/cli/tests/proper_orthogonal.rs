@@ -68,7 +68,7 @@ fn a_body_model_on_its_own_has_no_pilot() {
 }
 
 /// The flexible pendulum's bar on a proper orthogonal mode, at a quarter-second step: the
-/// pilot's leading matrix turns singular at t = 0.5 s.
+/// pilot's Newton iteration does not converge in its first step (t = 0.25 s).
 const FAILING_PILOT: [&str; 6] = [
     "--set",
     "bodies.bar.model.Beam.mode_selection=ProperOrthogonal",
@@ -100,7 +100,7 @@ fn a_failed_pilot_exits_as_a_failed_run_naming_the_body_and_the_failure() {
             "body `bar`",
             "mode_selection = ProperOrthogonal",
             "pilot run",
-            "failed: the leading matrix is singular at t = 0.5",
+            "failed: Newton did not converge at t = 0.25",
         ],
     );
     assert!(!csv.exists(), "no header: the scene was never compiled");
@@ -124,7 +124,7 @@ fn a_failed_pilot_exits_as_a_failed_run_naming_the_body_and_the_failure() {
         assert_eq!(code(&out), 4, "{command}: {err}");
         assert_contains_all(
             &err,
-            &["body `bar`", "pilot run", "leading matrix is singular"],
+            &["body `bar`", "pilot run", "Newton did not converge"],
         );
     }
 }
