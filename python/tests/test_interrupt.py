@@ -18,6 +18,16 @@ def same_bits(a, b):
     return a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
 
 
+@pytest.fixture(autouse=True)
+def python_handles_sigint():
+    """Python's own SIGINT handler for each test: a process started in the background by a
+    non-interactive shell (`nohup … &`, some CI runners) inherits SIGINT ignored, and then
+    Python never raises KeyboardInterrupt; a terminal's Ctrl-C is what these tests mean."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def sigint_after(seconds):
     """Send SIGINT to this process after `seconds`, from another thread."""
     timer = threading.Timer(seconds, os.kill, args=(os.getpid(), signal.SIGINT))
