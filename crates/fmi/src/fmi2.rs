@@ -10,16 +10,13 @@
 //! catches unwinding, and a refused call is `fmi2Error` with its message logged.
 
 use std::ffi::{CStr, c_char, c_int, c_uint, c_void};
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
-use crate::instance::{CallError, FmuState, Instance};
+use crate::ffi::{self, FmuStates, Wrapper, c_message, category, slice, slice_mut, text};
+use crate::instance::{CallError, Instance};
 
-/// `fmi2Status`.
-pub type Status = c_int;
-const OK: Status = 0;
-const ERROR: Status = 3;
-const FATAL: Status = 4;
+use crate::ffi::ERROR;
+pub use crate::ffi::Status;
 /// `fmi2CoSimulation` of `fmi2Type`.
 const CO_SIMULATION: c_int = 1;
 
@@ -53,15 +50,15 @@ pub struct Fmi2Instance {
     name: std::ffi::CString,
 }
 
+impl Wrapper for Fmi2Instance {
+    fn log(&self, status: Status, message: &str) {
+        log_to(self.logger, self.environment, &self.name, status, message);
+    }
+}
+
 fn log_to(logger: Logger, environment: *mut c_void, name: &CStr, status: Status, message: &str) {
     let Some(logger) = logger else { return };
-    let category = if status == FATAL {
-        c"logStatusFatal"
-    } else {
-        c"logStatusError"
-    };
-    let text = std::ffi::CString::new(message.replace('\0', " ").replace('%', "%%"))
-        .unwrap_or_else(|_| c"(message not representable)".to_owned());
+    let text = c_message(&message.replace('%', "%%"));
     // SAFETY: the importer's logger, called with its environment and valid C strings
     // (the message is a format without conversions: its `%` are doubled).
     unsafe {
@@ -69,81 +66,25 @@ fn log_to(logger: Logger, environment: *mut c_void, name: &CStr, status: Status,
             environment,
             name.as_ptr(),
             status,
-            category.as_ptr(),
+            category(status).as_ptr(),
             text.as_ptr(),
         )
     };
 }
 
-fn panic_message(panic: Box<dyn std::any::Any + Send>) -> String {
-    panic
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| panic.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
+/// [`ffi::with`] for FMI 2.0 components.
 fn with(
     component: *mut c_void,
     call: &str,
     f: impl FnOnce(&mut Fmi2Instance) -> Result<(), CallError>,
 ) -> Status {
-    if component.is_null() {
-        return ERROR;
-    }
     // SAFETY: a non-null component is one this library made (fmi2Instantiate) and has not
     // freed, as the standard requires of the importer.
-    let wrapper = unsafe { &mut *component.cast::<Fmi2Instance>() };
-    match catch_unwind(AssertUnwindSafe(|| f(wrapper))) {
-        Ok(Ok(())) => OK,
-        Ok(Err(e)) => {
-            log_to(
-                wrapper.logger,
-                wrapper.environment,
-                &wrapper.name,
-                ERROR,
-                &format!("{call}: {e}"),
-            );
-            ERROR
-        }
-        Err(panic) => {
-            log_to(
-                wrapper.logger,
-                wrapper.environment,
-                &wrapper.name,
-                FATAL,
-                &format!("{call}: internal error: {}", panic_message(panic)),
-            );
-            FATAL
-        }
-    }
+    unsafe { ffi::with(component, call, f) }
 }
 
-/// # Safety
-/// `p` points to `n` valid elements that outlive the borrow.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], CallError> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err(CallError(format!("{what} is a null pointer")));
-    }
-    // SAFETY: as the caller promises.
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-/// # Safety
-/// As [`slice`], and nothing else reads or writes the elements during the borrow.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], CallError> {
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    if p.is_null() {
-        return Err(CallError(format!("{what} is a null pointer")));
-    }
-    // SAFETY: as the caller promises.
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-}
+/// The FMU states, spelt as FMI 2.0 does in messages.
+const STATES: FmuStates = FmuStates { name: "FMUstate" };
 
 /// The local path of a `file:` URI (`file:///dir`, `file://localhost/dir`, `file:/dir`),
 /// its `%XX` escapes decoded; a plain path is taken as it is.
@@ -208,18 +149,17 @@ pub unsafe extern "C" fn fmi2Instantiate(
         Some(f) => (f.logger, f.component_environment),
         None => (None, std::ptr::null_mut()),
     };
-    let made = catch_unwind(AssertUnwindSafe(|| {
+    let (name, result) = ffi::instantiate(|| {
         // SAFETY: the importer passes valid C strings or null.
-        let text = |p: *const c_char| {
-            (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
-        };
-        let name = text(instance_name).unwrap_or_else(|| "flexmbd".into());
+        let (name, guid, uri) =
+            unsafe { (text(instance_name), text(guid), text(resource_location)) };
+        let name = name.unwrap_or_else(|| "flexmbd".into());
         let result = if fmu_type != CO_SIMULATION {
             Err(CallError(
                 "a co-simulation FMU only (fmuType must be fmi2CoSimulation)".into(),
             ))
         } else {
-            match (text(guid), text(resource_location)) {
+            match (guid, uri) {
                 (_, None) => Err(CallError(
                     "no resource location: the FMU's resources/ folder holds the scene".into(),
                 )),
@@ -228,17 +168,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             }
         };
         (name, result)
-    }));
-    let (name, result) = match made {
-        Ok(made) => made,
-        Err(panic) => (
-            "flexmbd".into(),
-            Err(CallError(format!(
-                "internal error: {}",
-                panic_message(panic)
-            ))),
-        ),
-    };
+    });
     let name = std::ffi::CString::new(name.replace('\0', " ")).unwrap_or_default();
     match result {
         Ok(instance) => Box::into_raw(Box::new(Fmi2Instance {
@@ -267,12 +197,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
 /// `c` is one of this library's components not yet freed, or null.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeInstance(c: *mut c_void) {
-    if c.is_null() {
-        return;
-    }
     // SAFETY: made by Box::into_raw in fmi2Instantiate, freed once.
-    let boxed = unsafe { Box::from_raw(c.cast::<Fmi2Instance>()) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(boxed)));
+    unsafe { ffi::free::<Fmi2Instance>(c) }
 }
 
 /// `fmi2SetDebugLogging`: errors are logged whatever is asked.
@@ -413,19 +339,8 @@ pub unsafe extern "C" fn fmi2DoStep(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: *mut c_void, state: *mut *mut c_void) -> Status {
     with(c, "fmi2GetFMUstate", |w| {
-        if state.is_null() {
-            return Err(CallError("FMUstate is a null pointer".into()));
-        }
-        let saved = w.instance.state();
-        // SAFETY: the importer's pointer; a non-null *state was made by Box::into_raw here.
-        unsafe {
-            if (*state).is_null() {
-                *state = Box::into_raw(Box::new(saved)).cast();
-            } else {
-                *(*state).cast::<FmuState>() = saved;
-            }
-        }
-        Ok(())
+        // SAFETY: the importer's pointer to an FMU state of this library's, or to null.
+        unsafe { STATES.store(state, w.instance.state()) }
     })
 }
 
@@ -437,11 +352,8 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: *mut c_void, state: *mut *mut c_void
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: *mut c_void, state: *mut c_void) -> Status {
     with(c, "fmi2SetFMUstate", |w| {
-        if state.is_null() {
-            return Err(CallError("FMUstate is a null pointer".into()));
-        }
-        // SAFETY: an FMU state made by fmi2GetFMUstate and not freed.
-        w.instance.set_state(unsafe { &*state.cast::<FmuState>() })
+        // SAFETY: an FMU state made by fmi2GetFMUstate and not freed, or null.
+        w.instance.set_state(unsafe { STATES.read(state) }?)
     })
 }
 
@@ -454,12 +366,7 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: *mut c_void, state: *mut c_void) -> 
 pub unsafe extern "C" fn fmi2FreeFMUstate(c: *mut c_void, state: *mut *mut c_void) -> Status {
     with(c, "fmi2FreeFMUstate", |_| {
         // SAFETY: the importer's pointer to a state made by fmi2GetFMUstate, freed once.
-        unsafe {
-            if !state.is_null() && !(*state).is_null() {
-                drop(Box::from_raw((*state).cast::<FmuState>()));
-                *state = std::ptr::null_mut();
-            }
-        }
+        unsafe { STATES.free(state) };
         Ok(())
     })
 }
@@ -476,13 +383,8 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     size: *mut usize,
 ) -> Status {
     with(c, "fmi2SerializedFMUstateSize", |_| {
-        if state.is_null() || size.is_null() {
-            return Err(CallError("FMUstate or size is a null pointer".into()));
-        }
-        // SAFETY: an FMU state of this library; the importer's out-pointer.
-        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
-        unsafe { *size = bytes.len() };
-        Ok(())
+        // SAFETY: an FMU state of this library or null; the importer's out-pointer.
+        unsafe { STATES.size(state, size) }
     })
 }
 
@@ -499,20 +401,8 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     size: usize,
 ) -> Status {
     with(c, "fmi2SerializeFMUstate", |_| {
-        if state.is_null() {
-            return Err(CallError("FMUstate is a null pointer".into()));
-        }
-        // SAFETY: an FMU state of this library; the importer's array of `size` bytes.
-        let serialised = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
-        let out = unsafe { slice_mut(bytes.cast::<u8>(), size, "serializedState")? };
-        if out.len() != serialised.len() {
-            return Err(CallError(format!(
-                "size = {size}, but the state takes {} bytes (fmi2SerializedFMUstateSize)",
-                serialised.len()
-            )));
-        }
-        out.copy_from_slice(&serialised);
-        Ok(())
+        // SAFETY: an FMU state of this library or null; the importer's `size` bytes.
+        unsafe { STATES.serialize(state, bytes.cast(), size, "fmi2SerializedFMUstateSize") }
     })
 }
 
@@ -529,20 +419,8 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     state: *mut *mut c_void,
 ) -> Status {
     with(c, "fmi2DeSerializeFMUstate", |_| {
-        if state.is_null() {
-            return Err(CallError("FMUstate is a null pointer".into()));
-        }
-        // SAFETY: the importer's array and pointer; a non-null *state made here.
-        let read =
-            FmuState::from_bytes(unsafe { slice(bytes.cast::<u8>(), size, "serializedState")? })?;
-        unsafe {
-            if (*state).is_null() {
-                *state = Box::into_raw(Box::new(read)).cast();
-            } else {
-                *(*state).cast::<FmuState>() = read;
-            }
-        }
-        Ok(())
+        // SAFETY: the importer's `size` bytes and its pointer to a state or to null.
+        unsafe { STATES.deserialize(bytes.cast(), size, state) }
     })
 }
 

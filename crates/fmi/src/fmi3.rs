@@ -11,20 +11,13 @@
 //! (importers look them all up); those of model exchange, scheduled execution, clocks,
 //! the integer, Boolean, string and binary types and derivatives answer `fmi3Error` (or `fmi3OK` for an empty request of a type the FMU has none of).
 
-use std::ffi::{CStr, c_char, c_int, c_void};
-use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::ffi::{c_char, c_int, c_void};
 use std::path::PathBuf;
 
-use crate::instance::{CallError, FmuState, Instance};
+use crate::ffi::{self, FmuStates, Wrapper, c_message, category, slice, slice_mut, text};
+use crate::instance::{CallError, Instance};
 
-/// `fmi3Status`.
-pub type Status = c_int;
-/// `fmi3OK`.
-pub const OK: Status = 0;
-/// `fmi3Error`.
-pub const ERROR: Status = 3;
-/// `fmi3Fatal`.
-pub const FATAL: Status = 4;
+pub use crate::ffi::{ERROR, FATAL, OK, Status};
 
 /// `fmi3LogMessageCallback`.
 pub type LogMessage = Option<
@@ -44,8 +37,7 @@ pub struct Fmi3Instance {
     name: String,
 }
 
-impl Fmi3Instance {
-    /// Tell the importer's logger `message` with `status`.
+impl Wrapper for Fmi3Instance {
     fn log(&self, status: Status, message: &str) {
         log_to(
             self.log,
@@ -58,94 +50,32 @@ impl Fmi3Instance {
 
 fn log_to(log: LogMessage, environment: *mut c_void, status: Status, message: &str) {
     let Some(log) = log else { return };
-    let category = if status == FATAL {
-        c"logStatusFatal"
-    } else {
-        c"logStatusError"
-    };
-    let text = std::ffi::CString::new(message.replace('\0', " "))
-        .unwrap_or_else(|_| c"(message not representable)".to_owned());
+    let text = c_message(message);
     // SAFETY: the importer's callback, called with the environment it gave and two valid
     // C strings that outlive the call.
-    unsafe { log(environment, status, category.as_ptr(), text.as_ptr()) };
+    unsafe {
+        log(
+            environment,
+            status,
+            category(status).as_ptr(),
+            text.as_ptr(),
+        )
+    };
 }
 
-/// The panic's message, for the logger.
-fn panic_message(panic: Box<dyn std::any::Any + Send>) -> String {
-    panic
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| panic.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
-/// Run `f` on the instance behind `instance`, catching a panic; a refusal is logged and
-/// `fmi3Error`, a panic `fmi3Fatal`.
+/// [`ffi::with`] for FMI 3.0 instances.
 fn with(
     instance: *mut c_void,
     call: &str,
     f: impl FnOnce(&mut Fmi3Instance) -> Result<(), CallError>,
 ) -> Status {
-    if instance.is_null() {
-        return ERROR;
-    }
     // SAFETY: a non-null instance is one this library made (fmi3InstantiateCoSimulation)
     // and has not freed: the FMI standard requires the importer to pass only those.
-    let wrapper = unsafe { &mut *instance.cast::<Fmi3Instance>() };
-    match catch_unwind(AssertUnwindSafe(|| f(wrapper))) {
-        Ok(Ok(())) => OK,
-        Ok(Err(e)) => {
-            wrapper.log(ERROR, &format!("{call}: {e}"));
-            ERROR
-        }
-        Err(panic) => {
-            wrapper.log(
-                FATAL,
-                &format!("{call}: internal error: {}", panic_message(panic)),
-            );
-            FATAL
-        }
-    }
+    unsafe { ffi::with(instance, call, f) }
 }
 
-/// The `n` elements at `p` (none when `n` is 0; a null `p` with `n > 0` is refused).
-///
-/// # Safety
-/// `p` must point to `n` valid elements that outlive the borrow.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], CallError> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if p.is_null() {
-        return Err(CallError(format!("{what} is a null pointer")));
-    }
-    // SAFETY: as the caller promises.
-    Ok(unsafe { std::slice::from_raw_parts(p, n) })
-}
-
-/// [`slice`], writable.
-///
-/// # Safety
-/// As [`slice`], and nothing else may read or write the elements during the borrow.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], CallError> {
-    if n == 0 {
-        return Ok(&mut []);
-    }
-    if p.is_null() {
-        return Err(CallError(format!("{what} is a null pointer")));
-    }
-    // SAFETY: as the caller promises.
-    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-}
-
-/// A C string argument, `None` when null.
-///
-/// # Safety
-/// A non-null `p` must be a valid NUL-terminated string.
-unsafe fn text<'a>(p: *const c_char) -> Option<std::borrow::Cow<'a, str>> {
-    // SAFETY: as the caller promises.
-    (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) }.to_string_lossy())
-}
+/// The FMU states, spelt as FMI 3.0 does in messages.
+const STATES: FmuStates = FmuStates { name: "FMUState" };
 
 /// `fmi3GetVersion`.
 #[unsafe(no_mangle)]
@@ -188,7 +118,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     log_message: LogMessage,
     _intermediate_update: *mut c_void,
 ) -> *mut c_void {
-    let made = catch_unwind(AssertUnwindSafe(|| {
+    let (name, result) = ffi::instantiate(|| {
         // SAFETY: the importer passes valid C strings or null.
         let (name, token, resources) = unsafe {
             (
@@ -197,7 +127,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 text(resource_path),
             )
         };
-        let name = name.map_or_else(|| "flexmbd".to_string(), |n| n.into_owned());
+        let name = name.unwrap_or_else(|| "flexmbd".to_string());
         let result = match (token, resources) {
             (_, None) => Err(CallError(
                 "no resource path: the FMU's resources/ folder holds the scene".into(),
@@ -209,17 +139,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             }
         };
         (name, result)
-    }));
-    let (name, result) = match made {
-        Ok(made) => made,
-        Err(panic) => (
-            "flexmbd".into(),
-            Err(CallError(format!(
-                "internal error: {}",
-                panic_message(panic)
-            ))),
-        ),
-    };
+    });
     match result {
         Ok(instance) => Box::into_raw(Box::new(Fmi3Instance {
             instance,
@@ -246,12 +166,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
 /// `instance` is one of this library's not yet freed, or null.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3FreeInstance(instance: *mut c_void) {
-    if instance.is_null() {
-        return;
-    }
     // SAFETY: made by Box::into_raw in fmi3InstantiateCoSimulation, freed once.
-    let boxed = unsafe { Box::from_raw(instance.cast::<Fmi3Instance>()) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(boxed)));
+    unsafe { ffi::free::<Fmi3Instance>(instance) }
 }
 
 /// `fmi3EnterInitializationMode`.
@@ -402,19 +318,8 @@ pub unsafe extern "C" fn fmi3DoStep(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3GetFMUState(instance: *mut c_void, state: *mut *mut c_void) -> Status {
     with(instance, "fmi3GetFMUState", |w| {
-        if state.is_null() {
-            return Err(CallError("FMUState is a null pointer".into()));
-        }
-        let saved = w.instance.state();
-        // SAFETY: the importer's pointer; a non-null *state was made by Box::into_raw here.
-        unsafe {
-            if (*state).is_null() {
-                *state = Box::into_raw(Box::new(saved)).cast();
-            } else {
-                *(*state).cast::<FmuState>() = saved;
-            }
-        }
-        Ok(())
+        // SAFETY: the importer's pointer to an FMU state of this library's, or to null.
+        unsafe { STATES.store(state, w.instance.state()) }
     })
 }
 
@@ -426,12 +331,8 @@ pub unsafe extern "C" fn fmi3GetFMUState(instance: *mut c_void, state: *mut *mut
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3SetFMUState(instance: *mut c_void, state: *mut c_void) -> Status {
     with(instance, "fmi3SetFMUState", |w| {
-        if state.is_null() {
-            return Err(CallError("FMUState is a null pointer".into()));
-        }
-        // SAFETY: an FMU state made by fmi3GetFMUState and not freed.
-        let saved = unsafe { &*state.cast::<FmuState>() };
-        w.instance.set_state(saved)
+        // SAFETY: an FMU state made by fmi3GetFMUState and not freed, or null.
+        w.instance.set_state(unsafe { STATES.read(state) }?)
     })
 }
 
@@ -446,21 +347,13 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     state: *mut *mut c_void,
 ) -> Status {
     with(instance, "fmi3FreeFMUState", |_| {
-        if state.is_null() {
-            return Ok(());
-        }
         // SAFETY: the importer's pointer to a state made by fmi3GetFMUState, freed once.
-        unsafe {
-            if !(*state).is_null() {
-                drop(Box::from_raw((*state).cast::<FmuState>()));
-                *state = std::ptr::null_mut();
-            }
-        }
+        unsafe { STATES.free(state) };
         Ok(())
     })
 }
 
-/// `fmi3SerializedFMUStateSize`: the length of the state's bytes ([`FmuState::to_bytes`]).
+/// `fmi3SerializedFMUStateSize`: the length of the state's bytes ([`crate::instance::FmuState::to_bytes`]).
 ///
 /// # Safety
 /// `instance` is one of this library's, or null; `state` one of this library's FMU states
@@ -472,13 +365,8 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     size: *mut usize,
 ) -> Status {
     with(instance, "fmi3SerializedFMUStateSize", |_| {
-        if state.is_null() || size.is_null() {
-            return Err(CallError("FMUState or size is a null pointer".into()));
-        }
-        // SAFETY: an FMU state of this library; the importer's out-pointer.
-        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
-        unsafe { *size = bytes.len() };
-        Ok(())
+        // SAFETY: an FMU state of this library or null; the importer's out-pointer.
+        unsafe { STATES.size(state, size) }
     })
 }
 
@@ -496,20 +384,8 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
     size: usize,
 ) -> Status {
     with(instance, "fmi3SerializeFMUState", |_| {
-        if state.is_null() {
-            return Err(CallError("FMUState is a null pointer".into()));
-        }
-        // SAFETY: an FMU state of this library; the importer's array of `size` bytes.
-        let bytes = unsafe { &*state.cast::<FmuState>() }.to_bytes()?;
-        let out = unsafe { slice_mut(serialized_state, size, "serializedState")? };
-        if out.len() != bytes.len() {
-            return Err(CallError(format!(
-                "size = {size}, but the state takes {} bytes (fmi3SerializedFMUStateSize)",
-                bytes.len()
-            )));
-        }
-        out.copy_from_slice(&bytes);
-        Ok(())
+        // SAFETY: an FMU state of this library or null; the importer's `size` bytes.
+        unsafe { STATES.serialize(state, serialized_state, size, "fmi3SerializedFMUStateSize") }
     })
 }
 
@@ -527,21 +403,8 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     state: *mut *mut c_void,
 ) -> Status {
     with(instance, "fmi3DeserializeFMUState", |_| {
-        if state.is_null() {
-            return Err(CallError("FMUState is a null pointer".into()));
-        }
-        // SAFETY: the importer's array of `size` bytes and its pointer; a non-null *state
-        // was made by Box::into_raw here.
-        let read =
-            FmuState::from_bytes(unsafe { slice(serialized_state, size, "serializedState")? })?;
-        unsafe {
-            if (*state).is_null() {
-                *state = Box::into_raw(Box::new(read)).cast();
-            } else {
-                *(*state).cast::<FmuState>() = read;
-            }
-        }
-        Ok(())
+        // SAFETY: the importer's `size` bytes and its pointer to a state or to null.
+        unsafe { STATES.deserialize(serialized_state, size, state) }
     })
 }
 

@@ -21,6 +21,7 @@
 
 #![allow(unsafe_code)]
 
+mod ffi;
 pub mod fmi2;
 pub mod fmi3;
 pub mod instance;

@@ -5,7 +5,7 @@
 
 use std::fmt::Write as _;
 
-use flexmbd::model::Scene;
+use flexmbd::model::{Scene, Solver};
 
 use crate::variables::{TIME, Variables};
 
@@ -56,29 +56,7 @@ pub fn fmi3(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
         r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" fixedInternalStepSize="{}" canGetAndSetFMUState="true" canSerializeFMUState="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
         s.step
     );
-    let used: Vec<&str> = std::iter::once("s")
-        .chain(variables.inputs.iter().filter_map(|v| v.unit))
-        .chain(variables.outputs.iter().filter_map(|v| v.unit))
-        .collect();
-    let units: Vec<_> = UNITS.iter().filter(|(u, _)| used.contains(u)).collect();
-    let _ = writeln!(x, "  <UnitDefinitions>");
-    for (name, base) in units {
-        let _ = writeln!(x, r#"    <Unit name="{name}"><BaseUnit {base}/></Unit>"#);
-    }
-    let _ = writeln!(x, "  </UnitDefinitions>");
-    let _ = writeln!(
-        x,
-        r#"  <LogCategories>
-    <Category name="logStatusError" description="a refused call or a failed step"/>
-    <Category name="logStatusFatal" description="an internal error"/>
-  </LogCategories>"#
-    );
-    let _ = writeln!(
-        x,
-        r#"  <DefaultExperiment startTime="0" stopTime="{}" stepSize="{}"/>"#,
-        s.duration,
-        s.output_interval.unwrap_or(s.step)
-    );
+    units_categories_experiment(&mut x, variables, s, Some("s"));
     let _ = writeln!(x, "  <ModelVariables>");
     let _ = writeln!(
         x,
@@ -136,33 +114,17 @@ pub fn fmi3(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
     x
 }
 
-fn unit_attribute(unit: Option<&str>) -> String {
-    unit.map_or_else(String::new, |u| format!(r#" unit="{u}""#))
-}
-
-/// The FMI 2.0 model description of the same FMU: the same value references (no `time`
-/// variable: FMI 2.0 has none), `ScalarVariable`s of type `Real`, the model structure by
-/// 1-based indices into the variable list, and the GUID `token`.
-pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str) -> String {
-    let s = &scene.solver;
-    let mut x = String::new();
-    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
-    let _ = writeln!(
-        x,
-        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" description="{}" guid="{}" generationTool="flexmbd {}" variableNamingConvention="flat" numberOfEventIndicators="0">"#,
-        escape(&scene.name),
-        escape(&scene.description),
-        escape(token),
-        env!("CARGO_PKG_VERSION"),
-    );
-    let _ = writeln!(
-        x,
-        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" canNotUseMemoryManagementFunctions="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
-    );
-    let used: Vec<&str> = variables
-        .inputs
-        .iter()
-        .filter_map(|v| v.unit)
+/// The unit definitions of the units the variables use (and `extra`, the time's), the log
+/// categories and the default experiment (the scene's duration and output interval).
+fn units_categories_experiment(
+    x: &mut String,
+    variables: &Variables,
+    s: &Solver,
+    extra: Option<&'static str>,
+) {
+    let used: Vec<&str> = extra
+        .into_iter()
+        .chain(variables.inputs.iter().filter_map(|v| v.unit))
         .chain(variables.outputs.iter().filter_map(|v| v.unit))
         .collect();
     let units: Vec<_> = UNITS.iter().filter(|(u, _)| used.contains(u)).collect();
@@ -186,6 +148,32 @@ pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str)
         s.duration,
         s.output_interval.unwrap_or(s.step)
     );
+}
+
+fn unit_attribute(unit: Option<&str>) -> String {
+    unit.map_or_else(String::new, |u| format!(r#" unit="{u}""#))
+}
+
+/// The FMI 2.0 model description of the same FMU: the same value references (no `time`
+/// variable: FMI 2.0 has none), `ScalarVariable`s of type `Real`, the model structure by
+/// 1-based indices into the variable list, and the GUID `token`.
+pub fn fmi2(scene: &Scene, variables: &Variables, identifier: &str, token: &str) -> String {
+    let s = &scene.solver;
+    let mut x = String::new();
+    let _ = writeln!(x, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        x,
+        r#"<fmiModelDescription fmiVersion="2.0" modelName="{}" description="{}" guid="{}" generationTool="flexmbd {}" variableNamingConvention="flat" numberOfEventIndicators="0">"#,
+        escape(&scene.name),
+        escape(&scene.description),
+        escape(token),
+        env!("CARGO_PKG_VERSION"),
+    );
+    let _ = writeln!(
+        x,
+        r#"  <CoSimulation modelIdentifier="{identifier}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true" canNotUseMemoryManagementFunctions="true" canBeInstantiatedOnlyOncePerProcess="false"/>"#,
+    );
+    units_categories_experiment(&mut x, variables, s, None);
     let _ = writeln!(x, "  <ModelVariables>");
     for (k, v) in variables.inputs.iter().enumerate() {
         let _ = writeln!(
