@@ -306,6 +306,26 @@ def test_fmu_refuses_an_unknown_fmi_version_and_a_name_without_fmu(cli, tmp_path
     assert done.returncode != 0 and ".fmu" in done.stderr
 
 
+def test_fmu_for_another_platform_puts_its_library_in_that_platform_s_folder(cli, tmp_path):
+    import zipfile
+
+    scene = model("double_four_bar.ron")
+    # A library cross-built for 64-bit ARM Linux (here the host's, which only its place in the
+    # archive tells apart): binaries/aarch64-linux/ in FMI 3.0, which alone names it.
+    host_library = pathlib.Path(cli).with_name("libflexmbd_fmi.so")
+    arm = export(cli, scene, tmp_path / "arm.fmu", "--target", "aarch64-unknown-linux-gnu", "--library", str(host_library))
+    names = zipfile.ZipFile(arm).namelist()
+    assert "binaries/aarch64-linux/arm.so" in names and not any("x86_64" in n for n in names), names
+    done = run_cli(cli, "fmu", scene, "--output", str(tmp_path / "arm2.fmu"), "--fmi", "2",
+                   "--target", "aarch64-unknown-linux-gnu", "--library", str(host_library))
+    assert done.returncode != 0 and "FMI 2.0 has no platform name for aarch64-linux" in done.stderr
+    # Without --library: cargo's folder for the triple, named when the library is not there.
+    done = run_cli(cli, "fmu", scene, "--output", str(tmp_path / "arm3.fmu"), "--target", "aarch64-unknown-linux-gnu")
+    assert done.returncode != 0 and "aarch64-unknown-linux-gnu/release/libflexmbd_fmi.so" in done.stderr
+    done = run_cli(cli, "fmu", scene, "--output", str(tmp_path / "v.fmu"), "--target", "riscv64gc-unknown-linux-gnu")
+    assert done.returncode != 0 and "--target riscv64gc-unknown-linux-gnu" in done.stderr
+
+
 @pytest.mark.parametrize("fmi", ["3", "2"])
 def test_a_parameter_set_before_the_start_gives_simulate_with_it(cli, tmp_path, fmi):
     # `--parameter solver.step`: FMPy's start value 5e-4 gives `flexmbd simulate --step 5e-4`

@@ -3,12 +3,13 @@
 //! (`flexmbd_fmi`): the scene with its `--set` values applied and the files it reads go
 //! into the FMU's `resources/`, the shared library `libflexmbd_fmi` (built with
 //! `cargo build --release -p flexmbd-fmi`, found beside this program or named with
-//! `--library`) into `binaries/`.
+//! `--library`) into `binaries/`; with `--target TRIPLE`, a library cross-built for
+//! another platform (`cargo build --release -p flexmbd-fmi --target TRIPLE`).
 
 use std::path::PathBuf;
 
 use clap::Args;
-use flexmbd_fmi::package::Version;
+use flexmbd_fmi::package::{Platform, Version};
 
 use crate::{CliResult, SceneInput, exit};
 
@@ -31,7 +32,13 @@ pub(crate) struct FmuArgs {
     /// bodies.chassis.model.Rigid.mass) offered as an FMU parameter, set before the start.
     #[arg(long = "parameter", value_name = "PATH")]
     parameters: Vec<String>,
-    /// The FMU's shared library (default: libflexmbd_fmi beside this program).
+    /// The platform of the FMU's binary, a Rust target triple (e.g.
+    /// aarch64-unknown-linux-gnu; default: this machine's), for a library built with
+    /// `cargo build --release -p flexmbd-fmi --target TRIPLE`.
+    #[arg(long, value_name = "TRIPLE")]
+    target: Option<String>,
+    /// The FMU's shared library (default: libflexmbd_fmi beside this program, or with
+    /// --target in cargo's folder for that triple, ../TRIPLE/release/ from this program).
     #[arg(long)]
     library: Option<PathBuf>,
 }
@@ -57,20 +64,40 @@ pub(crate) fn fmu(args: &FmuArgs) -> CliResult {
         scene.solver.step = h;
     }
     scene.validate()?;
+    let platform = match &args.target {
+        Some(triple) => Platform::of_triple(triple)?,
+        None => {
+            Platform::host().ok_or("no FMI platform for this machine: name one with --target")?
+        }
+    };
     let library = match &args.library {
         Some(path) => path.clone(),
-        None => default_library()?,
+        None => default_library(&platform, args.target.as_deref())?,
     };
-    flexmbd_fmi::package::write_fmu(&scene, &args.output, &library, version, &args.parameters)?;
+    flexmbd_fmi::package::write_fmu(
+        &scene,
+        &args.output,
+        &library,
+        &platform,
+        version,
+        &args.parameters,
+    )?;
     println!("wrote {}", args.output.display());
     Ok(exit::SUCCESS)
 }
 
-/// `libflexmbd_fmi` beside this program (cargo builds both into the same folder).
-fn default_library() -> Result<PathBuf, String> {
+/// `libflexmbd_fmi` beside this program (cargo builds both into the same folder), or for a
+/// target triple where cargo puts it: `target/TRIPLE/release/` beside `target/release/`.
+fn default_library(platform: &Platform, triple: Option<&str>) -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
-    let (_, extension) =
-        flexmbd_fmi::package::host_platform().ok_or("no FMI platform for this machine")?;
-    let prefix = if cfg!(windows) { "" } else { "lib" };
-    Ok(exe.with_file_name(format!("{prefix}flexmbd_fmi.{extension}")))
+    let folder = exe.parent().ok_or("cannot find this program's folder")?;
+    let folder = match triple {
+        None => folder.to_path_buf(),
+        Some(triple) => folder
+            .parent()
+            .ok_or("cannot find cargo's target folder")?
+            .join(triple)
+            .join("release"),
+    };
+    Ok(folder.join(platform.library_name()))
 }

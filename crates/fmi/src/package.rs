@@ -25,31 +25,111 @@ pub enum Version {
     Fmi3,
 }
 
-/// The FMI 3.0 platform folder of the machine this runs on, and its shared-library
-/// extension; `None` for a platform the FMU is not made for.
-pub fn host_platform() -> Option<(&'static str, &'static str)> {
-    match (std::env::consts::ARCH, std::env::consts::OS) {
-        ("x86_64", "linux") => Some(("x86_64-linux", "so")),
-        ("aarch64", "linux") => Some(("aarch64-linux", "so")),
-        ("x86_64", "macos") => Some(("x86_64-darwin", "dylib")),
-        ("aarch64", "macos") => Some(("aarch64-darwin", "dylib")),
-        ("x86_64", "windows") => Some(("x86_64-windows", "dll")),
-        _ => None,
+/// The platform an FMU's binary is built for: its folder under `binaries/` in FMI 3.0
+/// (`x86_64-linux`, …) and in FMI 2.0 (which names only the desktop platforms `linux64`,
+/// `darwin64`, `win64`, …), and its shared library's file name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Platform {
+    /// The FMI 3.0 folder (the standard's §2.5.1.2: `<arch>-<sys>`).
+    pub fmi3: &'static str,
+    /// The FMI 2.0 folder (`None`: FMI 2.0 has no name for the platform).
+    pub fmi2: Option<&'static str>,
+    /// The shared library's prefix (`lib`, none on Windows) and extension.
+    pub prefix: &'static str,
+    /// The shared library's extension (`so`, `dylib`, `dll`).
+    pub extension: &'static str,
+}
+
+/// The platforms an FMU is made for, by the Rust target triple's architecture and system.
+const PLATFORMS: [(&str, &str, Platform); 5] = [
+    (
+        "x86_64",
+        "linux",
+        platform("x86_64-linux", Some("linux64"), "lib", "so"),
+    ),
+    (
+        "aarch64",
+        "linux",
+        platform("aarch64-linux", None, "lib", "so"),
+    ),
+    (
+        "x86_64",
+        "darwin",
+        platform("x86_64-darwin", Some("darwin64"), "lib", "dylib"),
+    ),
+    (
+        "aarch64",
+        "darwin",
+        platform("aarch64-darwin", None, "lib", "dylib"),
+    ),
+    (
+        "x86_64",
+        "windows",
+        platform("x86_64-windows", Some("win64"), "", "dll"),
+    ),
+];
+
+const fn platform(
+    fmi3: &'static str,
+    fmi2: Option<&'static str>,
+    prefix: &'static str,
+    extension: &'static str,
+) -> Platform {
+    Platform {
+        fmi3,
+        fmi2,
+        prefix,
+        extension,
     }
 }
 
-/// The platform folder of `version` for the machine this runs on (FMI 2.0 names only
-/// the 64-bit desktop platforms: linux64, darwin64, win64).
-fn platform_folder(version: Version) -> Option<&'static str> {
-    let (fmi3, _) = host_platform()?;
-    match version {
-        Version::Fmi3 => Some(fmi3),
-        Version::Fmi2 => match fmi3 {
-            "x86_64-linux" => Some("linux64"),
-            "x86_64-darwin" => Some("darwin64"),
-            "x86_64-windows" => Some("win64"),
-            _ => None,
-        },
+impl Platform {
+    /// The platform of the machine this runs on; `None` for one the FMU is not made for.
+    pub fn host() -> Option<Platform> {
+        let os = match std::env::consts::OS {
+            "macos" => "darwin",
+            os => os,
+        };
+        Self::find(std::env::consts::ARCH, os)
+    }
+
+    /// The platform of a Rust target triple (`aarch64-unknown-linux-gnu`,
+    /// `x86_64-pc-windows-msvc`, …): its architecture and its system.
+    pub fn of_triple(triple: &str) -> Result<Platform, String> {
+        let arch = triple.split('-').next().unwrap_or("");
+        let os = ["linux", "darwin", "windows"]
+            .into_iter()
+            .find(|os| triple.split('-').any(|part| part == *os));
+        os.and_then(|os| Self::find(arch, os)).ok_or_else(|| {
+            format!(
+                "--target {triple}: an FMU is made for x86_64 or aarch64 Linux or macOS, or x86_64 Windows (e.g. aarch64-unknown-linux-gnu)"
+            )
+        })
+    }
+
+    fn find(arch: &str, os: &str) -> Option<Platform> {
+        PLATFORMS
+            .iter()
+            .find(|(a, o, _)| *a == arch && *o == os)
+            .map(|(_, _, p)| *p)
+    }
+
+    /// The folder of `version` under `binaries/`.
+    fn folder(&self, version: Version) -> Result<&'static str, String> {
+        match version {
+            Version::Fmi3 => Ok(self.fmi3),
+            Version::Fmi2 => self.fmi2.ok_or_else(|| {
+                format!(
+                    "FMI 2.0 has no platform name for {} (write FMI 3.0: --fmi 3)",
+                    self.fmi3
+                )
+            }),
+        }
+    }
+
+    /// The file name of this crate's shared library for the platform.
+    pub fn library_name(&self) -> String {
+        format!("{}flexmbd_fmi.{}", self.prefix, self.extension)
     }
 }
 
@@ -121,30 +201,22 @@ pub fn resources(scene: &Scene) -> Result<Resources, String> {
 }
 
 /// Write the FMI `version` co-simulation FMU of `scene` (validated; `origin` its file) to
-/// `output`, with `library` (this crate built as a shared library for the host: it holds
+/// `output`, with `library` (this crate built as a shared library for `platform`: it holds
 /// both APIs) as its binary, and the real numbers of the scene at the `--set` paths
 /// `parameters` as parameters. The scene is compiled and started once, for its variables.
 pub fn write_fmu(
     scene: &Scene,
     output: &Path,
     library: &Path,
+    platform: &Platform,
     version: Version,
     parameters: &[String],
 ) -> Result<(), String> {
-    let platform = platform_folder(version);
-    let (platform, extension) = host_platform()
-        .zip(platform)
-        .map(|((_, extension), platform)| (platform, extension))
-        .ok_or_else(|| {
-            format!(
-                "no FMI {version:?} platform name for {}-{}",
-                std::env::consts::ARCH,
-                std::env::consts::OS
-            )
-        })?;
+    let folder = platform.folder(version)?;
+    let extension = platform.extension;
     let binary = std::fs::read(library).map_err(|e| {
         format!(
-            "cannot read the FMU library {}: {e} (build it with `cargo build --release -p flexmbd-fmi`, or name it with --library)",
+            "cannot read the FMU library {}: {e} (build it with `cargo build --release -p flexmbd-fmi`, with `--target TRIPLE` for another platform, or name it with --library)",
             library.display()
         )
     })?;
@@ -169,7 +241,7 @@ pub fn write_fmu(
             .map_err(|e| format!("cannot write {name} into {}: {e}", output.display()))
     };
     add("modelDescription.xml", description.as_bytes())?;
-    add(&format!("binaries/{platform}/{id}.{extension}"), &binary)?;
+    add(&format!("binaries/{folder}/{id}.{extension}"), &binary)?;
     add(
         &format!("resources/{SCENE_FILE}"),
         resources.scene_text.as_bytes(),
@@ -186,4 +258,53 @@ pub fn write_fmu(
     zip.finish()
         .map_err(|e| format!("cannot finish {}: {e}", output.display()))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_target_triple_names_its_fmi_folders_and_library() {
+        let linux_arm = Platform::of_triple("aarch64-unknown-linux-gnu").unwrap();
+        assert_eq!(linux_arm.folder(Version::Fmi3), Ok("aarch64-linux"));
+        assert!(
+            linux_arm
+                .folder(Version::Fmi2)
+                .unwrap_err()
+                .contains("--fmi 3")
+        );
+        assert_eq!(linux_arm.library_name(), "libflexmbd_fmi.so");
+        let windows = Platform::of_triple("x86_64-pc-windows-msvc").unwrap();
+        assert_eq!(windows.folder(Version::Fmi2), Ok("win64"));
+        assert_eq!(windows.library_name(), "flexmbd_fmi.dll");
+        let mac = Platform::of_triple("aarch64-apple-darwin").unwrap();
+        assert_eq!(
+            (mac.folder(Version::Fmi3), mac.extension),
+            (Ok("aarch64-darwin"), "dylib")
+        );
+        assert_eq!(
+            Platform::of_triple("x86_64-unknown-linux-musl"),
+            Platform::of_triple("x86_64-unknown-linux-gnu")
+        );
+        for refused in [
+            "riscv64gc-unknown-linux-gnu",
+            "wasm32-unknown-unknown",
+            "linux",
+            "",
+        ] {
+            let e = Platform::of_triple(refused).unwrap_err();
+            assert!(e.contains(refused) && e.contains("aarch64"), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_host_is_the_platform_of_its_own_triple() {
+        if cfg!(all(target_arch = "x86_64", target_os = "linux")) {
+            assert_eq!(
+                Platform::host(),
+                Platform::of_triple("x86_64-unknown-linux-gnu").ok()
+            );
+        }
+    }
 }
