@@ -2,9 +2,8 @@
 
 use std::path::Path;
 
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
-
-pub use plotters::prelude::SeriesLabelPosition;
 
 /// One named line of a chart.
 pub struct Series {
@@ -32,8 +31,6 @@ pub struct LineChart {
     pub log_y: bool,
     /// The lines.
     pub series: Vec<Series>,
-    /// Where the legend goes.
-    pub legend: SeriesLabelPosition,
 }
 
 const PALETTE: [RGBColor; 10] = [
@@ -66,11 +63,63 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
+/// The labelled ticks of a logarithmic axis over [lo, hi]: each decade's 1, 2 and 5 (with
+/// 3 too where the axis spans less than a decade and a half, so it has at least three).
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mantissas: &[f64] = if hi / lo < 15.0 {
+        &[1.0, 2.0, 3.0, 5.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    decades(lo, hi, mantissas)
+}
+
+/// The unlabelled grid lines of a logarithmic axis: each decade's 1 to 9.
+fn log_grid(lo: f64, hi: f64) -> Vec<f64> {
+    decades(lo, hi, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
+}
+
+fn decades(lo: f64, hi: f64, mantissas: &[f64]) -> Vec<f64> {
+    let (first, last) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (first..=last)
+        .flat_map(|k| mantissas.iter().map(move |m| tick_value(*m, k)))
+        .filter(|v| *v >= lo && *v <= hi)
+        .collect()
+}
+
+/// m·10^k, exactly as its decimal text reads (0.3, not 0.30000000000000004).
+fn tick_value(m: f64, k: i32) -> f64 {
+    format!("{m}e{k}").parse().unwrap_or(m * 10f64.powi(k))
+}
+
+/// An axis label: the shortest decimal that reads back as `v` at 12 significant digits,
+/// in plain notation from 10⁻⁴ to 10⁶ and in scientific notation outside.
+pub(crate) fn tick_label(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let rounded: f64 = format!("{v:.11e}").parse().unwrap_or(v);
+    let magnitude = rounded.abs();
+    if (1e-4..1e6).contains(&magnitude) {
+        format!("{rounded}")
+    } else {
+        format!("{rounded:e}")
+    }
+}
+
+/// Width of the chart's plot (px); the legend takes a column to its right.
+const PLOT_WIDTH: u32 = 900;
+/// Width of the legend's column (px).
+const LEGEND_WIDTH: u32 = 290;
+const HEIGHT: u32 = 600;
+
 impl LineChart {
-    /// Draw the chart into an SVG file at `path`.
+    /// Draw the chart into an SVG file at `path`: the plot, and the legend in a column to
+    /// its right, where it covers no data.
     pub fn write_svg(&self, path: &Path) -> Result<(), Box<dyn std::error::Error>> {
-        let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
+        let root = SVGBackend::new(path, (PLOT_WIDTH + LEGEND_WIDTH, HEIGHT)).into_drawing_area();
         root.fill(&WHITE)?;
+        let (plot, legend) = root.split_horizontally(PLOT_WIDTH);
         let (x0, x1) = range(
             self.series
                 .iter()
@@ -83,60 +132,49 @@ impl LineChart {
                 .flat_map(|s| s.points.iter().map(|p| p.1)),
             self.log_y,
         );
-        let mut builder = ChartBuilder::on(&root);
+        let mut builder = ChartBuilder::on(&plot);
         builder
             .caption(&self.title, ("sans-serif", 22))
             .margin(20)
             .x_label_area_size(50)
             .y_label_area_size(80);
+        let log = |lo: f64, hi: f64| {
+            (lo..hi)
+                .log_scale()
+                .with_key_points(log_ticks(lo, hi))
+                .with_light_points(log_grid(lo, hi))
+        };
         // plotters types the coordinate system by its scale, so the four cases are spelled out.
         match (self.log_x, self.log_y) {
             (true, true) => {
-                let mut c =
-                    builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-                c.configure_mesh()
-                    .x_desc(&self.x_label)
-                    .y_desc(&self.y_label)
-                    .draw()?;
-                self.draw_lines(&mut c)?;
+                self.plot(&mut builder.build_cartesian_2d(log(x0, x1), log(y0, y1))?)?
             }
-            (true, false) => {
-                let mut c = builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?;
-                c.configure_mesh()
-                    .x_desc(&self.x_label)
-                    .y_desc(&self.y_label)
-                    .draw()?;
-                self.draw_lines(&mut c)?;
-            }
-            (false, true) => {
-                let mut c = builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?;
-                c.configure_mesh()
-                    .x_desc(&self.x_label)
-                    .y_desc(&self.y_label)
-                    .draw()?;
-                self.draw_lines(&mut c)?;
-            }
-            (false, false) => {
-                let mut c = builder.build_cartesian_2d(x0..x1, y0..y1)?;
-                c.configure_mesh()
-                    .x_desc(&self.x_label)
-                    .y_desc(&self.y_label)
-                    .draw()?;
-                self.draw_lines(&mut c)?;
-            }
+            (true, false) => self.plot(&mut builder.build_cartesian_2d(log(x0, x1), y0..y1)?)?,
+            (false, true) => self.plot(&mut builder.build_cartesian_2d(x0..x1, log(y0, y1))?)?,
+            (false, false) => self.plot(&mut builder.build_cartesian_2d(x0..x1, y0..y1)?)?,
         }
+        self.draw_legend(&legend)?;
         root.present()?;
         Ok(())
     }
 
-    fn draw_lines<'a, X, Y>(
+    /// The mesh, its labels and the lines.
+    fn plot<'a, X, Y>(
         &self,
         chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
     ) -> Result<(), String>
     where
-        X: Ranged<ValueType = f64>,
-        Y: Ranged<ValueType = f64>,
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .x_label_formatter(&|v| tick_label(*v))
+            .y_label_formatter(&|v| tick_label(*v))
+            .draw()
+            .map_err(|e| e.to_string())?;
         for s in &self.series {
             let colour = PALETTE[s.colour % PALETTE.len()];
             let style = ShapeStyle::from(&colour).stroke_width(2);
@@ -149,19 +187,11 @@ impl LineChart {
             if s.dashed {
                 chart
                     .draw_series(DashedLineSeries::new(pts.clone(), 8, 5, style))
-                    .map_err(|e| e.to_string())?
-                    .label(s.label.as_str())
-                    .legend(move |(x, y)| {
-                        EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (8, 0)], style)
-                            + PathElement::new(vec![(12, 0), (20, 0)], style)
-                    });
+                    .map_err(|e| e.to_string())?;
             } else {
                 chart
                     .draw_series(LineSeries::new(pts.clone(), style))
-                    .map_err(|e| e.to_string())?
-                    .label(s.label.as_str())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                    .map_err(|e| e.to_string())?;
             }
             // Point markers only where the points are few enough to be read one by one.
             if pts.len() <= 60 {
@@ -170,13 +200,31 @@ impl LineChart {
                     .map_err(|e| e.to_string())?;
             }
         }
-        chart
-            .configure_series_labels()
-            .position(self.legend.clone())
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    /// The legend, a line sample and the label per series, top-down in the column `area`.
+    fn draw_legend(
+        &self,
+        area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), String> {
+        let font = ("sans-serif", 13).into_font().color(&BLACK);
+        for (k, s) in self.series.iter().enumerate() {
+            let y = 70 + 22 * k as i32;
+            let colour = PALETTE[s.colour % PALETTE.len()];
+            let style = ShapeStyle::from(&colour).stroke_width(2);
+            let sample: Vec<Vec<(i32, i32)>> = if s.dashed {
+                vec![vec![(0, y), (9, y)], vec![(14, y), (23, y)]]
+            } else {
+                vec![vec![(0, y), (23, y)]]
+            };
+            for segment in sample {
+                area.draw(&PathElement::new(segment, style))
+                    .map_err(|e| e.to_string())?;
+            }
+            area.draw(&Text::new(s.label.as_str(), (30, y - 7), font.clone()))
+                .map_err(|e| e.to_string())?;
+        }
         Ok(())
     }
 }
@@ -184,6 +232,21 @@ impl LineChart {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_log_axis_labels_each_decade_with_its_2_and_5_in_plain_decimals() {
+        // The work-precision charts' error axis (issue 30 item 6): 1.1 to 18 mm.
+        assert_eq!(log_ticks(1.1, 18.0), vec![2.0, 5.0, 10.0]);
+        assert_eq!(log_ticks(0.011, 0.6), vec![0.02, 0.05, 0.1, 0.2, 0.5]);
+        // Less than a decade and a half: 3 as well, so the axis has three labels.
+        assert_eq!(log_ticks(1.5, 12.0), vec![2.0, 3.0, 5.0, 10.0]);
+        let labels: Vec<String> = log_ticks(0.05, 0.6).into_iter().map(tick_label).collect();
+        assert_eq!(labels, ["0.05", "0.1", "0.2", "0.3", "0.5"]);
+        assert_eq!(tick_label(0.1 + 0.2), "0.3");
+        assert_eq!(tick_label(2e-7), "2e-7");
+        assert_eq!(tick_label(-1.25), "-1.25");
+        assert_eq!(tick_label(3e7), "3e7");
+    }
 
     #[test]
     fn svg_has_axes_labels_and_legend() {
@@ -196,7 +259,6 @@ mod tests {
             y_label: "time per evaluation (µs)".into(),
             log_x: true,
             log_y: true,
-            legend: SeriesLabelPosition::UpperLeft,
             series: vec![
                 Series {
                     label: "B-matrix".into(),

@@ -13,7 +13,7 @@ use flexmbd::simulation::{self, History, Summary};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 
 mod sections;

@@ -9,7 +9,7 @@ use flexmbd::simulation::{self, Summary};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 
 const FORMS: [(FormulationKind, &str); 2] = [
@@ -310,7 +310,6 @@ fn bump_charts(report: &mut Report, runs: &[BumpRun]) -> StudyResult {
         log_x: false,
         log_y: false,
         series,
-        legend: SeriesLabelPosition::UpperRight,
     };
     let mut heave = Vec::new();
     let mut tyres = Vec::new();

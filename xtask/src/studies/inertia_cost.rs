@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 use crate::timing::median_seconds;
 
@@ -236,7 +236,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         log_x: true,
         log_y: true,
         series,
-        legend: SeriesLabelPosition::UpperLeft,
     };
     let path = report.chart_path("inertia_cost.svg");
     chart.write_svg(&path)?;

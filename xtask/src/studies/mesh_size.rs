@@ -12,7 +12,7 @@ use flexmbd::simulation::{self, Summary};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 
 /// The four runs of a mesh-size study: each formulation by each inertia route.
@@ -214,7 +214,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         log_x: true,
         log_y: true,
         series,
-        legend: SeriesLabelPosition::UpperLeft,
     };
     let path = report.chart_path("mesh_size.svg");
     chart.write_svg(&path)?;

@@ -18,7 +18,7 @@ use flexmbd::simulation::Summary;
 use super::StudyResult;
 use super::mesh_size::{VARIANTS, measure};
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 
 /// The step of the scene (0.2 ms) and the steps timed per run.
@@ -197,7 +197,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         log_x: true,
         log_y: true,
         series,
-        legend: SeriesLabelPosition::UpperLeft,
     };
     let path = report.chart_path("solid_mesh.svg");
     chart.write_svg(&path)?;

@@ -11,7 +11,7 @@ use flexmbd::simulation::{self, History, Summary};
 
 use super::StudyResult;
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 
 pub(super) type Error = Box<dyn std::error::Error>;
@@ -346,7 +346,6 @@ fn charts_2d(
             log_x: false,
             log_y: false,
             series,
-            legend: SeriesLabelPosition::LowerLeft,
         };
         let path = report.chart_path(file);
         chart.write_svg(&path)?;
@@ -691,7 +690,6 @@ fn charts_3d(
             log_x: false,
             log_y: false,
             series,
-            legend: SeriesLabelPosition::LowerRight,
         };
         let path = report.chart_path(file);
         chart.write_svg(&path)?;

@@ -8,7 +8,7 @@ use flexmbd::simulation::{History, Summary};
 
 use super::{Case, FORMS, Failure, LEAF_AT_STOP, METHODS, Which, find, median_runs, scene};
 use crate::Settings;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::report::Report;
 use crate::studies::StudyResult;
 
@@ -30,7 +30,6 @@ fn time_chart(title: &str, y_label: &str, series: Vec<Series>) -> LineChart {
         log_x: false,
         log_y: false,
         series,
-        legend: SeriesLabelPosition::UpperRight,
     }
 }
 
@@ -271,7 +270,6 @@ pub(super) fn cpu_chart(report: &mut Report, cases: &[Case]) -> StudyResult {
         log_x: false,
         log_y: true,
         series,
-        legend: SeriesLabelPosition::LowerRight,
     }
     .write_svg(&path)?;
     report.image(

@@ -349,7 +349,6 @@ pub(super) fn cpu_chart(report: &mut Report, cases: &[Case]) -> StudyResult {
     }
     let chart = LineChart {
         title: "Double four-bar: CPU time of the 5 s run".into(),
-        legend: SeriesLabelPosition::LowerRight,
         x_label: "flexible bars k".into(),
         y_label: "CPU time (s)".into(),
         log_x: false,
@@ -385,7 +384,6 @@ pub(super) fn b0_charts(report: &mut Report, cases: &[Case]) -> StudyResult {
     );
     let chart = LineChart {
         title: "Double four-bar: B0_x(t), rigid and five flexible bars".into(),
-        legend: SeriesLabelPosition::UpperLeft,
         x_label: "t (s)".into(),
         y_label: "B0_x (m)".into(),
         log_x: false,
@@ -423,7 +421,6 @@ pub(super) fn b0_charts(report: &mut Report, cases: &[Case]) -> StudyResult {
     };
     let chart = LineChart {
         title: "Double four-bar: B0 of five flexible bars minus B0 rigid".into(),
-        legend: SeriesLabelPosition::UpperLeft,
         x_label: "t (s)".into(),
         y_label: "B0(k = 5) − B0(k = 0) (mm)".into(),
         log_x: false,

@@ -12,7 +12,7 @@ use flexmbd::sweep::{
 };
 
 use super::Case;
-use crate::chart::{LineChart, Series, SeriesLabelPosition};
+use crate::chart::{LineChart, Series};
 use crate::studies::StudyResult;
 
 /// The label of a run's method: formulation, inertia, stiffening.
@@ -78,16 +78,23 @@ pub(super) fn chart(
     error_against_cpu(format!("Work–precision: {}", case.title), series).write_svg(path)
 }
 
-/// A log–log chart of the largest error over time against the run's CPU time.
+/// A log–log chart of the largest error over time against the run's CPU time, the error in
+/// mm (the unit the tolerances of these cases are given in).
 fn error_against_cpu(title: String, series: Vec<Series>) -> LineChart {
+    let series = series
+        .into_iter()
+        .map(|s| Series {
+            points: s.points.iter().map(|&(cpu, e)| (cpu, e * 1e3)).collect(),
+            ..s
+        })
+        .collect();
     LineChart {
         title,
         x_label: "CPU time of the run (s)".into(),
-        y_label: "largest error over time (m)".into(),
+        y_label: "largest error over time (mm)".into(),
         log_x: true,
         log_y: true,
         series,
-        legend: SeriesLabelPosition::UpperRight,
     }
 }
 
