@@ -10,8 +10,8 @@ use clap::Args;
 use flexmbd::body::InertiaMethod;
 use flexmbd::model::{FormulationKind, Scene};
 use flexmbd::sweep::{
-    Axis, Grid, Reference, RunRecord, RunStatus, Sweep, SweepError, SweepReport, Timing, Tuning,
-    parse_basis,
+    Axis, Grid, Reference, ReferenceKind, RunRecord, RunStatus, Sweep, SweepError, SweepReport,
+    Timing, Tuning, parse_basis,
 };
 use serde::Serialize;
 
@@ -170,7 +170,7 @@ impl SweepInput {
             sensors: self.sensors.clone(),
             reference: match &self.reference {
                 Some(p) => Reference::Csv(p.clone()),
-                None => Reference::Converged,
+                None => Reference::Faithful,
             },
             grid,
             error_cap: self.error_cap,
@@ -265,6 +265,9 @@ struct TuneOutput<'a> {
     #[serde(flatten)]
     tuning: &'a Tuning,
     reference: &'a str,
+    reference_kind: flexmbd::sweep::ReferenceKind,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reference_fallback: &'a Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     reference_margin: &'a Option<Vec<flexmbd::sweep::SensorError>>,
     timing: &'a str,
@@ -301,6 +304,8 @@ pub fn tune(args: &TuneArgs) -> CliResult {
             sensors: &report.sensors,
             tuning: &tuning,
             reference: &report.reference,
+            reference_kind: report.reference_kind,
+            reference_fallback: &report.reference_fallback,
             reference_margin: &report.reference_margin,
             timing: &report.timing,
             pareto: &report.pareto,
@@ -377,10 +382,17 @@ fn table(report: &SweepReport) -> String {
         report.sensors.join(", "),
         report.reference
     );
+    if let Some(why) = &report.reference_fallback {
+        s += &format!("  no large-deformation reference for this scene: {why}\n");
+    }
     if let Some(margin) = &report.reference_margin {
+        let against = match report.reference_kind {
+            ReferenceKind::LargeDeformation => "twice the elements or half the step",
+            _ => "half its step",
+        };
         for m in margin {
             s += &format!(
-                "  reference margin (against half its step): {} max {:.3e}, rms {:.3e}\n",
+                "  reference's error estimate (difference from {against}): {} max {:.3e}, rms {:.3e}\n",
                 m.sensor, m.max_abs, m.rms
             );
         }

@@ -35,6 +35,7 @@ use serde::Serialize;
 use crate::simulation;
 
 mod error;
+mod faithful;
 pub mod grid;
 mod pareto;
 pub mod reference;
@@ -67,6 +68,27 @@ pub enum Reference {
     /// ([`Grid::richest`]), run once more at half that step to report its own
     /// convergence margin ([`SweepReport::reference_margin`]).
     Converged,
+    /// The most faithful model the project can build for the scene: the large-deformation
+    /// ANCF cable where the scene is a beam on a spun-up hub (the spin-up beams), converged
+    /// in mesh and step with its error estimated (`sweep/faithful.rs`); for any
+    /// other scene, [`Reference::Converged`], and the report says why
+    /// ([`SweepReport::reference_fallback`]).
+    Faithful,
+}
+
+/// What kind of reference a sweep was judged against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReferenceKind {
+    /// A CSV file.
+    File,
+    /// A table given in memory.
+    Table,
+    /// The large-deformation solution of [`Reference::Faithful`].
+    LargeDeformation,
+    /// The grid's richest model at half its smallest step: a model of the runs' own
+    /// family.
+    GridRichest,
 }
 
 /// A work–precision sweep: one scene over a grid of choices, judged on some sensors.
@@ -156,8 +178,15 @@ pub struct SweepReport {
     pub sensors: Vec<String>,
     /// The reference: a file, a label, or the converged run's arguments.
     pub reference: String,
-    /// For [`Reference::Converged`]: per judged sensor, the largest difference between the
-    /// reference run and the same model at half its step.
+    /// What kind of reference it is.
+    pub reference_kind: ReferenceKind,
+    /// For [`Reference::Faithful`] on a scene without a large-deformation model: why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_fallback: Option<String>,
+    /// The reference's own error estimate, per judged sensor: for the grid's richest model
+    /// ([`Reference::Converged`]), the largest difference from the same at half its step;
+    /// for the large-deformation cable, the larger of its differences from the cable with
+    /// twice the elements and at half the step.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_margin: Option<Vec<SensorError>>,
     /// The error above which a finished run counts as unstable.
@@ -188,6 +217,8 @@ struct Prepared {
     points: Vec<grid::GridPoint>,
     reference: ReferenceTable,
     reference_label: String,
+    reference_kind: ReferenceKind,
+    reference_fallback: Option<String>,
     margin: Option<Vec<SensorError>>,
     cap: f64,
 }
@@ -297,13 +328,35 @@ impl Sweep {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
         let points = self.grid.points(&base)?;
-        let (reference, reference_label, margin) = match &self.reference {
+        let mut reference_fallback = None;
+        let (reference, reference_label, margin, reference_kind) = match &self.reference {
             Reference::Csv(path) => {
                 let table = ReferenceTable::from_csv(path)?;
-                (table, path.display().to_string(), None)
+                (table, path.display().to_string(), None, ReferenceKind::File)
             }
-            Reference::Table(table) => (table.clone(), table.origin.clone(), None),
-            Reference::Converged => self.converged(&pristine, &base, stop)?,
+            Reference::Table(table) => (
+                table.clone(),
+                table.origin.clone(),
+                None,
+                ReferenceKind::Table,
+            ),
+            Reference::Converged => {
+                let (table, label, margin) = self.converged(&pristine, &base, stop)?;
+                (table, label, margin, ReferenceKind::GridRichest)
+            }
+            Reference::Faithful => match faithful::reference(&base, &self.sensors)? {
+                Ok(f) => (
+                    f.table,
+                    f.label,
+                    Some(f.margin),
+                    ReferenceKind::LargeDeformation,
+                ),
+                Err(why) => {
+                    reference_fallback = Some(why);
+                    let (table, label, margin) = self.converged(&pristine, &base, stop)?;
+                    (table, label, margin, ReferenceKind::GridRichest)
+                }
+            },
         };
         self.check_reference(&reference, &base)?;
         let largest = self
@@ -327,6 +380,8 @@ impl Sweep {
             points,
             reference,
             reference_label,
+            reference_kind,
+            reference_fallback,
             margin,
             cap,
         })
@@ -499,6 +554,8 @@ impl Sweep {
             scene: prepared.pristine.name.clone(),
             sensors: self.sensors.clone(),
             reference: prepared.reference_label.clone(),
+            reference_kind: prepared.reference_kind,
+            reference_fallback: prepared.reference_fallback.clone(),
             reference_margin: prepared.margin.clone(),
             error_cap: prepared.cap,
             runs: outcomes.into_iter().map(|o| o.0).collect(),

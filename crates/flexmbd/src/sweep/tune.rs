@@ -13,7 +13,7 @@
 
 use serde::Serialize;
 
-use super::{RunRecord, RunStatus, Setting, Sweep, SweepError, SweepReport, Timing};
+use super::{ReferenceKind, RunRecord, RunStatus, Setting, Sweep, SweepError, SweepReport, Timing};
 
 /// CPU times within this fraction of the cheapest count as tied.
 pub const TIMING_TIE: f64 = 0.25;
@@ -36,19 +36,26 @@ pub struct Tuning {
 }
 
 /// The warnings a tuning at `tolerance` carries about its reference (issue 27 item 2):
-/// the default reference ([`super::Reference::Converged`]) is the grid's richest model at a
-/// smaller step, so its margin covers the step, not that model's own modelling error
-/// (a stiffening method, truncated modes, a coarse mesh), and the answer is only as true as
-/// that model; and a tolerance at or below the reference's error estimate cannot be judged.
-pub fn reference_warnings(sweep: &Sweep, report: &SweepReport, tolerance: f64) -> Vec<String> {
+/// a reference of the grid's own richest model ([`ReferenceKind::GridRichest`]: given, or
+/// the default where the scene has no large-deformation model) has a margin that covers
+/// its step, not its own modelling error (a stiffening method, truncated modes, a coarse
+/// mesh), so the answer is only as true as that model; and a tolerance at or below the
+/// reference's own error estimate cannot be judged.
+pub fn reference_warnings(report: &SweepReport, tolerance: f64) -> Vec<String> {
     let mut warnings = Vec::new();
-    if matches!(sweep.reference, super::Reference::Converged) {
+    if report.reference_kind == ReferenceKind::GridRichest {
+        let why = report
+            .reference_fallback
+            .as_ref()
+            .map_or(String::new(), |why| {
+                format!(" (no large-deformation reference for this scene: {why})")
+            });
         warnings.push(format!(
-            "the reference is the grid's own richest model ({}): its margin (against half its \
-             step) covers the step only, not the modelling error of its stiffening method, modes or \
-             elements, so the runs are judged against a model of their own family and may be \
-             further from the physics than their errors say; give --reference a more faithful \
-             solution (a large-deformation model, a finer mesh) to judge against",
+            "the reference is the grid's own richest model ({}){why}: its margin (against half \
+             its step) covers the step only, not the modelling error of its stiffening method, \
+             modes or elements, so the runs are judged against a model of their own family and \
+             may be further from the physics than their errors say; give --reference a more \
+             faithful solution (a large-deformation model, a finer mesh) to judge against",
             report.reference
         ));
     }
@@ -57,8 +64,8 @@ pub fn reference_warnings(sweep: &Sweep, report: &SweepReport, tolerance: f64) -
         if tolerance <= bound {
             warnings.push(format!(
                 "the tolerance {tolerance:e} is within the reference's own error estimate \
-                 {bound:e} (its difference from the same model at half its step): the answer \
-                 cannot be trusted at this tolerance"
+                 {bound:e} (its difference from the same refined): the answer cannot be \
+                 trusted at this tolerance"
             ));
         }
     }
@@ -153,7 +160,7 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
         recommended: recommended.cloned(),
         runner_up: runner_up.cloned(),
         rule,
-        warnings: reference_warnings(sweep, report, tolerance),
+        warnings: reference_warnings(report, tolerance),
     })
 }
 
