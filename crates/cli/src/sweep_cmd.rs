@@ -61,9 +61,15 @@ pub struct SweepInput {
     #[arg(long = "sensor", value_delimiter = ',', required = true)]
     sensors: Vec<String>,
     /// A reference CSV: `t`, then a column per judged sensor (e.g. written by
-    /// `flexmbd simulate --output`). Default: the scene's converged run.
+    /// `flexmbd simulate --output`). Default: the most faithful model flexmbd has for the
+    /// scene (the large-deformation ANCF cable for a beam on a spun-up hub, else the grid's
+    /// richest model at half its smallest step), kept in the reference cache.
     #[arg(long)]
     reference: Option<PathBuf>,
+    /// Compute the default reference even if the cache holds it, and do not keep it. The
+    /// cache is $FLEXMBD_CACHE_DIR, else $XDG_CACHE_HOME/flexmbd, else ~/.cache/flexmbd.
+    #[arg(long)]
+    no_reference_cache: bool,
     /// A grid axis NAME=V1,V2,... (see below); repeat for more axes. Default: see below.
     #[arg(long = "grid", value_name = "NAME=VALUES")]
     grid: Vec<String>,
@@ -174,6 +180,9 @@ impl SweepInput {
             },
             grid,
             error_cap: self.error_cap,
+            reference_cache: (!self.no_reference_cache)
+                .then(reference_cache_dir)
+                .flatten(),
         })
     }
 
@@ -257,6 +266,20 @@ fn interrupted(report: &SweepReport) -> Option<u8> {
     Some(exit::INTERRUPTED)
 }
 
+/// The folder of the reference cache: $FLEXMBD_CACHE_DIR, else $XDG_CACHE_HOME/flexmbd,
+/// else $HOME/.cache/flexmbd (`None` without any of them).
+fn reference_cache_dir() -> Option<PathBuf> {
+    let var = |name: &str| {
+        std::env::var_os(name)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    let base = var("FLEXMBD_CACHE_DIR")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("flexmbd")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache").join("flexmbd")))?;
+    Some(base.join("references"))
+}
+
 /// What `flexmbd tune --json` prints: the choice, then the sweep it was made from.
 #[derive(Serialize)]
 struct TuneOutput<'a> {
@@ -268,6 +291,8 @@ struct TuneOutput<'a> {
     reference_kind: flexmbd::sweep::ReferenceKind,
     #[serde(skip_serializing_if = "Option::is_none")]
     reference_fallback: &'a Option<String>,
+    reference_seconds: f64,
+    reference_cached: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     reference_margin: &'a Option<Vec<flexmbd::sweep::SensorError>>,
     timing: &'a str,
@@ -306,6 +331,8 @@ pub fn tune(args: &TuneArgs) -> CliResult {
             reference: &report.reference,
             reference_kind: report.reference_kind,
             reference_fallback: &report.reference_fallback,
+            reference_seconds: report.reference_seconds,
+            reference_cached: report.reference_cached,
             reference_margin: &report.reference_margin,
             timing: &report.timing,
             pareto: &report.pareto,
@@ -385,6 +412,15 @@ fn table(report: &SweepReport) -> String {
     if let Some(why) = &report.reference_fallback {
         s += &format!("  no large-deformation reference for this scene: {why}\n");
     }
+    s += &format!(
+        "  reference {} in {:.2} s (apart from the runs)\n",
+        if report.reference_cached {
+            "read from the cache"
+        } else {
+            "made"
+        },
+        report.reference_seconds
+    );
     if let Some(margin) = &report.reference_margin {
         let against = match report.reference_kind {
             ReferenceKind::LargeDeformation => "twice the elements or half the step",

@@ -506,3 +506,48 @@ fn tune_by_default_no_longer_recommends_a_run_whose_true_error_exceeds_the_toler
     let judged = json["recommended"]["error"].as_f64().unwrap();
     assert!((error - judged).abs() < 1e-5, "{error} against {judged}");
 }
+
+/// Issue 27 item 4: the default reference is made once and kept (FLEXMBD_CACHE_DIR); the
+/// next sweep of the same scene reads it back, judging every run bit for bit as before,
+/// and says so, with the time of each apart from the runs'; another scene (a longer run)
+/// or `--no-reference-cache` makes its own.
+#[test]
+fn the_default_reference_is_made_once_and_read_back_from_the_cache() {
+    let _alone = alone();
+    let dir = scratch("cache");
+    std::fs::remove_dir_all(&dir).ok();
+    let spin_up = model("spin_up_beam_2d.ron");
+    let sweep = |duration: &str, extra: &[&str]| -> Value {
+        let out = flexmbd()
+            .env("FLEXMBD_CACHE_DIR", &dir)
+            .args(["sweep", &spin_up, "--sensor", "tip_uy", "--json"])
+            .args(["--set", &format!("solver.duration={duration}")])
+            .args(["--grid", "formulation=relative", "--grid", "modes=1,2"])
+            .args(["--grid", "stiffening=foreshortening", "--grid", "step=2e-3"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_eq!(code(&out), 0, "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let errors = |report: &Value| -> Vec<u64> {
+        report["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["error"].as_f64().unwrap().to_bits())
+            .collect()
+    };
+    let first = sweep("2", &[]);
+    assert_eq!(first["reference_cached"], false, "{first}");
+    assert!(first["reference_seconds"].as_f64().unwrap() > 0.0);
+    let second = sweep("2", &[]);
+    assert_eq!(second["reference_cached"], true, "{second}");
+    assert_eq!(errors(&first), errors(&second));
+    assert_eq!(first["reference_margin"], second["reference_margin"]);
+    assert_eq!(sweep("3", &[])["reference_cached"], false);
+    let uncached = sweep("2", &["--no-reference-cache"]);
+    assert_eq!(uncached["reference_cached"], false);
+    assert_eq!(errors(&first), errors(&uncached));
+    std::fs::remove_dir_all(&dir).ok();
+}

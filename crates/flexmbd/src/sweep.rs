@@ -34,6 +34,7 @@ use serde::Serialize;
 
 use crate::simulation;
 
+mod cache;
 mod error;
 mod faithful;
 pub mod grid;
@@ -77,7 +78,7 @@ pub enum Reference {
 }
 
 /// What kind of reference a sweep was judged against.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReferenceKind {
     /// A CSV file.
@@ -107,6 +108,10 @@ pub struct Sweep {
     /// An error (m, or the sensors' unit) above which a finished run counts as unstable;
     /// `None`: 10 times the largest |reference value| of the judged sensors.
     pub error_cap: Option<f64>,
+    /// A folder where a computed reference ([`Reference::Converged`],
+    /// [`Reference::Faithful`]) is kept and found again by the next sweep of the same scene
+    /// (`sweep/cache.rs` says what the key holds); `None`: computed every time.
+    pub reference_cache: Option<PathBuf>,
 }
 
 /// How a run ended.
@@ -183,6 +188,11 @@ pub struct SweepReport {
     /// For [`Reference::Faithful`] on a scene without a large-deformation model: why.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference_fallback: Option<String>,
+    /// Wall-clock seconds spent making the reference (reading it from the cache, when it
+    /// was there), apart from the runs'.
+    pub reference_seconds: f64,
+    /// The reference was found in [`Sweep::reference_cache`].
+    pub reference_cached: bool,
     /// The reference's own error estimate, per judged sensor: for the grid's richest model
     /// ([`Reference::Converged`]), the largest difference from the same at half its step;
     /// for the large-deformation cable, the larger of its differences from the cable with
@@ -219,8 +229,32 @@ struct Prepared {
     reference_label: String,
     reference_kind: ReferenceKind,
     reference_fallback: Option<String>,
+    reference_seconds: f64,
+    reference_cached: bool,
     margin: Option<Vec<SensorError>>,
     cap: f64,
+}
+
+/// A sweep's reference and what the report says of it.
+struct Resolved {
+    table: ReferenceTable,
+    label: String,
+    kind: ReferenceKind,
+    fallback: Option<String>,
+    margin: Option<Vec<SensorError>>,
+}
+
+impl Resolved {
+    /// A reference given by the user: no estimate of its error.
+    fn given(table: ReferenceTable, label: String, kind: ReferenceKind) -> Resolved {
+        Resolved {
+            table,
+            label,
+            kind,
+            fallback: None,
+            margin: None,
+        }
+    }
 }
 
 /// What one run gave, before its record is judged.
@@ -328,36 +362,32 @@ impl Sweep {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
         let points = self.grid.points(&base)?;
-        let mut reference_fallback = None;
-        let (reference, reference_label, margin, reference_kind) = match &self.reference {
+        let clock = Instant::now();
+        let (resolved, reference_cached) = match &self.reference {
             Reference::Csv(path) => {
                 let table = ReferenceTable::from_csv(path)?;
-                (table, path.display().to_string(), None, ReferenceKind::File)
+                let label = path.display().to_string();
+                (Resolved::given(table, label, ReferenceKind::File), false)
             }
-            Reference::Table(table) => (
-                table.clone(),
-                table.origin.clone(),
-                None,
-                ReferenceKind::Table,
-            ),
-            Reference::Converged => {
-                let (table, label, margin) = self.converged(&pristine, &base, stop)?;
-                (table, label, margin, ReferenceKind::GridRichest)
+            Reference::Table(table) => {
+                let label = table.origin.clone();
+                (
+                    Resolved::given(table.clone(), label, ReferenceKind::Table),
+                    false,
+                )
             }
-            Reference::Faithful => match faithful::reference(&base, &self.sensors)? {
-                Ok(f) => (
-                    f.table,
-                    f.label,
-                    Some(f.margin),
-                    ReferenceKind::LargeDeformation,
-                ),
-                Err(why) => {
-                    reference_fallback = Some(why);
-                    let (table, label, margin) = self.converged(&pristine, &base, stop)?;
-                    (table, label, margin, ReferenceKind::GridRichest)
-                }
-            },
+            Reference::Converged | Reference::Faithful => {
+                self.computed_reference(&pristine, &base, stop)?
+            }
         };
+        let reference_seconds = clock.elapsed().as_secs_f64();
+        let Resolved {
+            table: reference,
+            label: reference_label,
+            kind: reference_kind,
+            fallback: reference_fallback,
+            margin,
+        } = resolved;
         self.check_reference(&reference, &base)?;
         let largest = self
             .sensors
@@ -382,9 +412,83 @@ impl Sweep {
             reference_label,
             reference_kind,
             reference_fallback,
+            reference_seconds,
+            reference_cached,
             margin,
             cap,
         })
+    }
+
+    /// A reference the sweep computes ([`Reference::Converged`], [`Reference::Faithful`]),
+    /// from the cache when it holds it (and whether it did), else computed and kept there.
+    fn computed_reference(
+        &self,
+        pristine: &Scene,
+        base: &Scene,
+        stop: &AtomicBool,
+    ) -> Result<(Resolved, bool), SweepError> {
+        let faithful = matches!(self.reference, Reference::Faithful);
+        let key = match &self.reference_cache {
+            Some(_) => {
+                let richest = self.grid.richest(base)?;
+                let scene_ron = ron::to_string(base).unwrap_or_default();
+                Some(cache::key(
+                    if faithful { "faithful" } else { "converged" },
+                    &self.sensors,
+                    &scene_ron,
+                    &richest.args(&self.scene_path(), &self.sets).join(" "),
+                ))
+            }
+            None => None,
+        };
+        if let (Some(dir), Some(key)) = (&self.reference_cache, &key)
+            && let Some(entry) = cache::load(dir, key)
+            && let Some(table) = entry.table()
+        {
+            let resolved = Resolved {
+                table,
+                label: entry.label,
+                kind: entry.kind,
+                fallback: entry.fallback,
+                margin: entry.margin,
+            };
+            return Ok((resolved, true));
+        }
+        let large_deformation = if faithful {
+            faithful::reference(base, &self.sensors)?
+        } else {
+            Err(String::new())
+        };
+        let resolved = match large_deformation {
+            Ok(f) => Resolved {
+                table: f.table,
+                label: f.label,
+                kind: ReferenceKind::LargeDeformation,
+                fallback: None,
+                margin: Some(f.margin),
+            },
+            Err(why) => {
+                let (table, label, margin) = self.converged(pristine, base, stop)?;
+                Resolved {
+                    table,
+                    label,
+                    kind: ReferenceKind::GridRichest,
+                    fallback: faithful.then_some(why),
+                    margin,
+                }
+            }
+        };
+        if let (Some(dir), Some(key)) = (&self.reference_cache, &key) {
+            let entry = cache::Entry::new(
+                key,
+                &resolved.table,
+                resolved.kind,
+                resolved.fallback.clone(),
+                resolved.margin.clone(),
+            );
+            cache::store(dir, &entry);
+        }
+        Ok((resolved, false))
     }
 
     /// Every judged sensor in `reference`, which spans the base scene's run `[0, duration]`.
@@ -556,6 +660,8 @@ impl Sweep {
             reference: prepared.reference_label.clone(),
             reference_kind: prepared.reference_kind,
             reference_fallback: prepared.reference_fallback.clone(),
+            reference_seconds: prepared.reference_seconds,
+            reference_cached: prepared.reference_cached,
             reference_margin: prepared.margin.clone(),
             error_cap: prepared.cap,
             runs: outcomes.into_iter().map(|o| o.0).collect(),

@@ -59,6 +59,7 @@ fn two_ritz_vectors_beat_four_normal_modes_on_the_spin_up_beam() {
             ],
         },
         error_cap: None,
+        reference_cache: None,
     };
     let report = sweep.run().unwrap();
     for r in &report.runs {

@@ -304,6 +304,7 @@ fn a_sweep_row_whose_pilot_fails_is_a_failed_row_and_the_sweep_goes_on() {
             axes: vec![Axis::Step(vec![0.25, 1e-3])],
         },
         error_cap: None,
+        reference_cache: None,
     };
     let report = sweep.run().expect("the sweep runs");
     let (failed, ok) = (&report.runs[0], &report.runs[1]);

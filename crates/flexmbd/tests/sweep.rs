@@ -17,6 +17,7 @@ fn spin_up(reference: Reference, axes: Vec<Axis>) -> Sweep {
         reference,
         grid: Grid { axes },
         error_cap: None,
+        reference_cache: None,
     }
 }
 

@@ -136,6 +136,7 @@ fn four_bar(grid: Grid) -> Sweep {
         reference: Reference::Converged,
         grid,
         error_cap: None,
+        reference_cache: None,
     }
 }
 
@@ -320,6 +321,7 @@ fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
         reference: Reference::Table(reference),
         grid: grid(&methods, bases, modes, &steps),
         error_cap: None,
+        reference_cache: None,
     };
     let bars = four_bar_sweep(&modes_bars, &bases, &steps, quick)?;
     let modes_bars_alone: Vec<usize> = if quick {

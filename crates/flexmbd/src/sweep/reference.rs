@@ -23,7 +23,7 @@ pub struct ReferenceTable {
 }
 
 /// The error of one run on one sensor against the reference.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct SensorError {
     /// The sensor.
     pub sensor: String,

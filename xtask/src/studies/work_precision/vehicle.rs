@@ -101,6 +101,7 @@ fn vehicle_sweep(plan: &VehiclePlan, steps: &[f64]) -> Sweep {
         reference: Reference::Converged,
         grid: grid(&[Stiffening::Linear], &plan.bases, &plan.modes, steps),
         error_cap: None,
+        reference_cache: None,
     }
 }
 
