@@ -424,6 +424,8 @@ fn table(report: &SweepReport) -> String {
     if let Some(margin) = &report.reference_margin {
         let against = match report.reference_kind {
             ReferenceKind::LargeDeformation => "twice the elements or half the step",
+            ReferenceKind::Substructured => "half the substructures or twice the step",
+            ReferenceKind::SmallStep => "twice the step",
             _ => "half its step",
         };
         for m in margin {

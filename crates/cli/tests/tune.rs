@@ -382,44 +382,56 @@ fn no_candidate_meeting_the_tolerance_is_its_own_exit_code() {
     );
 }
 
-/// Issue 27 items 1 and 2: without `--reference`, tune judges the spin-up beam against its
-/// large-deformation model (the ANCF cable, converged: its error estimate is its difference
-/// from the cable refined), and a scene the project has no such model for (the flexible
-/// pendulum, swinging under gravity) against the grid's own richest model, whose modelling
+/// Issue 27 items 1 and 2: without `--reference`, tune judges each scene against the most
+/// faithful model the project has for it — the spin-up beam against the large-deformation
+/// ANCF cable (its error estimate: its difference from the cable refined), the flexible
+/// pendulum against its beam substructured (SB8), the rigid double four-bar against
+/// itself at an eighth of the step — and a scene with none (the imported bar pendulum:
+/// neither a cable nor splittable) against the grid's own richest model, whose modelling
 /// error its margin does not hold: the answer says so, and why. A tolerance within the
 /// reference's own error estimate is warned of. With a reference CSV, no warning.
 #[test]
 fn tune_warns_when_its_reference_is_of_the_grids_own_family() {
     let _alone = alone();
-    let run = |scene: &str, sensor: &str, reference: Option<&str>, tolerance: &str| {
-        let mut cmd = flexmbd();
-        cmd.args(["tune", &model(scene), "--sensor", sensor]);
-        if let Some(r) = reference {
-            cmd.args(["--reference", r]);
-        }
-        let out = cmd
-            .args([
-                "--set",
-                "solver.duration=2",
-                "--grid",
-                "modes=1,2",
-                "--grid",
-                "step=2e-3",
-            ])
-            .args(["--tolerance", tolerance, "--json"])
-            .output()
-            .unwrap();
-        let json: Value = serde_json::from_slice(&out.stdout).unwrap();
-        let warnings: Vec<String> = json["warnings"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|w| w.as_str().unwrap().to_string())
-            .collect();
-        (code(&out), json, warnings)
-    };
-    let spin_up = "spin_up_beam_2d.ron";
-    let (status, json, warnings) = run(spin_up, "tip_uy", None, "1e-2");
+    let run =
+        |scene: &str, sensor: &str, grid: &[&str], reference: Option<&str>, tolerance: &str| {
+            let mut cmd = flexmbd();
+            cmd.args([
+                "tune",
+                &model(scene),
+                "--sensor",
+                sensor,
+                "--no-reference-cache",
+            ]);
+            if let Some(r) = reference {
+                cmd.args(["--reference", r]);
+            }
+            let out = cmd
+                .args(grid)
+                .args(["--tolerance", tolerance, "--json"])
+                .output()
+                .unwrap();
+            let json: Value = serde_json::from_slice(&out.stdout).unwrap();
+            let warnings: Vec<String> = json["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|w| w.as_str().unwrap().to_string())
+                .collect();
+            (code(&out), json, warnings)
+        };
+    let (spin_up, beam_grid) = (
+        "spin_up_beam_2d.ron",
+        [
+            "--set",
+            "solver.duration=2",
+            "--grid",
+            "modes=1,2",
+            "--grid",
+            "step=2e-3",
+        ],
+    );
+    let (status, json, warnings) = run(spin_up, "tip_uy", &beam_grid, None, "1e-2");
     assert_eq!(status, 0, "{json}");
     assert_eq!(json["reference_kind"], "large-deformation", "{json}");
     assert!(warnings.is_empty(), "{warnings:?}");
@@ -427,21 +439,43 @@ fn tune_warns_when_its_reference_is_of_the_grids_own_family() {
     // candidate), and the warning names the estimate.
     let margin = json["reference_margin"][0]["max_abs"].as_f64().unwrap();
     assert!(margin > 0.0 && margin < 1e-4, "{json}");
-    let (status, _, warnings) = run(spin_up, "tip_uy", None, &format!("{:e}", margin / 2.0));
+    let tight = format!("{:e}", margin / 2.0);
+    let (status, _, warnings) = run(spin_up, "tip_uy", &beam_grid, None, &tight);
     assert_eq!(status, 6);
     assert!(
         warnings.iter().any(|w| w.contains("cannot be trusted")),
         "{warnings:?}"
     );
-    let (status, json, warnings) = run("flexible_pendulum.ron", "tip_y", None, "1e-2");
+    let short = ["--set", "solver.duration=0.5", "--grid", "step=2e-3,1e-3"];
+    let (status, json, warnings) = run("flexible_pendulum.ron", "tip_y", &short, None, "1e-1");
     assert_eq!(status, 0, "{json}");
-    assert_eq!(json["reference_kind"], "grid-richest", "{json}");
+    assert_eq!(json["reference_kind"], "substructured", "{json}");
     assert!(
-        json["reference_fallback"]
+        json["reference"]
             .as_str()
             .unwrap()
-            .contains("SpinUp"),
+            .contains("substructuring:8"),
         "{json}"
+    );
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let (status, json, warnings) = run("double_four_bar.ron", "B0_x", &short, None, "1e-2");
+    assert_eq!(status, 0, "{json}");
+    assert_eq!(json["reference_kind"], "small-step", "{json}");
+    assert!(
+        json["reference"]
+            .as_str()
+            .unwrap()
+            .contains("solver.step=0.000125"),
+        "{json}"
+    );
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let (status, json, warnings) = run("imported_bar_pendulum.ron", "tip_x", &short, None, "1e-2");
+    assert_eq!(status, 0, "{json}");
+    assert_eq!(json["reference_kind"], "grid-richest", "{json}");
+    let why = json["reference_fallback"].as_str().unwrap();
+    assert!(
+        why.contains("not a beam") && why.contains("substructuring"),
+        "{why}"
     );
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(
@@ -449,7 +483,13 @@ fn tune_warns_when_its_reference_is_of_the_grids_own_family() {
             && warnings[0].contains("no large-deformation reference"),
         "{warnings:?}"
     );
-    let (status, json, warnings) = run(spin_up, "tip_uy", Some(ancf_reference()), "1e-2");
+    let (status, json, warnings) = run(
+        spin_up,
+        "tip_uy",
+        &beam_grid,
+        Some(ancf_reference()),
+        "1e-2",
+    );
     assert_eq!(status, 0, "{json}");
     assert_eq!(json["reference_kind"], "file", "{json}");
     assert!(warnings.is_empty(), "{warnings:?}");

@@ -33,8 +33,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::simulation;
+use computed::Resolved;
 
 mod cache;
+mod computed;
 mod error;
 mod faithful;
 pub mod grid;
@@ -71,8 +73,10 @@ pub enum Reference {
     Converged,
     /// The most faithful model the project can build for the scene: the large-deformation
     /// ANCF cable where the scene is a beam on a spun-up hub (the spin-up beams), converged
-    /// in mesh and step with its error estimated (`sweep/faithful.rs`); for any
-    /// other scene, [`Reference::Converged`], and the report says why
+    /// in mesh and step with its error estimated (`sweep/faithful.rs`); a scene with other
+    /// flexible beams substructured (SB8 at a quarter of the grid's smallest step, its error
+    /// estimated against SB4 and twice the step); a scene without flexible bodies at an eighth of the grid's smallest step;
+    /// otherwise [`Reference::Converged`], and the report says why
     /// ([`SweepReport::reference_fallback`]).
     Faithful,
 }
@@ -90,6 +94,12 @@ pub enum ReferenceKind {
     /// The grid's richest model at half its smallest step: a model of the runs' own
     /// family.
     GridRichest,
+    /// The scene's flexible beams substructured (SB8, relative formulation, a quarter of
+    /// the grid's smallest step): a model of large rotations, of another family than the
+    /// floating frame's linear ones.
+    Substructured,
+    /// A scene without flexible bodies at an eighth of the grid's smallest step.
+    SmallStep,
 }
 
 /// A work–precision sweep: one scene over a grid of choices, judged on some sensors.
@@ -233,28 +243,6 @@ struct Prepared {
     reference_cached: bool,
     margin: Option<Vec<SensorError>>,
     cap: f64,
-}
-
-/// A sweep's reference and what the report says of it.
-struct Resolved {
-    table: ReferenceTable,
-    label: String,
-    kind: ReferenceKind,
-    fallback: Option<String>,
-    margin: Option<Vec<SensorError>>,
-}
-
-impl Resolved {
-    /// A reference given by the user: no estimate of its error.
-    fn given(table: ReferenceTable, label: String, kind: ReferenceKind) -> Resolved {
-        Resolved {
-            table,
-            label,
-            kind,
-            fallback: None,
-            margin: None,
-        }
-    }
 }
 
 /// What one run gave, before its record is judged.
@@ -419,78 +407,6 @@ impl Sweep {
         })
     }
 
-    /// A reference the sweep computes ([`Reference::Converged`], [`Reference::Faithful`]),
-    /// from the cache when it holds it (and whether it did), else computed and kept there.
-    fn computed_reference(
-        &self,
-        pristine: &Scene,
-        base: &Scene,
-        stop: &AtomicBool,
-    ) -> Result<(Resolved, bool), SweepError> {
-        let faithful = matches!(self.reference, Reference::Faithful);
-        let key = match &self.reference_cache {
-            Some(_) => {
-                let richest = self.grid.richest(base)?;
-                let scene_ron = ron::to_string(base).unwrap_or_default();
-                Some(cache::key(
-                    if faithful { "faithful" } else { "converged" },
-                    &self.sensors,
-                    &scene_ron,
-                    &richest.args(&self.scene_path(), &self.sets).join(" "),
-                ))
-            }
-            None => None,
-        };
-        if let (Some(dir), Some(key)) = (&self.reference_cache, &key)
-            && let Some(entry) = cache::load(dir, key)
-            && let Some(table) = entry.table()
-        {
-            let resolved = Resolved {
-                table,
-                label: entry.label,
-                kind: entry.kind,
-                fallback: entry.fallback,
-                margin: entry.margin,
-            };
-            return Ok((resolved, true));
-        }
-        let large_deformation = if faithful {
-            faithful::reference(base, &self.sensors)?
-        } else {
-            Err(String::new())
-        };
-        let resolved = match large_deformation {
-            Ok(f) => Resolved {
-                table: f.table,
-                label: f.label,
-                kind: ReferenceKind::LargeDeformation,
-                fallback: None,
-                margin: Some(f.margin),
-            },
-            Err(why) => {
-                let (table, label, margin) = self.converged(pristine, base, stop)?;
-                Resolved {
-                    table,
-                    label,
-                    kind: ReferenceKind::GridRichest,
-                    fallback: faithful.then_some(why),
-                    margin,
-                }
-            }
-        };
-        if let (Some(dir), Some(key)) = (&self.reference_cache, &key) {
-            let entry = cache::Entry::new(
-                key,
-                &resolved.table,
-                resolved.kind,
-                resolved.fallback.clone(),
-                resolved.margin.clone(),
-            );
-            cache::store(dir, &entry);
-        }
-        Ok((resolved, false))
-    }
-
     /// Every judged sensor in `reference`, which spans the base scene's run `[0, duration]`.
     fn check_reference(&self, reference: &ReferenceTable, base: &Scene) -> Result<(), SweepError> {
         for s in &self.sensors {
@@ -509,53 +425,6 @@ impl Sweep {
             });
         }
         Ok(())
-    }
-
-    /// The richest point at the smallest step, and its convergence margin against the same
-    /// at half the step.
-    fn converged(
-        &self,
-        pristine: &Scene,
-        base: &Scene,
-        stop: &AtomicBool,
-    ) -> Result<(ReferenceTable, String, Option<Vec<SensorError>>), SweepError> {
-        let richest = self.grid.richest(base)?;
-        let h = richest
-            .settings
-            .iter()
-            .find_map(|s| match s {
-                Setting::Step(h) => Some(*h),
-                _ => None,
-            })
-            .unwrap_or(base.solver.step);
-        let mut half = richest.clone();
-        half.settings.retain(|s| !matches!(s, Setting::Step(_)));
-        half.settings.push(Setting::Step(h / 2.0));
-        let table = |point: &grid::GridPoint| -> Result<ReferenceTable, SweepError> {
-            let label = point.args(&self.scene_path(), &self.sets).join(" ");
-            let fail = |message: String| SweepError::ReferenceRun {
-                label: label.clone(),
-                message,
-            };
-            let outcome = self.execute(pristine, point, stop);
-            if outcome.interrupted {
-                return Err(SweepError::Interrupted { label });
-            }
-            if let Some(f) = outcome.failure {
-                return Err(fail(f));
-            }
-            let history = outcome
-                .history
-                .expect("a run without failure has a history");
-            let column = |name: &str| history.column(name).expect("the scene's own sensor");
-            let columns = self.sensors.iter().map(|s| column(s)).collect();
-            ReferenceTable::new(label.clone(), column("t"), self.sensors.clone(), columns)
-                .map_err(|e| fail(e.to_string()))
-        };
-        let reference = table(&richest)?;
-        let finer = table(&half)?;
-        let margin = self.measure(&finer.t, &finer.columns, &reference);
-        Ok((reference.clone(), reference.origin.clone(), Some(margin)))
     }
 
     /// The error measures of the columns `run` (the judged sensors, at times `t`).
