@@ -385,6 +385,13 @@ fn choice_text(report: &SweepReport, tuning: &Tuning) -> String {
         tuning.tolerance,
         report.sensors.join(", ")
     );
+    if tuning.reference_error > 0.0 {
+        s += &format!(
+            "  (an error against the reference of at most {:e}: the tolerance less the reference's own error estimate {:e})\n",
+            tuning.tolerance - tuning.reference_error,
+            tuning.reference_error
+        );
+    }
     match &tuning.recommended {
         Some(r) => s += &describe("recommended", r),
         None => s += "recommended: none — no candidate meets the tolerance\n",

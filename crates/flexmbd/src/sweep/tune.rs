@@ -2,7 +2,10 @@
 //! (docs/methods.md §10.3).
 //!
 //! A candidate meets tolerance X when its status is ok and its error (the largest absolute
-//! difference over time, largest over the judged sensors) is at most X. The candidates
+//! difference over time, largest over the judged sensors) is at most X − e_ref, e_ref the
+//! reference's own error estimate (largest over the sensors; 0 for a reference given as a
+//! file or table): |run − truth| ≤ |run − reference| + |reference − truth|, so a run that
+//! meets it is within X of the physics as far as the estimate holds. The candidates
 //! compared are timed alone ([`Sweep::retime`]), all of them, except a run that differs
 //! from another meeting candidate only by a smaller step or more modes or elements
 //! ([`structurally_cheaper`]): it is taken as costlier without timing it (times measured
@@ -23,6 +26,10 @@ pub const TIMING_TIE: f64 = 0.25;
 pub struct Tuning {
     /// The tolerance on the judged sensors' largest absolute error.
     pub tolerance: f64,
+    /// The reference's own error estimate e_ref (its margin, largest over the sensors; 0
+    /// without one): a candidate meets the tolerance when its error is at most
+    /// `tolerance − reference_error`.
+    pub reference_error: f64,
     /// The recommended run (its `args` reproduce it with `flexmbd simulate`); `None` when
     /// no candidate meets the tolerance.
     pub recommended: Option<RunRecord>,
@@ -72,6 +79,16 @@ pub fn reference_warnings(report: &SweepReport, tolerance: f64) -> Vec<String> {
     warnings
 }
 
+/// The reference's own error estimate: its margin's largest entry (0 without a margin).
+fn reference_error(report: &SweepReport) -> f64 {
+    report
+        .reference_margin
+        .iter()
+        .flatten()
+        .map(|m| m.max_abs)
+        .fold(0.0f64, f64::max)
+}
+
 /// Whether `run` meets `tolerance`.
 fn meets(run: &RunRecord, tolerance: f64) -> bool {
     run.status == RunStatus::Ok && run.error <= tolerance
@@ -119,7 +136,7 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
     }
     let rule = format!(
         "the least CPU time (timed alone, median of {} or of {} for runs under {} s) among ok runs whose error is at most \
-         the tolerance; a run that differs from another such run only by a smaller step or \
+         the tolerance less the reference's own error estimate; a run that differs from another such run only by a smaller step or \
          more modes or elements is taken as costlier and not timed (`costlier_than`); times \
          within {:.0} % of the least count as tied, and then fewer coordinates win, then the \
          lower grid index",
@@ -128,9 +145,11 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
         super::SHORT_RUN,
         TIMING_TIE * 100.0
     );
+    let reference_error = reference_error(report);
+    let limit = tolerance - reference_error;
     let settings = sweep.point_settings()?;
     let meeting: Vec<usize> = (0..report.runs.len())
-        .filter(|&i| meets(&report.runs[i], tolerance))
+        .filter(|&i| meets(&report.runs[i], limit))
         .collect();
     let minimal: Vec<usize> = meeting
         .iter()
@@ -154,9 +173,10 @@ pub fn tune(sweep: &Sweep, report: &mut SweepReport, tolerance: f64) -> Result<T
         .collect();
     sweep.retime(report, &pending)?;
     let compared: Vec<RunRecord> = minimal.iter().map(|&i| report.runs[i].clone()).collect();
-    let (recommended, runner_up) = choose(&compared, tolerance);
+    let (recommended, runner_up) = choose(&compared, limit);
     Ok(Tuning {
         tolerance,
+        reference_error,
         recommended: recommended.cloned(),
         runner_up: runner_up.cloned(),
         rule,
@@ -226,6 +246,45 @@ mod tests {
         let (rec, next) = choose(&runs, 1e-3);
         assert_eq!((rec.unwrap().index, next.map(|r| r.index)), (2, None));
         assert!(choose(&runs, 1e-4).0.is_none());
+    }
+
+    /// A run meets the tolerance only with the reference's own error estimate to spare: at
+    /// 5 mm against a reference good to 1 mm, 4.5 mm does not meet it and 3.5 mm does.
+    #[test]
+    fn the_reference_s_own_error_is_taken_off_the_tolerance() {
+        let margin = |max_abs: f64| super::super::SensorError {
+            sensor: "s".into(),
+            max_abs,
+            rms: 0.0,
+        };
+        let report = SweepReport {
+            scene: "s".into(),
+            sensors: vec!["s".into(), "t".into()],
+            reference: String::new(),
+            reference_kind: ReferenceKind::Substructured,
+            reference_fallback: None,
+            reference_seconds: 0.0,
+            reference_cached: false,
+            reference_margin: Some(vec![margin(1e-3), margin(0.4e-3)]),
+            error_cap: 1.0,
+            runs: Vec::new(),
+            pareto: Vec::new(),
+            timing: String::new(),
+            threads: 1,
+            parallel_wall_seconds: 0.0,
+            sum_run_seconds: 0.0,
+            interrupted: false,
+        };
+        assert_eq!(reference_error(&report), 1e-3);
+        let limit = 5e-3 - reference_error(&report);
+        let runs = [run(0, 4.5e-3, 0.001, 1), run(1, 3.5e-3, 0.002, 1)];
+        assert_eq!(choose(&runs, limit).0.map(|r| r.index), Some(1));
+        assert_eq!(choose(&runs, 5e-3).0.map(|r| r.index), Some(0));
+        let given = SweepReport {
+            reference_margin: None,
+            ..report
+        };
+        assert_eq!(reference_error(&given), 0.0);
     }
 
     #[test]
