@@ -117,8 +117,9 @@ impl Sweep {
             Err(why) => why,
         };
         let h = self.smallest_step(base)?;
-        let flexible = base.bodies.iter().any(|b| b.flexible);
-        if !flexible {
+        let flexible: Vec<&flexmbd_model::Body> =
+            base.bodies.iter().filter(|b| b.runs_flexible()).collect();
+        if flexible.is_empty() {
             let point = |h: f64| GridPoint {
                 index: usize::MAX,
                 settings: vec![Setting::Step(h)],
@@ -132,6 +133,16 @@ impl Sweep {
                 fallback: None,
                 margin: Some(margin),
             });
+        }
+        if let Some(b) = flexible
+            .iter()
+            .find(|b| !matches!(b.model, flexmbd_model::BodyModel::Beam(_)))
+        {
+            let why = format!(
+                "{why_not_cable}; body `{}` is no beam, which substructuring would split",
+                b.name
+            );
+            return self.grid_richest(pristine, base, stop, Some(why));
         }
         let substructured = |n: usize, h: f64| GridPoint {
             index: usize::MAX,
