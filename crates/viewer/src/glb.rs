@@ -1,0 +1,382 @@
+//! The glTF 2.0 binary of a [`Recording`]: one node per body with its mesh
+//! ([`BodyShape`]), one animation whose channels drive each node's translation r0 and
+//! rotation (the quaternion of A) and each flexible body's morph-target weights (its modal
+//! coordinates y times the deformation scale), sampled at the recording's instants and
+//! interpolated linearly. The JSON is written by `gltf-json`; the container (12-byte
+//! header, JSON chunk, BIN chunk, each padded to 4 bytes) by hand, as the glTF 2.0
+//! specification's section 4.4 lays it out. A run that failed is marked in the asset's
+//! `extras` (`flexmbd.status`, `failed_at`, `message`) and in the animation's name.
+
+use gltf_json as json;
+use json::validation::{Checked::Valid, USize64};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+
+use crate::record::Recording;
+use crate::shapes::BodyShape;
+
+/// Body colours (linear RGB), one after another.
+const PALETTE: [[f32; 3]; 6] = [
+    [0.10, 0.35, 0.80],
+    [0.85, 0.35, 0.05],
+    [0.10, 0.60, 0.25],
+    [0.70, 0.10, 0.55],
+    [0.80, 0.65, 0.05],
+    [0.05, 0.60, 0.65],
+];
+
+/// The buffer being filled and the document that views it.
+struct Builder {
+    root: json::Root,
+    bin: Vec<u8>,
+}
+
+impl Builder {
+    /// A view of `bytes` appended to the buffer (4-byte aligned).
+    fn view(
+        &mut self,
+        bytes: &[u8],
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::buffer::View> {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        self.root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64(bytes.len() as u64),
+            byte_offset: Some(USize64(offset as u64)),
+            byte_stride: None,
+            name: None,
+            target: target.map(Valid),
+            extensions: None,
+            extras: None,
+        })
+    }
+
+    /// An accessor of `values` (f32, `width` per element of type `type_`), with its bounds
+    /// when `bounds` (required for positions and animation inputs).
+    fn floats(
+        &mut self,
+        values: &[f32],
+        type_: json::accessor::Type,
+        width: usize,
+        bounds: bool,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::Accessor> {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, target);
+        let (min, max) = if bounds {
+            let column = |k: usize| values.iter().skip(k).step_by(width).copied();
+            let min: Vec<f32> = (0..width)
+                .map(|k| column(k).fold(f32::INFINITY, f32::min))
+                .collect();
+            let max: Vec<f32> = (0..width)
+                .map(|k| column(k).fold(f32::NEG_INFINITY, f32::max))
+                .collect();
+            (Some(serde_json::json!(min)), Some(serde_json::json!(max)))
+        } else {
+            (None, None)
+        };
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64((values.len() / width) as u64),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::F32,
+            )),
+            type_: Valid(type_),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+            extensions: None,
+            extras: None,
+        })
+    }
+
+    fn vectors(&mut self, values: &[Vector3<f64>], bounds: bool) -> json::Index<json::Accessor> {
+        let flat: Vec<f32> = values
+            .iter()
+            .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32])
+            .collect();
+        self.floats(
+            &flat,
+            json::accessor::Type::Vec3,
+            3,
+            bounds,
+            Some(json::buffer::Target::ArrayBuffer),
+        )
+    }
+
+    fn indices(&mut self, triangles: &[[u32; 3]]) -> json::Index<json::Accessor> {
+        let bytes: Vec<u8> = triangles
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_le_bytes())
+            .collect();
+        let view = self.view(&bytes, Some(json::buffer::Target::ElementArrayBuffer));
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64(3 * triangles.len() as u64),
+            component_type: Valid(json::accessor::GenericComponentType(
+                json::accessor::ComponentType::U32,
+            )),
+            type_: Valid(json::accessor::Type::Scalar),
+            min: None,
+            max: None,
+            name: None,
+            normalized: false,
+            sparse: None,
+            extensions: None,
+            extras: None,
+        })
+    }
+
+    /// The mesh of a body (none when it has no triangles), its colour the `k`th.
+    fn mesh(&mut self, shape: &BodyShape, k: usize) -> Option<json::Index<json::Mesh>> {
+        if shape.triangles.is_empty() {
+            return None;
+        }
+        let [r, g, b] = PALETTE[k % PALETTE.len()];
+        let material = self.root.push(json::Material {
+            name: Some(shape.name.clone()),
+            double_sided: true,
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([r, g, b, 1.0]),
+                metallic_factor: json::material::StrengthFactor(0.1),
+                roughness_factor: json::material::StrengthFactor(0.6),
+                ..Default::default()
+            },
+            ..Default::default()
+        });
+        let positions = self.vectors(&shape.positions, true);
+        let normals = self.vectors(&shape.normals, false);
+        let indices = self.indices(&shape.triangles);
+        let targets: Vec<_> = shape
+            .targets
+            .iter()
+            .map(|t| json::mesh::MorphTarget {
+                positions: Some(self.vectors(t, true)),
+                normals: None,
+                tangents: None,
+            })
+            .collect();
+        let attributes = [
+            (Valid(json::mesh::Semantic::Positions), positions),
+            (Valid(json::mesh::Semantic::Normals), normals),
+        ];
+        Some(self.root.push(json::Mesh {
+            name: Some(shape.name.clone()),
+            primitives: vec![json::mesh::Primitive {
+                attributes: attributes.into_iter().collect(),
+                indices: Some(indices),
+                material: Some(material),
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: (!targets.is_empty()).then_some(targets),
+                extensions: None,
+                extras: None,
+            }],
+            weights: (!shape.targets.is_empty()).then(|| vec![0.0; shape.targets.len()]),
+            extensions: None,
+            extras: None,
+        }))
+    }
+
+    /// An animation channel on `node`'s `path`, sampled at `input`.
+    fn channel(
+        &mut self,
+        animation: &mut json::Animation,
+        input: json::Index<json::Accessor>,
+        output: json::Index<json::Accessor>,
+        node: json::Index<json::Node>,
+        path: json::animation::Property,
+    ) {
+        let sampler = json::Index::push(
+            &mut animation.samplers,
+            json::animation::Sampler {
+                input,
+                output,
+                interpolation: Valid(json::animation::Interpolation::Linear),
+                extensions: None,
+                extras: None,
+            },
+        );
+        animation.channels.push(json::animation::Channel {
+            sampler,
+            target: json::animation::Target {
+                node,
+                path: Valid(path),
+                extensions: None,
+                extras: None,
+            },
+            extensions: None,
+            extras: None,
+        });
+    }
+}
+
+/// The rotation A of a frame as a unit quaternion [x, y, z, w], A made orthonormal first
+/// (natural coordinates satisfy their unit-length constraints to the Newton tolerance
+/// only), on the side of `previous` (q and −q are one rotation; linear interpolation wants
+/// neighbours close).
+fn quaternion(a: &nalgebra::Matrix3<f64>, previous: Option<[f32; 4]>) -> [f32; 4] {
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_eps(
+        a,
+        1e-12,
+        100,
+        Rotation3::identity(),
+    ));
+    let mut v = [q.i as f32, q.j as f32, q.k as f32, q.w as f32];
+    if previous.is_some_and(|p| p.iter().zip(&v).map(|(a, b)| a * b).sum::<f32>() < 0.0) {
+        v = v.map(|c| -c);
+    }
+    v
+}
+
+/// The glTF 2.0 binary (`.glb`) of `recording`, the modal coordinates multiplied by `scale`
+/// in the morph weights (the caller checks that it is finite).
+pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
+    let mut b = Builder {
+        root: json::Root::default(),
+        bin: Vec::new(),
+    };
+    let times: Vec<f32> = recording.times.iter().map(|&t| t as f32).collect();
+    let input = b.floats(&times, json::accessor::Type::Scalar, 1, true, None);
+    let status = match &recording.failure {
+        None => serde_json::json!({ "status": "ok" }),
+        Some((t, message)) => {
+            serde_json::json!({ "status": "failed", "failed_at": t, "message": message })
+        }
+    };
+    let name = match &recording.failure {
+        None => recording.scene.clone(),
+        Some((t, _)) => format!("{} (run failed at t = {t} s)", recording.scene),
+    };
+    let mut animation = json::Animation {
+        name: Some(name),
+        channels: Vec::new(),
+        samplers: Vec::new(),
+        extensions: None,
+        extras: None,
+    };
+    let mut nodes = Vec::new();
+    for (k, shape) in recording.bodies.iter().enumerate() {
+        let mesh = b.mesh(shape, k);
+        let mut rotations: Vec<[f32; 4]> = Vec::with_capacity(times.len());
+        for frame in &recording.poses {
+            rotations.push(quaternion(&frame[k].rotation, rotations.last().copied()));
+        }
+        let translations: Vec<f32> = recording
+            .poses
+            .iter()
+            .flat_map(|f| f[k].origin.iter().map(|&c| c as f32).collect::<Vec<_>>())
+            .collect();
+        let n_modes = if mesh.is_some() {
+            shape.targets.len()
+        } else {
+            0
+        };
+        let node = b.root.push(json::Node {
+            name: Some(shape.name.clone()),
+            mesh,
+            translation: translations.get(..3).map(|t| [t[0], t[1], t[2]]),
+            rotation: rotations.first().map(|&r| json::scene::UnitQuaternion(r)),
+            weights: (n_modes > 0).then(|| vec![0.0; n_modes]),
+            ..Default::default()
+        });
+        nodes.push(node);
+        if times.is_empty() {
+            continue;
+        }
+        let output = b.floats(&translations, json::accessor::Type::Vec3, 3, false, None);
+        b.channel(
+            &mut animation,
+            input,
+            output,
+            node,
+            json::animation::Property::Translation,
+        );
+        let flat: Vec<f32> = rotations.into_iter().flatten().collect();
+        let output = b.floats(&flat, json::accessor::Type::Vec4, 4, false, None);
+        b.channel(
+            &mut animation,
+            input,
+            output,
+            node,
+            json::animation::Property::Rotation,
+        );
+        if n_modes > 0 {
+            let weights: Vec<f32> = recording
+                .poses
+                .iter()
+                .flat_map(|f| {
+                    f[k].modes
+                        .iter()
+                        .map(|&y| (scale * y) as f32)
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            let output = b.floats(&weights, json::accessor::Type::Scalar, 1, false, None);
+            b.channel(
+                &mut animation,
+                input,
+                output,
+                node,
+                json::animation::Property::MorphTargetWeights,
+            );
+        }
+    }
+    if !animation.channels.is_empty() {
+        b.root.push(animation);
+    }
+    let scene = b.root.push(json::Scene {
+        name: Some(recording.scene.clone()),
+        nodes,
+        extensions: None,
+        extras: None,
+    });
+    b.root.scene = Some(scene);
+    b.root.asset = json::Asset {
+        generator: Some(format!("flexmbd {}", env!("CARGO_PKG_VERSION"))),
+        extras: serde_json::value::to_raw_value(&serde_json::json!({ "flexmbd": status })).ok(),
+        ..Default::default()
+    };
+    while !b.bin.len().is_multiple_of(4) {
+        b.bin.push(0);
+    }
+    b.root.push(json::Buffer {
+        byte_length: USize64(b.bin.len() as u64),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: None,
+    });
+    container(
+        &json::serialize::to_vec(&b.root).expect("a glTF document serialises"),
+        &b.bin,
+    )
+}
+
+/// The GLB container: header (magic, version 2, length), the JSON chunk padded with
+/// spaces, the BIN chunk padded with zeros (glTF 2.0 §4.4).
+fn container(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let pad = |n: usize| n.div_ceil(4) * 4;
+    let (json_len, bin_len) = (pad(json.len()), pad(bin.len()));
+    let total = 12 + 8 + json_len + 8 + bin_len;
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json_len as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(json);
+    out.resize(12 + 8 + json_len, b' ');
+    out.extend_from_slice(&(bin_len as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(bin);
+    out.resize(total, 0);
+    out
+}

@@ -1,0 +1,75 @@
+//! Sampling a run for an animation: the scene is stepped to each output instant
+//! t_k = k Δ (Δ = 1 / frames per second, each instant the multiple of the step h nearest to
+//! it, as [`Simulation::advance_to`] takes it; the scene's duration is the last), where every
+//! body's pose ([`Simulation::body_poses`]) and the sensors are read. A step that fails
+//! ends the recording there, the failure kept to be marked in the files.
+
+use flexmbd::core::BodyPose;
+use flexmbd::model::Scene;
+use flexmbd::{Error, Simulation};
+
+/// Frames per second of simulated time when none is asked for.
+pub const DEFAULT_FRAMES_PER_SECOND: f64 = 60.0;
+
+/// A run sampled at its output instants: what an animation shows.
+pub struct Recording {
+    /// The scene's name.
+    pub scene: String,
+    /// The scene as compiled (its bodies as prepared: nodes, mode rows, sections).
+    pub bodies: Vec<crate::shapes::BodyShape>,
+    /// The output instants (s), increasing.
+    pub times: Vec<f64>,
+    /// Per frame, the pose of every body (prepared-scene order).
+    pub poses: Vec<Vec<BodyPose>>,
+    /// The sensors' names.
+    pub sensor_names: Vec<String>,
+    /// Per frame, the sensors' values.
+    pub sensors: Vec<Vec<f64>>,
+    /// The failure that ended the run early: its time (s) and message.
+    pub failure: Option<(f64, String)>,
+}
+
+/// Run `scene` to its duration and record a frame every 1 / `frames_per_second` s of
+/// simulated time. A rate that is not a positive finite number is refused (naming it); a
+/// scene that does not compile or start is the error of [`Simulation::new`]; a step that
+/// fails ends the recording with [`Recording::failure`] set, the frames before it kept.
+pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error> {
+    if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
+        return Err(Error::Input(flexmbd::core::InvalidValue::new(
+            "frames per second",
+            frames_per_second,
+            "must be a positive finite number",
+        )));
+    }
+    let mut sim = Simulation::new(scene)?;
+    let interval = 1.0 / frames_per_second;
+    let duration = scene.solver.duration;
+    let mut recording = Recording {
+        scene: scene.name.clone(),
+        bodies: crate::shapes::BodyShape::of(sim.prepared(), scene),
+        times: Vec::new(),
+        poses: Vec::new(),
+        sensor_names: sim.sensor_names().to_vec(),
+        sensors: Vec::new(),
+        failure: None,
+    };
+    let frames = (duration / interval + 1e-9).floor() as usize;
+    let targets = (0..=frames)
+        .map(|k| k as f64 * interval)
+        .chain(std::iter::once(duration));
+    for target in targets {
+        if let Err(e) = sim.advance_to(target) {
+            recording.failure = Some((e.failed_at().unwrap_or(sim.time()), e.to_string()));
+            break;
+        }
+        if recording.times.last().is_some_and(|&t| t >= sim.time()) {
+            continue; // an instant nearer to the last step than to the next
+        }
+        let mut poses = Vec::new();
+        sim.body_poses(&mut poses);
+        recording.times.push(sim.time());
+        recording.poses.push(poses);
+        recording.sensors.push(sim.sensors());
+    }
+    Ok(recording)
+}
