@@ -179,7 +179,7 @@ impl Builder {
                 extensions: None,
                 extras: None,
             }],
-            weights: (!shape.targets.is_empty()).then(|| vec![0.0; shape.targets.len()]),
+            weights: None, // the node's weights (animated) are the ones used
             extensions: None,
             extras: None,
         }))
