@@ -1,11 +1,11 @@
 //! **flexmbd-viewer** — watch a run move: a glTF 2.0 animation of a scene's run
-//! ([`glb`]) and a self-contained web page that plays it ([`page`]), what
+//! ([`glb()`]) and a self-contained web page that plays it ([`page`]), what
 //! `flexmbd animate` writes.
 //!
 //! # What is drawn
 //!
 //! Each body of the prepared scene is a node whose translation and rotation follow its
-//! floating frame {r0, A} at each output instant ([`record`]; the frame the sensors read,
+//! floating frame {r0, A} at each output instant ([`record()`]; the frame the sensors read,
 //! `flexmbd::Simulation::body_poses`). In that frame ([`shapes`]):
 //!
 //! - a flexible polyline beam is a tube of its section (rectangle, circle, or the circle of
