@@ -18,7 +18,8 @@
 //!   translation and small-rotation rows). For a body linear in y this is exact at the
 //!   nodes; the stiffening methods' nonlinear terms (FNL1/FNL2 foreshortening) are not
 //!   drawn;
-//! - any other body (rigid bodies, beams run rigid, beam frames, imported FE bodies) is
+//! - a beam run rigid is the same tube through its polyline's points, undeformed;
+//! - any other body (rigid bodies, beam frames, imported FE bodies) is
 //!   a set of sticks from the centroid of its markers to each marker, moving rigidly with
 //!   its frame (an imported body's deformation is not drawn).
 //!

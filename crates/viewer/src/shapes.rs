@@ -1,6 +1,7 @@
-//! What each body looks like, in its own frame: a flexible polyline beam is a tube of its
-//! section along its nodes, with one morph target per mode; any other body is a set of
-//! sticks from its centre to its markers.
+//! What each body looks like, in its own frame: a polyline beam is a tube of its section
+//! along its nodes, with one morph target per mode when it runs flexible (through its
+//! polyline's points when it runs rigid); any other body is a set of sticks from its
+//! centre to its markers.
 //!
 //! A vertex at section offset o = a ȳ_e + b z̄_e from beam node P moves with the modal
 //! coordinates y as u = Φ y, Φ's column j being X^t_P,j + X^r_P,j × o (the node's
@@ -102,12 +103,22 @@ impl BodyShape {
                     ..BodyShape::default()
                 };
                 match &spec.model {
-                    BodyModel::Beam(beam) if body.flexible && !beam.geometry.is_frame() => {
+                    BodyModel::Beam(beam) if !beam.geometry.is_frame() => {
                         let axis = beam
                             .geometry
                             .orientation
                             .map_or(Vector3::z(), Vector3::from);
-                        shape.beam(&body.nodes, &Outline::of(&beam.section), axis);
+                        let outline = Outline::of(&beam.section);
+                        if body.flexible {
+                            shape.beam(&body.nodes, &outline, axis);
+                        } else {
+                            // Run rigid: the tube through the polyline's points.
+                            let point = |p: &Vec<f64>| {
+                                Vector3::from_iterator(p.iter().copied().chain([0.0; 3]).take(3))
+                            };
+                            let points: Vec<_> = beam.geometry.points.iter().map(point).collect();
+                            shape.polyline(&points, &outline, axis);
+                        }
                     }
                     _ => {
                         let markers = scene
@@ -139,6 +150,23 @@ impl BodyShape {
                 self.tube(&rings, &outline, Vector3::z(), &|_, _| Vec::new());
             }
         }
+    }
+
+    /// A tube through `points`, without morph targets (a beam run rigid).
+    fn polyline(&mut self, points: &[Vector3<f64>], outline: &Outline, k: Vector3<f64>) {
+        let n = points.len();
+        if n < 2 {
+            return;
+        }
+        let rings: Vec<_> = (0..n)
+            .map(|i| {
+                (
+                    points[i],
+                    (points[(i + 1).min(n - 1)] - points[i.saturating_sub(1)]).normalize(),
+                )
+            })
+            .collect();
+        self.tube(&rings, outline, k, &|_, _| Vec::new());
     }
 
     /// A tube along the nodes of a polyline beam (nodes numbered along it), the section's
