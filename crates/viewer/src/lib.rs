@@ -23,7 +23,9 @@
 //!   a set of sticks from the centroid of its markers to each marker, moving rigidly with
 //!   its frame (an imported body's deformation is not drawn).
 //!
-//! Joints, force elements and tyres are not drawn. Frames are interpolated linearly
+//! Each joint is a sphere at its marker on its body2 (body1 when body2 is the ground),
+//! moving with the FE node it sits on in a flexible body. Force elements (springs,
+//! dampers) and tyres are not drawn. Frames are interpolated linearly
 //! between output instants (positions, weights; rotations by spherical interpolation).
 //! A run that fails is recorded up to its failure, which is marked in the glTF (asset
 //! `extras.flexmbd`, the animation's name) and on the page.

@@ -11,7 +11,7 @@
 //! exactly at the nodes of a body linear in y.
 
 use flexmbd::fe::Section;
-use flexmbd::model::{BodyModel, PreparedScene, Scene};
+use flexmbd::model::{BodyModel, PreparedBody, PreparedScene, Scene};
 use nalgebra::Vector3;
 
 /// A body's mesh in its frame: vertices, normals, triangles and one morph target (vertex
@@ -132,9 +132,76 @@ impl BodyShape {
                         shape.sticks(markers.collect(), radius);
                     }
                 }
+                shape.joints(prepared, body, 1.5 * radius);
                 shape
             })
             .collect()
+    }
+
+    /// A sphere at the marker of each joint on this body (the body2 side, the body1 side of
+    /// a joint to the ground), moving with the FE node it sits on in a flexible body.
+    fn joints(&mut self, prepared: &PreparedScene, body: &PreparedBody, radius: f64) {
+        let scene = prepared.scene();
+        let name = &scene.bodies[body.index].name;
+        for joint in &scene.joints {
+            let (on, marker) = match joint.body2.as_str() {
+                "ground" => (&joint.body1, &joint.marker1),
+                _ => (&joint.body2, &joint.marker2),
+            };
+            let markers = &scene.bodies[body.index].markers;
+            let Some(m) = markers
+                .iter()
+                .filter(|_| on == name)
+                .find(|m| &m.name == marker)
+            else {
+                continue;
+            };
+            let centre = m.position.vec();
+            let node = body.nodes.node_at(&centre, 1e-9);
+            let shift: Vec<_> = (0..self.targets.len())
+                .map(|j| {
+                    node.map_or(Vector3::zeros(), |n| {
+                        Vector3::from_fn(|a, _| body.nodes.translation_entry(n, a, j))
+                    })
+                })
+                .collect();
+            self.sphere(centre, radius, &shift);
+        }
+    }
+
+    /// A sphere (6 bands of 12 facets), each mode moving it by `shift`.
+    fn sphere(&mut self, centre: Vector3<f64>, radius: f64, shift: &[Vector3<f64>]) {
+        let (bands, around) = (6u32, 12u32);
+        let first = self.positions.len() as u32;
+        let mut vertex = |direction: Vector3<f64>| {
+            self.positions.push(centre + radius * direction);
+            self.normals.push(direction);
+            for (target, d) in self.targets.iter_mut().zip(shift) {
+                target.push(*d);
+            }
+        };
+        vertex(Vector3::z());
+        for i in 1..bands {
+            let (st, ct) = (std::f64::consts::PI * i as f64 / bands as f64).sin_cos();
+            for k in 0..around {
+                let (sp, cp) = (std::f64::consts::TAU * k as f64 / around as f64).sin_cos();
+                vertex(Vector3::new(st * cp, st * sp, ct));
+            }
+        }
+        vertex(-Vector3::z());
+        let ring = |i: u32, k: u32| first + 1 + (i - 1) * around + k % around;
+        let bottom = first + 1 + (bands - 1) * around;
+        for k in 0..around {
+            self.triangles.push([first, ring(1, k), ring(1, k + 1)]);
+            self.triangles
+                .push([bottom, ring(bands - 1, k + 1), ring(bands - 1, k)]);
+            for i in 1..bands - 1 {
+                self.triangles
+                    .push([ring(i, k), ring(i + 1, k), ring(i + 1, k + 1)]);
+                self.triangles
+                    .push([ring(i, k), ring(i + 1, k + 1), ring(i, k + 1)]);
+            }
+        }
     }
 
     /// Sticks from the centroid of `markers` to each (none for a body without markers).

@@ -154,23 +154,21 @@ fn the_morph_targets_put_the_flexible_tip_where_its_sensors_do() {
     let shape = &recording.bodies[0];
     let pose = &recording.poses[k][0];
     assert!(pose.modes.iter().any(|y| y.abs() > 0.0));
-    // The last ring's vertices are the tip node's section; their centroid is the node.
-    let ring = 12; // a general section: the 12-point circle of its area
-    let last = shape.positions.len() - ring..shape.positions.len();
-    let centroid = |shift: &dyn Fn(usize) -> Vector3<f64>| {
-        last.clone()
-            .map(|v| shape.positions[v] + shift(v))
-            .sum::<Vector3<f64>>()
-            / ring as f64
+    // The tip node's section: the 12 vertices (a general section's circle) at x = 1 m.
+    let ring: Vec<usize> = (0..shape.positions.len())
+        .filter(|&v| (shape.positions[v].x - 1.0).abs() < 1e-9)
+        .collect();
+    assert_eq!(ring.len(), 12);
+    let shifted = |v: usize| {
+        shape.positions[v]
+            + shape
+                .targets
+                .iter()
+                .zip(&pose.modes)
+                .map(|(t, y)| t[v] * *y)
+                .sum::<Vector3<f64>>()
     };
-    let deformed = centroid(&|v| {
-        shape
-            .targets
-            .iter()
-            .zip(&pose.modes)
-            .map(|(t, y)| t[v] * *y)
-            .sum()
-    });
+    let deformed = ring.iter().map(|&v| shifted(v)).sum::<Vector3<f64>>() / 12.0;
     let tip = pose.origin + pose.rotation * deformed;
     let names = &recording.sensor_names;
     for (axis, name) in ["tip_x", "tip_y"].iter().enumerate() {
