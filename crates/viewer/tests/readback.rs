@@ -180,3 +180,40 @@ fn the_morph_targets_put_the_flexible_tip_where_its_sensors_do() {
         );
     }
 }
+
+/// The glb's morph-weight channel of a flexible body holds its modal coordinates times the
+/// deformation scale, frame by frame (read back with the `gltf` crate).
+#[test]
+fn the_morph_weights_are_the_modal_coordinates_times_the_scale() {
+    let scene = model("flexible_pendulum.ron");
+    let recording = record(&scene, 20.0).unwrap();
+    let glb = render(&recording, &scene, Format::Glb, -30.0);
+    let gltf = gltf::Gltf::from_slice(&glb).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let channel = gltf
+        .animations()
+        .next()
+        .unwrap()
+        .channels()
+        .find(|c| c.target().property() == gltf::animation::Property::MorphTargetWeights)
+        .expect("a weights channel");
+    let ReadOutputs::MorphTargetWeights(weights) =
+        channel.reader(|_| Some(blob)).read_outputs().unwrap()
+    else {
+        panic!("weights")
+    };
+    let weights: Vec<f32> = weights.into_f32().collect();
+    let expected: Vec<f64> = recording
+        .poses
+        .iter()
+        .flat_map(|f| f[0].modes.iter().map(|y| -30.0 * y))
+        .collect();
+    assert_eq!(weights.len(), expected.len());
+    assert!(expected.iter().any(|w| w.abs() > 1e-6), "the bar bends");
+    for (w, e) in weights.iter().zip(&expected) {
+        assert!(
+            (f64::from(*w) - e).abs() <= 1e-6 * e.abs().max(1e-6),
+            "{w} vs {e}"
+        );
+    }
+}
