@@ -136,11 +136,10 @@ impl Builder {
     }
 
     /// The mesh of a body (none when it has no triangles), its colour the `k`th.
-    fn mesh(&mut self, shape: &BodyShape, k: usize) -> Option<json::Index<json::Mesh>> {
+    fn mesh(&mut self, shape: &BodyShape, [r, g, b]: [f32; 3]) -> Option<json::Index<json::Mesh>> {
         if shape.triangles.is_empty() {
             return None;
         }
-        let [r, g, b] = PALETTE[k % PALETTE.len()];
         let material = self.root.push(json::Material {
             name: Some(shape.name.clone()),
             double_sided: true,
@@ -264,7 +263,7 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
     };
     let mut nodes = Vec::new();
     for (k, shape) in recording.bodies.iter().enumerate() {
-        let mesh = b.mesh(shape, k);
+        let mesh = b.mesh(shape, PALETTE[k % PALETTE.len()]);
         let mut rotations: Vec<[f32; 4]> = Vec::with_capacity(times.len());
         for frame in &recording.poses {
             rotations.push(quaternion(&frame[k].rotation, rotations.last().copied()));
@@ -327,6 +326,57 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
                 node,
                 json::animation::Property::MorphTargetWeights,
             );
+        }
+    }
+    let spring_mesh = b.mesh(&recording.spring_shape, [0.35, 0.35, 0.35]);
+    for (k, name) in recording.springs.iter().enumerate() {
+        let ends = recording.spring_ends.iter().map(|frame| frame[k]);
+        let (mut translations, mut rotations, mut scales) =
+            (Vec::new(), Vec::<[f32; 4]>::new(), Vec::new());
+        for [p1, p2] in ends {
+            let d = p2 - p1;
+            let turn = UnitQuaternion::rotation_between(&Vector3::y(), &d).unwrap_or_else(|| {
+                UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+            });
+            translations.extend(p1.iter().map(|&c| c as f32));
+            rotations.push(quaternion(
+                &turn.to_rotation_matrix().into_inner(),
+                rotations.last().copied(),
+            ));
+            scales.extend([1.0, d.norm() as f32, 1.0]);
+        }
+        let node = b.root.push(json::Node {
+            name: Some(name.clone()),
+            mesh: spring_mesh,
+            ..Default::default()
+        });
+        nodes.push(node);
+        if times.is_empty() {
+            continue;
+        }
+        let flat: Vec<f32> = rotations.into_iter().flatten().collect();
+        for (values, type_, width, path) in [
+            (
+                translations,
+                json::accessor::Type::Vec3,
+                3,
+                json::animation::Property::Translation,
+            ),
+            (
+                flat,
+                json::accessor::Type::Vec4,
+                4,
+                json::animation::Property::Rotation,
+            ),
+            (
+                scales,
+                json::accessor::Type::Vec3,
+                3,
+                json::animation::Property::Scale,
+            ),
+        ] {
+            let output = b.floats(&values, type_, width, false, None);
+            b.channel(&mut animation, input, output, node, path);
         }
     }
     if !animation.channels.is_empty() {

@@ -24,8 +24,8 @@
 //!   its frame (an imported body's deformation is not drawn).
 //!
 //! Each joint is a sphere at its marker on its body2 (body1 when body2 is the ground),
-//! moving with the FE node it sits on in a flexible body. Force elements (springs,
-//! dampers) and tyres are not drawn. Frames are interpolated linearly
+//! moving with the FE node it sits on in a flexible body. Spring-dampers and links are grey
+//! cylinders between their markers ([`springs`]); loads and tyres are not drawn. Frames are interpolated linearly
 //! between output instants (positions, weights; rotations by spherical interpolation).
 //! A run that fails is recorded up to its failure, which is marked in the glTF (asset
 //! `extras.flexmbd`, the animation's name) and on the page.
@@ -36,6 +36,7 @@ pub mod glb;
 pub mod page;
 pub mod record;
 pub mod shapes;
+pub mod springs;
 
 use std::path::Path;
 

@@ -27,6 +27,12 @@ pub struct Recording {
     pub sensors: Vec<Vec<f64>>,
     /// The failure that ended the run early: its time (s) and message.
     pub failure: Option<(f64, String)>,
+    /// The springs' and links' names.
+    pub springs: Vec<String>,
+    /// Per frame, the two ends of each spring (m, ground components).
+    pub spring_ends: Vec<Vec<[nalgebra::Vector3<f64>; 2]>>,
+    /// A spring's shape: a unit cylinder along y, half as thick as the sticks.
+    pub spring_shape: crate::shapes::BodyShape,
 }
 
 /// Run `scene` to its duration and record a frame every 1 / `frames_per_second` s of
@@ -52,7 +58,15 @@ pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error>
         sensor_names: sim.sensor_names().to_vec(),
         sensors: Vec::new(),
         failure: None,
+        springs: Vec::new(),
+        spring_ends: Vec::new(),
+        spring_shape: crate::shapes::BodyShape::cylinder(
+            "spring",
+            0.5 * crate::shapes::stick_radius(sim.prepared()),
+        ),
     };
+    let springs = crate::springs::Spring::of(sim.prepared());
+    recording.springs = springs.iter().map(|s| s.name.clone()).collect();
     let frames = (duration / interval + 1e-9).floor() as usize;
     let targets = (0..=frames)
         .map(|k| k as f64 * interval)
@@ -68,6 +82,11 @@ pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error>
         let mut poses = Vec::new();
         sim.body_poses(&mut poses);
         recording.times.push(sim.time());
+        let ends = springs
+            .iter()
+            .map(|s| s.at(sim.prepared(), &poses))
+            .collect();
+        recording.spring_ends.push(ends);
         recording.poses.push(poses);
         recording.sensors.push(sim.sensors());
     }

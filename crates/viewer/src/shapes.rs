@@ -77,22 +77,40 @@ impl Outline {
     }
 }
 
+/// The radius of the sticks: 1 % of the scene's extent (the largest distance of a body
+/// marker from the ground origin at the start, at least 0.1 m).
+pub fn stick_radius(prepared: &PreparedScene) -> f64 {
+    let scene = prepared.scene();
+    let markers = scene.bodies.iter().flat_map(|b| {
+        b.markers
+            .iter()
+            .map(|m| (b.origin.vec() + m.position.vec()).norm())
+    });
+    0.01 * markers.fold(0.1_f64, f64::max)
+}
+
 impl BodyShape {
+    /// A cylinder of `radius` along the y axis from 0 to 1 (a spring, placed and scaled).
+    pub fn cylinder(name: &str, radius: f64) -> BodyShape {
+        let mut shape = BodyShape {
+            name: name.into(),
+            ..BodyShape::default()
+        };
+        let rings = [
+            (Vector3::zeros(), Vector3::y()),
+            (Vector3::y(), Vector3::y()),
+        ];
+        shape.tube(&rings, &Outline::circle(radius), Vector3::z(), &|_, _| {
+            Vec::new()
+        });
+        shape
+    }
+
     /// The shape of every body of `prepared` (in its order); the sticks of a body that is
     /// not a flexible polyline beam go to the markers `scene` gives it (the prepared scene
     /// adds markers of its own), with a radius of 1 % of the scene's extent.
     pub fn of(prepared: &PreparedScene, scene: &Scene) -> Vec<BodyShape> {
-        let extent = prepared
-            .scene()
-            .bodies
-            .iter()
-            .flat_map(|b| {
-                b.markers
-                    .iter()
-                    .map(|m| (b.origin.vec() + m.position.vec()).norm())
-            })
-            .fold(0.1_f64, f64::max);
-        let radius = 0.01 * extent;
+        let radius = stick_radius(prepared);
         prepared
             .bodies()
             .iter()

@@ -217,3 +217,62 @@ fn the_morph_weights_are_the_modal_coordinates_times_the_scale() {
         );
     }
 }
+
+/// The slider-crank's spring, read back from the glb: its node sits at the wall marker and,
+/// turned and scaled along y, reaches the slider's pin where the pin's sensor puts it.
+#[test]
+fn the_spring_reaches_from_the_wall_to_the_slider_pin() {
+    let scene = model("slider_crank.ron");
+    let recording = record(&scene, 50.0).unwrap();
+    let glb = render(&recording, &scene, Format::Glb, 1.0);
+    let gltf = gltf::Gltf::from_slice(&glb).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let (mut start, mut turn, mut stretch) = (Vec::new(), Vec::new(), Vec::new());
+    let animation = gltf.animations().next().unwrap();
+    for channel in animation
+        .channels()
+        .filter(|c| c.target().node().name() == Some("spring"))
+    {
+        match channel.reader(|_| Some(blob)).read_outputs().unwrap() {
+            ReadOutputs::Translations(t) => {
+                start = t.map(|p| Vector3::from(p.map(f64::from))).collect()
+            }
+            ReadOutputs::Rotations(r) => {
+                turn = r
+                    .into_f32()
+                    .map(|[x, y, z, w]| {
+                        UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z).cast::<f64>())
+                    })
+                    .collect()
+            }
+            ReadOutputs::Scales(s) => stretch = s.map(|s| f64::from(s[1])).collect(),
+            _ => {}
+        }
+    }
+    let x = recording
+        .sensor_names
+        .iter()
+        .position(|n| n == "slider_x")
+        .unwrap();
+    assert_eq!(start.len(), recording.times.len());
+    let wall = scene
+        .ground
+        .iter()
+        .find(|m| m.name == "wall")
+        .unwrap()
+        .position
+        .vec();
+    for k in 0..start.len() {
+        assert!(
+            (start[k] - wall).norm() < 1e-6,
+            "frame {k}: starts at {}",
+            start[k]
+        );
+        let end = start[k] + turn[k] * Vector3::new(0.0, stretch[k], 0.0);
+        let pin = Vector3::new(recording.sensors[k][x], 0.0, 0.0);
+        assert!(
+            (end - pin).norm() < 1e-5,
+            "frame {k}: ends at {end}, the pin at {pin}"
+        );
+    }
+}
