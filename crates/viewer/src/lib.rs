@@ -32,6 +32,7 @@
 
 #![warn(missing_docs)]
 
+mod builder;
 pub mod glb;
 pub mod page;
 pub mod record;
