@@ -135,7 +135,9 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
             );
         }
     }
-    let spring_mesh = b.mesh(&recording.spring_shape, [0.35, 0.35, 0.35]);
+    let spring_mesh = (!recording.springs.is_empty())
+        .then(|| b.mesh(&recording.spring_shape, [0.35, 0.35, 0.35]))
+        .flatten();
     for (k, name) in recording.springs.iter().enumerate() {
         let ends = recording.spring_ends.iter().map(|frame| frame[k]);
         let (mut translations, mut rotations, mut scales) =
