@@ -3,14 +3,16 @@
 //! it offline. The output path, its extension and the scale are checked before the run;
 //! the file is written whole to a temporary file beside it and renamed, so a failure
 //! leaves no partial file. A run that fails is animated up to the failure, the failure
-//! marked in the file, and ends with [`exit::RUN_FAILED`].
+//! marked in the file, and ends with [`exit::RUN_FAILED`]; Ctrl-C or SIGTERM ends the run
+//! between two steps, the animation written up to there, marked, with
+//! [`exit::INTERRUPTED`].
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
-use flexmbd_viewer::{DEFAULT_FRAMES_PER_SECOND, Format, check_scale, record, render};
+use flexmbd_viewer::{DEFAULT_FRAMES_PER_SECOND, Format, check_scale, record_or_stop, render};
 
 use crate::output_file::OutputFile;
 use crate::{CliResult, SceneInput, exit};
@@ -57,7 +59,8 @@ pub(crate) fn animate(args: &AnimateArgs) -> CliResult {
     }
     scene.validate()?;
     let clock = Instant::now();
-    let recording = record(&scene, args.fps)?;
+    let stop = crate::stop_on_signals()?;
+    let recording = record_or_stop(&scene, args.fps, &stop)?;
     let run_seconds = clock.elapsed().as_secs_f64();
     let clock = Instant::now();
     let bytes = render(&recording, &scene, format, scale);
@@ -76,6 +79,10 @@ pub(crate) fn animate(args: &AnimateArgs) -> CliResult {
     )?;
     Ok(match &recording.failure {
         None => exit::SUCCESS,
+        Some((_, message)) if recording.interrupted => {
+            eprintln!("{message} (animated up to there, marked in the file)");
+            exit::INTERRUPTED
+        }
         Some((t, message)) => {
             eprintln!(
                 "error: the run failed at t = {t} s: {message} (animated up to there, marked in the file)"

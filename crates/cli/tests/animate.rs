@@ -129,3 +129,45 @@ fn a_failed_run_is_written_up_to_its_failure_marked_with_exit_code_4() {
         ],
     );
 }
+
+/// SIGINT during a long run (the double four-bar, a coupler flexible, for 1000 s: about a
+/// minute): the animation up to there
+/// is written, marked interrupted, and the program ends with exit code 5.
+#[test]
+fn an_interrupted_run_is_written_up_to_the_signal_with_exit_code_5() {
+    let glb = temp("interrupted.glb");
+    let mut child = common::flexmbd()
+        .args([
+            "animate",
+            &model("double_four_bar.ron"),
+            "--duration",
+            "1000",
+            "--fps",
+            "10",
+            "--output",
+        ])
+        .arg(&glb)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the run ended before the signal"
+    );
+    let killed = std::process::Command::new("kill")
+        .args(["-s", "INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code(&out), 5, "{stderr}");
+    assert_contains_all(&stderr, &["interrupted at t = ", "marked in the file"]);
+    let text = String::from_utf8_lossy(&std::fs::read(&glb).unwrap()).into_owned();
+    assert_contains_all(
+        &text,
+        &["\"status\":\"interrupted\"", "run interrupted at t = "],
+    );
+}

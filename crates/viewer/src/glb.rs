@@ -51,15 +51,20 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
     };
     let times: Vec<f32> = recording.times.iter().map(|&t| t as f32).collect();
     let input = b.floats(&times, json::accessor::Type::Scalar, 1, true, None);
+    let ending = if recording.interrupted {
+        "interrupted"
+    } else {
+        "failed"
+    };
     let status = match &recording.failure {
         None => serde_json::json!({ "status": "ok" }),
         Some((t, message)) => {
-            serde_json::json!({ "status": "failed", "failed_at": t, "message": message })
+            serde_json::json!({ "status": ending, "failed_at": t, "message": message })
         }
     };
     let name = match &recording.failure {
         None => recording.scene.clone(),
-        Some((t, _)) => format!("{} (run failed at t = {t} s)", recording.scene),
+        Some((t, _)) => format!("{} (run {ending} at t = {t} s)", recording.scene),
     };
     let mut animation = json::Animation {
         name: Some(name),

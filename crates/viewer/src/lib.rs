@@ -42,7 +42,7 @@ pub mod springs;
 use std::path::Path;
 
 pub use glb::glb;
-pub use record::{DEFAULT_FRAMES_PER_SECOND, Recording, record};
+pub use record::{DEFAULT_FRAMES_PER_SECOND, Recording, record, record_or_stop};
 
 use flexmbd::core::Dim;
 use flexmbd::model::Scene;

@@ -27,6 +27,7 @@ pub fn html(recording: &Recording, glb: &[u8], up: [f64; 3], view: [f64; 3]) -> 
         "sensors": recording.sensor_names,
         "times": recording.times,
         "values": recording.sensors,
+        "interrupted": recording.interrupted,
         "failure": recording.failure.as_ref().map(|(t, message)| serde_json::json!({ "t": t, "message": message })),
     });
     let glb = base64::engine::general_purpose::STANDARD.encode(glb);

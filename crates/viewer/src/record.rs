@@ -4,6 +4,8 @@
 //! body's pose ([`Simulation::body_poses`]) and the sensors are read. A step that fails
 //! ends the recording there, the failure kept to be marked in the files.
 
+use std::sync::atomic::AtomicBool;
+
 use flexmbd::core::BodyPose;
 use flexmbd::model::Scene;
 use flexmbd::{Error, Simulation};
@@ -25,8 +27,11 @@ pub struct Recording {
     pub sensor_names: Vec<String>,
     /// Per frame, the sensors' values.
     pub sensors: Vec<Vec<f64>>,
-    /// The failure that ended the run early: its time (s) and message.
+    /// What ended the run early, a failed step or an interruption: its time (s) and
+    /// message.
     pub failure: Option<(f64, String)>,
+    /// The run was interrupted (its stop flag set), not failed.
+    pub interrupted: bool,
     /// The springs' and links' names.
     pub springs: Vec<String>,
     /// Per frame, the two ends of each spring (m, ground components).
@@ -36,10 +41,23 @@ pub struct Recording {
 }
 
 /// Run `scene` to its duration and record a frame every 1 / `frames_per_second` s of
-/// simulated time. A rate that is not a positive finite number is refused (naming it); a
-/// scene that does not compile or start is the error of [`Simulation::new`]; a step that
-/// fails ends the recording with [`Recording::failure`] set, the frames before it kept.
+/// simulated time (at most one per step). A rate that is not a positive finite number is
+/// refused (naming it); a scene that does not compile or start is the error of
+/// [`Simulation::new`]; a step that fails ends the recording with [`Recording::failure`]
+/// set, the frames before it kept.
 pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error> {
+    record_or_stop(scene, frames_per_second, &AtomicBool::new(false))
+}
+
+/// [`record`], `stop` looked at before each step (and by the pilot run of proper
+/// orthogonal modes, [`Simulation::new_or_stop`]): once it is set the recording ends,
+/// its frames kept, [`Recording::interrupted`] set and the time in
+/// [`Recording::failure`].
+pub fn record_or_stop(
+    scene: &Scene,
+    frames_per_second: f64,
+    stop: &AtomicBool,
+) -> Result<Recording, Error> {
     if !(frames_per_second.is_finite() && frames_per_second > 0.0) {
         return Err(Error::Input(flexmbd::core::InvalidValue::new(
             "frames per second",
@@ -47,8 +65,8 @@ pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error>
             "must be a positive finite number",
         )));
     }
-    let mut sim = Simulation::new(scene)?;
-    let interval = 1.0 / frames_per_second;
+    let mut sim = Simulation::new_or_stop(scene, stop)?;
+    let interval = (1.0 / frames_per_second).max(sim.step_size());
     let duration = scene.solver.duration;
     let mut recording = Recording {
         scene: scene.name.clone(),
@@ -58,6 +76,7 @@ pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error>
         sensor_names: sim.sensor_names().to_vec(),
         sensors: Vec::new(),
         failure: None,
+        interrupted: false,
         springs: Vec::new(),
         spring_ends: Vec::new(),
         spring_shape: crate::shapes::BodyShape::cylinder(
@@ -72,9 +91,18 @@ pub fn record(scene: &Scene, frames_per_second: f64) -> Result<Recording, Error>
         .map(|k| k as f64 * interval)
         .chain(std::iter::once(duration));
     for target in targets {
-        if let Err(e) = sim.advance_to(target) {
-            recording.failure = Some((e.failed_at().unwrap_or(sim.time()), e.to_string()));
-            break;
+        match sim.advance_to_or_stop(target, stop) {
+            Ok(true) => {}
+            Ok(false) => {
+                let t = sim.time();
+                recording.failure = Some((t, format!("interrupted at t = {t} s")));
+                recording.interrupted = true;
+                break;
+            }
+            Err(e) => {
+                recording.failure = Some((e.failed_at().unwrap_or(sim.time()), e.to_string()));
+                break;
+            }
         }
         if recording.times.last().is_some_and(|&t| t >= sim.time()) {
             continue; // an instant nearer to the last step than to the next

@@ -276,3 +276,33 @@ fn the_spring_reaches_from_the_wall_to_the_slider_pin() {
         );
     }
 }
+
+/// A stop flag already set: the start is recorded, then the recording ends, marked
+/// interrupted (not failed) in the glb.
+#[test]
+fn an_interrupted_run_is_animated_up_to_the_stop_and_marked() {
+    let scene = model("double_pendulum_3d.ron");
+    let stop = std::sync::atomic::AtomicBool::new(true);
+    let recording = flexmbd_viewer::record_or_stop(&scene, 60.0, &stop).unwrap();
+    assert_eq!(recording.times, vec![0.0]);
+    assert!(recording.interrupted);
+    let glb = render(&recording, &scene, Format::Glb, 1.0);
+    let gltf = gltf::Gltf::from_slice(&glb).unwrap();
+    let extras = gltf
+        .as_json()
+        .asset
+        .extras
+        .as_ref()
+        .unwrap()
+        .get()
+        .to_string();
+    assert!(extras.contains("\"status\":\"interrupted\""), "{extras}");
+    let name = gltf
+        .animations()
+        .next()
+        .unwrap()
+        .name()
+        .unwrap()
+        .to_string();
+    assert!(name.contains("interrupted at t = 0 s"), "{name}");
+}
