@@ -89,4 +89,7 @@ impl flexmbd_core::Observe for Absolute {
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
         both!(self, f => f.sensors(state, out))
     }
+    fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {
+        both!(self, f => f.body_poses(state, out))
+    }
 }

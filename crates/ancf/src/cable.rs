@@ -442,4 +442,6 @@ impl flexmbd_core::Observe for Cable {
         out[..d].copy_from_slice(&tip[..d]);
         out[d] = self.energy(q, qd);
     }
+    /// The cable has no floating frame: nothing is written.
+    fn body_poses(&mut self, _state: State<'_>, _out: &mut [flexmbd_core::BodyPose]) {}
 }

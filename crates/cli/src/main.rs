@@ -24,12 +24,16 @@
 //!   reproduce it.
 //! - `flexmbd fmu SCENE.ron --output NAME.fmu` writes the scene's FMI 3.0 co-simulation
 //!   FMU ([`fmu_cmd`]).
+//! - `flexmbd animate SCENE.ron --output run.glb|run.html [--fps F] [--scale S]` runs the
+//!   scene and writes its animation, a glTF 2.0 binary or a web page that plays it
+//!   ([`animate_cmd`]).
 //!
 //! Each kind of outcome has its exit code ([`exit`]); a panic is reported as one line
 //! with [`exit::INTERNAL_ERROR`].
 
 #![warn(missing_docs)]
 
+mod animate_cmd;
 mod csv_output;
 mod exit;
 mod fmu_cmd;
@@ -118,6 +122,10 @@ enum Command {
     /// Export a scene as an FMI 3.0 co-simulation FMU (a shared library and the scene
     /// with the files it reads), to run it in another simulator.
     Fmu(fmu_cmd::FmuArgs),
+    /// Run a scene and write its animation: a glTF 2.0 binary (.glb) or a self-contained
+    /// web page that plays it (.html).
+    #[command(after_help = exit::HELP)]
+    Animate(animate_cmd::AnimateArgs),
 }
 
 /// The scene and the options that change it, shared by `simulate`, `equilibrium` and
@@ -202,6 +210,7 @@ fn main() -> ExitCode {
             Command::Sweep(args) => sweep_cmd::sweep(&args),
             Command::Tune(args) => sweep_cmd::tune(&args),
             Command::Fmu(args) => fmu_cmd::fmu(&args),
+            Command::Animate(args) => animate_cmd::animate(&args),
         };
         result.unwrap_or_else(|e| {
             eprintln!("error: {e}");

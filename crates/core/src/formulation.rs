@@ -238,6 +238,37 @@ pub trait Observe {
     fn sensor_names(&self) -> &[String];
     /// Sensor values at `state`, one per name.
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]);
+    /// The pose of every body at `state` (for a viewer): `out` holds one [`BodyPose`] per
+    /// body of the prepared scene, in its order; each gets its frame {r0, A} (the one
+    /// [`SensorQuery::body_frame`](crate::SensorQuery::body_frame) gives the sensors) and
+    /// its modal coordinates y (`modes` resized to the body's number of modes, empty when
+    /// rigid). A formulation without floating frames (the ANCF cable) writes nothing.
+    fn body_poses(&mut self, state: State<'_>, out: &mut [BodyPose]);
+}
+
+/// A body's pose at a state: its floating frame's origin r0 (m, ground components), its
+/// rotation A (columns: the body axes in ground components; planar: about z, z = 0) and
+/// its modal coordinates y, so that a point of undeformed body position r̄_u is at
+/// r0 + A (r̄_u + Φ y) (floating frame of reference, docs/methods.md §1.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyPose {
+    /// Origin r0 of the body frame (m).
+    pub origin: nalgebra::Vector3<f64>,
+    /// Rotation A of the body frame.
+    pub rotation: nalgebra::Matrix3<f64>,
+    /// Modal coordinates y (empty for a rigid body).
+    pub modes: Vec<f64>,
+}
+
+impl Default for BodyPose {
+    /// At the ground origin, unrotated, undeformed.
+    fn default() -> Self {
+        BodyPose {
+            origin: nalgebra::Vector3::zeros(),
+            rotation: nalgebra::Matrix3::identity(),
+            modes: Vec::new(),
+        }
+    }
 }
 
 /// A compiled scene: the [`Formulation`] an integrator drives and the sensors ([`Observe`])

@@ -10,7 +10,7 @@ pub mod formulation;
 pub mod kinematics;
 
 pub use formulation::{
-    CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
+    BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
 };
 pub use kinematics::{ElementReading, JointReading, MarkerKinematics, SensorQuery};
 

@@ -93,7 +93,8 @@
 //!   [`Simulation::set_input`], [`Simulation::checkpoint`] / [`Simulation::restore`],
 //!   [`Simulation::set_state`], [`Simulation::run`]; a host whose user may cancel passes a
 //!   stop flag to [`Simulation::new_or_stop`], [`Simulation::advance_to_or_stop`] or
-//!   [`simulation::run_into`].
+//!   [`simulation::run_into`]; [`Simulation::body_poses`] gives every body's frame and
+//!   modal coordinates (what the `flexmbd-viewer` crate animates).
 //! - [`Summary`] and [`History`]: what a run reports (counters, CPU times, status) and the
 //!   sensor values it recorded.
 //! - [`Error`]: every failure, from a refused scene to a step that does not converge, with

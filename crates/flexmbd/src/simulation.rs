@@ -33,7 +33,7 @@ use flexmbd_integrators::{
     solve_static,
 };
 use flexmbd_model::inputs::InputTable;
-use flexmbd_model::{FormulationKind, InitialState, Scene, Solver, Stiffening};
+use flexmbd_model::{FormulationKind, InitialState, PreparedScene, Scene, Solver, Stiffening};
 use serde::Serialize;
 
 use crate::Error;
@@ -41,6 +41,7 @@ pub use crate::output::History;
 
 pub mod host;
 mod plan;
+mod poses;
 mod run;
 
 pub use host::InputId;
@@ -131,13 +132,14 @@ pub fn compile(scene: &Scene) -> Result<Box<dyn CompiledScene>, Error> {
     Ok(build_formulation(scene, &NO_STOP)?.0)
 }
 
+/// A compiled formulation with the table of the scene's inputs it reads and the prepared
+/// scene it was compiled from.
+type Built = (Box<dyn CompiledScene>, InputTable, Arc<PreparedScene>);
+
 /// The one place where a formulation is built from a scene (every route of the facade
 /// comes through here), with the table of the scene's inputs its elements and drivers read.
 /// A pilot run (proper orthogonal modes) stops between two steps when `stop` is set.
-fn build_formulation(
-    scene: &Scene,
-    stop: &AtomicBool,
-) -> Result<(Box<dyn CompiledScene>, InputTable), Error> {
+fn build_formulation(scene: &Scene, stop: &AtomicBool) -> Result<Built, Error> {
     // The prepared scene: validated, rewritten for its stiffening method, bodies reduced and
     // built with their elastic models, names resolved.
     // With proper orthogonal modes, first their pilot run (crate::pilot).
@@ -146,7 +148,7 @@ fn build_formulation(
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
     };
-    Ok((formulation, prepared.inputs().clone()))
+    Ok((formulation, prepared.inputs().clone(), Arc::new(prepared)))
 }
 
 fn names(scene: &Scene) -> (String, String, String) {
@@ -261,6 +263,7 @@ struct Compiled {
     setup: Setup,
     inputs: InputTable,
     scene: Scene,
+    prepared: Arc<PreparedScene>,
 }
 
 /// Compile `scene` (timed as preprocessing) and note its options for the summary. A run
@@ -268,12 +271,13 @@ struct Compiled {
 fn compile_scene(scene: &Scene, stop: &AtomicBool) -> Result<Compiled, Error> {
     let plan = RunPlan::of(scene)?;
     let clock = Instant::now();
-    let (formulation, inputs) = build_formulation(scene, stop)?;
+    let (formulation, inputs, prepared) = build_formulation(scene, stop)?;
     let preprocessing_seconds = clock.elapsed().as_secs_f64();
     Ok(Compiled {
         formulation,
         inputs,
         scene: scene.clone(),
+        prepared,
         setup: Setup::of(scene, plan, preprocessing_seconds),
     })
 }
@@ -347,6 +351,8 @@ pub struct Simulation {
     sensor_values: Vec<f64>,
     /// t₀ of the integrator: 0, or the time a state was written ([`Simulation::set_state`]).
     start_time: f64,
+    /// The scene as compiled: its bodies' reduced data, for [`Simulation::body_poses`].
+    prepared: Arc<PreparedScene>,
 }
 
 impl Simulation {
@@ -440,6 +446,7 @@ impl Simulation {
                 setup: compiled.setup,
                 inputs: compiled.inputs,
                 scene: compiled.scene,
+                prepared: compiled.prepared,
                 start_time: 0.0,
             }),
             Err(e) => Err(Box::new(StartFailure {

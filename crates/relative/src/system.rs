@@ -172,4 +172,15 @@ impl flexmbd_core::Observe for Relative {
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
         self.read_sensors(state.q, state.qd, out);
     }
+    /// From one kinematics pass at (z, ż), as the sensors.
+    fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {
+        self.kinematics(state.q, state.qd);
+        for (b, pose) in out.iter_mut().enumerate() {
+            (pose.origin, pose.rotation) = flexmbd_core::SensorQuery::body_frame(self, b, state.q);
+            let first = self.bodies[b].first_mode;
+            pose.modes.clear();
+            pose.modes
+                .extend_from_slice(&state.q.as_slice()[first..first + self.bodies[b].n_modes]);
+        }
+    }
 }

@@ -130,6 +130,15 @@ impl flexmbd_core::Observe for Planar {
         sensors.read(self, state.q, state.qd, out);
         self.sensors = sensors;
     }
+    fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {
+        for (b, pose) in out.iter_mut().enumerate() {
+            (pose.origin, pose.rotation) = flexmbd_core::SensorQuery::body_frame(self, b, state.q);
+            let first = self.bodies[b].first_mode;
+            pose.modes.clear();
+            pose.modes
+                .extend_from_slice(&state.q.as_slice()[first..first + self.bodies[b].n_modes]);
+        }
+    }
 }
 
 impl MarkerKinematics for Planar {

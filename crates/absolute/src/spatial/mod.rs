@@ -182,4 +182,13 @@ impl flexmbd_core::Observe for Spatial {
         sensors.read(self, state.q, state.qd, out);
         self.sensors = sensors;
     }
+    fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {
+        for (b, pose) in out.iter_mut().enumerate() {
+            (pose.origin, pose.rotation) = self.frame(b, state.q);
+            let first = self.bodies[b].offset + 12;
+            pose.modes.clear();
+            pose.modes
+                .extend_from_slice(&state.q.as_slice()[first..first + self.bodies[b].n_modes]);
+        }
+    }
 }
