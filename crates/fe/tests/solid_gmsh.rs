@@ -1,0 +1,111 @@
+//! Gmsh meshes (crates/fe/tests/data/gmsh/, made by its generate.py with Gmsh 4.8.4) read
+//! and assembled with the built-in solid elements: the 4.1 and 2.2 files of one mesh agree,
+//! the physical groups are the named node sets, the mass is ρ V in each direction for
+//! consistent and lumped mass, and K annihilates the six rigid-body motions.
+
+use std::path::PathBuf;
+
+use flexmbd_fe::import::{FeMesh, ImportOptions, read_gmsh};
+use flexmbd_fe::solid::{IsotropicElastic, MassMatrix, solid_model};
+use sprs::CsMat;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/gmsh")
+        .join(name)
+}
+
+fn mesh(name: &str) -> FeMesh {
+    read_gmsh(&data(name)).unwrap()
+}
+
+fn product(a: &CsMat<f64>, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    for (v, (r, c)) in a.iter() {
+        y[r] += v * x[c];
+    }
+    y
+}
+
+/// The six rigid-body displacement fields of the nodes (translations, rotations about the
+/// origin), node-major.
+fn rigid_modes(positions: &[nalgebra::Vector3<f64>]) -> Vec<Vec<f64>> {
+    (0..6)
+        .map(|k| {
+            positions
+                .iter()
+                .flat_map(|p| {
+                    if k < 3 {
+                        [0, 1, 2].map(|d| f64::from(u8::from(d == k)))
+                    } else {
+                        let axis = nalgebra::Vector3::ith(k - 3, 1.0);
+                        let u = axis.cross(p);
+                        [u.x, u.y, u.z]
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn msh_41_and_22_files_of_one_mesh_agree() {
+    let (a, b) = (mesh("block_tet4_41.msh"), mesh("block_tet4_22.msh"));
+    assert_eq!(a.nodes.ids, b.nodes.ids);
+    assert_eq!(a.nodes.positions, b.nodes.positions);
+    assert_eq!(a.elements, b.elements);
+    assert_eq!(a.node_sets, b.node_sets);
+    assert_eq!(a.element_sets, b.element_sets);
+    assert!(a.elements.iter().all(|e| e.kind == "C3D4"));
+    // The face x = 0 is the set `root`, the face x = 0.1 `tip`, the point (0, 0, 0) `corner`.
+    for (set, x) in [("root", 0.0), ("tip", 0.1)] {
+        let nodes = &a.node_sets[set];
+        assert!(nodes.len() >= 4);
+        assert!(
+            nodes
+                .iter()
+                .all(|&n| (a.nodes.positions[n].x - x).abs() < 1e-12)
+        );
+        let on_face = a.nodes.positions.iter().filter(|p| (p.x - x).abs() < 1e-12);
+        assert_eq!(on_face.count(), nodes.len(), "{set}");
+    }
+    assert_eq!(a.node_sets["corner"].len(), 1);
+    assert_eq!(a.nodes.positions[a.node_sets["corner"][0]].norm(), 0.0);
+    assert_eq!(a.element_sets["block"].len(), a.elements.len());
+}
+
+#[test]
+fn mass_is_rho_v_and_rigid_motion_is_stress_free() {
+    let steel = IsotropicElastic::STEEL;
+    for (file, kind, volume) in [
+        ("block_tet4_41.msh", "C3D4", 0.1 * 0.04 * 0.02),
+        ("block_tet10.msh", "C3D10", 0.1 * 0.04 * 0.02),
+        ("bar_hex8.msh", "C3D8", 0.2 * 0.02 * 0.02),
+        ("bar_hex20_22.msh", "C3D20", 0.2 * 0.02 * 0.02),
+    ] {
+        let m = mesh(file);
+        assert!(m.elements.iter().all(|e| e.kind == kind), "{file}");
+        for rule in [MassMatrix::Consistent, MassMatrix::Lumped] {
+            let model = solid_model(&m, file, &steel, rule, &ImportOptions::default()).unwrap();
+            let rigid = rigid_modes(&model.mesh.nodes.positions);
+            let mass = steel.density * volume;
+            for t in &rigid[..3] {
+                let total: f64 = product(&model.m, t).iter().zip(t).map(|(a, b)| a * b).sum();
+                assert!(
+                    (total / mass - 1.0).abs() < 1e-12,
+                    "{file} {rule:?}: {total}"
+                );
+            }
+            if rule == MassMatrix::Lumped {
+                assert!(model.m.iter().all(|(v, (r, c))| r == c || *v == 0.0));
+                assert!(model.m.diag().iter().all(|(_, &v)| v > 0.0), "{file}");
+            }
+            let kmax = model.k.data().iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+            for (k, u) in rigid.iter().enumerate() {
+                let f = product(&model.k, u);
+                let worst = f.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+                assert!(worst < 1e-11 * kmax, "{file}: rigid mode {k}: {worst:e}");
+            }
+        }
+    }
+}
