@@ -11,6 +11,7 @@ use nalgebra::{DMatrix, Vector3};
 use sprs::CsMat;
 
 use super::element::{self, IsotropicElastic, MassMatrix};
+use super::quadrature::Point;
 use super::shape::SolidKind;
 use crate::error::FeError;
 
@@ -109,6 +110,25 @@ pub fn assemble(
     material: &IsotropicElastic,
     mass_matrix: MassMatrix,
 ) -> Result<(CsMat<f64>, CsMat<f64>), FeError> {
+    assemble_with_mass_points(
+        positions,
+        elements,
+        material,
+        mass_matrix,
+        element::mass_rule,
+    )
+}
+
+/// [`assemble`] with M integrated by the points `mass_points` gives for each kind:
+/// [`element::mass_rule`] (exact) in [`assemble`]; [`element::stiffness_rule`] is
+/// CalculiX's rule (its C3D4 and C3D10 masses are integrated with the stiffness points).
+pub fn assemble_with_mass_points(
+    positions: &[Vector3<f64>],
+    elements: &[SolidElement],
+    material: &IsotropicElastic,
+    mass_matrix: MassMatrix,
+    mass_points: fn(SolidKind) -> Vec<Point>,
+) -> Result<(CsMat<f64>, CsMat<f64>), FeError> {
     let asm = Assembler::new(positions.len(), elements);
     let (mut k, mut m) = (asm.zeros(), asm.zeros());
     let mut x = Vec::with_capacity(20);
@@ -116,7 +136,8 @@ pub fn assemble(
         x.clear();
         x.extend(e.nodes.iter().map(|&i| positions[i]));
         let ke = element::stiffness(e.kind, &x, material, &e.label)?;
-        let me = element::mass(e.kind, &x, material.density, mass_matrix, &e.label)?;
+        let points = mass_points(e.kind);
+        let me = element::mass(e.kind, &x, material.density, mass_matrix, &points, &e.label)?;
         asm.add(&mut k, &e.nodes, &ke);
         asm.add(&mut m, &e.nodes, &me);
     }

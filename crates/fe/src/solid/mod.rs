@@ -111,6 +111,26 @@ pub fn solid_model(
     mass_matrix: MassMatrix,
     options: &ImportOptions,
 ) -> Result<FeModel, FeError> {
+    solid_model_with_mass_points(
+        mesh,
+        file,
+        material,
+        mass_matrix,
+        options,
+        element::mass_rule,
+    )
+}
+
+/// [`solid_model`] with M integrated by other points
+/// ([`assembly::assemble_with_mass_points`]).
+pub fn solid_model_with_mass_points(
+    mesh: &FeMesh,
+    file: &str,
+    material: &IsotropicElastic,
+    mass_matrix: MassMatrix,
+    options: &ImportOptions,
+    mass_points: fn(SolidKind) -> Vec<quadrature::Point>,
+) -> Result<FeModel, FeError> {
     material.validate("material")?;
     options.validate()?;
     if mesh.elements.is_empty() {
@@ -125,7 +145,13 @@ pub fn solid_model(
         *p *= options.length_scale;
     }
     let elements = solid_elements(&mesh, file)?;
-    let (k, m) = assembly::assemble(&mesh.nodes.positions, &elements, material, mass_matrix)?;
+    let (k, m) = assembly::assemble_with_mass_points(
+        &mesh.nodes.positions,
+        &elements,
+        material,
+        mass_matrix,
+        mass_points,
+    )?;
     let dofs: Vec<NodeDof> = (0..mesh.nodes.len())
         .flat_map(|node| [Dof::Ux, Dof::Uy, Dof::Uz].map(|dof| NodeDof { node, dof }))
         .collect();
