@@ -521,7 +521,10 @@ fn elements_41(file: &str, s: &Section, b: &mut Builder) -> Result<(), FeError> 
         if ty.dim != dim {
             return Err(c.at().error(
                 "entityDim",
-                format!("a block of {}s is on an entity of dimension {dim}", ty.name),
+                format!(
+                    "a block of {} elements is on an entity of dimension {dim}",
+                    ty.name
+                ),
             ));
         }
         let groups = b
