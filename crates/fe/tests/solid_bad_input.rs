@@ -176,3 +176,39 @@ fn unphysical_materials_are_refused_by_field_and_value() {
         assert!(e.contains(want), "{e}");
     }
 }
+
+/// A solid body in RON (the body-model file syntax): a physical group that does not exist,
+/// a bad Poisson ratio and a mesh of another format are refused by name; the good one reduces.
+#[test]
+fn solid_body_specs_refuse_missing_groups_and_bad_materials() {
+    use flexmbd_fe::imported::{ImportedBodySpec, import_body};
+    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gmsh");
+    let ron = |mesh: &str, nu: f64, set: &str| {
+        format!(
+            "(source: Solid(mesh: \"{mesh}\", material: (young: 2.1e11, poisson: {nu}, \
+             density: 7850.0), mass_matrix: Lumped), \
+             interfaces: [(name: \"root\", nodes: Set(\"{set}\"))], \
+             frame: Interface(\"root\"), normal_modes: 2)"
+        )
+    };
+    let build = |text: &str| {
+        let spec = ImportedBodySpec::from_ron_str(text, "bar.ron").unwrap();
+        import_body(&spec, &base, "bar").map(|b| b.body.inventory.normal_frequencies_hz)
+    };
+    let f = build(&ron("bar_hex8.msh", 0.3, "root")).unwrap();
+    assert_eq!(f.len(), 2);
+    assert!(f[0] > 100.0 && (f[1] / f[0] - 1.0).abs() < 1e-6, "{f:?}");
+    let e = build(&ron("bar_hex8.msh", 0.3, "clamp"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("clamp"), "{e}");
+    let e = build(&ron("bar_hex8.msh", 0.7, "root"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("source.Solid.material.poisson") && e.contains("0.7"),
+        "{e}"
+    );
+    let e = build(&ron("bar.geo", 0.3, "root")).unwrap_err().to_string();
+    assert!(e.contains("source.Solid.mesh"), "{e}");
+}

@@ -203,6 +203,7 @@ impl ImportSource {
                 material,
                 mass_matrix,
             } => {
+                material.validate("source.Solid.material")?;
                 let path = p(mesh);
                 let file = path.display().to_string();
                 let is = |ext: &str| {
