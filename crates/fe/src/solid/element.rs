@@ -153,7 +153,7 @@ pub fn point_data(
     let nn = kind.n_nodes();
     let (mut n, mut dxi) = (vec![0.0; nn], vec![[0.0; 3]; nn]);
     kind.shape(p, &mut n, &mut dxi);
-    let mut j = Matrix3::zeros();
+    let mut j = Matrix3::<f64>::zeros();
     for (xa, da) in x.iter().zip(&dxi) {
         for r in 0..3 {
             for c in 0..3 {
@@ -161,7 +161,14 @@ pub fn point_data(
             }
         }
     }
-    let det_j = j.determinant();
+    let det_j: f64 = j.determinant();
+    if !det_j.is_finite() {
+        return Err(FeError::Invalid(InvalidValue::new(
+            element.to_string(),
+            format!("det J = {det_j:e} at parent point {p:?}"),
+            "the Jacobian determinant is not finite: node coordinates too large",
+        )));
+    }
     let scale = x
         .iter()
         .map(|xa| (xa - x[0]).norm())
