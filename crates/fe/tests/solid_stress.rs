@@ -72,7 +72,8 @@ fn cantilever_bending_stress_matches_the_beam_formula() {
         damping: Default::default(),
     };
     let body = reduce_imported(&spec, &model, "bar").unwrap();
-    let shapes = body_stress_shapes(&model, &material, &body, "bar").unwrap();
+    let shapes =
+        body_stress_shapes(&model, &material, &body.body, body.interfaces.len(), "bar").unwrap();
     // Node row 1 is the tip interface point.
     let x_tip = &body.body.nodes[1].translation;
     let f = x_tip.transpose() * Vector3::new(0.0, 0.0, p);

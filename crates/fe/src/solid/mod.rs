@@ -165,21 +165,29 @@ pub fn solid_model_with_mass_points(
 
 /// The modal stress shapes ([`stress::StressShapes`]) of a body reduced from a solid model:
 /// `model` is the one [`solid_model`] assembled (its mesh the solid elements, positions in
-/// SI), `body` its reduction ([`crate::imported::reduce_imported`]), whose node rows after
-/// the interface points are the model's nodes in order; `file` names the mesh in errors.
+/// SI), `body` its reduction ([`crate::imported::reduce_imported`]), whose node rows from
+/// `first` on (after the interface points) are the model's nodes in order; `file` names the
+/// mesh in errors.
 pub fn body_stress_shapes(
     model: &FeModel,
     material: &IsotropicElastic,
-    body: &crate::imported::ImportedBody,
+    body: &crate::reduced::ReducedBody,
+    first: usize,
     file: &str,
 ) -> Result<stress::StressShapes, FeError> {
     let elements = solid_elements(&model.mesh, file)?;
-    let first = body.interfaces.len();
     let n_nodes = model.mesh.nodes.len();
-    let n_modes = body.body.n_modes();
+    let n_modes = body.n_modes();
+    if body.nodes.len() < first + n_nodes {
+        return Err(FeError::Invalid(flexmbd_core::InvalidValue::new(
+            file.to_string(),
+            body.nodes.len(),
+            format!("the reduced body has fewer node rows than {first} + {n_nodes} FE nodes"),
+        )));
+    }
     let mut modes = nalgebra::DMatrix::zeros(3 * n_nodes, n_modes);
     for node in 0..n_nodes {
-        let rows = &body.body.nodes[first + node].translation;
+        let rows = &body.nodes[first + node].translation;
         modes.rows_mut(3 * node, 3).copy_from(rows);
     }
     stress::StressShapes::new(&model.mesh.nodes.positions, &elements, material, &modes)
