@@ -271,3 +271,31 @@ fn hrz_lumped_c3d20_frequencies_converge_from_below_to_the_same_limit() {
     assert!((rate - 2.0).abs() < 0.3, "rate {rate}");
     assert!((limit / timoshenko - 1.0).abs() < 1e-3, "{limit}");
 }
+
+/// The structured brick box of the eigen-solver tests (`SolidBox::assemble`, its own
+/// hex8 code with the affine Jacobian) and the general C3D8 element on its mesh agree: two
+/// routes to one K and M.
+#[test]
+fn solid_box_and_general_hex8_assemble_the_same_matrices() {
+    let b = SolidBox::steel([0.3, 0.2, 0.1], [3, 2, 2]);
+    let (k_box, m_box) = b.assemble().unwrap();
+    let model = solid_model(
+        &b.mesh(SolidKind::Hex8).unwrap(),
+        "box",
+        &b.material(),
+        MassMatrix::Consistent,
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    for (what, a, c) in [("K", &k_box, &model.k), ("M", &m_box, &model.m)] {
+        let scale = a.data().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        let mut worst = 0.0_f64;
+        for (v, (r, col)) in a.iter() {
+            worst = worst.max((v - c.get(r, col).copied().unwrap_or(0.0)).abs());
+        }
+        for (v, (r, col)) in c.iter() {
+            worst = worst.max((v - a.get(r, col).copied().unwrap_or(0.0)).abs());
+        }
+        assert!(worst < 1e-13 * scale, "{what}: {:e}", worst / scale);
+    }
+}
