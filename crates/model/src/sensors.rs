@@ -256,9 +256,10 @@ impl<M, J> Sensors<M, J> {
                         .iter()
                         .map(|s| {
                             let sigma = Stress::from_iterator((s * &y).iter().copied());
-                            match quantity {
-                                StressQuantity::VonMises => von_mises(&sigma),
-                                StressQuantity::MaxPrincipal => largest_principal(&sigma),
+                            match (*quantity, quantity.component()) {
+                                (_, Some(c)) => sigma[c],
+                                (StressQuantity::MaxPrincipal, None) => largest_principal(&sigma),
+                                _ => von_mises(&sigma),
                             }
                         })
                         .fold(f64::NEG_INFINITY, f64::max)

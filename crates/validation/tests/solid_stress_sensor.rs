@@ -5,7 +5,7 @@
 //! API (K_ff q = Sᵀ g, then the modal stress shapes), and that stress is the cantilever's
 //! bending stress, σ = w (L/2)² / 2 · (h/2) / I = 231026 Pa (Euler–Bernoulli), within the
 //! modal truncation and the section's 3D effects.
-//! Sensor columns: mid_von_mises, mid_principal, tip_z.
+//! Sensor columns: mid_von_mises, mid_principal, tip_z (and mid_sxx, added by a test).
 
 mod common;
 use std::path::Path;
@@ -21,9 +21,9 @@ fn models_dir() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../models"))
 }
 
-/// (von Mises, largest principal) of the reduced body's static response to gravity, the
-/// largest over the node set `mid`, through the FE API alone.
-fn static_stress() -> (f64, f64) {
+/// (von Mises, largest principal, largest σ_xx) of the reduced body's static response to
+/// gravity, the largest over the node set `mid`, through the FE API alone.
+fn static_stress() -> (f64, f64, f64) {
     let s = model("solid_cantilever.ron");
     let BodyModel::Imported(spec) = &s.bodies[0].model else {
         panic!("the bar is not an imported body")
@@ -54,13 +54,23 @@ fn static_stress() -> (f64, f64) {
         .iter()
         .map(|&n| largest_principal(&stress(n)))
         .fold(f64::MIN, f64::max);
-    (vm, p1)
+    let sxx = mid.iter().map(|&n| stress(n)[0]).fold(f64::MIN, f64::max);
+    (vm, p1, sxx)
 }
 
 #[test]
 fn settled_stress_sensors_equal_the_static_fe_stress_and_the_beam_formula() {
-    let s = model("solid_cantilever.ron");
-    let (vm, p1) = static_stress();
+    let mut s = model("solid_cantilever.ron");
+    s.sensors.push(Sensor {
+        name: "mid_sxx".into(),
+        kind: SensorKind::Stress {
+            body: "bar".into(),
+            nodes: "mid".into(),
+            quantity: StressQuantity::Sxx,
+        },
+        ..s.sensors[0].clone()
+    });
+    let (vm, p1, sxx) = static_stress();
     let w = 7850.0 * 1e-4 * 9.81;
     let (l, h) = (0.2_f64, 0.01_f64);
     let beam = w * (l / 2.0).powi(2) / 2.0 * (h / 2.0) / (h.powi(4) / 12.0);
@@ -70,7 +80,12 @@ fn settled_stress_sensors_equal_the_static_fe_stress_and_the_beam_formula() {
         100.0 * (vm / beam - 1.0),
         100.0 * (p1 / beam - 1.0)
     );
+    eprintln!(
+        "largest sigma_xx {sxx:.2} Pa ({:+.3} %)",
+        100.0 * (sxx / beam - 1.0)
+    );
     assert!((vm / beam - 1.0).abs() < 0.015 && (p1 / beam - 1.0).abs() < 0.015);
+    assert!((sxx / beam - 1.0).abs() < 0.015);
     let (a, _) = run_absolute(&s, 2e-4, 0.1, 10);
     let (r, _) = run_relative(&s, 2e-4, 0.1, 10);
     for (name, rows) in [("absolute", &a), ("relative", &r)] {
