@@ -109,3 +109,36 @@ fn mass_is_rho_v_and_rigid_motion_is_stress_free() {
         }
     }
 }
+
+/// A mesh in millimetres with `length_scale: 1e-3` assembles the K and M of the mesh in
+/// metres (the scale acts on the positions before the elements; the material stays SI).
+#[test]
+fn length_scale_applies_to_the_mesh_before_the_elements() {
+    let m = mesh("block_tet4_41.msh");
+    let mut mm = m.clone();
+    for p in &mut mm.nodes.positions {
+        *p *= 1000.0;
+    }
+    let steel = IsotropicElastic::STEEL;
+    let si = solid_model(
+        &m,
+        "m",
+        &steel,
+        MassMatrix::Consistent,
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let options = ImportOptions {
+        length_scale: 1e-3,
+        ..ImportOptions::default()
+    };
+    let scaled = solid_model(&mm, "mm", &steel, MassMatrix::Consistent, &options).unwrap();
+    for (a, b) in [(&si.k, &scaled.k), (&si.m, &scaled.m)] {
+        let scale = a.data().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+        let worst = a
+            .iter()
+            .map(|(v, (r, c))| (v - b.get(r, c).copied().unwrap_or(0.0)).abs())
+            .fold(0.0_f64, f64::max);
+        assert!(worst < 1e-12 * scale, "{:e}", worst / scale);
+    }
+}
