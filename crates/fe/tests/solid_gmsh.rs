@@ -142,3 +142,42 @@ fn length_scale_applies_to_the_mesh_before_the_elements() {
         assert!(worst < 1e-12 * scale, "{:e}", worst / scale);
     }
 }
+
+/// MSH 4.1 details Gmsh writes on other meshes: a parametric node block (its u, v skipped),
+/// a physical group without a name (set `dim:tag`), a name with spaces, a 10-node
+/// tetrahedron's mid-edge nodes 8 and 9 swapped into Abaqus order.
+#[test]
+fn msh41_parametric_nodes_unnamed_groups_and_tet10_order() {
+    let text = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
+        $PhysicalNames\n1\n3 7 \"the solid\"\n$EndPhysicalNames\n\
+        $Entities\n0 0 1 1\n4 0 0 0 1 1 0 1 5 0\n1 0 0 0 1 1 1 1 7 0\n$EndEntities\n\
+        $Nodes\n2 10 1 10\n2 4 1 3\n1\n2\n3\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n\
+        3 1 0 7\n4\n5\n6\n7\n8\n9\n10\n0 0 1\n0.5 0 0\n0.5 0.5 0\n0 0.5 0\n0 0 0.5\n0 0.5 0.5\n0.5 0 0.5\n\
+        $EndNodes\n\
+        $Elements\n2 2 1 2\n2 4 2 1\n1 1 2 3\n3 1 11 1\n2 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+    let m = flexmbd_fe::import::parse_gmsh(text, "t.msh").unwrap();
+    assert_eq!(m.nodes.len(), 10);
+    assert_eq!(m.elements.len(), 1);
+    assert_eq!(m.elements[0].kind, "C3D10");
+    // Gmsh's node 9 (edge 2-3) and 10 (edge 1-3) become Abaqus's 10 and 9 (0-based 9, 8).
+    let ids: Vec<&str> = m.elements[0]
+        .nodes
+        .iter()
+        .map(|&n| m.nodes.ids[n].as_str())
+        .collect();
+    assert_eq!(ids, ["1", "2", "3", "4", "5", "6", "7", "8", "10", "9"]);
+    assert_eq!(m.node_sets["2:5"].len(), 3);
+    assert_eq!(m.node_sets["the solid"].len(), 10);
+    assert_eq!(m.element_sets["the solid"], vec![0]);
+    // The element is the unit corner tetrahedron with straight edges: volume 1/6.
+    let model = solid_model(
+        &m,
+        "t.msh",
+        &IsotropicElastic::STEEL,
+        MassMatrix::Lumped,
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    let total: f64 = model.m.diag().iter().map(|(_, &v)| v).sum::<f64>() / 3.0;
+    assert!((total / (7850.0 / 6.0) - 1.0).abs() < 1e-12, "{total}");
+}
