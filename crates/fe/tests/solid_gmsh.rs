@@ -181,3 +181,24 @@ fn msh41_parametric_nodes_unnamed_groups_and_tet10_order() {
     let total: f64 = model.m.diag().iter().map(|(_, &v)| v).sum::<f64>() / 3.0;
     assert!((total / (7850.0 / 6.0) - 1.0).abs() < 1e-12, "{total}");
 }
+
+/// Gmsh's quadratic elements of a box have straight edges: after the reordering into
+/// Abaqus order every mid-edge node sits at the middle of its edge's corners.
+#[test]
+fn quadratic_elements_read_in_abaqus_node_order() {
+    use flexmbd_fe::solid::shape::{HEX20_EDGES, TET10_EDGES};
+    for (file, edges, corners) in [
+        ("bar_hex20_22.msh", &HEX20_EDGES[..], 8),
+        ("block_tet10.msh", &TET10_EDGES[..], 4),
+    ] {
+        let m = mesh(file);
+        let x = &m.nodes.positions;
+        for e in &m.elements {
+            for (k, [a, b]) in edges.iter().enumerate() {
+                let mid = (x[e.nodes[*a]] + x[e.nodes[*b]]) * 0.5;
+                let d = (x[e.nodes[corners + k]] - mid).norm();
+                assert!(d < 1e-12, "{file}: element {} edge {k}: {d:e}", e.id);
+            }
+        }
+    }
+}
