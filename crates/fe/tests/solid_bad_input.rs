@@ -21,6 +21,10 @@ fn error(text: &str) -> String {
 #[test]
 fn msh_errors_name_file_line_and_field() {
     assert!(parse_gmsh(&msh22("1 4 2 1 1 1 2 3 4\n"), "m.msh").is_ok());
+    // Extra white space between the fields of a physical name is read.
+    let spaced = msh22("1 4 2 1 1 1 2 3 4\n").replace("3 1 \"solid\"", "3   1\t \"solid body\"");
+    let m = parse_gmsh(&spaced, "m.msh").unwrap();
+    assert_eq!(m.node_sets["solid body"].len(), 4);
     for (text, want) in [
         (
             msh22("1 6 2 1 1 1 2 3 4 5 6\n"),

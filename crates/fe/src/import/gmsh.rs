@@ -377,7 +377,7 @@ fn mesh_format(file: &str, s: &Section) -> Result<u32, FeError> {
 }
 
 /// `n`, then `dim tag "name"` per line.
-fn physical_names(file: &str, s: &Section, b: &mut Builder) -> Result<(), FeError> {
+fn physical_names<'a>(file: &str, s: &Section<'a>, b: &mut Builder) -> Result<(), FeError> {
     let mut lines = s.lines.iter();
     let (first, text) = lines.next().copied().unwrap_or((s.line, ""));
     let n = At { file, line: first }.count("numPhysicalNames", text)?;
@@ -391,10 +391,15 @@ fn physical_names(file: &str, s: &Section, b: &mut Builder) -> Result<(), FeErro
             ));
         };
         let at = At { file, line };
-        let mut parts = text.trim().splitn(3, char::is_whitespace);
-        let dim = at.count("dimension", parts.next().unwrap_or(""))?;
-        let tag = at.integer("physicalTag", parts.next().unwrap_or(""))?;
-        let name = parts.next().unwrap_or("").trim();
+        let word = |t: &'a str| {
+            let t = t.trim_start();
+            t.split_once(char::is_whitespace).unwrap_or((t, ""))
+        };
+        let (dim, rest) = word(text);
+        let (tag, name) = word(rest);
+        let dim = at.count("dimension", dim)?;
+        let tag = at.integer("physicalTag", tag)?;
+        let name = name.trim();
         let name = name
             .strip_prefix('"')
             .and_then(|n| n.strip_suffix('"'))
