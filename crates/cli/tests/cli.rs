@@ -534,3 +534,33 @@ fn modes_reads_an_imported_body_model() {
     assert_contains_all(&err, &["bar_mesh.inp"]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `modes` on a solid body's model file: the same bar meshed by Gmsh and assembled by the
+/// built-in C3D8 gives the CalculiX import's modes; a bad Poisson ratio is refused by field.
+#[test]
+fn modes_reads_a_solid_body_model() {
+    let json = |file: &str| {
+        let out = run(["modes", &model(file), "--json"]);
+        assert_success(&out);
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let (solid, imported) = (json("solid_bar.ron"), json("imported_bar.ron"));
+    assert_eq!(solid["n_fe_dofs"], 84);
+    for k in 0..4 {
+        let f = |v: &serde_json::Value| v["normal_modes"][k]["frequency_hz"].as_f64().unwrap();
+        assert!((f(&solid) / f(&imported) - 1.0).abs() < 1e-9, "mode {k}");
+    }
+    let dir = std::env::temp_dir().join(format!("flexmbd-cli-solid-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("fe")).unwrap();
+    std::fs::copy(
+        model("fe/bar_solid.msh"),
+        dir.join("fe").join("bar_solid.msh"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(model("solid_bar.ron")).unwrap();
+    let bad = dir.join("solid_bar.ron");
+    std::fs::write(&bad, text.replace("poisson: 0.3", "poisson: 0.5")).unwrap();
+    let err = refused(&["modes", bad.to_str().unwrap()]);
+    assert_contains_all(&err, &["source.Solid.material.poisson", "0.5"]);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -29,6 +29,7 @@ pub mod rigid;
 pub mod ritz;
 pub mod section;
 pub mod selection;
+pub mod solid;
 pub mod solid_box;
 pub mod sparse;
 pub mod sparse_eigen;

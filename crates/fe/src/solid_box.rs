@@ -29,10 +29,16 @@
 //! pattern is that of the node graph (each node couples with its up to 27 neighbours in the
 //! grid, 3 × 3 blocks), built column by column in order, so no triplets are stored.
 
-use nalgebra::{SMatrix, SVector};
+use std::collections::HashMap;
+
+use nalgebra::{SMatrix, SVector, Vector3};
 use sprs::CsMat;
 
 use crate::error::FeError;
+use crate::import::nodes::NodeList;
+use crate::import::{Element, FeMesh};
+use crate::solid::IsotropicElastic;
+use crate::solid::shape::{HEX20_EDGES, SolidKind, TET10_EDGES};
 use flexmbd_core::InvalidValue;
 
 /// A 24 × 24 element matrix (8 nodes × 3 displacements, node-major).
@@ -152,20 +158,95 @@ impl SolidBox {
         [0, 1, 2].map(|d| self.lengths[d] / self.elements[d] as f64)
     }
 
+    /// The material, for the built-in solid elements ([`crate::solid`]).
+    pub fn material(&self) -> IsotropicElastic {
+        IsotropicElastic {
+            young: self.young,
+            poisson: self.poisson,
+            density: self.density,
+        }
+    }
+
     /// The isotropic elasticity matrix D (6 × 6, engineering shear strains).
     fn elasticity(&self) -> SMatrix<f64, 6, 6> {
-        let (e, nu) = (self.young, self.poisson);
-        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-        let mu = e / (2.0 * (1.0 + nu));
-        let mut d = SMatrix::<f64, 6, 6>::zeros();
-        for i in 0..3 {
-            for j in 0..3 {
-                d[(i, j)] = lambda;
-            }
-            d[(i, i)] += 2.0 * mu;
-            d[(i + 3, i + 3)] = mu;
+        self.material().elasticity()
+    }
+
+    /// The box as a mesh of any built-in solid `kind` ([`crate::solid::shape`]), for
+    /// [`crate::solid::solid_model`]: node ids `1…` — the grid nodes in [`Self::node_index`]
+    /// order first, then the mid-edge nodes of C3D10 and C3D20 in order of first use;
+    /// element ids `1…`. Each brick is one C3D8 or C3D20, or the six C3D4 or C3D10 of
+    /// Kuhn's subdivision along its diagonal from corner 0 to corner 6 (Kuhn, 1960; the
+    /// tetrahedra of neighbouring bricks share their face diagonals, so the mesh is
+    /// conforming). The mesh is in SI units and has no sets.
+    pub fn mesh(&self, kind: SolidKind) -> Result<FeMesh, FeError> {
+        self.validate()?;
+        const KUHN: [[usize; 4]; 6] = [
+            [0, 1, 2, 6],
+            [0, 2, 3, 6],
+            [0, 3, 7, 6],
+            [0, 7, 4, 6],
+            [0, 4, 5, 6],
+            [0, 5, 1, 6],
+        ];
+        let mut nodes = NodeList::default();
+        for n in 0..self.n_nodes() {
+            let p = self.node_position(n);
+            nodes.ids.push((n + 1).to_string());
+            nodes.index.insert((n + 1).to_string(), n);
+            nodes.positions.push(Vector3::from(p));
         }
-        d
+        let mut mids: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut mid = |nodes: &mut NodeList, a: usize, b: usize| {
+            *mids.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let id = (nodes.ids.len() + 1).to_string();
+                nodes.index.insert(id.clone(), nodes.ids.len());
+                nodes.ids.push(id);
+                let p = (nodes.positions[a] + nodes.positions[b]) * 0.5;
+                nodes.positions.push(p);
+                nodes.ids.len() - 1
+            })
+        };
+        let mut elements = Vec::new();
+        let [ex, ey, ez] = self.elements;
+        for bz in 0..ez {
+            for by in 0..ey {
+                for bx in 0..ex {
+                    let corners = CORNERS.map(|c| {
+                        let o = c.map(|s| usize::from(s > 0.0));
+                        self.node_index(bx + o[0], by + o[1], bz + o[2])
+                    });
+                    let conn: Vec<Vec<usize>> = match kind {
+                        SolidKind::Hex8 | SolidKind::Hex20 => vec![corners.to_vec()],
+                        SolidKind::Tet4 | SolidKind::Tet10 => KUHN
+                            .iter()
+                            .map(|t| t.iter().map(|&v| corners[v]).collect())
+                            .collect(),
+                    };
+                    for mut c in conn {
+                        let edges: &[[usize; 2]] = match kind {
+                            SolidKind::Tet10 => &TET10_EDGES,
+                            SolidKind::Hex20 => &HEX20_EDGES,
+                            _ => &[],
+                        };
+                        for &[a, b] in edges {
+                            let m = mid(&mut nodes, c[a], c[b]);
+                            c.push(m);
+                        }
+                        elements.push(Element {
+                            id: (elements.len() + 1).to_string(),
+                            kind: kind.abaqus_name().to_string(),
+                            nodes: c,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(FeMesh {
+            nodes,
+            elements,
+            ..FeMesh::default()
+        })
     }
 
     /// K_e and M_e of one brick (module docs), 2 × 2 × 2 Gauss points.

@@ -199,7 +199,7 @@ impl Scene {
 
     /// The directory an imported body's files are relative to: the scene file's, or the
     /// working directory for a scene built in code.
-    fn base_directory(&self) -> std::path::PathBuf {
+    pub(crate) fn base_directory(&self) -> std::path::PathBuf {
         let origin = std::path::Path::new(&self.origin);
         match origin.parent() {
             Some(dir) if origin.is_file() => dir.to_path_buf(),

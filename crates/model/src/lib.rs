@@ -26,6 +26,7 @@ pub mod roads;
 pub mod scene;
 pub mod scene_constraints;
 pub mod sensors;
+pub mod stress;
 mod values;
 
 pub use bodies::PreparedBody;

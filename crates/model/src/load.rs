@@ -385,6 +385,11 @@ impl Scene {
                     return Err(self.missing(item("force"), "force element", force));
                 }
             }
+            SensorKind::Stress { body, .. } => {
+                if !self.bodies.iter().any(|b| &b.name == body) {
+                    return Err(self.missing(item("body"), "body", body));
+                }
+            }
             SensorKind::Position { .. } | SensorKind::Velocity { .. } | SensorKind::Energy => {}
         }
         Ok(())

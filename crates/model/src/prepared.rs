@@ -97,6 +97,16 @@ pub enum SensorTarget {
         /// A(0): the orientation the scene gives the body.
         reference: nalgebra::Matrix3<f64>,
     },
+    /// The largest stress over a node set of a solid body: the set's stress shapes are
+    /// [`PreparedScene::stress_set`]`(table)`.
+    Stress {
+        /// The body.
+        body: BodyId,
+        /// Index of the set's stress shapes in the prepared scene.
+        table: usize,
+        /// What to report.
+        quantity: crate::scene::StressQuantity,
+    },
     /// A force element's tension or normal force, or its length.
     ElementForce {
         /// Its index in the prepared scene's `forces`.
@@ -118,6 +128,7 @@ pub struct PreparedScene {
     load_axes: Vec<Vec<MarkerId>>,
     drivers: Vec<JointId>,
     sensors: Vec<SensorTarget>,
+    stress_sets: Vec<crate::stress::StressSet>,
     sensor_offsets: Vec<f64>,
     inputs: InputTable,
 }
@@ -179,11 +190,12 @@ impl PreparedScene {
             .iter()
             .map(|d| scene.joint_id(&d.joint))
             .collect::<Result<_, _>>()?;
-        let sensors = scene
+        let mut sensors: Vec<SensorTarget> = scene
             .sensors
             .iter()
             .map(|s| scene.sensor_target(&s.kind))
             .collect::<Result<_, _>>()?;
+        let stress_sets = crate::stress::stress_sets(&scene, &bodies, &mut sensors)?;
         let sensor_offsets = scene.sensor_offsets();
         Ok(PreparedScene {
             scene,
@@ -195,6 +207,7 @@ impl PreparedScene {
             load_axes,
             drivers,
             sensors,
+            stress_sets,
             sensor_offsets,
             inputs,
         })
@@ -261,6 +274,11 @@ impl PreparedScene {
     /// The driven joint of each driver, in the order of the prepared scene's `drivers`.
     pub fn driver_joints(&self) -> &[JointId] {
         &self.drivers
+    }
+
+    /// The stress shapes of a `Stress` sensor's node set ([`SensorTarget::Stress`]).
+    pub fn stress_set(&self, table: usize) -> &crate::stress::StressSet {
+        &self.stress_sets[table]
     }
 
     /// What each sensor measures, in the order of the prepared scene's `sensors`.
@@ -386,6 +404,15 @@ impl Scene {
                     reference: self.bodies[k].orientation.matrix(),
                 }
             }
+            SensorKind::Stress { body, quantity, .. } => SensorTarget::Stress {
+                body: self
+                    .body_index(body)
+                    .map(BodyId)
+                    .ok_or_else(|| self.missing("a stress sensor".into(), "body", body))?,
+                // Filled in by crate::stress::stress_sets once the bodies are prepared.
+                table: usize::MAX,
+                quantity: *quantity,
+            },
             SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
                 element: self
                     .forces

@@ -593,6 +593,20 @@ pub enum SensorKind {
         /// Which angle: X (first, about x), Y (second, about y′), Z (third, about z″).
         axis: Axis,
     },
+    /// The largest von Mises stress (or largest principal stress, or stress component) over
+    /// a node set of a flexible body
+    /// whose K and M the built-in solid elements assembled (`source: Solid`; Pa): the
+    /// modal stress shapes (`flexmbd_fe::solid::stress`, nodal averages) times the body's
+    /// modal coordinates, the elastic stress of the linear theory.
+    Stress {
+        /// The body.
+        body: String,
+        /// A node set of its mesh (a Gmsh physical group), case-insensitive.
+        nodes: String,
+        /// What to report (`VonMises` when omitted).
+        #[serde(default)]
+        quantity: StressQuantity,
+    },
     /// A force element's tension (SpringDamper, Link; N) or normal force (Tyre, ≥ 0; N), or
     /// with `quantity: Length` its length l (m; a tyre: its deflection δ).
     ElementForce {
@@ -602,6 +616,43 @@ pub enum SensorKind {
         #[serde(default)]
         quantity: ElementQuantity,
     },
+}
+
+/// What a `Stress` sensor reports at each node of its set (the largest over the set).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StressQuantity {
+    /// The von Mises stress (Pa).
+    #[default]
+    VonMises,
+    /// The largest principal stress (Pa).
+    MaxPrincipal,
+    /// The largest σ_xx over the set (Pa, body axes; so for the other components).
+    Sxx,
+    /// σ_yy.
+    Syy,
+    /// σ_zz.
+    Szz,
+    /// τ_xy.
+    Sxy,
+    /// τ_yz.
+    Syz,
+    /// τ_zx.
+    Szx,
+}
+
+impl StressQuantity {
+    /// For a component, its index in (σ_xx, σ_yy, σ_zz, τ_xy, τ_yz, τ_zx).
+    pub fn component(self) -> Option<usize> {
+        match self {
+            StressQuantity::VonMises | StressQuantity::MaxPrincipal => None,
+            StressQuantity::Sxx => Some(0),
+            StressQuantity::Syy => Some(1),
+            StressQuantity::Szz => Some(2),
+            StressQuantity::Sxy => Some(3),
+            StressQuantity::Syz => Some(4),
+            StressQuantity::Szx => Some(5),
+        }
+    }
 }
 
 /// What an `ElementForce` sensor reports.

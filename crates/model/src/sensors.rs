@@ -23,11 +23,12 @@
 use std::f64::consts::{PI, TAU};
 
 use flexmbd_core::{Dim, InvalidValue, JointReading, SensorQuery};
-use nalgebra::{DVector, Matrix3};
+use flexmbd_fe::solid::stress::{Stress, largest_principal, von_mises};
+use nalgebra::{DMatrix, DVector, Matrix3};
 
 use crate::error::ModelError;
 use crate::prepared::{BodyId, JointId, MarkerId, PreparedScene, SensorTarget};
-use crate::scene::{Axis, ElementQuantity};
+use crate::scene::{Axis, ElementQuantity, StressQuantity};
 
 /// One sensor, resolved into a formulation's handles (`M`: marker, `J`: joint coordinate).
 #[derive(Clone, Debug)]
@@ -59,6 +60,12 @@ enum Reading<M, J> {
     ElementForce {
         element: usize,
         quantity: ElementQuantity,
+    },
+    /// The coordinate index of each mode of the body, and the set's stress shapes.
+    Stress {
+        coords: Vec<Option<usize>>,
+        shapes: Vec<DMatrix<f64>>,
+        quantity: StressQuantity,
     },
 }
 
@@ -153,6 +160,19 @@ impl<M, J> Sensors<M, J> {
                 SensorTarget::ElementForce { element, quantity } => {
                     Reading::ElementForce { element, quantity }
                 }
+                SensorTarget::Stress {
+                    body,
+                    table,
+                    quantity,
+                } => {
+                    let shapes = prepared.stress_set(table).shapes.clone();
+                    let n = shapes.first().map_or(0, |s| s.ncols());
+                    Reading::Stress {
+                        coords: (0..n).map(|k| (handles.mode)(body, k)).collect(),
+                        shapes,
+                        quantity,
+                    }
+                }
             });
         }
         Ok(Sensors {
@@ -222,6 +242,27 @@ impl<M, J> Sensors<M, J> {
                         ElementQuantity::Force => reading.force,
                         ElementQuantity::Length => reading.length,
                     }
+                }
+                Reading::Stress {
+                    coords,
+                    shapes,
+                    quantity,
+                } => {
+                    let y = DVector::from_iterator(
+                        coords.len(),
+                        coords.iter().map(|c| c.map_or(0.0, |i| q[i])),
+                    );
+                    shapes
+                        .iter()
+                        .map(|s| {
+                            let sigma = Stress::from_iterator((s * &y).iter().copied());
+                            match (*quantity, quantity.component()) {
+                                (_, Some(c)) => sigma[c],
+                                (StressQuantity::MaxPrincipal, None) => largest_principal(&sigma),
+                                _ => von_mises(&sigma),
+                            }
+                        })
+                        .fold(f64::NEG_INFINITY, f64::max)
                 }
             };
             out[k] = value - self.offsets[k];

@@ -81,6 +81,11 @@ const SEEDS: &[(Reader, &[&str], bool)] = &[
         false,
     ),
     (Reader::CalculixDof, &["bar_free.dof"], false),
+    // The Gmsh meshes of the solid-element tests (crates/fe/tests/data/gmsh).
+    (Reader::Gmsh, &["../gmsh/block_tet4_41.msh"], false),
+    (Reader::Gmsh, &["../gmsh/block_tet4_22.msh"], false),
+    (Reader::Gmsh, &["../gmsh/bar_hex8.msh"], false),
+    (Reader::Gmsh, &["../gmsh/bar_hex20_22.msh"], false),
 ];
 
 /// The readers' test data (the default corpus).

@@ -77,6 +77,44 @@ pub fn execute_reader(input: &ReaderInput) -> Outcome {
         Reader::AnsysMapping => entries(import::parse_ansys_mapping(t, f)),
         Reader::AnsysNodeVector => entries(import::parse_ansys_node_vector(t, f)),
         Reader::CalculixDof => entries(import::parse_calculix_dof(t, f)),
+        Reader::Gmsh => match import::parse_gmsh(t, f) {
+            Ok(mesh) => positions(&mesh.nodes, "mesh").unwrap_or_else(|| solid(&mesh, f)),
+            Err(e) => refused(&e),
+        },
+    }
+}
+
+/// The largest mesh (nodes) assembled by the built-in solid elements: the seeds have up to
+/// 189 (a 10-node tetrahedral block has more and is only read).
+pub const MAX_ASSEMBLED_NODES: usize = 400;
+
+/// A Gmsh mesh read: assembled with the built-in solid elements when small.
+fn solid(mesh: &import::FeMesh, file: &str) -> Outcome {
+    let read = format!(
+        "{} nodes, {} elements",
+        mesh.nodes.len(),
+        mesh.elements.len()
+    );
+    if mesh.nodes.len() > MAX_ASSEMBLED_NODES || mesh.elements.is_empty() {
+        return Outcome::new(Class::Ok, read);
+    }
+    let material = flexmbd::fe::solid::IsotropicElastic::STEEL;
+    let consistent = flexmbd::fe::solid::MassMatrix::Consistent;
+    match flexmbd::fe::solid::solid_model(
+        mesh,
+        file,
+        &material,
+        consistent,
+        &ImportOptions::default(),
+    ) {
+        Ok(model) => match model_non_finite(&model) {
+            Some(bad) => Outcome::new(Class::OkNonFinite, format!("solid model: {bad}")),
+            None => Outcome::new(
+                Class::Ok,
+                format!("{read}; {} DOFs assembled", model.n_dofs()),
+            ),
+        },
+        Err(e) => refused(&e),
     }
 }
 

@@ -39,10 +39,13 @@ pub enum Reader {
     AnsysNodeVector,
     /// `parse_calculix_dof(text, file)`.
     CalculixDof,
+    /// `parse_gmsh(text, file)`, then, for a small mesh, the built-in solid elements'
+    /// `solid::solid_model` (steel, consistent mass).
+    Gmsh,
 }
 
 /// Every reader, in tag order.
-pub const READERS: [Reader; 11] = [
+pub const READERS: [Reader; 12] = [
     Reader::Generic,
     Reader::Ansys,
     Reader::Abaqus,
@@ -54,6 +57,7 @@ pub const READERS: [Reader; 11] = [
     Reader::AnsysMapping,
     Reader::AnsysNodeVector,
     Reader::CalculixDof,
+    Reader::Gmsh,
 ];
 
 impl Reader {
@@ -71,6 +75,7 @@ impl Reader {
             Reader::AnsysMapping => "ansys_mapping",
             Reader::AnsysNodeVector => "ansys_node_vector",
             Reader::CalculixDof => "calculix_dof",
+            Reader::Gmsh => "gmsh",
         }
     }
 

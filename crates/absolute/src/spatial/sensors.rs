@@ -76,7 +76,8 @@ pub(super) fn sensor_terms(
             SensorTarget::Modal { .. }
             | SensorTarget::Energy
             | SensorTarget::Angle { .. }
-            | SensorTarget::ElementForce { .. } => {}
+            | SensorTarget::ElementForce { .. }
+            | SensorTarget::Stress { .. } => {}
         }
     }
     Ok(terms)

@@ -10,6 +10,7 @@
 //! | … with `FORMAT=COORDINATE` | [`parse_abaqus_coordinate`], [`read_abaqus_coordinate`] | the same |
 //! | Ansys | [`parse_ansys`], [`read_ansys`] | node list, `.mapping`, K and M in Matrix Market |
 //! | CalculiX `SOLVER=MATRIXSTORAGE` | [`parse_calculix`], [`read_calculix`] | `.inp`, `.dof`, `.sti`, `.mas` |
+//! | Gmsh MSH 4.1 / 2.2 (mesh only) | [`parse_gmsh`], [`read_gmsh`] | `.msh` ([`gmsh`]; K and M by [`crate::solid`]) |
 //! | any FE code | [`parse_generic`], [`read_generic`] | node list, DOF map, K and M in Matrix Market |
 //!
 //! Every `parse_*` takes the texts and the names to quote in errors (no file system:
@@ -25,6 +26,7 @@ pub mod abaqus_inp;
 pub mod abaqus_mtx;
 mod abaqus_resolve;
 pub mod dof_map;
+pub mod gmsh;
 pub mod matrix_market;
 mod mesh;
 mod model;
@@ -40,6 +42,7 @@ pub use abaqus_mtx::ABAQUS_BC_MARKER;
 pub use dof_map::{
     DofEntry, parse_ansys_mapping, parse_ansys_node_vector, parse_calculix_dof, parse_dof_map,
 };
+pub use gmsh::{parse_gmsh, read_gmsh};
 pub use mesh::{Element, FeMesh};
 pub use model::FeModel;
 pub use nodes::{NodeList, parse_node_list};
@@ -218,6 +221,34 @@ pub fn parse_calculix(
         m,
         options,
     )
+}
+
+/// A model from K and M computed in memory (full symmetric storage on `dofs`), through the
+/// same checks and options as a read export: the built-in solids ([`crate::solid`]).
+pub(crate) fn model_from_matrices(
+    source: String,
+    mesh: FeMesh,
+    dofs: Vec<crate::reduced::NodeDof>,
+    k: &sprs::CsMat<f64>,
+    m: &sprs::CsMat<f64>,
+    options: &ImportOptions,
+) -> Result<FeModel, FeError> {
+    let input = |what: &str, a: &sprs::CsMat<f64>| MatrixInput {
+        file: format!("{source} ({what} assembled)"),
+        n: a.rows(),
+        entries: a
+            .iter()
+            .map(|(&value, (row, col))| symmetric::Entry {
+                row,
+                col,
+                value,
+                line: 0,
+            })
+            .collect(),
+        storage: Storage::Full,
+    };
+    let (ki, mi) = (input("K", k), input("M", m));
+    assemble(source, mesh, dofs, ki, mi, options)
 }
 
 /// Read the named files, then parse them with `parse`.

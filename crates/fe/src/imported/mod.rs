@@ -2,7 +2,8 @@
 //! docs/methods.md §1.3–§1.4 and §2.1–§2.3 for the reduction and the inertia data).
 //!
 //! [`ImportedBodySpec`] names the export ([`ImportSource`]: Abaqus, Ansys, CalculiX or
-//! any FE code through Matrix Market), the [`ImportOptions`], the **interfaces** — node sets
+//! any FE code through Matrix Market, or a solid mesh — Gmsh or Abaqus input — whose K and M
+//! the built-in solid elements compute, [`crate::solid`]), the [`ImportOptions`], the **interfaces** — node sets
 //! chosen by name or by geometry, each joined to one interface point, the body's marker
 //! site, as a rigid spider (RBE2) or a weighted average (RBE3) — the reference frame and
 //! the modes. [`reduce_imported`] turns it, with the model read, into the same
@@ -40,6 +41,7 @@ use crate::error::FeError;
 use crate::import::{self, FeModel, ImportOptions};
 use crate::reduced::{Dof, NodeDof, ReducedBody};
 use crate::selection::ModeSelection;
+use crate::solid::{IsotropicElastic, MassMatrix};
 use crate::spec::Damping;
 
 pub use interfaces::{Coupling, InterfaceSpec, NodeSelection, Xyz};
@@ -78,6 +80,18 @@ pub enum ImportSource {
         stiffness: PathBuf,
         /// The `.mas` file.
         mass: PathBuf,
+    },
+    /// A solid mesh whose K and M the built-in elements compute ([`crate::solid`]): a Gmsh
+    /// `.msh` file (4.1 or 2.2 ASCII; physical groups are node sets) or an Abaqus/CalculiX
+    /// `.inp` file of C3D4, C3D10, C3D8 and C3D20 elements.
+    Solid {
+        /// The mesh file (`.msh` or `.inp`).
+        mesh: PathBuf,
+        /// The isotropic linear-elastic material (SI units).
+        material: IsotropicElastic,
+        /// Consistent (default) or lumped mass.
+        #[serde(default)]
+        mass_matrix: MassMatrix,
     },
     /// Any FE code: a node list, a DOF map and K, M in Matrix Market (docs/import.md).
     MatrixMarket {
@@ -119,6 +133,7 @@ impl ImportSource {
                 stiffness,
                 mass,
             } => vec![input, dofs, stiffness, mass],
+            ImportSource::Solid { mesh, .. } => vec![mesh],
         }
         .into_iter()
         .map(PathBuf::as_path)
@@ -151,6 +166,7 @@ impl ImportSource {
                 stiffness,
                 mass,
             } => vec![input, dofs, stiffness, mass],
+            ImportSource::Solid { mesh, .. } => vec![mesh],
         }
     }
 
@@ -182,6 +198,31 @@ impl ImportSource {
                 stiffness,
                 mass,
             } => import::read_generic(&p(nodes), &p(dofs), &p(stiffness), &p(mass), options),
+            ImportSource::Solid {
+                mesh,
+                material,
+                mass_matrix,
+            } => {
+                material.validate("source.Solid.material")?;
+                let path = p(mesh);
+                let file = path.display().to_string();
+                let is = |ext: &str| {
+                    path.extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+                };
+                let fe_mesh = if is("msh") {
+                    import::read_gmsh(&path)?
+                } else if is("inp") {
+                    import::read_abaqus_inp(&path)?
+                } else {
+                    return Err(invalid(
+                        "source.Solid.mesh".to_string(),
+                        file,
+                        "must be a Gmsh `.msh` or an Abaqus/CalculiX `.inp` file",
+                    ));
+                };
+                crate::solid::solid_model(&fe_mesh, &file, material, *mass_matrix, options)
+            }
         }
     }
 }
