@@ -38,24 +38,13 @@ use crate::error::FeError;
 use crate::import::nodes::NodeList;
 use crate::import::{Element, FeMesh};
 use crate::solid::IsotropicElastic;
-use crate::solid::shape::{HEX20_EDGES, SolidKind, TET10_EDGES};
+// The corners of the parent brick in the element's node order (counter-clockwise at
+// ζ = −1, then at ζ = +1) are the general hexahedra's.
+use crate::solid::shape::{HEX_CORNERS as CORNERS, HEX20_EDGES, SolidKind, TET10_EDGES};
 use flexmbd_core::InvalidValue;
 
 /// A 24 × 24 element matrix (8 nodes × 3 displacements, node-major).
 pub type BrickMatrix = SMatrix<f64, 24, 24>;
-
-/// Corners of the parent brick in the element's node order (counter-clockwise at ζ = −1,
-/// then at ζ = +1).
-const CORNERS: [[f64; 3]; 8] = [
-    [-1.0, -1.0, -1.0],
-    [1.0, -1.0, -1.0],
-    [1.0, 1.0, -1.0],
-    [-1.0, 1.0, -1.0],
-    [-1.0, -1.0, 1.0],
-    [1.0, -1.0, 1.0],
-    [1.0, 1.0, 1.0],
-    [-1.0, 1.0, 1.0],
-];
 
 /// A box of linear-elastic hex8 bricks (SI units).
 #[derive(Clone, Debug, PartialEq)]
