@@ -144,14 +144,27 @@ impl LineChart {
                 .with_key_points(log_ticks(lo, hi))
                 .with_light_points(log_grid(lo, hi))
         };
+        // A linear axis's tick at zero comes out of plotters as round-off (1.1e-16): below a
+        // billionth of the span it is labelled 0.
+        let zero_below =
+            |log: bool, lo: f64, hi: f64| if log { 0.0 } else { (hi - lo).abs() * 1e-9 };
+        let zero = [
+            zero_below(self.log_x, x0, x1),
+            zero_below(self.log_y, y0, y1),
+        ];
         // plotters types the coordinate system by its scale, so the four cases are spelled out.
         match (self.log_x, self.log_y) {
-            (true, true) => {
-                self.plot(&mut builder.build_cartesian_2d(log(x0, x1), log(y0, y1))?)?
+            (true, true) => self.plot(
+                &mut builder.build_cartesian_2d(log(x0, x1), log(y0, y1))?,
+                zero,
+            )?,
+            (true, false) => {
+                self.plot(&mut builder.build_cartesian_2d(log(x0, x1), y0..y1)?, zero)?
             }
-            (true, false) => self.plot(&mut builder.build_cartesian_2d(log(x0, x1), y0..y1)?)?,
-            (false, true) => self.plot(&mut builder.build_cartesian_2d(x0..x1, log(y0, y1))?)?,
-            (false, false) => self.plot(&mut builder.build_cartesian_2d(x0..x1, y0..y1)?)?,
+            (false, true) => {
+                self.plot(&mut builder.build_cartesian_2d(x0..x1, log(y0, y1))?, zero)?
+            }
+            (false, false) => self.plot(&mut builder.build_cartesian_2d(x0..x1, y0..y1)?, zero)?,
         }
         self.draw_legend(&legend)?;
         root.present()?;
@@ -162,6 +175,7 @@ impl LineChart {
     fn plot<'a, X, Y>(
         &self,
         chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
+        zero: [f64; 2],
     ) -> Result<(), String>
     where
         X: Ranged<ValueType = f64> + ValueFormatter<f64>,
@@ -171,8 +185,8 @@ impl LineChart {
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| tick_label(*v))
+            .x_label_formatter(&|v| tick_label(if v.abs() < zero[0] { 0.0 } else { *v }))
+            .y_label_formatter(&|v| tick_label(if v.abs() < zero[1] { 0.0 } else { *v }))
             .draw()
             .map_err(|e| e.to_string())?;
         for s in &self.series {
