@@ -142,7 +142,8 @@ fn vehicle_force_elements_do_not_allocate() {
 }
 
 /// Neither `step` (after a few steps have sized everything) nor `read_sensors` allocates,
-/// in either formulation (the flexible pendulum reads body-frame positions and the energy).
+/// in either formulation (the flexible pendulum reads body-frame positions and the energy;
+/// the solid cantilever its stress sensors, σ = S y over a node set).
 #[test]
 fn steps_do_not_allocate() {
     for (name, form) in [
@@ -151,6 +152,8 @@ fn steps_do_not_allocate() {
         ("flexible_pendulum.ron", FormulationKind::Relative),
         ("flexible_pendulum_3d.ron", FormulationKind::Absolute),
         ("flexible_pendulum_3d.ron", FormulationKind::Relative),
+        ("solid_cantilever.ron", FormulationKind::Absolute),
+        ("solid_cantilever.ron", FormulationKind::Relative),
     ] {
         let mut scene = model(name);
         scene.solver.formulation = form;

@@ -248,14 +248,17 @@ impl<M, J> Sensors<M, J> {
                     shapes,
                     quantity,
                 } => {
-                    let y = DVector::from_iterator(
-                        coords.len(),
-                        coords.iter().map(|c| c.map_or(0.0, |i| q[i])),
-                    );
+                    // σ = S y node by node, into a fixed 6-vector: no allocation per read
+                    // (sensors are read every step when the output interval is the step).
                     shapes
                         .iter()
                         .map(|s| {
-                            let sigma = Stress::from_iterator((s * &y).iter().copied());
+                            let mut sigma = Stress::zeros();
+                            for (k, c) in coords.iter().enumerate() {
+                                if let Some(i) = c {
+                                    sigma += s.fixed_view::<6, 1>(0, k) * q[*i];
+                                }
+                            }
                             match (*quantity, quantity.component()) {
                                 (_, Some(c)) => sigma[c],
                                 (StressQuantity::MaxPrincipal, None) => largest_principal(&sigma),
