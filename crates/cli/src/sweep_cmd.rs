@@ -37,8 +37,10 @@ Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
 
 Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the
 reference interpolated linearly to the run's output times; without --reference the reference
-is the grid's richest model (first formulation, inertia and stiffening listed, most modes and
-elements) at its smallest step, and its own margin against half that step is reported.
+is the most faithful model flexmbd has for the scene (see --reference), and its own error
+estimate (its difference from the same model less refined) is reported; where it falls back
+to the grid's richest model (first formulation, inertia and stiffening listed, most modes and
+elements) at a quarter of the smallest step, a warning says so and why.
 CPU time: of the integration (preprocessing excluded); the runs go in parallel over the
 cores, and the runs on the Pareto front (and the candidates tune compares) are timed again
 alone, one after another, median of 3 (of 7 for runs under 0.2 s).
@@ -62,8 +64,10 @@ pub struct SweepInput {
     sensors: Vec<String>,
     /// A reference CSV: `t`, then a column per judged sensor (e.g. written by
     /// `flexmbd simulate --output`). Default: the most faithful model flexmbd has for the
-    /// scene (the large-deformation ANCF cable for a beam on a spun-up hub, else the grid's
-    /// richest model at half its smallest step), kept in the reference cache.
+    /// scene (the large-deformation ANCF cable for a beam on a spun-up hub, the beams
+    /// substructured in a mechanism, the scene at a far smaller step when it is rigid, else
+    /// the grid's richest model at a quarter of its smallest step), kept in the reference
+    /// cache.
     #[arg(long)]
     reference: Option<PathBuf>,
     /// Compute the default reference even if the cache holds it, and do not keep it. The
@@ -492,4 +496,48 @@ fn table(report: &SweepReport) -> String {
     }
     s += "(* on the Pareto front of error against CPU time)\n";
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbd::model::Stiffening;
+
+    /// `Axis::arg` is what `--grid` reads back: the report prints `flexmbd tune` command
+    /// lines from it, so an axis written and parsed again must be the same axis.
+    #[test]
+    fn every_axis_reads_back_from_its_argument() {
+        let axes = [
+            Axis::Formulation(vec![FormulationKind::Absolute, FormulationKind::Relative]),
+            Axis::Inertia(vec![InertiaMethod::ShapeIntegrals, InertiaMethod::BMatrix]),
+            Axis::Stiffening(vec![
+                Stiffening::Linear,
+                Stiffening::Fnl1,
+                Stiffening::Fnl2,
+                Stiffening::Foreshortening,
+                Stiffening::Substructuring(8),
+            ]),
+            Axis::Modes {
+                body: None,
+                counts: vec![0, 1, 4],
+            },
+            Axis::Modes {
+                body: Some("crank1".into()),
+                counts: vec![2],
+            },
+            Axis::Basis {
+                body: Some("beam".into()),
+                kinds: flexmbd::fe::ModeSelection::ALL.to_vec(),
+            },
+            Axis::Elements {
+                body: None,
+                counts: vec![10, 20],
+            },
+            Axis::Step(vec![2e-3, 1e-3, 5e-4, 1.0 / 3.0 * 1e-3]),
+        ];
+        for axis in axes {
+            let arg = axis.arg();
+            assert_eq!(parse_axis(&arg), Ok(axis), "{arg}");
+        }
+    }
 }

@@ -472,6 +472,22 @@ fn tune_warns_when_its_reference_is_of_the_grids_own_family() {
     let (status, json, warnings) = run("imported_bar_pendulum.ron", "tip_x", &short, None, "1e-2");
     assert_eq!(status, 0, "{json}");
     assert_eq!(json["reference_kind"], "grid-richest", "{json}");
+    // Refined in the step, so that no run of the grid is its own reference: a quarter of
+    // the smallest step, its estimate against twice that.
+    assert!(
+        json["reference"]
+            .as_str()
+            .unwrap()
+            .contains("solver.step=0.00025"),
+        "{json}"
+    );
+    assert!(json["reference_margin"][0]["max_abs"].as_f64().unwrap() > 0.0);
+    for run in json["candidates"].as_array().unwrap() {
+        assert!(
+            run["error"].as_f64().unwrap() > 0.0,
+            "its own reference: {run}"
+        );
+    }
     let why = json["reference_fallback"].as_str().unwrap();
     assert!(
         why.contains("not a beam") && why.contains("substructuring"),

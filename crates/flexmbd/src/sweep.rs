@@ -91,7 +91,8 @@ pub enum ReferenceKind {
     Table,
     /// The large-deformation solution of [`Reference::Faithful`].
     LargeDeformation,
-    /// The grid's richest model at half its smallest step: a model of the runs' own
+    /// The grid's richest model ([`Reference::Converged`]: at the grid's smallest step;
+    /// the fallback of [`Reference::Faithful`]: at a quarter of it): a model of the runs' own
     /// family.
     GridRichest,
     /// The scene's flexible beams substructured (SB8, relative formulation, a quarter of
@@ -258,6 +259,32 @@ struct Outcome {
 impl Sweep {
     fn scene_path(&self) -> String {
         self.scene.display().to_string()
+    }
+
+    /// The arguments of `flexmbd sweep` and `flexmbd tune` (after the command's name) that
+    /// make this sweep: the scene, the overrides, the sensors, the grid, the reference
+    /// file and the error cap; `None` when the reference is neither a file nor the default
+    /// ([`Reference::Faithful`]): a table in memory or [`Reference::Converged`].
+    pub fn cli_args(&self) -> Option<Vec<String>> {
+        let mut args = vec![self.scene_path()];
+        for set in &self.sets {
+            args.extend(["--set".into(), set.clone()]);
+        }
+        args.extend(["--sensor".into(), self.sensors.join(",")]);
+        for axis in &self.grid.axes {
+            args.extend(["--grid".into(), axis.arg()]);
+        }
+        match &self.reference {
+            Reference::Faithful => {}
+            Reference::Csv(path) => {
+                args.extend(["--reference".into(), path.display().to_string()]);
+            }
+            Reference::Table(_) | Reference::Converged => return None,
+        }
+        if let Some(cap) = self.error_cap {
+            args.extend(["--error-cap".into(), format!("{cap}")]);
+        }
+        Some(args)
     }
 
     /// Run `point`: build its scene and run it to the scene's duration, or until `stop` is

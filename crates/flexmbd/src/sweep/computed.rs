@@ -75,7 +75,7 @@ impl Sweep {
         let resolved = if faithful {
             self.faithful(pristine, base, stop)?
         } else {
-            self.grid_richest(pristine, base, stop, None)?
+            self.grid_richest(pristine, base, stop)?
         };
         if let (Some(dir), Some(key)) = (&self.reference_cache, &key) {
             let entry = cache::Entry::new(
@@ -97,7 +97,8 @@ impl Sweep {
     /// and at twice the step; for a scene without
     /// flexible bodies, the scene at an eighth of the grid's smallest step, its error
     /// estimated against a quarter; where none applies (the reason kept), the grid's
-    /// richest model.
+    /// richest model at a quarter of its smallest step, its error estimated against twice
+    /// that step ([`Sweep::refined_richest`]).
     fn faithful(
         &self,
         pristine: &Scene,
@@ -142,7 +143,7 @@ impl Sweep {
                 "{why_not_cable}; body `{}` is no beam, which substructuring would split",
                 b.name
             );
-            return self.grid_richest(pristine, base, stop, Some(why));
+            return self.refined_richest(pristine, base, stop, why);
         }
         let substructured = |n: usize, h: f64| GridPoint {
             index: usize::MAX,
@@ -174,27 +175,56 @@ impl Sweep {
             Err(e @ SweepError::Interrupted { .. }) => Err(e),
             Err(e) => {
                 let why = format!("{why_not_cable}; substructured SB{n}: {e}");
-                self.grid_richest(pristine, base, stop, Some(why))
+                self.refined_richest(pristine, base, stop, why)
             }
         }
     }
 
-    /// The grid's richest model at its smallest step ([`Reference::Converged`]), with `why`
-    /// the faithful reference fell back to it.
+    /// The grid's richest model at its smallest step ([`Reference::Converged`]).
     fn grid_richest(
         &self,
         pristine: &Scene,
         base: &Scene,
         stop: &AtomicBool,
-        why: Option<String>,
     ) -> Result<Resolved, SweepError> {
         let (table, label, margin) = self.converged(pristine, base, stop)?;
         Ok(Resolved {
             table,
             label,
             kind: ReferenceKind::GridRichest,
-            fallback: why,
+            fallback: None,
             margin,
+        })
+    }
+
+    /// Where the faithful reference has no model of another family (`why`): the grid's
+    /// richest model at a quarter of its smallest step h, its error estimated against the
+    /// same at h/2. Refined in the step as the substructured reference is, so that no run
+    /// of the grid is its own reference; its modelling error stays unestimated, which
+    /// [`reference_warnings`](super::reference_warnings) says.
+    fn refined_richest(
+        &self,
+        pristine: &Scene,
+        base: &Scene,
+        stop: &AtomicBool,
+        why: String,
+    ) -> Result<Resolved, SweepError> {
+        let richest = self.grid.richest(base)?;
+        let h = self.smallest_step(base)?;
+        let at = |h: f64| {
+            let mut point = richest.clone();
+            point.index = usize::MAX;
+            point.settings.retain(|s| !matches!(s, Setting::Step(_)));
+            point.settings.push(Setting::Step(h));
+            point
+        };
+        let (table, margin) = self.refined(pristine, &at(h / 4.0), &[at(h / 2.0)], stop)?;
+        Ok(Resolved {
+            label: table.origin.clone(),
+            table,
+            kind: ReferenceKind::GridRichest,
+            fallback: Some(why),
+            margin: Some(margin),
         })
     }
 

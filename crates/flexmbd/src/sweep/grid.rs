@@ -290,6 +290,30 @@ impl Axis {
         }
     }
 
+    /// The axis as `flexmbd sweep`/`tune` take it: the value of `--grid NAME=V1,V2,...`
+    /// (`modes.BODY=…` for one body).
+    pub fn arg(&self) -> String {
+        fn list<T>(values: &[T], name: impl Fn(&T) -> String) -> String {
+            values.iter().map(name).collect::<Vec<_>>().join(",")
+        }
+        let named = |body: &Option<String>| match body {
+            Some(b) => format!("{}.{b}", self.name()),
+            None => self.name().to_string(),
+        };
+        let (name, values) = match self {
+            Axis::Formulation(v) => (named(&None), list(v, |f| formulation_name(*f).into())),
+            Axis::Inertia(v) => (named(&None), list(v, |i| inertia_name(*i).into())),
+            Axis::Stiffening(v) => (named(&None), list(v, |s| stiffening_name(*s))),
+            Axis::Modes { body, counts } | Axis::Elements { body, counts } => {
+                (named(body), list(counts, usize::to_string))
+            }
+            Axis::Basis { body, kinds } => (named(body), list(kinds, |k| basis_name(*k).into())),
+            // `{}` prints the shortest text that reads back as the same f64.
+            Axis::Step(v) => (named(&None), list(v, |h| format!("{h}"))),
+        };
+        format!("{name}={values}")
+    }
+
     fn len(&self) -> usize {
         match self {
             Axis::Formulation(v) => v.len(),

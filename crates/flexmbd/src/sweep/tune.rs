@@ -58,8 +58,8 @@ pub fn reference_warnings(report: &SweepReport, tolerance: f64) -> Vec<String> {
                 format!(" (no large-deformation reference for this scene: {why})")
             });
         warnings.push(format!(
-            "the reference is the grid's own richest model ({}){why}: its margin (against half \
-             its step) covers the step only, not the modelling error of its stiffening method, \
+            "the reference is the grid's own richest model ({}){why}: its margin (against a \
+             coarser step) covers the step only, not the modelling error of its stiffening method, \
              modes or elements, so the runs are judged against a model of their own family and \
              may be further from the physics than their errors say; give --reference a more \
              faithful solution (a large-deformation model, a finer mesh) to judge against",
@@ -71,7 +71,7 @@ pub fn reference_warnings(report: &SweepReport, tolerance: f64) -> Vec<String> {
         if tolerance <= bound {
             warnings.push(format!(
                 "the tolerance {tolerance:e} is within the reference's own error estimate \
-                 {bound:e} (its difference from the same refined): the answer cannot be \
+                 {bound:.3e} (its difference from the same refined): the answer cannot be \
                  trusted at this tolerance"
             ));
         }
