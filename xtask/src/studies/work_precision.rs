@@ -1,25 +1,25 @@
 //! Work–precision (issue 16): error against CPU time for every stiffening method ×
 //! formulation × inertia route over time steps and mode counts, with the Pareto front, on
-//! the 2D and 3D spin-up beams (against the ANCF cable), the double four-bar with its five
-//! bars flexible and the Iltis vehicle (scene C) with its beams flexible (each against its
-//! own converged run, [`refined_reference`]); on the 2D beam and the vehicle also the kind
-//! of modes, with its own chart and table; and per scene the cheapest model for 10 mm, 1 mm
-//! and 0.1 mm. Every run is a [`flexmbd::sweep`] grid point, reproducible with `flexmbd
-//! simulate` and the arguments the sweep records; the choice of the cheapest model is
-//! `flexmbd tune`'s rule ([`flexmbd::sweep::tune()`]).
+//! the 2D and 3D spin-up beams, the double four-bar with its five bars flexible and the
+//! Iltis vehicle (scene C) with its beams flexible; on every scene also the kind of modes,
+//! with its own chart and table; and per scene the cheapest model for 10 mm, 1 mm and
+//! 0.1 mm. Each scene is judged against `flexmbd tune`'s default reference, the most
+//! faithful model the project has for it ([`Reference::Faithful`]: the ANCF cable for the
+//! spin-up beams, the substructured bars for the four-bar, the richest model at a quarter
+//! of the step for the vehicle), with its own error estimate, and the choice of the
+//! cheapest model is `flexmbd tune`'s ([`flexmbd::sweep::tune()`]), so that each table is
+//! what the `flexmbd tune` command printed under it answers (issue 27 item 3). Every run is
+//! a [`flexmbd::sweep`] grid point, reproducible with `flexmbd simulate` and the arguments
+//! the sweep records.
 //!
 //! This file holds the scenes, their grids and references and the section's text;
 //! [`charts`] the charts, [`tables`] the tables, [`vehicle`] the Iltis vehicle's sweep.
 
-use flexmbd::ancf::{CableSpec, run_spin_up};
 use flexmbd::body::InertiaMethod;
-use flexmbd::core::Dim;
 use flexmbd::fe::ModeSelection;
 use flexmbd::model::{FormulationKind, Stiffening};
 use flexmbd::sweep::{
-    Axis, Grid, Reference, ReferenceTable, RunStatus, Sweep,
-    grid::{formulation_name, inertia_name},
-    tune,
+    Axis, Grid, Reference, ReferenceKind, ReferenceTable, RunStatus, Sweep, SweepReport, tune,
 };
 
 use super::StudyResult;
@@ -55,8 +55,8 @@ const SPIN_UP_KINDS_NOTE: &str = "FS0 keeps no axial modes and refuses a basis w
 const FOUR_BAR_KINDS_NOTE: &str = "On this scene the kinds are judged on their basis alone: \
      relative coordinates with shape integrals at h = 1 ms, each run against the lowest 8 normal \
      modes per bar at the same step and route (below the table). The \
-     work–precision chart above judges every run against a reference at h/8, and there the \
-     step's own error (millimetres at h = 1 ms: the margin below; not falling monotonically \
+     work–precision chart above judges every run against the bars substructured at h/4, and \
+     there the step's own error (millimetres at h = 1 ms: the margin below; not falling monotonically \
      with h, as the mechanism passes its singular configurations, all bars parallel) is as \
      large as the basis's and the same for every kind.";
 
@@ -110,19 +110,6 @@ fn grid(methods: &[Stiffening], bases: &[ModeSelection], modes: &[usize], steps:
     Grid { axes }
 }
 
-/// The ANCF cable's tip of the spin-up beam in `dim` (16 elements, h = 1 ms, 20 s, every
-/// 0.01 s) as a reference table of the scene's displacement sensors.
-fn ancf_reference(dim: Dim) -> Result<ReferenceTable, Box<dyn std::error::Error>> {
-    let history = run_spin_up(&CableSpec::spin_up_beam(dim, 16), 1e-3, 20.0, 0.01)?;
-    let column = |k: usize| history.tip.iter().map(|p| p[k]).collect::<Vec<f64>>();
-    Ok(ReferenceTable::new(
-        format!("ANCF cable, 16 elements, {dim:?}"),
-        history.t.clone(),
-        vec!["tip_ux".into(), "tip_uy".into(), "tip_uz".into()],
-        vec![column(0), column(1), column(2)],
-    )?)
-}
-
 /// The double four-bar with its five bars flexible over `grid`, judged on point B against
 /// its own converged run until a reference is set.
 fn four_bar(grid: Grid) -> Sweep {
@@ -141,41 +128,18 @@ fn four_bar(grid: Grid) -> Sweep {
 }
 
 /// The double four-bar with its five bars flexible over `modes` and `steps`, judged on point
-/// B against the richest model at a step 8 (`quick`) or 16 times smaller than the grid's.
-fn four_bar_sweep(
-    modes_bars: &[usize],
-    bases: &[ModeSelection],
-    steps: &[f64],
-    quick: bool,
-) -> Result<Sweep, Box<dyn std::error::Error>> {
-    let mut bars = four_bar(grid(&[Stiffening::Linear], bases, modes_bars, steps));
-    // The grid's richest model at its smallest step is no reference: the mechanism passes
-    // its singular configurations (all bars parallel) where the trajectory is sensitive, and
-    // h = 1 ms against 0.5 ms differs by millimetres at B over 5 s (not monotonically in h).
-    // Nor are the grid's mode counts: a reference of the lowest modes would judge the lowest
-    // modes by their step alone and every other kind also by its basis. The lowest
-    // REFERENCE_MODES_BARS per bar stand for the converged basis (the lowest 4 differ from
-    // them by 0.05 mm over 5 s at h = 1 ms, validation/tests/proper_orthogonal_four_bar.rs).
-    let refine = if quick { 8.0 } else { 16.0 };
-    refined_reference(
-        &mut bars,
-        "double four-bar",
-        refine,
-        RichestModel {
-            modes: Some(REFERENCE_MODES_BARS),
-            ..RichestModel::default()
-        },
-    )?;
-    Ok(bars)
-}
-
-/// What the reference model of [`refined_reference`] takes instead of the grid's richest
-/// choice: a formulation and inertia route, and the lowest `modes` normal modes per
-/// flexible beam.
-#[derive(Clone, Copy, Default)]
-struct RichestModel {
-    route: Option<(FormulationKind, InertiaMethod)>,
-    modes: Option<usize>,
+/// B against `flexmbd tune`'s default reference: the bars substructured (SB8, relative
+/// coordinates) at a quarter of the grid's smallest step, its error estimated against SB4
+/// and twice the step. The grid's richest model at its smallest step would be no
+/// reference: the mechanism passes its singular configurations (all bars parallel) where
+/// the trajectory is sensitive to the step (h = 1 ms against 0.5 ms differs by millimetres
+/// at B over 5 s, not monotonically in h), and a model of the runs' own family would judge
+/// the lowest modes by their step alone.
+fn four_bar_sweep(modes_bars: &[usize], bases: &[ModeSelection], steps: &[f64]) -> Sweep {
+    Sweep {
+        reference: Reference::Faithful,
+        ..four_bar(grid(&[Stiffening::Linear], bases, modes_bars, steps))
+    }
 }
 
 /// The kinds of modes of the double four-bar judged on their basis alone: relative
@@ -225,55 +189,6 @@ fn four_bar_basis_sweep(
     Ok(alone)
 }
 
-/// Judge `sweep` against its grid's richest model ([`Grid::richest`]) at a step `refine`
-/// times smaller than the grid's smallest, with its margin against half that step
-/// ([`Sweep::converged_reference`]) in the reference's label. `model` overrides the
-/// richest model's formulation and inertia route (the grid's first otherwise) and its modes
-/// (the grid's most, of the grid's first kind, otherwise).
-fn refined_reference(
-    sweep: &mut Sweep,
-    name: &str,
-    refine: f64,
-    model: RichestModel,
-) -> StudyResult {
-    let mut finer = sweep.clone();
-    let mut h = f64::NAN;
-    for axis in &mut finer.grid.axes {
-        match (axis, model.route, model.modes) {
-            (Axis::Step(steps), _, _) => {
-                h = steps.iter().copied().fold(f64::INFINITY, f64::min) / refine;
-                *steps = vec![h];
-            }
-            (Axis::Formulation(forms), Some((form, _)), _) => *forms = vec![form],
-            (Axis::Inertia(routes), Some((_, route)), _) => *routes = vec![route],
-            (Axis::Modes { counts, .. }, _, Some(k)) => *counts = vec![k],
-            (Axis::Basis { kinds, .. }, _, Some(_)) => {
-                *kinds = vec![ModeSelection::LowestFrequency]
-            }
-            _ => {}
-        }
-    }
-    eprintln!("   reference of the {name}: h = {h:e} s");
-    let (table, margin) = finer.converged_reference()?;
-    let which = model.route.map_or(String::new(), |(form, route)| {
-        format!(" ({}, {})", formulation_name(form), inertia_name(route))
-    });
-    let reference_model = match model.modes {
-        None => format!("the richest model of the grid{which}"),
-        Some(k) => format!(
-            "the grid's first model{which} with the lowest {k} normal modes per flexible beam"
-        ),
-    };
-    sweep.reference = Reference::Table(ReferenceTable {
-        origin: format!(
-            "{reference_model} at h = {h:e} s (its margin against half that step: {:.1e} m)",
-            margin.iter().map(|m| m.max_abs).fold(0.0f64, f64::max)
-        ),
-        ..table
-    });
-    Ok(())
-}
-
 /// The four scenes with their grids (`quick`: a coarse grid).
 fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
     let root = crate::workspace_root();
@@ -309,21 +224,16 @@ fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
         ModeSelection::ALL.to_vec()
     };
     let bases_2d = bases.clone();
-    eprintln!("   references: ANCF cables (2D, 3D), 16 elements");
-    let spin_up = |file: &str,
-                   sensors: &[&str],
-                   reference: ReferenceTable,
-                   bases: &[ModeSelection],
-                   modes: &[usize]| Sweep {
+    let spin_up = |file: &str, sensors: &[&str], bases: &[ModeSelection], modes: &[usize]| Sweep {
         scene: root.join("models").join(file),
         sets: Vec::new(),
         sensors: sensors.iter().map(|s| s.to_string()).collect(),
-        reference: Reference::Table(reference),
+        reference: Reference::Faithful,
         grid: grid(&methods, bases, modes, &steps),
         error_cap: None,
         reference_cache: None,
     };
-    let bars = four_bar_sweep(&modes_bars, &bases, &steps, quick)?;
+    let bars = four_bar_sweep(&modes_bars, &bases, &steps);
     let modes_bars_alone: Vec<usize> = if quick {
         vec![1, 2, 3]
     } else {
@@ -339,14 +249,8 @@ fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
             ..Case::plain(
                 "spin_up_2d",
                 "2D spin-up beam (Ωs = 6 rad/s, 20 s)",
-                "the tip deflection `tip_uy` against the ANCF cable",
-                spin_up(
-                    "spin_up_beam_2d.ron",
-                    &["tip_uy"],
-                    ancf_reference(Dim::Planar)?,
-                    &bases_2d,
-                    &modes_2d,
-                ),
+                "the tip deflection `tip_uy`",
+                spin_up("spin_up_beam_2d.ron", &["tip_uy"], &bases_2d, &modes_2d),
             )
         },
         Case {
@@ -357,12 +261,10 @@ fn cases(quick: bool) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
             ..Case::plain(
                 "spin_up_3d",
                 "3D spin-up beam (Ωs = 6 rad/s, gravity, 20 s)",
-                "the tip deflections `tip_uy` and `tip_uz` (the larger) against the 3D ANCF \
-                 cable",
+                "the tip deflections `tip_uy` and `tip_uz` (the larger)",
                 spin_up(
                     "spin_up_beam_3d.ron",
                     &["tip_uy", "tip_uz"],
-                    ancf_reference(Dim::Spatial)?,
                     &bases,
                     &modes_3d,
                 ),
@@ -413,14 +315,20 @@ fn run_case(case: &Case, first: bool, report: &mut Report) -> StudyResult {
     let settings = case.sweep.point_settings()?;
     let mut rows = Vec::new();
     let mut rule = String::new();
+    let mut warnings: Vec<String> = Vec::new();
     for tolerance in TOLERANCES {
         let tuning = tune(&case.sweep, &mut result, tolerance)?;
         rows.push(tolerance_row(tolerance, &tuning, &result));
         rule = tuning.rule;
+        for w in tuning.warnings {
+            if !warnings.contains(&w) {
+                warnings.push(w);
+            }
+        }
     }
     let count = |s: RunStatus| result.runs.iter().filter(|r| r.status == s).count();
     report.text(&format!(
-        "### {}\n\n{} runs judged on {}; {} ok, {} failed, {} unstable. Reference: {}. Parallel \
+        "### {}\n\n{} runs judged on {}; {} ok, {} failed, {} unstable. {} Parallel \
          phase: {:.1} s wall on {} threads for {:.1} s of runs.",
         case.title,
         result.runs.len(),
@@ -428,7 +336,7 @@ fn run_case(case: &Case, first: bool, report: &mut Report) -> StudyResult {
         count(RunStatus::Ok),
         count(RunStatus::Failed),
         count(RunStatus::Unstable),
-        result.reference,
+        reference_text(&result),
         result.parallel_wall_seconds,
         result.threads,
         result.sum_run_seconds,
@@ -459,6 +367,7 @@ fn run_case(case: &Case, first: bool, report: &mut Report) -> StudyResult {
         ],
         &rows,
     );
+    report.text(&tune_text(&case.sweep, &warnings));
     match (&case.basis_sweep, case.bases.is_empty()) {
         (_, true) => {}
         (None, false) => basis_section(case, &result, &settings, report)?,
@@ -473,6 +382,59 @@ fn run_case(case: &Case, first: bool, report: &mut Report) -> StudyResult {
         }
     }
     Ok(())
+}
+
+/// What a sweep was judged against: `flexmbd tune`'s default reference, its kind, its own
+/// error estimate and its cost.
+fn reference_text(result: &SweepReport) -> String {
+    let kind = match result.reference_kind {
+        ReferenceKind::LargeDeformation => "the large-deformation ANCF cable",
+        ReferenceKind::Substructured => "the flexible beams substructured",
+        ReferenceKind::SmallStep => "the scene at a far smaller step",
+        ReferenceKind::GridRichest => "the grid's richest model at a smaller step",
+        ReferenceKind::File | ReferenceKind::Table => "a given table",
+    };
+    let bound = result
+        .reference_margin
+        .iter()
+        .flatten()
+        .map(|m| m.max_abs)
+        .fold(0.0f64, f64::max);
+    format!(
+        "Reference (`flexmbd tune`'s default, the most faithful model the project has for the \
+         scene): {kind}, `{}`; its own error estimate {:.4} mm (its difference from the same \
+         model less refined), which a run's error must leave room for; made in {:.1} s apart \
+         from the runs.",
+        result.reference.replace(&root_prefix(), ""),
+        bound * 1e3,
+        result.reference_seconds,
+    )
+}
+
+/// The workspace root as it starts the sweeps' scene paths, to print them relative.
+fn root_prefix() -> String {
+    format!("{}/", crate::workspace_root().display())
+}
+
+/// The `flexmbd tune` command whose answers the table above gives, and the warnings tune
+/// prints with them.
+fn tune_text(sweep: &Sweep, warnings: &[String]) -> String {
+    let args = sweep
+        .cli_args()
+        .expect("the section's sweeps take tune's default reference")
+        .join(" ")
+        .replace(&root_prefix(), "");
+    let mut text = format!(
+        "Each row is `flexmbd tune {args} --tolerance X` (X in metres), which gives the same \
+         run."
+    );
+    for w in warnings {
+        text.push_str(&format!(
+            " Warning from tune: {}.",
+            w.replace(&root_prefix(), "")
+        ));
+    }
+    text
 }
 
 /// Run the study and append its section to the report.
