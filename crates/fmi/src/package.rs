@@ -163,11 +163,7 @@ pub struct Resources {
 /// to `data/K_NAME` (K counts the files), and those files. The text is read back and must
 /// give `scene` again.
 pub fn resources(scene: &Scene) -> Result<Resources, String> {
-    let origin = Path::new(&scene.origin);
-    let base = match origin.parent() {
-        Some(dir) if origin.is_file() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let base = scene.base_directory();
     let mut shipped = scene.clone();
     let mut files = Vec::new();
     for body in &mut shipped.bodies {

@@ -197,9 +197,24 @@ impl Scene {
             .collect()
     }
 
+    /// The files the scene's imported and solid bodies read (FE exports, meshes), as the
+    /// bodies are prepared: each relative to [`base_directory`](Self::base_directory).
+    pub fn fe_files(&self) -> Vec<std::path::PathBuf> {
+        let base = self.base_directory();
+        self.bodies
+            .iter()
+            .filter_map(|b| match &b.model {
+                BodyModel::Imported(spec) => Some(spec.source.paths()),
+                _ => None,
+            })
+            .flatten()
+            .map(|p| base.join(p))
+            .collect()
+    }
+
     /// The directory an imported body's files are relative to: the scene file's, or the
     /// working directory for a scene built in code.
-    pub(crate) fn base_directory(&self) -> std::path::PathBuf {
+    pub fn base_directory(&self) -> std::path::PathBuf {
         let origin = std::path::Path::new(&self.origin);
         match origin.parent() {
             Some(dir) if origin.is_file() => dir.to_path_buf(),

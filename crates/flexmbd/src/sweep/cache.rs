@@ -6,11 +6,11 @@
 //! point (the reference where the scene has no large-deformation model), and the program
 //! that computes it (the crate's version, and the size and modification time of the
 //! running executable, so that a rebuilt program does not read an older one's numbers).
+//! The FE files of imported and solid bodies are in the key by path, size and modification
+//! time, as the program is: an export written again changes the key.
 //! The key's FNV-1a hash names the file; the file holds the whole key, compared on
 //! reading, so a hash collision is a miss, never a wrong reference. The numbers are
-//! written in RON, which reads every `f64` back exactly. The FE files an imported body
-//! reads are not part of the key: an edited export with the same scene needs the cache
-//! cleared (or `--no-reference-cache`).
+//! written in RON, which reads every `f64` back exactly.
 //!
 //! Reading and writing are best effort: an unreadable, malformed or stale entry is a miss,
 //! and a cache that cannot be written only costs the next run the reference again.
@@ -71,22 +71,37 @@ impl Entry {
 }
 
 /// The key of a reference: the parts named in the module documentation, one per line.
-pub(super) fn key(kind: &str, sensors: &[String], scene_ron: &str, richest: &str) -> String {
-    let program = std::env::current_exe()
-        .and_then(std::fs::metadata)
-        .map(|m| {
+pub(super) fn key(
+    kind: &str,
+    sensors: &[String],
+    scene_ron: &str,
+    richest: &str,
+    fe_files: &[PathBuf],
+) -> String {
+    let program = std::env::current_exe().map_or_else(|_| "unknown".into(), |p| stamp(&p));
+    let files: String = fe_files
+        .iter()
+        .map(|f| format!("file {}: {}\n", f.display(), stamp(f)))
+        .collect();
+    format!(
+        "layout {LAYOUT}\nflexmbd {}\nprogram {program}\n{files}reference {kind}\nsensors {}\nrichest {richest}\nscene {scene_ron}",
+        env!("CARGO_PKG_VERSION"),
+        sensors.join(",")
+    )
+}
+
+/// A file's size and modification time (ns since the epoch), or `unknown`.
+fn stamp(path: &Path) -> String {
+    std::fs::metadata(path).map_or_else(
+        |_| "unknown".into(),
+        |m| {
             let modified = m
                 .modified()
                 .ok()
                 .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
                 .map_or(0, |d| d.as_nanos());
             format!("{} bytes, modified {modified}", m.len())
-        })
-        .unwrap_or_else(|_| "unknown".into());
-    format!(
-        "layout {LAYOUT}\nflexmbd {}\nprogram {program}\nreference {kind}\nsensors {}\nrichest {richest}\nscene {scene_ron}",
-        env!("CARGO_PKG_VERSION"),
-        sensors.join(",")
+        },
     )
 }
 
@@ -141,7 +156,7 @@ mod tests {
             max_abs: 1.0 / 3.0,
             rms: 2e-7,
         }]);
-        let key = key("faithful", &["tip".into()], "(name: \"a\")", "");
+        let key = key("faithful", &["tip".into()], "(name: \"a\")", "", &[]);
         let entry = Entry::new(&key, &table, ReferenceKind::LargeDeformation, None, margin);
         store(&dir, &entry);
         let read = load(&dir, &key).expect("kept");
@@ -153,6 +168,31 @@ mod tests {
         // The same file under a colliding name but another key is a miss.
         std::fs::rename(file_of(&dir, &key), file_of(&dir, &other)).unwrap();
         assert!(load(&dir, &other).is_none());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// An FE export written again (another size or time) is another key: the reference of
+    /// the old export is not read for the new one.
+    #[test]
+    fn an_fe_file_written_again_changes_the_key() {
+        let dir = std::env::temp_dir().join(format!("flexmbd-cache-fe-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let export = dir.join("part_STIF1.mtx");
+        std::fs::write(&export, "1 1 1.0\n").unwrap();
+        let keyed = || {
+            key(
+                "faithful",
+                &["tip".into()],
+                "(name: \"a\")",
+                "",
+                std::slice::from_ref(&export),
+            )
+        };
+        let before = keyed();
+        assert_eq!(before, keyed());
+        assert!(before.contains("part_STIF1.mtx: 8 bytes"), "{before}");
+        std::fs::write(&export, "1 1 2.50\n").unwrap();
+        assert_ne!(keyed(), before);
         std::fs::remove_dir_all(&dir).ok();
     }
 }

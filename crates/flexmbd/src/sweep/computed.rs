@@ -55,6 +55,7 @@ impl Sweep {
                     &self.sensors,
                     &scene_ron,
                     &richest.args(&self.scene_path(), &self.sets).join(" "),
+                    &base.fe_files(),
                 ))
             }
             None => None,
