@@ -27,5 +27,5 @@ mod run;
 mod spec;
 
 pub use cable::{Cable, StaticError, StaticReport};
-pub use run::{AncfError, History, run_cable, run_spin_up, run_spin_up_with};
+pub use run::{AncfError, History, run_cable, run_spin_up, run_spin_up_or_stop, run_spin_up_with};
 pub use spec::CableSpec;

@@ -2,6 +2,7 @@
 //! equilibrium when gravity is present (§5.4 item 4), integrate with ALI3-P (§5) and
 //! record the tip displacement in the frame turning with θ(t) at a fixed interval.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use flexmbd_core::{InvalidValue, Observe};
@@ -22,6 +23,12 @@ pub enum AncfError {
     /// The integrator stopped.
     #[error(transparent)]
     Integrator(#[from] IntegratorError),
+    /// The stop flag was set ([`run_spin_up_or_stop`]); the run ended between steps.
+    #[error("interrupted at t = {t} s")]
+    Interrupted {
+        /// The time reached.
+        t: f64,
+    },
 }
 
 /// Output of [`run_spin_up`]: tip displacements in the turning frame at the output times.
@@ -72,15 +79,24 @@ pub fn run_spin_up(
     duration: f64,
     output_interval: f64,
 ) -> Result<History, AncfError> {
-    run_spin_up_with(
-        spec,
-        Ali3pSettings {
-            step: h,
-            ..Default::default()
-        },
-        duration,
-        output_interval,
-    )
+    let never = AtomicBool::new(false);
+    run_spin_up_or_stop(spec, h, duration, output_interval, &never)
+}
+
+/// [`run_spin_up`] that ends between two steps once `stop` is set
+/// ([`AncfError::Interrupted`]), as a sweep's runs do on Ctrl-C.
+pub fn run_spin_up_or_stop(
+    spec: &CableSpec,
+    h: f64,
+    duration: f64,
+    output_interval: f64,
+    stop: &AtomicBool,
+) -> Result<History, AncfError> {
+    let settings = Ali3pSettings {
+        step: h,
+        ..Default::default()
+    };
+    spin_up(spec, settings, duration, output_interval, stop)
 }
 
 /// [`run_spin_up`] with explicit integrator settings.
@@ -90,6 +106,22 @@ pub fn run_spin_up_with(
     duration: f64,
     output_interval: f64,
 ) -> Result<History, AncfError> {
+    spin_up(
+        spec,
+        settings,
+        duration,
+        output_interval,
+        &AtomicBool::new(false),
+    )
+}
+
+fn spin_up(
+    spec: &CableSpec,
+    settings: Ali3pSettings,
+    duration: f64,
+    output_interval: f64,
+    stop: &AtomicBool,
+) -> Result<History, AncfError> {
     validate_run(settings.step, duration, output_interval)?;
     let mut cable = Cable::new(spec)?;
     let static_start = if spec.gravity.iter().any(|&g| g != 0.0) {
@@ -97,7 +129,7 @@ pub fn run_spin_up_with(
     } else {
         None
     };
-    let hist = run_cable(&mut cable, settings, duration, output_interval)?;
+    let hist = cable_history(&mut cable, settings, duration, output_interval, stop)?;
     Ok(History {
         static_start,
         ..hist
@@ -112,6 +144,22 @@ pub fn run_cable(
     settings: Ali3pSettings,
     duration: f64,
     output_interval: f64,
+) -> Result<History, AncfError> {
+    cable_history(
+        cable,
+        settings,
+        duration,
+        output_interval,
+        &AtomicBool::new(false),
+    )
+}
+
+fn cable_history(
+    cable: &mut Cable,
+    settings: Ali3pSettings,
+    duration: f64,
+    output_interval: f64,
+    stop: &AtomicBool,
 ) -> Result<History, AncfError> {
     let h = settings.step;
     validate_run(h, duration, output_interval)?;
@@ -140,6 +188,9 @@ pub fn run_cable(
     record(&s, cable, &mut hist);
     let t0 = Instant::now();
     for k in 1..=steps {
+        if stop.load(Ordering::Relaxed) {
+            return Err(AncfError::Interrupted { t: s.t });
+        }
         s.step(cable)?;
         if k % every == 0 {
             record(&s, cable, &mut hist);

@@ -101,8 +101,8 @@ fn refused_sweeps_name_the_sensor_the_axis_and_the_reference() {
     );
 }
 
-/// A stop flag set before the sweep: with the converged reference nothing runs and the
-/// sweep ends with `Interrupted`; with a reference table every run of the grid is marked
+/// A stop flag set before the sweep: with the converged or the faithful reference (the
+/// ANCF cable here) nothing runs and the sweep ends with `Interrupted`; with a reference table every run of the grid is marked
 /// interrupted, none counts on the front, and the report says so. With the flag clear the
 /// same sweep is `run`'s, record for record.
 #[test]
@@ -112,6 +112,12 @@ fn a_set_stop_flag_interrupts_the_sweep_and_keeps_no_half_run() {
     let converged = spin_up(Reference::Converged, modes_and_steps());
     match converged.run_or_stop(&stop) {
         Err(SweepError::Interrupted { label }) => assert!(label.contains("modes=2"), "{label}"),
+        other => panic!("expected Interrupted, got {other:?}"),
+    }
+    // The faithful reference of the spin-up beam is the ANCF cable: its runs end too.
+    let faithful = spin_up(Reference::Faithful, modes_and_steps());
+    match faithful.run_or_stop(&stop) {
+        Err(SweepError::Interrupted { label }) => assert!(label.contains("ANCF"), "{label}"),
         other => panic!("expected Interrupted, got {other:?}"),
     }
     let (table, _) = converged.converged_reference().unwrap();

@@ -106,7 +106,7 @@ impl Sweep {
         base: &Scene,
         stop: &AtomicBool,
     ) -> Result<Resolved, SweepError> {
-        let why_not_cable = match faithful::reference(base, &self.sensors)? {
+        let why_not_cable = match faithful::reference(base, &self.sensors, stop)? {
             Ok(f) => {
                 return Ok(Resolved {
                     table: f.table,

@@ -19,7 +19,9 @@
 //! elements and from the same at half the step (Richardson: a converging solution's error
 //! is of the order of its change under refinement).
 
-use flexmbd_ancf::{CableSpec, History, run_spin_up};
+use std::sync::atomic::AtomicBool;
+
+use flexmbd_ancf::{AncfError, CableSpec, History, run_spin_up_or_stop};
 use flexmbd_core::Dim;
 use flexmbd_model::{
     Axis as Component, BodyModel, InitialState, JointKind, MotionLaw, Orientation, Scene,
@@ -55,6 +57,7 @@ enum Column {
 pub(super) fn reference(
     scene: &Scene,
     sensors: &[String],
+    stop: &AtomicBool,
 ) -> Result<Result<Faithful, String>, SweepError> {
     let (spec, law, columns) = match recognise(scene, sensors) {
         Ok(found) => found,
@@ -69,9 +72,13 @@ pub(super) fn reference(
             elements,
             ..spec.clone()
         };
-        run_spin_up(&spec, h, duration, interval).map_err(|e| SweepError::ReferenceRun {
-            label: format!("ANCF cable, {elements} elements, h = {h} s"),
-            message: e.to_string(),
+        let label = format!("ANCF cable, {elements} elements, h = {h} s");
+        run_spin_up_or_stop(&spec, h, duration, interval, stop).map_err(|e| match e {
+            AncfError::Interrupted { .. } => SweepError::Interrupted { label },
+            e => SweepError::ReferenceRun {
+                label,
+                message: e.to_string(),
+            },
         })
     };
     let reference = run(CABLE_ELEMENTS, h)?;
