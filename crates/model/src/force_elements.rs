@@ -107,6 +107,29 @@ impl<M> Default for ForceElements<M> {
 }
 
 impl<M> ForceElements<M> {
+    /// Every marker handle the elements hold (both ends, a link's axis marker, a load's
+    /// axis markers), for a formulation to annotate its handles after compiling them (the
+    /// relative formulation's marker table).
+    pub fn markers_mut(&mut self) -> impl Iterator<Item = &mut M> {
+        self.elements.iter_mut().flat_map(|element| {
+            let markers: Vec<&mut M> = match element {
+                Element::SpringDamper(s) => vec![&mut s.first, &mut s.second],
+                Element::Link(l) => {
+                    let mut m = vec![&mut l.first, &mut l.second];
+                    m.extend(l.axis.as_mut());
+                    m
+                }
+                Element::Tyre(t) => vec![&mut t.wheel],
+                Element::Load(l) => {
+                    let mut m = vec![&mut l.at];
+                    m.extend(l.axes.iter_mut());
+                    m
+                }
+            };
+            markers
+        })
+    }
+
     /// Compile the scene's force elements for a formulation: `marker` maps a marker to the
     /// formulation's handle, `kinematics` at (`q0`, `qd0`) gives the markers' start positions
     /// (for free lengths left to the start); `n_coordinates` bounds the Jacobian columns.

@@ -15,6 +15,7 @@ use crate::constraints::Constraint;
 use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constraints};
 use crate::kinematics::angle_of;
 use crate::marker_kinematics::MarkerJacobian;
+use crate::marker_table::MarkerTable;
 use crate::system::{Relative, RunTimeBody, unsupported};
 use crate::topology::{BodyInfo, CoordRef, ElemKind, Frame, FrameKind, Side, Topology};
 use flexmbd_body::NodeRows;
@@ -122,6 +123,7 @@ impl Relative {
             write_jacobian: true,
             force_elements: ForceElements::default(),
             marker_jacobian: MarkerJacobian::default(),
+            marker_table: MarkerTable::default(),
         }
     }
 
@@ -153,6 +155,13 @@ impl Relative {
         self.kinematics(&q0, &qd0);
         self.marker_jacobian = MarkerJacobian::new(self.n_w, self.n_z);
         self.force_elements = ForceElements::new(prepared, side_at, &*self, &q0, &qd0, self.n_z)?;
+        let mut table = MarkerTable::default();
+        for side in self.force_elements.markers_mut() {
+            side.slot = Some(table.row_of(side));
+        }
+        table.reserve(self.n_z);
+        self.marker_table = table;
+        self.fill_marker_table();
         Ok(())
     }
 
@@ -252,6 +261,7 @@ fn body_infos(prepared: &PreparedScene) -> Result<(Vec<BodyInfo>, Vec<FlexibleBo
                 body: Some(infos.len()),
                 rbar: m.position.vec(),
                 node: if n > 0 { prep.marker_nodes[k] } else { None },
+                slot: None,
             })
             .collect();
         let mut a0 = b.orientation.matrix();

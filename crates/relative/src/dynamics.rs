@@ -102,6 +102,7 @@ impl Relative {
             self.add_modal_tangents(z, zd, out);
         }
         if !self.force_elements.is_empty() {
+            self.fill_marker_table();
             let mut force_elements = std::mem::take(&mut self.force_elements);
             force_elements.add_forces(self, z, zd, tangents, out);
             self.force_elements = force_elements;

@@ -67,6 +67,7 @@ impl Relative {
     /// on positions only), root → leaves.
     #[inline(never)]
     pub(crate) fn positions(&mut self) {
+        self.marker_table.invalidate();
         let z = self.last_z.as_slice();
         for f in 0..self.topology.frames.len() {
             let (rp, ap) = match self.topology.frames[f].parent {
@@ -149,6 +150,7 @@ impl Relative {
     /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
     #[inline(never)]
     pub(crate) fn velocities(&mut self) {
+        self.marker_table.invalidate();
         let zd = self.last_zd.as_slice();
         // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
         // has its parent's Z and D.

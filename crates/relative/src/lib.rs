@@ -63,6 +63,7 @@ mod initial_state;
 mod inspection;
 mod kinematics;
 mod marker_kinematics;
+mod marker_table;
 mod sensors;
 mod system;
 pub mod topology;

@@ -44,14 +44,17 @@ impl MarkerJacobian {
 impl MarkerKinematics for Relative {
     type Marker = Side;
 
-    /// From the last kinematic pass, which the caller has run at (q, q̇).
+    /// From the last kinematic pass, which the caller has run at (q, q̇): the marker
+    /// table's row when it is current (`marker_table.rs`).
     fn marker_state(
         &self,
         marker: &Side,
         _q: &DVector<f64>,
         _qd: &DVector<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
-        point_at(self, marker)
+        self.marker_table
+            .state(marker)
+            .unwrap_or_else(|| point_at(self, marker))
     }
 
     fn marker_jacobian(
@@ -60,11 +63,29 @@ impl MarkerKinematics for Relative {
         _q: &DVector<f64>,
         visit: &mut dyn FnMut(usize, Vector3<f64>),
     ) {
-        let mut scratch = std::mem::take(&mut self.marker_jacobian);
+        if let Some(columns) = self.marker_table.columns(marker) {
+            for &(i, c) in columns {
+                visit(i, c);
+            }
+            return;
+        }
         let (p, _) = point_at(self, marker);
+        self.jacobian_at(marker, &p, visit);
+    }
+}
+
+impl Relative {
+    /// The non-zero columns (z, ∂r_P/∂z) of marker `s` at its position `p`, in increasing z.
+    pub(crate) fn jacobian_at(
+        &mut self,
+        marker: &Side,
+        p: &Vector3<f64>,
+        visit: &mut dyn FnMut(usize, Vector3<f64>),
+    ) {
+        let mut scratch = std::mem::take(&mut self.marker_jacobian);
         let columns = &mut scratch.columns;
         columns.clear();
-        self.point_columns(marker, &p, columns);
+        self.point_columns(marker, p, columns);
         columns.sort_unstable_by_key(|&(w, _)| w);
         let distinct = columns.windows(2).all(|pair| pair[0].0 < pair[1].0);
         if distinct && columns.last().is_none_or(|&(w, _)| w < self.n_z) {
@@ -81,9 +102,7 @@ impl MarkerKinematics for Relative {
         }
         self.marker_jacobian = scratch;
     }
-}
 
-impl Relative {
     /// The marker `s`'s columns (w, ∂r_P/∂w_w) at the point `p`: u_a = ṡ_a + ω_a × r_P of the
     /// elementary joints on its body's path, then A X^t of its node's modes.
     fn point_columns(&self, s: &Side, p: &Vector3<f64>, columns: &mut Vec<(usize, Vector3<f64>)>) {

@@ -21,6 +21,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::constraints::Constraint;
 use crate::marker_kinematics::MarkerJacobian;
+use crate::marker_table::MarkerTable;
 use crate::sensors::RelativeSensors;
 use crate::topology::{Side, Topology};
 use flexmbd_body::NodeRows;
@@ -128,6 +129,8 @@ pub struct Relative {
     pub(crate) force_elements: ForceElements<Side>,
     /// Scratch of one marker's Jacobian (the force elements' query).
     pub(crate) marker_jacobian: MarkerJacobian,
+    /// The force elements' markers, evaluated once per dynamics pass.
+    pub(crate) marker_table: MarkerTable,
 }
 
 /// A scene this formulation cannot run.

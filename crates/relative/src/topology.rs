@@ -91,6 +91,9 @@ pub struct Side {
     pub(crate) rbar: Vector3<f64>,
     /// FE node of a flexible body's marker.
     pub(crate) node: Option<usize>,
+    /// Its row in the marker table, for a marker the force elements read
+    /// (`marker_table.rs`); `None` for the others.
+    pub(crate) slot: Option<usize>,
 }
 
 /// A joint of the spanning tree.
@@ -180,6 +183,7 @@ impl Side {
                 body: None,
                 rbar: prepared.marker_position(marker),
                 node: None,
+                slot: None,
             },
             Some(b) => bodies[b.0].markers[marker.index],
         }

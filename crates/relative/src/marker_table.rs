@@ -1,0 +1,97 @@
+//! The marker table (issue 26): the position r_P, velocity ṙ_P and Jacobian columns
+//! ∂r_P/∂z of every marker a force element reads, evaluated once per dynamics pass, after the
+//! kinematic pass (§4.5 steps 1–3) and before the force elements
+//! (`flexmbd_model::force_elements`), which read them from here.
+//!
+//! Without the table an element asked for each of its markers twice (its position for the
+//! element's geometry, then its Jacobian, which needs the position again), and a marker
+//! shared by two elements was evaluated for each. The values are those of the same code
+//! (`point_at`, the columns of `marker_kinematics.rs`), computed once: the same numbers.
+//!
+//! A row is current while the frames are those of the pass that filled it: the kinematic
+//! pass marks the table stale ([`MarkerTable::invalidate`]), and a query on a stale table
+//! (a sensor, the energy, the start lengths) is answered from the frames directly.
+
+use nalgebra::Vector3;
+
+use crate::Relative;
+use crate::kinematics::point_at;
+use crate::topology::Side;
+
+/// The force elements' markers and their values at the last dynamics pass.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct MarkerTable {
+    /// The distinct markers (their `slot` unset).
+    sides: Vec<Side>,
+    position: Vec<Vector3<f64>>,
+    velocity: Vec<Vector3<f64>>,
+    /// The non-zero columns (z, ∂r_P/∂z) of every marker in turn, in increasing z.
+    columns: Vec<(usize, Vector3<f64>)>,
+    /// Row k's columns are `columns[offsets[k]..offsets[k + 1]]`.
+    offsets: Vec<usize>,
+    /// The rows hold the frames' current values.
+    current: bool,
+}
+
+impl MarkerTable {
+    /// The row of `side`, added if the table does not hold it yet.
+    pub(crate) fn row_of(&mut self, side: &Side) -> usize {
+        let key = Side {
+            slot: None,
+            ..*side
+        };
+        if let Some(k) = self.sides.iter().position(|s| *s == key) {
+            return k;
+        }
+        self.sides.push(key);
+        self.position.push(Vector3::zeros());
+        self.velocity.push(Vector3::zeros());
+        self.offsets.push(0);
+        self.sides.len() - 1
+    }
+
+    /// Room for every row's columns (at most `n_z` each), so that filling allocates
+    /// nothing.
+    pub(crate) fn reserve(&mut self, n_z: usize) {
+        self.offsets.push(0);
+        self.columns.reserve(self.sides.len() * n_z);
+    }
+
+    /// The frames moved: the rows are no longer theirs.
+    pub(crate) fn invalidate(&mut self) {
+        self.current = false;
+    }
+
+    /// Position and velocity of `side`'s row, if it has one and it is current.
+    pub(crate) fn state(&self, side: &Side) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        let k = side.slot.filter(|_| self.current)?;
+        Some((self.position[k], self.velocity[k]))
+    }
+
+    /// The Jacobian columns of `side`'s row, if it has one and it is current.
+    pub(crate) fn columns(&self, side: &Side) -> Option<&[(usize, Vector3<f64>)]> {
+        let k = side.slot.filter(|_| self.current)?;
+        Some(&self.columns[self.offsets[k]..self.offsets[k + 1]])
+    }
+}
+
+impl Relative {
+    /// Evaluate every row of the marker table at the frames of the last kinematic pass.
+    pub(crate) fn fill_marker_table(&mut self) {
+        let mut table = std::mem::take(&mut self.marker_table);
+        table.columns.clear();
+        for k in 0..table.sides.len() {
+            let side = table.sides[k];
+            let (p, v) = point_at(self, &side);
+            table.position[k] = p;
+            table.velocity[k] = v;
+            table.offsets[k] = table.columns.len();
+            let columns = &mut table.columns;
+            self.jacobian_at(&side, &p, &mut |i, c| columns.push((i, c)));
+        }
+        let rows = table.sides.len();
+        table.offsets[rows] = table.columns.len();
+        table.current = true;
+        self.marker_table = table;
+    }
+}
