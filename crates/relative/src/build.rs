@@ -159,7 +159,7 @@ impl Relative {
         for side in self.force_elements.markers_mut() {
             side.slot = Some(table.row_of(side));
         }
-        table.reserve(self.n_z);
+        table.plan(self);
         self.marker_table = table;
         self.fill_marker_table();
         Ok(())

@@ -41,6 +41,15 @@ impl MarkerJacobian {
     }
 }
 
+/// What one column of a marker's Jacobian comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum ColumnSource {
+    /// Elementary joint `a` on the marker's body's path.
+    Joint(usize),
+    /// Mode `m` of the marker's node.
+    Mode(usize),
+}
+
 impl MarkerKinematics for Relative {
     type Marker = Side;
 
@@ -106,23 +115,60 @@ impl Relative {
     /// The marker `s`'s columns (w, ∂r_P/∂w_w) at the point `p`: u_a = ṡ_a + ω_a × r_P of the
     /// elementary joints on its body's path, then A X^t of its node's modes.
     fn point_columns(&self, s: &Side, p: &Vector3<f64>, columns: &mut Vec<(usize, Vector3<f64>)>) {
-        let Some(k) = s.body else { return };
-        let b = &self.bodies[k];
-        let f = b.frame;
-        for &a in &self.paths[f] {
-            let elem_twist = &self.elem_twist[a];
-            let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
-            columns.push((self.elem_w[a], u));
+        for source in self.column_sources(s) {
+            columns.push(self.column(s, p, source));
         }
-        if let Some(node) = s.node {
-            let a = self.frame_rotation[f];
-            for m in 0..b.n_modes {
-                let col = a * Vector3::new(
-                    b.node_rows.translation_entry(node, 0, m),
-                    b.node_rows.translation_entry(node, 1, m),
-                    b.node_rows.translation_entry(node, 2, m),
-                );
-                columns.push((b.first_mode + m, col));
+    }
+
+    /// Where the columns of marker `s` come from, in the order of [`point_columns`]: the
+    /// elementary joints on its body's path, then its node's modes.
+    pub(crate) fn column_sources(&self, s: &Side) -> Vec<ColumnSource> {
+        let Some(k) = s.body else { return Vec::new() };
+        let b = &self.bodies[k];
+        let mut sources: Vec<ColumnSource> = self.paths[b.frame]
+            .iter()
+            .map(|&a| ColumnSource::Joint(a))
+            .collect();
+        if s.node.is_some() {
+            sources.extend((0..b.n_modes).map(ColumnSource::Mode));
+        }
+        sources
+    }
+
+    /// The w coordinate of a column source of marker `s`.
+    pub(crate) fn source_w(&self, s: &Side, source: ColumnSource) -> usize {
+        match (source, s.body) {
+            (ColumnSource::Joint(a), _) => self.elem_w[a],
+            (ColumnSource::Mode(m), Some(k)) => self.bodies[k].first_mode + m,
+            (ColumnSource::Mode(_), None) => unreachable!("a ground marker has no modes"),
+        }
+    }
+
+    /// One column (w, ∂r_P/∂w_w) of marker `s` at the point `p`: u_a = ṡ_a + ω_a × r_P of an
+    /// elementary joint on its body's path, or A X^t_m of its node's mode m.
+    #[inline(always)]
+    pub(crate) fn column(
+        &self,
+        s: &Side,
+        p: &Vector3<f64>,
+        source: ColumnSource,
+    ) -> (usize, Vector3<f64>) {
+        match source {
+            ColumnSource::Joint(a) => {
+                let elem_twist = &self.elem_twist[a];
+                let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
+                (self.elem_w[a], u)
+            }
+            ColumnSource::Mode(m) => {
+                let b = &self.bodies[s.body.expect("a node marker is on a body")];
+                let node = s.node.expect("a mode column is a node marker's");
+                let col = self.frame_rotation[b.frame]
+                    * Vector3::new(
+                        b.node_rows.translation_entry(node, 0, m),
+                        b.node_rows.translation_entry(node, 1, m),
+                        b.node_rows.translation_entry(node, 2, m),
+                    );
+                (b.first_mode + m, col)
             }
         }
     }

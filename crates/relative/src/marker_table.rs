@@ -8,6 +8,12 @@
 //! shared by two elements was evaluated for each. The values are those of the same code
 //! (`point_at`, the columns of `marker_kinematics.rs`), computed once: the same numbers.
 //!
+//! The order of a marker's columns is fixed when the scene is compiled: a marker whose
+//! columns are each one z coordinate's, once (every marker of a rigid body: its path's
+//! joint coordinates and its node's modes), has them listed in increasing z then
+//! ([`MarkerTable::plan`]), and a pass computes them in that order; the others (a body hung
+//! from a flexible node, whose path has node joints) are folded through L each pass.
+//!
 //! A row is current while the frames are those of the pass that filled it: the kinematic
 //! pass marks the table stale ([`MarkerTable::invalidate`]), and a query on a stale table
 //! (a sensor, the energy, the start lengths) is answered from the frames directly.
@@ -16,6 +22,7 @@ use nalgebra::Vector3;
 
 use crate::Relative;
 use crate::kinematics::point_at;
+use crate::marker_kinematics::ColumnSource;
 use crate::topology::Side;
 
 /// The force elements' markers and their values at the last dynamics pass.
@@ -29,6 +36,9 @@ pub(crate) struct MarkerTable {
     columns: Vec<(usize, Vector3<f64>)>,
     /// Row k's columns are `columns[offsets[k]..offsets[k + 1]]`.
     offsets: Vec<usize>,
+    /// Per row: its column sources in increasing z when each is one z coordinate's, once
+    /// (`None`: folded through L each pass).
+    direct: Vec<Option<Vec<ColumnSource>>>,
     /// The rows hold the frames' current values.
     current: bool,
 }
@@ -50,11 +60,22 @@ impl MarkerTable {
         self.sides.len() - 1
     }
 
-    /// Room for every row's columns (at most `n_z` each), so that filling allocates
-    /// nothing.
-    pub(crate) fn reserve(&mut self, n_z: usize) {
+    /// Fix each row's column order (module documentation) and make room for every row's
+    /// columns (at most `n_z` each), so that filling allocates nothing.
+    pub(crate) fn plan(&mut self, rel: &Relative) {
         self.offsets.push(0);
-        self.columns.reserve(self.sides.len() * n_z);
+        self.columns.reserve(self.sides.len() * rel.n_z);
+        self.direct = self
+            .sides
+            .iter()
+            .map(|side| {
+                let mut sources = rel.column_sources(side);
+                sources.sort_by_key(|&s| rel.source_w(side, s));
+                let w: Vec<usize> = sources.iter().map(|&s| rel.source_w(side, s)).collect();
+                let distinct = w.windows(2).all(|pair| pair[0] < pair[1]);
+                (distinct && w.last().is_none_or(|&w| w < rel.n_z)).then_some(sources)
+            })
+            .collect();
     }
 
     /// The frames moved: the rows are no longer theirs.
@@ -87,7 +108,19 @@ impl Relative {
             table.velocity[k] = v;
             table.offsets[k] = table.columns.len();
             let columns = &mut table.columns;
-            self.jacobian_at(&side, &p, &mut |i, c| columns.push((i, c)));
+            match &table.direct[k] {
+                // As `jacobian_at` on such a marker: J_z's column is 0 + 1·J_w's.
+                Some(sources) => {
+                    for &source in sources {
+                        let (w, u) = self.column(&side, &p, source);
+                        let column = u.map(|x| 0.0 + x);
+                        if column != Vector3::zeros() {
+                            columns.push((w, column));
+                        }
+                    }
+                }
+                None => self.jacobian_at(&side, &p, &mut |i, c| columns.push((i, c))),
+            }
         }
         let rows = table.sides.len();
         table.offsets[rows] = table.columns.len();
