@@ -81,28 +81,35 @@ impl Relative {
         if req.jacobian {
             self.phi_w.as_mut_slice().fill(0.0);
         }
+        // Lent out for the pass, so that the rows can borrow `self` mutably.
+        let constraints = std::mem::take(&mut self.constraints);
         let mut row = 0;
-        for ci in 0..self.constraints.len() {
-            match self.constraints[ci].clone_light() {
-                ConstraintData::Point(i, j) => self.point_constraint(row, &i, &j, req, out),
-                ConstraintData::Angle2(i, j, psi0, law, sign) => {
-                    self.angle_constraint(row, (&i, &j), psi0, law.eval(t), sign, req, out)
+        for c in &constraints {
+            match c {
+                Constraint::Point { i, j } => self.point_constraint(row, i, j, req, out),
+                Constraint::Angle2 {
+                    i,
+                    j,
+                    psi0,
+                    law,
+                    sign,
+                } => self.angle_constraint(row, (i, j), *psi0, law.eval(t), *sign, req, out),
+                Constraint::Slide { i, nbar, j } => {
+                    self.slide_constraint(row, i, nbar, j, req, out)
                 }
-                ConstraintData::Slide(i, nbar, j) => {
-                    self.slide_constraint(row, &i, &nbar, &j, req, out)
+                Constraint::Perp { i, abar, j, bbar } => {
+                    self.perp_constraint(row, (i, abar), (j, bbar), req, out)
                 }
-                ConstraintData::Perp(i, abar, j, bbar) => {
-                    self.perp_constraint(row, (&i, &abar), (&j, &bbar), req, out)
+                Constraint::Coord { z, law, sign } => {
+                    self.coord_constraint(row, *z, law.eval(t), *sign, req, out)
                 }
-                ConstraintData::Coord(zc, law, sign) => {
-                    self.coord_constraint(row, zc, law.eval(t), sign, req, out)
-                }
-                ConstraintData::Distance(i, j, length) => {
-                    self.distance_constraint(row, (&i, &j), length, req, out)
+                Constraint::Distance { i, j, length } => {
+                    self.distance_constraint(row, (i, j), *length, req, out)
                 }
             }
-            row += self.constraints[ci].rows(self.dim);
+            row += c.rows(self.dim);
         }
+        self.constraints = constraints;
         if req.jacobian {
             // Φ_z = Φ_w L, L = [I; L_node].
             let nz = self.n_z;
@@ -434,35 +441,6 @@ impl Relative {
         let b = &self.bodies[k];
         for m in 0..b.n_modes {
             self.phi_w[(row, b.first_mode + m)] += scale * b.node_rows.rotation_entry(node, 2, m);
-        }
-    }
-}
-
-/// A constraint's data, copied out so that `self` can be borrowed mutably.
-pub(crate) enum ConstraintData {
-    Point(Side, Side),
-    Angle2(Side, Side, f64, MotionLaw, f64),
-    Slide(Side, Vector3<f64>, Side),
-    Perp(Side, Vector3<f64>, Side, Vector3<f64>),
-    Coord(usize, MotionLaw, f64),
-    Distance(Side, Side, f64),
-}
-
-impl Constraint {
-    pub(crate) fn clone_light(&self) -> ConstraintData {
-        match self {
-            Constraint::Point { i, j } => ConstraintData::Point(*i, *j),
-            Constraint::Angle2 {
-                i,
-                j,
-                psi0,
-                law,
-                sign,
-            } => ConstraintData::Angle2(*i, *j, *psi0, law.clone(), *sign),
-            Constraint::Slide { i, nbar, j } => ConstraintData::Slide(*i, *nbar, *j),
-            Constraint::Perp { i, abar, j, bbar } => ConstraintData::Perp(*i, *abar, *j, *bbar),
-            Constraint::Coord { z, law, sign } => ConstraintData::Coord(*z, law.clone(), *sign),
-            Constraint::Distance { i, j, length } => ConstraintData::Distance(*i, *j, *length),
         }
     }
 }
