@@ -91,3 +91,57 @@ pub fn geometric_stiffness(
     }
     Ok(kg)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solid::{SolidKind, solid_elements};
+    use crate::solid_box::SolidBox;
+
+    /// A box under the uniform uniaxial stress σ_xx = E ε of the field u = (ε x, 0, 0) (ν = 0):
+    /// a field v = (0, x, 0) has ∂u/∂x = e_y, so (K_G)_vv = ∫ σ_xx dV = E ε V; the field
+    /// (0, y, 0) has ∂u/∂x = 0 and a rigid translation no gradient: both 0; and the stress
+    /// field's own entry is ∫ σ_xx ε² dV = E ε³ V. Every element kind, to round-off.
+    #[test]
+    fn uniform_tension_on_every_element_kind() {
+        let (e, eps) = (2.0e11, 1e-3);
+        let bar = SolidBox {
+            lengths: [0.4, 0.1, 0.2],
+            elements: [2, 1, 2],
+            young: e,
+            poisson: 0.0,
+            density: 1000.0,
+        };
+        let volume = 0.4 * 0.1 * 0.2;
+        for kind in [
+            SolidKind::Tet4,
+            SolidKind::Tet10,
+            SolidKind::Hex8,
+            SolidKind::Hex20,
+        ] {
+            let mesh = bar.mesh(kind).unwrap();
+            let elements = solid_elements(&mesh, "box").unwrap();
+            let p = &mesh.nodes.positions;
+            let mut modes = DMatrix::zeros(3 * p.len(), 4);
+            for (k, x) in p.iter().enumerate() {
+                modes[(3 * k, 0)] = eps * x.x;
+                modes[(3 * k + 1, 1)] = x.x;
+                modes[(3 * k + 1, 2)] = x.y;
+                modes[(3 * k + 2, 3)] = 1.0;
+            }
+            let kg = geometric_stiffness(p, &elements, &bar.material(), &modes).unwrap();
+            let tension = &kg[0];
+            let scale = e * eps * volume;
+            let expected = [eps * eps * scale, scale, 0.0, 0.0];
+            for (j, want) in expected.into_iter().enumerate() {
+                let got = tension[(j, j)];
+                assert!(
+                    (got - want).abs() <= 1e-12 * scale,
+                    "{kind}: mode {j}: {got} against {want}"
+                );
+            }
+            // A rigid translation has no stress (Σ_a ∂N_a/∂x = 0 to round-off).
+            assert!(kg[3].amax() <= 1e-12 * scale, "{kind}: {}", kg[3].amax());
+        }
+    }
+}
