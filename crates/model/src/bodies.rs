@@ -6,7 +6,8 @@
 
 use flexmbd_body::{ElasticModel, FlexibleBody, NodeRows};
 use flexmbd_core::InvalidValue;
-use flexmbd_fe::imported::import_body;
+use flexmbd_fe::imported::{ImportSource, reduce_imported};
+use flexmbd_fe::solid::body_geometric_stiffness;
 use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
 use flexmbd_stiffening::Nonlinear;
 
@@ -134,9 +135,28 @@ impl Scene {
             spec.interfaces.clear();
         }
         let name = format!("bodies[{}].model.Imported", b.name);
-        let imported = import_body(&spec, &self.base_directory(), &name)
-            .map_err(|e| self.fe_error(&b.name, e))?;
-        let reduced = imported.body;
+        let fe_err = |e| self.fe_error(&b.name, e);
+        let model = spec
+            .source
+            .read(&self.base_directory(), &spec.options)
+            .map_err(fe_err)?;
+        let imported = reduce_imported(&spec, &model, &name).map_err(fe_err)?;
+        let mut reduced = imported.body;
+        if let ImportSource::Solid { material, mesh, .. } = &spec.source
+            && b.flexible
+            && self.solver.stiffening == Stiffening::Fnl1
+        {
+            // FNL1 of a solid: K_Gk from the stress of each mode (flexmbd_fe::solid::geometric).
+            let file = mesh.display().to_string();
+            reduced.stiffening.k_g = body_geometric_stiffness(
+                &model,
+                material,
+                &reduced,
+                imported.interfaces.len(),
+                &file,
+            )
+            .map_err(fe_err)?;
+        }
         let nodes = NodeRows::from_reduced(&reduced);
         let flexible = b.flexible && reduced.n_modes() > 0;
         let size = (0..nodes.len())

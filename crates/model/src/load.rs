@@ -206,12 +206,29 @@ impl Scene {
                 spec.validate()
                     .map_err(|source| self.fe_error(&b.name, source))?;
             }
-            BodyModel::Imported(_) => {
-                if b.flexible && self.solver.stiffening != Stiffening::Linear {
+            BodyModel::Imported(spec) => {
+                let solid = matches!(
+                    spec.source,
+                    flexmbd_fe::imported::ImportSource::Solid { .. }
+                );
+                let stiffening = self.solver.stiffening;
+                if b.flexible
+                    && solid
+                    && !matches!(stiffening, Stiffening::Linear | Stiffening::Fnl1)
+                {
+                    return Err(ModelError::Unsupported(format!(
+                        "{}: body `{}` is a solid (source: Solid), whose geometric stiffening is \
+                         FNL1 only: the stiffening methods FNL2, FS0 and substructuring are beam \
+                         methods and are refused for it (use `stiffening: Fnl1` or `Linear`)",
+                        self.origin, b.name
+                    )));
+                }
+                if b.flexible && !solid && stiffening != Stiffening::Linear {
                     return Err(ModelError::Unsupported(format!(
                         "{}: body `{}` is an imported FE model, which has no element data: \
                          the stiffening methods FNL1, FNL2, FS0 and substructuring are refused \
-                         for it (use `stiffening: Linear`)",
+                         for it (use `stiffening: Linear`; a solid mesh, source: Solid, takes \
+                         FNL1)",
                         self.origin, b.name
                     )));
                 }

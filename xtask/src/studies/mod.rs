@@ -10,6 +10,7 @@ pub mod inertia_cost;
 pub mod mesh_size;
 pub mod solid_mesh;
 pub mod spin_up;
+pub mod spin_up_solid;
 pub mod stability_map;
 pub mod work_precision;
 
@@ -79,6 +80,11 @@ pub fn all() -> Vec<Study> {
             name: "spin-up",
             title: "Spin-up beam: geometric stiffening against a large-deformation reference (thesis ch. 4)",
             run: spin_up::run,
+        },
+        Study {
+            name: "spin-up-solid",
+            title: "Spin-up beam as a solid: FNL1 from the stress of each mode (issue 29)",
+            run: spin_up_solid::run,
         },
         Study {
             name: "stability-map",

@@ -26,7 +26,9 @@
 //!    points first, then every FE node ([`inertia`]).
 //!
 //! An imported body is spatial. Its stiffening data is empty: the stiffening methods that
-//! need element data (FNL1, FNL2, FS0) and substructuring are refused for it by the scene.
+//! need element data (FNL1, FNL2, FS0) and substructuring are refused for it by the scene —
+//! except FNL1 for a solid mesh (`source: Solid`), whose K_Gk the scene computes from the
+//! elements ([`crate::solid::body_geometric_stiffness`]).
 
 pub mod inertia;
 pub mod interfaces;

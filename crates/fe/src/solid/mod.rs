@@ -7,6 +7,7 @@
 //! - [`quadrature`]: the integration rules;
 //! - [`element`]: material, element K and consistent or lumped M, the Jacobian check;
 //! - [`assembly`]: the sparse assembly;
+//! - [`stress`]: modal stress shapes; [`geometric`]: the geometric stiffness per mode (FNL1);
 //! - this module: from a mesh read from a file (Gmsh MSH, [`crate::import::gmsh`], or an
 //!   Abaqus/CalculiX input file) to the [`FeModel`].
 //!
@@ -18,6 +19,7 @@
 
 pub mod assembly;
 pub mod element;
+pub mod geometric;
 pub mod quadrature;
 pub mod shape;
 pub mod stress;
@@ -176,6 +178,32 @@ pub fn body_stress_shapes(
     file: &str,
 ) -> Result<stress::StressShapes, FeError> {
     let elements = solid_elements(&model.mesh, file)?;
+    let modes = fe_node_modes(model, body, first, file)?;
+    stress::StressShapes::new(&model.mesh.nodes.positions, &elements, material, &modes)
+}
+
+/// The geometric stiffness K_Gk per mode ([`geometric`], for FNL1) of a body reduced from a
+/// solid model: `model`, `body`, `first` and `file` as for [`body_stress_shapes`].
+pub fn body_geometric_stiffness(
+    model: &FeModel,
+    material: &IsotropicElastic,
+    body: &crate::reduced::ReducedBody,
+    first: usize,
+    file: &str,
+) -> Result<Vec<nalgebra::DMatrix<f64>>, FeError> {
+    let elements = solid_elements(&model.mesh, file)?;
+    let modes = fe_node_modes(model, body, first, file)?;
+    geometric::geometric_stiffness(&model.mesh.nodes.positions, &elements, material, &modes)
+}
+
+/// The translational mode rows of the model's FE nodes ((3 · nodes) × modes, node-major),
+/// read from the body's node rows `first`, `first` + 1, … (after the interface points).
+fn fe_node_modes(
+    model: &FeModel,
+    body: &crate::reduced::ReducedBody,
+    first: usize,
+    file: &str,
+) -> Result<nalgebra::DMatrix<f64>, FeError> {
     let n_nodes = model.mesh.nodes.len();
     let n_modes = body.n_modes();
     if body.nodes.len() < first + n_nodes {
@@ -190,5 +218,5 @@ pub fn body_stress_shapes(
         let rows = &body.nodes[first + node].translation;
         modes.rows_mut(3 * node, 3).copy_from(rows);
     }
-    stress::StressShapes::new(&model.mesh.nodes.positions, &elements, material, &modes)
+    Ok(modes)
 }
