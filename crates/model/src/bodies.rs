@@ -32,6 +32,9 @@ pub struct PreparedBody {
     /// The FE node the floating frame is attached to (flexible beams only): the clamped
     /// node, the chord frame's pinned node, or the first node of an explicit DOF set.
     pub reference_node: Option<usize>,
+    /// The outer surface of an imported body's FE elements, triangles of `nodes` indices
+    /// (flexmbd_fe::imported::surface), to draw it; empty for other bodies.
+    pub surface: Vec<[usize; 3]>,
 }
 
 impl Scene {
@@ -74,6 +77,7 @@ impl Scene {
                     flexible: false,
                     marker_nodes: vec![None; b.markers.len()],
                     reference_node: None,
+                    surface: Vec::new(),
                 })
             }
             BodyModel::Beam(spec) => {
@@ -111,6 +115,7 @@ impl Scene {
                     reduced,
                     marker_nodes,
                     reference_node,
+                    surface: Vec::new(),
                 })
             }
             BodyModel::Imported(spec) => self.prepare_imported(index, b, spec),
@@ -168,6 +173,7 @@ impl Scene {
             reduced,
             marker_nodes,
             reference_node,
+            surface: imported.surface,
         })
     }
 
