@@ -19,6 +19,9 @@ between steps (``set_input``).
 
 ``sweep`` runs a scene once per set of overrides, in a loop or on Dask distributed.
 
+``result.animate("run.html")`` writes the run's animation (a web page, or ``.glb``) from
+the frames ``simulate`` recorded, and shows it inline in Jupyter.
+
 ``equilibrium`` finds a scene's static equilibrium and ``eigen`` its linearised free
 vibration about it (the ``--json`` output of ``flexmbd equilibrium`` and ``flexmbd eigen``).
 
@@ -35,10 +38,13 @@ import numpy as np
 
 from . import _native
 from ._errors import FlexmbdError, RunError, SceneError
+from .animation import Animation
+from .animation import animate as _animate
 
 __all__ = [
     "FlexmbdError",
     "RunError",
+    "Animation",
     "Result",
     "Scene",
     "SceneError",
@@ -194,13 +200,55 @@ class Result:
     - ``summary``: the run summary, the fields of ``flexmbd simulate --json``;
     - ``data``: every row, a 2-D float64 array with the columns ``columns`` (``t``, then
       the sensors); ``t`` its first column, ``sensors`` the others, ``names`` their names;
-    - ``result["name"]``: one column (``"t"`` or a sensor).
+    - ``result["name"]``: one column (``"t"`` or a sensor);
+    - ``result.animate(...)``: the run's animation (see :meth:`animate`).
     """
 
-    def __init__(self, summary: Dict[str, Any], columns: List[str], data: np.ndarray) -> None:
+    def __init__(
+        self,
+        summary: Dict[str, Any],
+        columns: List[str],
+        data: np.ndarray,
+        animation: Optional["_native.Animation"] = None,
+    ) -> None:
         self.summary = summary
         self.columns = list(columns)
         self.data = data
+        self._animation = animation
+
+    def __getstate__(self) -> Dict[str, Any]:
+        # The recorded frames are a Rust object: a result sent to another process (a Dask
+        # sweep's) goes without them, and says so when animated.
+        state = dict(self.__dict__)
+        state["_animation"] = None
+        return state
+
+    def animate(
+        self, output: Optional[Union[str, "os.PathLike[str]"]] = None, scale: float = 1.0
+    ) -> Animation:
+        """The run's animation, from the frames :func:`simulate` recorded as it ran (every
+        body's frame and modal coordinates, ``animation_fps`` frames per simulated second):
+        the motion of this very run, up to its failure or interruption, which is marked.
+
+        ``output``: a ``.html`` path (a self-contained page with a player: it opens offline
+        and needs no server) or a ``.glb`` path (glTF 2.0 binary, for Blender or any glTF
+        viewer), written whole (or not at all); ``None`` writes nothing. ``scale``
+        multiplies the flexible bodies' deformation (any finite number; 1: true size).
+        Returns an :class:`Animation`, which Jupyter shows inline.
+
+        Raises ``ValueError`` for an extension that is neither or a scale that is not
+        finite, the ``OSError`` of a path that cannot be written (naming it), and
+        :class:`FlexmbdError` for a result without frames (simulated with
+        ``animation_fps=None``, failed before its first row, or unpickled in another
+        process).
+        """
+        if self._animation is None:
+            raise FlexmbdError(
+                "this result has no animation frames: simulate it here with animation_fps "
+                "set (the default, 60), not None; a result sent from another process "
+                "(a Dask sweep's) or failed before its first row has none"
+            )
+        return _animate(self._animation, output, scale)
 
     @property
     def status(self) -> str:
@@ -258,6 +306,7 @@ def simulate(
     step: Optional[float] = None,
     duration: Optional[float] = None,
     sets: Sets = None,
+    animation_fps: Optional[float] = 60.0,
 ) -> Result:
     """Run a scene to its duration, as ``flexmbd simulate`` does, and return its
     :class:`Result` (the same numbers as the program's ``--output`` CSV, bit for bit).
@@ -267,6 +316,9 @@ def simulate(
     ``"b-matrix"`` or ``"shape-integrals"``; ``stiffening`` ``"linear"``, ``"fnl1"``,
     ``"fnl2"``, ``"foreshortening"`` or ``"substructuring:N"``; ``step`` and ``duration``
     in seconds; ``sets`` as in :func:`load`, applied first. The scene given is not changed.
+    ``animation_fps``: the result keeps the run's animation frames (bodies' frames and modal
+    coordinates, read at the first output row at or past each 1 / ``animation_fps`` s;
+    reading them leaves the rows unchanged) for :meth:`Result.animate`; ``None`` keeps none.
 
     The GIL is released during the run. Raises :class:`SceneError` for refused input; a
     step that fails is reported by ``status == "failed"`` (see ``Result.raise_for_status``).
@@ -277,9 +329,11 @@ def simulate(
     """
     scene = load(source, sets)
     scene._scene.set_options(formulation, inertia, stiffening, step, duration)
-    summary, columns, raw, rows, raised = _native.simulate(scene._scene)
+    summary, columns, raw, rows, raised, animation = _native.simulate(
+        scene._scene, animation_fps
+    )
     data = np.frombuffer(raw, dtype=np.float64).reshape(rows, len(columns)).copy()
-    result = Result(json.loads(summary), columns, data)
+    result = Result(json.loads(summary), columns, data, animation)
     if raised is not None:
         raised.result = result
         raise raised

@@ -10,10 +10,12 @@ use flexmbd::History;
 use flexmbd::fe::FeError;
 use flexmbd::inventory::{BodyModelFile, Inventory};
 use flexmbd::simulation;
+use flexmbd_viewer::Recorder;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
+use crate::animation::PyAnimation;
 use crate::errors::{SceneFields, fe_fields, scene_error, static_error, to_py};
 use crate::interrupt::wait_for_answer;
 use crate::scene::PyScene;
@@ -31,9 +33,23 @@ fn as_bytes(values: impl Iterator<Item = f64>) -> Vec<u8> {
 /// the rows so far kept) and its KeyboardInterrupt comes back here for the package to
 /// raise with the rows (`crate::interrupt`). A failed step is not an exception: the summary
 /// says `failed` and the rows stop there. Refusals before the run raise.
+///
+/// With `animation_fps`, the run's animation frames are recorded as it goes
+/// (`flexmbd_viewer::Recorder`: the bodies' poses at the first row at or past each
+/// 1 / `animation_fps` s, reading the state only, so the rows are the same bits) and
+/// returned as an [`Animation`](crate::animation::PyAnimation) (`None` without, or when the
+/// run wrote no row); a rate that is not positive and finite is refused before the run.
 #[pyfunction]
-pub fn simulate<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Simulated<'py>> {
+#[pyo3(signature = (scene, animation_fps=None))]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    scene: &PyScene,
+    animation_fps: Option<f64>,
+) -> PyResult<Simulated<'py>> {
     let scene = scene.scene.clone();
+    if let Some(fps) = animation_fps {
+        Recorder::new(&scene, fps).map_err(|e| to_py(py, &e))?;
+    }
     let stop = AtomicBool::new(false);
     let (answer, answers) = channel();
     let answers = Mutex::new(answers);
@@ -41,8 +57,17 @@ pub fn simulate<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Simulated<'py
         let (scene, stop) = (&scene, &stop);
         threads.spawn(move || {
             let mut history = History::default();
-            let outcome = simulation::run_into(scene, &mut history, stop, |_| {});
-            let _ = answer.send(outcome.map(|summary| (summary, history)));
+            let mut recorder = animation_fps.and_then(|fps| Recorder::new(scene, fps).ok());
+            let outcome = simulation::run_observed(scene, &mut history, stop, |_| {}, &mut |sim| {
+                if let Some(recorder) = recorder.as_mut() {
+                    recorder.observe(sim);
+                }
+            });
+            let outcome = outcome.map(|summary| {
+                let recording = recorder.and_then(|r| r.finish(&summary));
+                (summary, history, recording)
+            });
+            let _ = answer.send(outcome);
         });
         wait_for_answer(py, &answers, || stop.store(true, Ordering::Relaxed))
     });
@@ -56,29 +81,34 @@ pub fn simulate<'py>(py: Python<'py>, scene: &PyScene) -> PyResult<Simulated<'py
             ));
         }
     };
-    let ((summary, history), raised) = outcome;
+    let ((summary, history, recording), raised) = outcome;
     let summary_json =
         serde_json::to_string(&summary).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let rows = history.rows.len();
     let bytes = as_bytes(history.rows.iter().flatten().copied());
     let raised = raised.map(|e| e.into_value(py).into_bound(py).into_any());
+    let animation = recording
+        .map(|recording| Bound::new(py, PyAnimation { recording, scene }))
+        .transpose()?;
     Ok((
         summary_json,
         history.header,
         PyBytes::new(py, &bytes),
         rows,
         raised,
+        animation,
     ))
 }
 
 /// What [`simulate`] returns: summary, columns, rows (bytes), row count, the exception a
-/// signal handler raised during the run.
+/// signal handler raised during the run, the recorded animation.
 type Simulated<'py> = (
     String,
     Vec<String>,
     Bound<'py, PyBytes>,
     usize,
     Option<Bound<'py, PyAny>>,
+    Option<Bound<'py, PyAnimation>>,
 );
 
 /// The static equilibrium of `scene` at t = 0 as JSON text (the `--json` output of

@@ -5,6 +5,7 @@
 
 mod chart;
 mod report;
+mod stills;
 mod studies;
 mod timing;
 

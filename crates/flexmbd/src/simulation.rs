@@ -47,7 +47,7 @@ mod run;
 pub use host::InputId;
 pub use plan::MAX_STEPS;
 use plan::RunPlan;
-pub use run::{run, run_into};
+pub use run::{run, run_into, run_observed};
 
 /// A stop flag never set, for the callers that cannot be interrupted: their runs, pilots
 /// and advances go to their end.

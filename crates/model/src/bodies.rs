@@ -33,6 +33,9 @@ pub struct PreparedBody {
     /// The FE node the floating frame is attached to (flexible beams only): the clamped
     /// node, the chord frame's pinned node, or the first node of an explicit DOF set.
     pub reference_node: Option<usize>,
+    /// The outer surface of an imported body's FE elements, triangles of `nodes` indices
+    /// (flexmbd_fe::imported::surface), to draw it; empty for other bodies.
+    pub surface: Vec<[usize; 3]>,
 }
 
 impl Scene {
@@ -75,6 +78,7 @@ impl Scene {
                     flexible: false,
                     marker_nodes: vec![None; b.markers.len()],
                     reference_node: None,
+                    surface: Vec::new(),
                 })
             }
             BodyModel::Beam(spec) => {
@@ -112,6 +116,7 @@ impl Scene {
                     reduced,
                     marker_nodes,
                     reference_node,
+                    surface: Vec::new(),
                 })
             }
             BodyModel::Imported(spec) => self.prepare_imported(index, b, spec),
@@ -188,6 +193,7 @@ impl Scene {
             reduced,
             marker_nodes,
             reference_node,
+            surface: imported.surface,
         })
     }
 

@@ -19,9 +19,14 @@
 //!   nodes; the stiffening methods' nonlinear terms (FNL1/FNL2 foreshortening) are not
 //!   drawn;
 //! - a beam run rigid is the same tube through its polyline's points, undeformed;
-//! - any other body (rigid bodies, beam frames, imported FE bodies) is
-//!   a set of sticks from the centroid of its markers to each marker, moving rigidly with
-//!   its frame (an imported body's deformation is not drawn).
+//! - a beam frame (`flexmbd::fe::frame`) is a tube of each member's section along the
+//!   member's FE nodes, deformed in the same way when it runs flexible;
+//! - an imported FE body with solid or shell elements is its outer surface (the faces
+//!   that belong to exactly one element, `flexmbd::fe::imported::surface`): one vertex
+//!   per surface node, moved in mode j by the node's translation rows X^t_P,j, so the
+//!   drawn surface is exact at every vertex;
+//! - any other body (rigid bodies, imported bodies without elements) is a set of sticks
+//!   from the centroid of its markers to each marker, moving rigidly with its frame.
 //!
 //! Each joint is a sphere at its marker on its body2 (body1 when body2 is the ground),
 //! moving with the FE node it sits on in a flexible body. Spring-dampers and links are grey
@@ -42,7 +47,7 @@ pub mod springs;
 use std::path::Path;
 
 pub use glb::glb;
-pub use record::{DEFAULT_FRAMES_PER_SECOND, Recording, record, record_or_stop};
+pub use record::{DEFAULT_FRAMES_PER_SECOND, Recorder, Recording, record, record_or_stop};
 
 use flexmbd::core::Dim;
 use flexmbd::model::Scene;

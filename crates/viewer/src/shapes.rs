@@ -11,6 +11,8 @@
 //! exactly at the nodes of a body linear in y.
 
 use flexmbd::fe::Section;
+use flexmbd::fe::frame;
+use flexmbd::fe::spec::BeamBodySpec;
 use flexmbd::model::{BodyModel, PreparedBody, PreparedScene, Scene};
 use nalgebra::Vector3;
 
@@ -128,7 +130,8 @@ impl BodyShape {
                             .map_or(Vector3::z(), Vector3::from);
                         let outline = Outline::of(&beam.section);
                         if body.flexible {
-                            shape.beam(&body.nodes, &outline, axis);
+                            let along: Vec<usize> = (0..body.nodes.len()).collect();
+                            shape.beam(&body.nodes, &along, &outline, axis);
                         } else {
                             // Run rigid: the tube through the polyline's points.
                             let point = |p: &Vec<f64>| {
@@ -138,6 +141,8 @@ impl BodyShape {
                             shape.polyline(&points, &outline, axis);
                         }
                     }
+                    BodyModel::Beam(beam) if shape.frame(beam, body) => {}
+                    BodyModel::Imported(_) if shape.surface(body) => {}
                     _ => {
                         let markers = scene
                             .bodies
@@ -254,14 +259,21 @@ impl BodyShape {
         self.tube(&rings, outline, k, &|_, _| Vec::new());
     }
 
-    /// A tube along the nodes of a polyline beam (nodes numbered along it), the section's
-    /// axes ȳ_e = k̄ × x̄_e / |k̄ × x̄_e|, z̄_e = x̄_e × ȳ_e with k̄ the beam's orientation vector.
-    fn beam(&mut self, nodes: &flexmbd::body::NodeRows, outline: &Outline, k: Vector3<f64>) {
-        let n = nodes.len();
+    /// A tube along the nodes `along` of a beam (a polyline's, numbered along it, or a
+    /// frame member's), the section's axes ȳ_e = k̄ × x̄_e / |k̄ × x̄_e|, z̄_e = x̄_e × ȳ_e with
+    /// k̄ the beam's orientation vector.
+    fn beam(
+        &mut self,
+        nodes: &flexmbd::body::NodeRows,
+        along: &[usize],
+        outline: &Outline,
+        k: Vector3<f64>,
+    ) {
+        let n = along.len();
         if n < 2 {
             return;
         }
-        let p = |i: usize| nodes.position(i);
+        let p = |i: usize| nodes.position(along[i]);
         let rings: Vec<_> = (0..n)
             .map(|i| {
                 let tangent = (p((i + 1).min(n - 1)) - p(i.saturating_sub(1))).normalize();
@@ -269,7 +281,8 @@ impl BodyShape {
             })
             .collect();
         let modes = nodes.n_modes();
-        let shift = |node: usize, offset: Vector3<f64>| {
+        let shift = |ring: usize, offset: Vector3<f64>| {
+            let node = along[ring];
             let (t, r) = (nodes.translation_matrix(node), nodes.rotation_matrix(node));
             (0..modes)
                 .map(|j| {
@@ -281,6 +294,82 @@ impl BodyShape {
         };
         self.targets.resize(modes, Vec::new());
         self.tube(&rings, outline, k, &shift);
+    }
+
+    /// A beam frame, each member a tube of its section along its FE nodes (named end, the
+    /// interior nodes from its `from` end, named end: `flexmbd::fe::frame`), deformed by
+    /// the nodes' mode rows when the body runs flexible, through the members' undeformed
+    /// nodes when it runs rigid. False (nothing drawn) for a polyline beam, or when the
+    /// body's node rows are not the frame's mesh (another numbering).
+    fn frame(&mut self, beam: &BeamBodySpec, body: &PreparedBody) -> bool {
+        if !beam.geometry.is_frame() {
+            return false;
+        }
+        let (positions, elements) = frame::frame_mesh(beam);
+        let same_nodes = body.nodes.len() == positions.len()
+            && (0..positions.len()).all(|k| (body.nodes.position(k) - positions[k]).norm() < 1e-9);
+        if body.flexible && !same_nodes {
+            return false;
+        }
+        for m in 0..beam.geometry.members.len() {
+            let mut along: Vec<usize> = Vec::new();
+            for e in elements.iter().filter(|e| e.member == m) {
+                if along.is_empty() {
+                    along.push(e.nodes[0]);
+                }
+                along.push(e.nodes[1]);
+            }
+            let outline = Outline::of(frame::member_section(beam, m));
+            let axis = frame::member_orientation(beam, m).map_or(Vector3::z(), Vector3::from);
+            if body.flexible {
+                self.beam(&body.nodes, &along, &outline, axis);
+            } else {
+                let points: Vec<_> = along.iter().map(|&k| positions[k]).collect();
+                self.polyline(&points, &outline, axis);
+            }
+        }
+        true
+    }
+
+    /// An imported FE body's outer surface (`PreparedBody::surface`): one vertex per
+    /// surface node, its normal the area-weighted mean of its triangles', each mode moving
+    /// it by its node's translation rows X^t_P (the surface's vertices are FE nodes, so the
+    /// morphed surface is exact at every vertex). False (nothing drawn) for a body without
+    /// a surface.
+    fn surface(&mut self, body: &PreparedBody) -> bool {
+        let nodes = &body.nodes;
+        if body.surface.is_empty() || body.surface.iter().flatten().any(|&k| k >= nodes.len()) {
+            return false;
+        }
+        let first = self.positions.len();
+        let mut vertex = vec![usize::MAX; nodes.len()];
+        let mut used = Vec::new();
+        for &k in body.surface.iter().flatten() {
+            if vertex[k] == usize::MAX {
+                vertex[k] = first + used.len();
+                used.push(k);
+            }
+        }
+        let mut normals = vec![Vector3::zeros(); used.len()];
+        for t in &body.surface {
+            let p = |i: usize| nodes.position(t[i]);
+            let area_normal = (p(1) - p(0)).cross(&(p(2) - p(0)));
+            for &k in t {
+                normals[vertex[k] - first] += area_normal;
+            }
+            self.triangles.push(t.map(|k| vertex[k] as u32));
+        }
+        let modes = nodes.n_modes();
+        self.targets.resize(modes, Vec::new());
+        for (&k, normal) in used.iter().zip(normals) {
+            self.positions.push(nodes.position(k));
+            self.normals
+                .push(normal.try_normalize(0.0).unwrap_or_else(Vector3::z));
+            for (j, target) in self.targets.iter_mut().enumerate() {
+                target.push(Vector3::from_fn(|a, _| nodes.translation_entry(k, a, j)));
+            }
+        }
+        true
     }
 
     /// Rings of `outline` at `rings` (point, tangent), joined face by face; `shift(ring,

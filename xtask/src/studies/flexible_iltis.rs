@@ -238,5 +238,26 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     scaling::cost_slope(report, &cases, reps);
     sections::crossover(report, &cases);
     sections::mesh_study(settings, report, reps)?;
+    stills(report)
+}
+
+/// Stills of scene C with its 12 beam bodies flexible on the ramp: the front wheels
+/// climbing it (0.7 s) and the rear wheels (1.1 s), true size (the page of `flexmbd
+/// animate`, [`crate::stills`]).
+fn stills(report: &mut Report) -> StudyResult {
+    let mut scene = Scene::load(crate::workspace_root().join("models/iltis_vehicle.ron"))?;
+    let sets = vehicle_flexible(12)
+        .iter()
+        .map(|s| parse_set(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    scene.apply_sets(&sets)?;
+    crate::stills::add(
+        report,
+        &scene,
+        "iltis_vehicle_12_flexible",
+        &[0.7, 1.1],
+        1.0,
+        "Scene C, the vehicle with its 12 beam bodies flexible, on the ramp.",
+    );
     Ok(())
 }

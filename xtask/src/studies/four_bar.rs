@@ -284,6 +284,26 @@ fn thesis_cpu(form: &str) -> &'static [f64; 6] {
     }
 }
 
+/// Stills of the double four-bar with its five bars flexible, at 0.6 s and 1.2 s, the
+/// deformation drawn 100 times (the page of `flexmbd animate`, [`crate::stills`]).
+fn stills(report: &mut Report) -> StudyResult {
+    let mut scene = Scene::load(scene_path())?;
+    let sets: Vec<(String, String)> = BARS
+        .iter()
+        .map(|b| (format!("bodies.{b}.flexible"), "true".to_string()))
+        .collect();
+    scene.apply_sets(&sets)?;
+    crate::stills::add(
+        report,
+        &scene,
+        "double_four_bar_5_flexible",
+        &[0.6, 1.2],
+        100.0,
+        "The double four-bar with its five bars flexible, as `flexmbd animate` draws it.",
+    );
+    Ok(())
+}
+
 /// The run of `k` flexible bars in formulation `form` with inertia route `name`.
 fn find<'c>(cases: &'c [Case], k: usize, form: &str, name: &str) -> &'c Case {
     cases
@@ -324,6 +344,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     sections::rigid_checks(report, &rigid);
     sections::cpu_chart(report, &cases)?;
     sections::b0_charts(report, &cases)?;
+    stills(report)?;
 
     let failures: Vec<String> = cases
         .iter()

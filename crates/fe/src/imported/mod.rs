@@ -34,6 +34,7 @@ pub mod inertia;
 pub mod interfaces;
 pub mod reduction;
 pub mod selection;
+pub mod surface;
 
 use std::path::{Path, PathBuf};
 
@@ -356,6 +357,9 @@ pub struct ImportedBody {
     pub interfaces: Vec<(String, nalgebra::Vector3<f64>)>,
     /// The node ids of the FE model, in node-row order after the interface points.
     pub node_ids: Vec<String>,
+    /// The outer surface of the model's elements, triangles of node rows (empty for a
+    /// model without solid or shell elements), to draw it ([`surface`]).
+    pub surface: Vec<[usize; 3]>,
 }
 
 impl ImportedBody {
@@ -398,6 +402,7 @@ pub fn reduce_imported(
             .map(|c| (c.name.clone(), c.point))
             .collect(),
         node_ids: model.mesh.nodes.ids.clone(),
+        surface: surface::outer_surface(&model.mesh, couplings.len()),
     })
 }
 

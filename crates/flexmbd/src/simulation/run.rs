@@ -41,15 +41,17 @@ impl Simulation {
     ) -> Result<Summary, Error> {
         let rows = self.setup.plan.rows(self.integrator.stats.steps);
         sink.header(&columns(self.sensor_names()), rows)?;
-        self.stream(sink, stop, progress)
+        self.stream(sink, stop, progress, &mut |_| {})
     }
 
-    /// The run loop of [`run_into`](Simulation::run_into), after the header.
+    /// The run loop of [`run_into`](Simulation::run_into), after the header; `observe`
+    /// sees the simulation after each row is handed to `sink` (at that row's state).
     fn stream(
         &mut self,
         sink: &mut dyn RowSink,
         stop: &AtomicBool,
         mut progress: impl FnMut(f64),
+        observe: &mut dyn FnMut(&mut Simulation),
     ) -> Result<Summary, Error> {
         let (steps, every) = (self.setup.plan.steps, self.setup.plan.every);
         let mut summary = self
@@ -64,6 +66,7 @@ impl Simulation {
             return Ok(summary);
         }
         sink.row(&row)?;
+        observe(self);
         rows += 1;
         let report_every = (steps / 200).max(1);
         for k in self.integrator.stats.steps + 1..=steps {
@@ -84,6 +87,7 @@ impl Simulation {
                     break;
                 }
                 sink.row(&row)?;
+                observe(self);
                 rows += 1;
             }
             if k % report_every == 0 {
@@ -206,6 +210,20 @@ pub fn run_into(
     stop: &AtomicBool,
     progress: impl FnMut(f64),
 ) -> Result<Summary, Error> {
+    run_observed(scene, sink, stop, progress, &mut |_| {})
+}
+
+/// [`run_into`], `observe` called with the simulation after each row is handed to `sink`,
+/// at that row's state (a viewer reads the bodies' poses there,
+/// [`Simulation::body_poses`]); what it does with the simulation must not change the
+/// state (reading it does not), or the rows that follow are another run's.
+pub fn run_observed(
+    scene: &Scene,
+    sink: &mut dyn RowSink,
+    stop: &AtomicBool,
+    progress: impl FnMut(f64),
+    observe: &mut dyn FnMut(&mut Simulation),
+) -> Result<Summary, Error> {
     let clock = Instant::now();
     let compiled = match compile_scene(scene, stop) {
         Ok(compiled) => compiled,
@@ -217,7 +235,7 @@ pub fn run_into(
     let rows = compiled.setup.plan.rows(0);
     sink.header(&columns(compiled.formulation.sensor_names()), rows)?;
     match Simulation::start(compiled) {
-        Ok(mut simulation) => simulation.stream(sink, stop, progress),
+        Ok(mut simulation) => simulation.stream(sink, stop, progress, observe),
         Err(failure) => Ok(failure.report()),
     }
 }
