@@ -143,7 +143,8 @@ fn vehicle_force_elements_do_not_allocate() {
 
 /// Neither `step` (after a few steps have sized everything) nor `read_sensors` allocates,
 /// in either formulation (the flexible pendulum reads body-frame positions and the energy;
-/// the solid cantilever its stress sensors, σ = S y over a node set).
+/// the solid cantilever its stress sensors, σ = S y over a node set; the unbalanced rotor its
+/// journal's interface force, the rotor's balance with its bearing links).
 #[test]
 fn steps_do_not_allocate() {
     for (name, form) in [
@@ -154,6 +155,8 @@ fn steps_do_not_allocate() {
         ("flexible_pendulum_3d.ron", FormulationKind::Relative),
         ("solid_cantilever.ron", FormulationKind::Absolute),
         ("solid_cantilever.ron", FormulationKind::Relative),
+        ("unbalanced_rotor.ron", FormulationKind::Absolute),
+        ("unbalanced_rotor.ron", FormulationKind::Relative),
     ] {
         let mut scene = model(name);
         scene.solver.formulation = form;

@@ -17,6 +17,7 @@ mod force_ends;
 mod foreshortening;
 mod initial_velocity;
 pub mod inputs;
+pub mod interface_force;
 pub mod laws;
 pub mod lines;
 pub mod load;

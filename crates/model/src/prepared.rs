@@ -107,6 +107,18 @@ pub enum SensorTarget {
         /// What to report.
         quantity: crate::scene::StressQuantity,
     },
+    /// The force or moment the rest of the system exerts on a body at one of its markers
+    /// ([`crate::interface_force`]).
+    InterfaceForce {
+        /// The marker (on a moving body).
+        marker: MarkerId,
+        /// The component.
+        component: Axis,
+        /// Force or moment.
+        quantity: crate::scene::InterfaceQuantity,
+        /// Body whose axes the component is taken in (`None`: ground).
+        frame: Option<BodyId>,
+    },
     /// A force element's tension or normal force, or its length.
     ElementForce {
         /// Its index in the prepared scene's `forces`.
@@ -307,6 +319,38 @@ impl PreparedScene {
 }
 
 impl Scene {
+    /// An interface force at `body`.`marker` is the body's own balance less what acts at its
+    /// other markers: every joint and scene constraint on the body must then act at this
+    /// marker (the reactions elsewhere are not known from the body alone).
+    fn check_interface(&self, body: &str, marker: &str) -> Result<(), ModelError> {
+        let ends = self
+            .joints
+            .iter()
+            .map(|j| {
+                (
+                    j.name.as_str(),
+                    [
+                        (j.body1.as_str(), j.marker1.as_str()),
+                        (&*j.body2, &*j.marker2),
+                    ],
+                )
+            })
+            .chain(self.constraints.iter().map(|c| (c.name(), c.ends())));
+        for (name, pair) in ends {
+            if let Some((_, other)) = pair.iter().find(|(b, m)| *b == body && *m != marker) {
+                return Err(ModelError::Unsupported(format!(
+                    "{}: an interface force at `{body}`.`{marker}` is found from the body's own \
+                     balance, which needs every joint and constraint on `{body}` at that marker; \
+                     `{name}` acts at `{other}` (a body carried by joints at two markers, such \
+                     as a connecting rod, is not supported yet: read the force on a body whose \
+                     joints all sit at one marker)",
+                    self.origin
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn body_index(&self, name: &str) -> Option<usize> {
         if name == GROUND {
             return None;
@@ -413,6 +457,21 @@ impl Scene {
                 table: usize::MAX,
                 quantity: *quantity,
             },
+            SensorKind::InterfaceForce {
+                body,
+                marker,
+                component,
+                quantity,
+                frame,
+            } => {
+                self.check_interface(body, marker)?;
+                SensorTarget::InterfaceForce {
+                    marker: self.marker_id(body, marker)?,
+                    component: *component,
+                    quantity: *quantity,
+                    frame: self.frame_id(frame)?,
+                }
+            }
             SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
                 element: self
                     .forces

@@ -1,0 +1,411 @@
+//! The `InterfaceForce` sensor (`flexmbd_model::interface_force`) against physics: a rigid
+//! pendulum's pin force against Newton–Euler in closed form, both formulations, planar and
+//! spatial; the flexible pendulum's pin force in the absolute formulation against the
+//! relative one; at a static equilibrium the sensor against `flexmbd equilibrium`'s joint
+//! reactions (the static balance written separately, `equilibrium/reactions.rs`); and bad
+//! input refused by name.
+
+use flexmbd::model::{Axis, InterfaceQuantity, Sensor, SensorKind};
+use flexmbd::model::{FormulationKind, Scene};
+use flexmbd::{Simulation, equilibrium};
+
+const FORMULATIONS: [FormulationKind; 2] = [FormulationKind::Absolute, FormulationKind::Relative];
+
+fn scene(text: &str, formulation: FormulationKind) -> Scene {
+    let mut s = Scene::from_ron_str(text, "test scene").unwrap();
+    s.solver.formulation = formulation;
+    s.validate().unwrap();
+    s
+}
+
+/// The sensor rows of a run, every step, by name.
+fn run(s: &Scene) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut sim = Simulation::new(s).unwrap();
+    let names = sim.sensor_names().to_vec();
+    let mut out = vec![sim.sensors()];
+    while sim.time() < s.solver.duration - 0.5 * s.solver.step {
+        sim.step().unwrap();
+        out.push(sim.sensors());
+    }
+    (names, out)
+}
+
+fn column(names: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
+    let k = names.iter().position(|n| n == name).unwrap();
+    rows.iter().map(|r| r[k]).collect()
+}
+
+const MASS: f64 = 2.0;
+const LENGTH: f64 = 1.0;
+const G: f64 = 9.81;
+
+/// A uniform rigid bar (mass 2 kg, length 1 m) pinned at one end, released from horizontal;
+/// sensors: the pin angle and the pin's force (ground and bar axes) and moment.
+fn rigid_pendulum(spatial: bool) -> String {
+    let i_g = MASS * LENGTH * LENGTH / 12.0;
+    let (dim, gravity, o, origin, com, inertia, axis) = if spatial {
+        (
+            "Spatial",
+            "[0.0, -9.81, 0.0]",
+            "[0.0, 0.0, 0.0]",
+            "[0.0, 0.0, 0.0]",
+            "[0.5, 0.0, 0.0]",
+            format!("Diagonal([1e-4, {i_g}, {i_g}])"),
+            "Some([0.0, 0.0, 1.0])",
+        )
+    } else {
+        (
+            "Planar",
+            "[0.0, -9.81]",
+            "[0.0, 0.0]",
+            "[0.0, 0.0]",
+            "[0.5, 0.0]",
+            format!("Planar({i_g})"),
+            "None",
+        )
+    };
+    let sensor = |name: &str, c: &str, q: &str, frame: &str| {
+        format!(
+            r#"(name: "{name}", kind: InterfaceForce(body: "bar", marker: "pin", component: {c}, quantity: {q}, frame: {frame})),"#
+        )
+    };
+    let mut sensors = String::new();
+    for (name, c, q, frame) in [
+        ("fx", "X", "Force", "None"),
+        ("fy", "Y", "Force", "None"),
+        ("f_axial", "X", "Force", r#"Some("bar")"#),
+        ("f_normal", "Y", "Force", r#"Some("bar")"#),
+        ("mz", "Z", "Moment", "None"),
+    ] {
+        sensors += &sensor(name, c, q, frame);
+    }
+    if spatial {
+        sensors += &sensor("fz", "Z", "Force", "None");
+        sensors += &sensor("mx", "X", "Moment", "None");
+        sensors += &sensor("my", "Y", "Moment", "None");
+    }
+    format!(
+        r#"(
+    name: "rigid pendulum", dim: {dim}, gravity: {gravity},
+    ground: [(name: "O", position: {o})],
+    bodies: [(name: "bar", origin: {origin},
+        model: Rigid(mass: {MASS}, center_of_mass: {com}, inertia: {inertia}),
+        markers: [(name: "pin", position: {o})])],
+    joints: [(name: "pin", kind: Revolute(axis: {axis}), body1: "ground", marker1: "O", body2: "bar", marker2: "pin")],
+    sensors: [(name: "angle", kind: JointCoordinate(joint: "pin")), {sensors}],
+    solver: (step: 1e-3, duration: 1.5),
+)"#
+    )
+}
+
+/// The pin force on the bar at angle θ (from horizontal, counter-clockwise) after its release
+/// from rest at θ = 0: I_O = m L²/3, energy ω² = −3 g sin θ / L, moment α = −3 g cos θ / (2 L),
+/// F = m (α ẑ × r_G − ω² r_G − g) with r_G = (L/2)(cos θ, sin θ).
+fn pin_force(theta: f64) -> [f64; 2] {
+    let (s, c) = theta.sin_cos();
+    let w2 = -3.0 * G * s / LENGTH;
+    let alpha = -1.5 * G * c / LENGTH;
+    let h = 0.5 * LENGTH;
+    let (ax, ay) = (-alpha * h * s - w2 * h * c, alpha * h * c - w2 * h * s);
+    [MASS * ax, MASS * (ay + G)]
+}
+
+#[test]
+fn a_rigid_pendulums_pin_force_is_newton_eulers_in_both_formulations() {
+    for spatial in [false, true] {
+        for form in FORMULATIONS {
+            let (names, rows) = run(&scene(&rigid_pendulum(spatial), form));
+            let col = |n: &str| column(&names, &rows, n);
+            let (angle, fx, fy) = (col("angle"), col("fx"), col("fy"));
+            let (axial, normal, mz) = (col("f_axial"), col("f_normal"), col("mz"));
+            let mut worst = 0.0f64;
+            let mut worst_axes = 0.0f64;
+            for k in 0..angle.len() {
+                let [ex, ey] = pin_force(angle[k]);
+                worst = worst.max((fx[k] - ex).abs()).max((fy[k] - ey).abs());
+                // The same force in the bar's axes.
+                let (s, c) = angle[k].sin_cos();
+                let (ea, en) = (c * fx[k] + s * fy[k], -s * fx[k] + c * fy[k]);
+                worst_axes = worst_axes
+                    .max((axial[k] - ea).abs())
+                    .max((normal[k] - en).abs());
+                // A pin carries no moment about its axis: zero to the Newton tolerance (1e-9)
+                // of q̈, relative to the bar's weight moment m g L.
+                assert!(
+                    mz[k].abs() < 1e-8 * MASS * G * LENGTH,
+                    "{form:?}: a pin carries no moment: {}",
+                    mz[k]
+                );
+            }
+            let swing = angle.iter().cloned().fold(0.0, f64::min);
+            eprintln!(
+                "spatial {spatial} {form:?}: swing to {swing:.3} rad, pin force off Newton-Euler by {worst:.3e} N (weight {:.2} N), axes {worst_axes:.1e}",
+                MASS * G
+            );
+            assert!(swing < -1.5, "the bar swings through the bottom: {swing}");
+            // The integrator's energy error (trapezoidal rule, h = 1 ms) bounds the
+            // difference: ω² of the closed form is that of exact energy conservation.
+            assert!(worst < 1e-3 * MASS * G, "{form:?}: {worst:.3e} N");
+            assert!(worst_axes < 1e-12 * MASS * G * 100.0, "{worst_axes:e}");
+            if spatial {
+                for n in ["fz", "mx", "my"] {
+                    let m = col(n).iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    assert!(
+                        m < 1e-8 * MASS * G * LENGTH,
+                        "{form:?}: {n} up to {m:e} in a planar swing"
+                    );
+                }
+            }
+        }
+    }
+}
+
+fn model(name: &str) -> Scene {
+    let path = format!("{}/../../models/{name}", env!("CARGO_MANIFEST_DIR"));
+    Scene::load(&path).unwrap()
+}
+
+/// Interface-force sensors `<prefix>_f<x|y|z>`, `<prefix>_m<x|y|z>` at `body`.`marker`, ground
+/// components (a planar scene: fx, fy and mz).
+fn add_interface_sensors(s: &mut Scene, prefix: &str, body: &str, marker: &str) {
+    let planar = s.dim == flexmbd::core::Dim::Planar;
+    for (quantity, tag) in [
+        (InterfaceQuantity::Force, "f"),
+        (InterfaceQuantity::Moment, "m"),
+    ] {
+        for (component, axis) in [(Axis::X, "x"), (Axis::Y, "y"), (Axis::Z, "z")] {
+            let in_plane = (quantity == InterfaceQuantity::Force) != (component == Axis::Z);
+            if planar && !in_plane {
+                continue;
+            }
+            s.sensors.push(Sensor {
+                name: format!("{prefix}_{tag}{axis}"),
+                kind: SensorKind::InterfaceForce {
+                    body: body.into(),
+                    marker: marker.into(),
+                    component,
+                    quantity,
+                    frame: None,
+                },
+                displacement: false,
+            });
+        }
+    }
+}
+
+/// The largest difference between the two formulations' histories of each named sensor,
+/// and the largest value: (difference, scale) per name.
+fn formulations_apart(s: &Scene, names: &[&str]) -> Vec<(f64, f64)> {
+    let runs: Vec<_> = FORMULATIONS
+        .iter()
+        .map(|&f| {
+            let mut s = s.clone();
+            s.solver.formulation = f;
+            run(&s)
+        })
+        .collect();
+    names
+        .iter()
+        .map(|n| {
+            let a = column(&runs[0].0, &runs[0].1, n);
+            let b = column(&runs[1].0, &runs[1].1, n);
+            let diff = a
+                .iter()
+                .zip(&b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            (diff, scale)
+        })
+        .collect()
+}
+
+/// The formulations discretise differently (natural against relative coordinates), so their
+/// histories meet as the step shrinks: the pin force of a flexible beam (its inertia from the
+/// floating-frame equations at each formulation's q̈) converges to one history, as the motion
+/// does (`crates/validation/tests/formulations_agree_springs.rs`). Measured: planar 2.8e-3,
+/// 1.0e-3, 2.8e-4 N of 6.5 N (ratios 2.8 and 3.6, towards O(h²)); 3D 9.1e-5, 2.3e-5, 1.8e-5 N
+/// of 5.3 N (O(h²), then a floor at 3.4e-6 of the force). Asserted: the gap shrinks by more
+/// than 4 over the three steps and ends below 1e-4 of the largest force. The pendulums
+/// keep their two lowest modes here (9.2 and 58 Hz planar, the 3D beam's lowest pair), which
+/// these steps resolve: a force reads q̈, where a mode weighs ω² times more than in the
+/// position, and the scenes' higher modes (up to 316 Hz planar, undamped) converge only from
+/// h ≈ 0.1 ms (measured with all four planar modes: 9.5e-3, 3.3e-3, 9.0e-4 N at h = 0.25,
+/// 0.125, 0.0625 ms, ratios 2.9 and 3.7).
+#[test]
+fn the_flexible_pendulums_pin_force_agrees_between_the_formulations() {
+    let mut failed = Vec::new();
+    for (file, marker, modes) in [
+        ("flexible_pendulum.ron", "pin", "normal_modes: 4,"),
+        ("flexible_pendulum_3d.ron", "root", "normal_modes: 6,"),
+    ] {
+        let path = format!("{}/../../models/{file}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(modes));
+        let mut s = Scene::from_ron_str(&text.replace(modes, "normal_modes: 2,"), &path).unwrap();
+        let body = s.bodies[0].name.clone();
+        s.solver.duration = 0.2;
+        add_interface_sensors(&mut s, "pin", &body, marker);
+        let names: Vec<String> = s.sensors.iter().map(|x| x.name.clone()).collect();
+        let forces: Vec<&str> = names
+            .iter()
+            .map(String::as_str)
+            .filter(|n| n.starts_with("pin_f"))
+            .collect();
+        let step = 1e-3;
+        let apart: Vec<(f64, f64)> = [1.0, 0.5, 0.25]
+            .iter()
+            .map(|f| {
+                s.solver.step = step * f;
+                s.solver.output_interval = Some(step);
+                formulations_apart(&s, &forces)
+                    .into_iter()
+                    .fold((0.0, 0.0), |(d, m), (a, b)| {
+                        (f64::max(d, a), f64::max(m, b))
+                    })
+            })
+            .collect();
+        let d: Vec<f64> = apart.iter().map(|a| a.0).collect();
+        eprintln!(
+            "{file}, 2 modes: pin force, absolute against relative at h, h/2, h/4 (h = {step} s): {:.3e} {:.3e} {:.3e} N (largest {:.3e} N)",
+            d[0], d[1], d[2], apart[2].1
+        );
+        let converges = d[0] > d[1] && d[1] > d[2] && d[0] / d[2] > 4.0;
+        let converges = converges && d[2] < 1e-4 * apart[2].1;
+        failed.extend((!converges).then(|| format!("{file}: {d:?}")));
+    }
+    assert!(failed.is_empty(), "{failed:?}");
+}
+
+/// At rest the sensor is the static balance: equal to `flexmbd equilibrium`'s reaction of the
+/// only joint at the marker, on a flexible bar held by a spring (planar) and on a rigid bar
+/// pulled out of its plane of rotation by a spring (spatial: the pin carries moments).
+#[test]
+fn at_a_static_equilibrium_the_sensor_equals_the_joint_reaction() {
+    let mut flexible = model("flexible_pendulum.ron");
+    flexible.forces = vec![
+        Scene::from_ron_str(
+            r#"(name: "x", dim: Planar, bodies: [], solver: (step: 1e-3, duration: 1.0),
+                ground: [(name: "A", position: [1.0, 1.0])],
+                forces: [SpringDamper(name: "hold", body1: "ground", marker1: "A", body2: "bar", marker2: "tip",
+                                      stiffness: 200.0, damping: 0.0, free_length: Some(0.5))])"#,
+            "spring",
+        )
+        .unwrap()
+        .forces
+        .remove(0),
+    ];
+    flexible.ground.push(flexmbd::model::Marker {
+        name: "A".into(),
+        position: flexmbd::model::V3([1.0, 1.0, 0.0]),
+    });
+    add_interface_sensors(&mut flexible, "pin", "bar", "pin");
+    let spatial_text = rigid_pendulum(true)
+        .replace(
+            r#"ground: [(name: "O", position: [0.0, 0.0, 0.0])],"#,
+            r#"ground: [(name: "O", position: [0.0, 0.0, 0.0]), (name: "A", position: [1.0, 0.5, 0.4])],
+    forces: [SpringDamper(name: "hold", body1: "ground", marker1: "A", body2: "bar", marker2: "tip",
+                          stiffness: 500.0, damping: 0.0, free_length: Some(0.1))],"#,
+        )
+        .replace(
+            r#"markers: [(name: "pin", position: [0.0, 0.0, 0.0])]"#,
+            r#"markers: [(name: "pin", position: [0.0, 0.0, 0.0]), (name: "tip", position: [1.0, 0.0, 0.0])]"#,
+        );
+    let mut spatial = scene(&spatial_text, FormulationKind::Absolute);
+    spatial.sensors.retain(|s| s.name == "angle");
+    add_interface_sensors(&mut spatial, "pin", "bar", "pin");
+    for base in [flexible, spatial] {
+        for form in FORMULATIONS {
+            let mut s = base.clone();
+            s.solver.formulation = form;
+            let e = equilibrium(&s).unwrap();
+            let reactions = e.reactions.as_ref().expect("reactions computed");
+            let pin = reactions.joints.iter().find(|r| r.name == "pin").unwrap();
+            let angle = e.sensor("angle").unwrap();
+            let mut worst = 0.0f64;
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                for (tag, expected) in [("f", pin.force[k]), ("m", pin.moment[k])] {
+                    let Some(v) = e.sensor(&format!("pin_{tag}{axis}")) else {
+                        continue;
+                    };
+                    worst = worst.max((v - expected).abs());
+                    eprintln!(
+                        "{} {form:?}: pin_{tag}{axis} {v:.9e}, reaction {expected:.9e}",
+                        s.name
+                    );
+                }
+            }
+            eprintln!(
+                "{} {form:?}: at {angle:.4} rad, sensor and reaction {worst:.2e} apart",
+                s.name
+            );
+            let weight = 9.81 * 2.0;
+            assert!(angle.abs() > 0.05, "the spring turns the bar: {angle}");
+            assert!(worst < 1e-9 * weight, "{} {form:?}: {worst:e}", s.name);
+        }
+    }
+}
+
+/// Bad input is refused by name: an unknown body, marker or frame, the ground, a body with
+/// joints at two markers, a planar force's z component.
+#[test]
+fn bad_interface_sensors_are_refused_by_name() {
+    let base = rigid_pendulum(false);
+    let original = r#"kind: InterfaceForce(body: "bar", marker: "pin", component: X, quantity: Force, frame: None)"#;
+    assert!(base.contains(original));
+    for (replacement, expected) in [
+        (
+            r#"kind: InterfaceForce(body: "beam", marker: "pin", component: X)"#,
+            "beam",
+        ),
+        (
+            r#"kind: InterfaceForce(body: "bar", marker: "tip", component: X)"#,
+            "tip",
+        ),
+        (
+            r#"kind: InterfaceForce(body: "bar", marker: "pin", component: X, frame: Some("crank"))"#,
+            "crank",
+        ),
+        (
+            r#"kind: InterfaceForce(body: "ground", marker: "O", component: X)"#,
+            "moving body",
+        ),
+        (
+            r#"kind: InterfaceForce(body: "bar", marker: "pin", component: Z)"#,
+            "x and y",
+        ),
+        (
+            r#"kind: InterfaceForce(body: "bar", marker: "pin", component: X, quantity: Moment)"#,
+            "z component only",
+        ),
+    ] {
+        let text = base.replace(original, replacement);
+        let err =
+            match Scene::from_ron_str(&text, "test scene").and_then(|s| s.validate().map(|_| s)) {
+                Err(e) => e.to_string(),
+                Ok(s) => Simulation::new(&s).err().expect(replacement).to_string(),
+            };
+        assert!(err.contains(expected), "{replacement}: {err}");
+    }
+    // A second joint at another marker of the bar: the body's balance alone does not give
+    // the force at the pin.
+    let two = base
+        .replace(
+            r#"markers: [(name: "pin", position: [0.0, 0.0])]"#,
+            r#"markers: [(name: "pin", position: [0.0, 0.0]), (name: "tip", position: [1.0, 0.0])]"#,
+        )
+        .replace(
+            r#"ground: [(name: "O", position: [0.0, 0.0])],"#,
+            r#"ground: [(name: "O", position: [0.0, 0.0]), (name: "T", position: [1.0, 0.0])],"#,
+        )
+        .replace(
+            r#"body2: "bar", marker2: "pin")],"#,
+            r#"body2: "bar", marker2: "pin"),
+               (name: "tip_on_rail", kind: Prismatic(axis: [0.0, 1.0, 0.0]), body1: "ground", marker1: "T", body2: "bar", marker2: "tip")],"#,
+        );
+    let s = Scene::from_ron_str(&two, "test scene").unwrap();
+    let err = Simulation::new(&s).err().expect("refused").to_string();
+    assert!(
+        err.contains("tip_on_rail") && err.contains("`bar`.`pin`"),
+        "{err}"
+    );
+}
