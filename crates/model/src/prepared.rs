@@ -323,9 +323,11 @@ impl Scene {
     /// other markers: every joint and scene constraint on the body must then act at this
     /// marker (the reactions elsewhere are not known from the body alone).
     fn check_interface(&self, body: &str, marker: &str) -> Result<(), ModelError> {
+        // A `Free` joint transmits nothing.
         let ends = self
             .joints
             .iter()
+            .filter(|j| !matches!(j.kind, crate::scene::JointKind::Free))
             .map(|j| {
                 (
                     j.name.as_str(),
