@@ -44,8 +44,9 @@
 //! complete axial basis, FS0 without axial modes: modal coordinates the scene's sensors do
 //! not name).
 
-use flexmbd_core::{Dim, MarkerKinematics, SystemTerms};
+use flexmbd_core::{Dim, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
+use flexmbd_model::interface_force::{MarkerPoints, start_position};
 use flexmbd_model::{
     Axis, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
 };
@@ -322,40 +323,6 @@ fn marker_position(
     })
 }
 
-/// The markers' positions as coordinates: a marker's generalized force is its force.
-struct MarkerPoints;
-
-impl MarkerKinematics for MarkerPoints {
-    type Marker = usize;
-
-    fn marker_state(
-        &self,
-        marker: &usize,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let k = 3 * marker;
-        (
-            Vector3::new(q[k], q[k + 1], q[k + 2]),
-            Vector3::new(qd[k], qd[k + 1], qd[k + 2]),
-        )
-    }
-
-    fn marker_jacobian(
-        &mut self,
-        marker: &usize,
-        _: &DVector<f64>,
-        visit: &mut dyn FnMut(usize, Vector3<f64>),
-    ) {
-        for (a, e) in [Vector3::x(), Vector3::y(), Vector3::z()]
-            .into_iter()
-            .enumerate()
-        {
-            visit(3 * marker + a, e);
-        }
-    }
-}
-
 /// The balance equations: a wrench on a body about its frame origin, by rows.
 struct Balance {
     dim: Dim,
@@ -614,13 +581,7 @@ fn applied_loads(
     let mut q0 = DVector::zeros(n);
     let mut q = DVector::zeros(n);
     for (s, id) in markers.iter().enumerate() {
-        let start = match id.body {
-            None => prepared.marker_position(*id),
-            Some(body) => {
-                let body = &scene.bodies[body.0];
-                body.origin.vec() + body.orientation.matrix() * prepared.marker_position(*id)
-            }
-        };
+        let start = start_position(prepared, *id);
         let now = marker_position(prepared, placements, *id).unwrap_or(start);
         q0.fixed_rows_mut::<3>(3 * s).copy_from(&start);
         q.fixed_rows_mut::<3>(3 * s).copy_from(&now);
