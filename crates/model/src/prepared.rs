@@ -343,9 +343,9 @@ impl Scene {
                 return Err(ModelError::Unsupported(format!(
                     "{}: an interface force at `{body}`.`{marker}` is found from the body's own \
                      balance, which needs every joint and constraint on `{body}` at that marker; \
-                     `{name}` acts at `{other}` (a body carried by joints at two markers, such \
-                     as a connecting rod, is not supported yet: read the force on a body whose \
-                     joints all sit at one marker)",
+                     `{name}` acts on `{body}` at marker `{other}` (a body carried by joints at \
+                     two markers, such as a connecting rod, is not supported yet: read the force \
+                     on a body whose joints all sit at one marker)",
                     self.origin
                 )));
             }
