@@ -22,14 +22,16 @@
 //! is the force on that marker. A link's axis marker and a load's couple points belong to
 //! their element: at P when the element acts at P.
 //!
-//! The joints' reactions at the other markers of the body are not known from its balance
-//! alone, so every joint and scene constraint on the body must act at P (checked when the
-//! scene is prepared). In a static state (q̇ = q̈ = 0) the balance is that of
-//! `flexmbd equilibrium`'s reactions.
+//! When every joint and scene constraint on the body acts at P this is the whole answer.
+//! Otherwise (a connecting rod, pinned at both ends) the joints' reactions at its other
+//! markers are not known from its balance alone, and every joint's reaction is found from
+//! every moving body's balance together (`interface_system.rs`); the sensor adds the
+//! reactions of the joints at P to the force elements there. In a static state
+//! (q̇ = q̈ = 0) the balance is that of `flexmbd equilibrium`'s reactions.
 
 use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod};
 use flexmbd_core::{Dim, MarkerKinematics, SensorQuery, SystemTerms};
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use crate::error::ModelError;
 use crate::force_elements::ForceElements;
@@ -84,7 +86,7 @@ pub fn start_position(prepared: &PreparedScene, id: MarkerId) -> Vector3<f64> {
 
 /// The force elements evaluated over their markers' positions, with the storage to do so.
 #[derive(Clone, Debug)]
-struct MarkerForces<M> {
+pub(crate) struct MarkerForces<M> {
     /// The formulation's handle of the marker in each slot.
     handles: Vec<M>,
     elements: ForceElements<usize>,
@@ -93,15 +95,11 @@ struct MarkerForces<M> {
     terms: SystemTerms,
 }
 
-/// One `InterfaceForce` sensor, compiled for a formulation (`M`: its marker handle), with
-/// the storage its reads use (a read allocates nothing).
+/// One body's balance: the rigid rows of its floating-frame equations at (q, q̇, q̈) less
+/// gravity, with the storage to evaluate them (no allocation per read).
 #[derive(Clone, Debug)]
-pub struct InterfaceForce<M> {
+pub(crate) struct BodyBalance {
     body: usize,
-    marker: M,
-    quantity: InterfaceQuantity,
-    axis: usize,
-    frame: Option<usize>,
     dim: Dim,
     gravity: Vector3<f64>,
     /// The coordinate index of each mode of the body.
@@ -113,48 +111,32 @@ pub struct InterfaceForce<M> {
     accelerations: DVector<f64>,
     y: Vec<f64>,
     y_rate: Vec<f64>,
-    /// Slots of the force elements' markers on the body but not at the interface.
-    others: Vec<usize>,
-    forces: Option<MarkerForces<M>>,
+    /// The orientation A(0) the scene gives the body (its turn since the start is A A(0)ᵀ).
+    pub(crate) start: Matrix3<f64>,
 }
 
-impl<M> InterfaceForce<M> {
-    /// Compile the sensor at `marker` (on a moving body): `handle` gives the formulation's
-    /// marker handles, `mode` the coordinate index of a body's mode.
+/// What a body's balance leaves for the forces on it: the frame {r0, A} and the wrench
+/// {F; M_O} about r0 (ground components) the rest of the system must apply.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Wrench {
+    pub(crate) origin: Vector3<f64>,
+    pub(crate) rotation: Matrix3<f64>,
+    pub(crate) force: Vector3<f64>,
+    pub(crate) moment: Vector3<f64>,
+}
+
+impl BodyBalance {
     pub(crate) fn new(
         prepared: &PreparedScene,
-        marker: MarkerId,
-        (quantity, axis, frame): (InterfaceQuantity, usize, Option<usize>),
-        mut handle: impl FnMut(MarkerId) -> M,
-        mut mode: impl FnMut(BodyId, usize) -> Option<usize>,
-    ) -> Result<Self, ModelError> {
+        body: BodyId,
+        mode: &mut impl FnMut(BodyId, usize) -> Option<usize>,
+    ) -> Self {
         let scene = prepared.scene();
-        let body = marker
-            .body
-            .expect("an interface force acts on a moving body");
         let prepared_body = prepared.body(body);
         let n_modes = prepared_body.body.n_modes();
         let n_coords = prepared_body.body.n_coords();
-        let forces = marker_forces(prepared, &mut handle)?;
-        let others = match &forces {
-            None => Vec::new(),
-            Some(_) => {
-                let slots = force_marker_slots(prepared);
-                let at_interface = interface_markers(prepared, marker);
-                slots
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, id)| id.body == Some(body) && !at_interface.contains(id))
-                    .map(|(s, _)| s)
-                    .collect()
-            }
-        };
-        Ok(InterfaceForce {
+        BodyBalance {
             body: body.0,
-            marker: handle(marker),
-            quantity,
-            axis,
-            frame,
             dim: scene.dim,
             gravity: scene.gravity.vec(),
             modes: (0..n_modes).map(|k| mode(body, k)).collect(),
@@ -165,23 +147,18 @@ impl<M> InterfaceForce<M> {
             accelerations: DVector::zeros(n_coords),
             y: vec![0.0; n_modes],
             y_rate: vec![0.0; n_modes],
-            others,
-            forces,
-        })
+            start: scene.bodies[body.0].orientation.matrix(),
+        }
     }
 
-    /// The component at (q, q̇, q̈) (module documentation). A formulation with recursive
-    /// kinematics has run its kinematic pass at (q, q̇).
-    pub(crate) fn read<K>(
+    /// [M̄_0 Ż − Q̄_v0]_rigid − {m g; A m̄(y) × g} at (q, q̇, q̈).
+    pub(crate) fn wrench<K: SensorQuery>(
         &mut self,
-        query: &mut K,
+        query: &K,
         q: &DVector<f64>,
         qd: &DVector<f64>,
         qdd: &DVector<f64>,
-    ) -> f64
-    where
-        K: SensorQuery<Marker = M>,
-    {
+    ) -> Wrench {
         let motion = query.frame_motion(self.body, q, qd, qdd);
         let rigid = self.dim.n_rigid();
         for (k, index) in self.modes.iter().enumerate() {
@@ -230,31 +207,140 @@ impl<M> InterfaceForce<M> {
                 Vector3::new(0.0, 0.0, row(2)),
             ),
         };
-        let mass = self.inertia.mass();
-        force -= mass * self.gravity;
+        force -= self.inertia.mass() * self.gravity;
         moment -= (a * self.inertia.first_moment_at(&self.y)).cross(&self.gravity);
-        if let Some(f) = &mut self.forces {
-            for (s, h) in f.handles.iter().enumerate() {
-                let (r, v) = query.marker_state(h, q, qd);
-                f.q.fixed_rows_mut::<3>(3 * s).copy_from(&r);
-                f.qd.fixed_rows_mut::<3>(3 * s).copy_from(&v);
-            }
-            f.terms.forces.fill(0.0);
-            f.elements
-                .add_forces(&mut MarkerPoints, &f.q, &f.qd, false, &mut f.terms);
-            for &s in &self.others {
-                let fk = f.terms.forces.fixed_rows::<3>(3 * s).into_owned();
-                let rk = f.q.fixed_rows::<3>(3 * s).into_owned();
-                force -= fk;
-                moment -= (rk - r0).cross(&fk);
-            }
+        Wrench {
+            origin: r0,
+            rotation: a,
+            force,
+            moment,
         }
+    }
+}
+
+/// How the sensor finds the joints' part: from its body's balance alone, or from every
+/// body's together.
+#[derive(Clone, Debug)]
+enum Route<M> {
+    /// Every joint on the body acts at P: the body's balance less the force elements at its
+    /// other markers (`others`: their slots).
+    Body {
+        balance: Box<BodyBalance>,
+        others: Vec<usize>,
+    },
+    /// The reactions of every joint from every moving body's balance (least squares).
+    System(Box<crate::interface_system::SystemBalance<M>>),
+}
+
+/// One `InterfaceForce` sensor, compiled for a formulation (`M`: its marker handle), with
+/// the storage its reads use (a read allocates nothing).
+#[derive(Clone, Debug)]
+pub struct InterfaceForce<M> {
+    marker: M,
+    quantity: InterfaceQuantity,
+    axis: usize,
+    frame: Option<usize>,
+    route: Route<M>,
+    /// Slots of the force elements' markers at the interface (P and its elements' auxiliary
+    /// markers on the body).
+    at_interface: Vec<usize>,
+    forces: Option<MarkerForces<M>>,
+}
+
+impl<M> InterfaceForce<M> {
+    /// Compile the sensor at `marker` (on a moving body): `handle` gives the formulation's
+    /// marker handles, `mode` the coordinate index of a body's mode.
+    pub(crate) fn new(
+        prepared: &PreparedScene,
+        marker: MarkerId,
+        (quantity, axis, frame): (InterfaceQuantity, usize, Option<usize>),
+        mut handle: impl FnMut(MarkerId) -> M,
+        mut mode: impl FnMut(BodyId, usize) -> Option<usize>,
+    ) -> Result<Self, ModelError> {
+        let body = marker
+            .body
+            .expect("an interface force acts on a moving body");
+        let forces = marker_forces(prepared, &mut handle)?;
+        let slots = force_marker_slots(prepared);
+        let interface = interface_markers(prepared, marker);
+        let on_body = |want_interface: bool| -> Vec<usize> {
+            slots
+                .iter()
+                .enumerate()
+                .filter(|(_, id)| id.body == Some(body) && interface.contains(id) == want_interface)
+                .map(|(s, _)| s)
+                .collect()
+        };
+        let route = if crate::interface_system::alone(prepared, marker) {
+            Route::Body {
+                balance: Box::new(BodyBalance::new(prepared, body, &mut mode)),
+                others: on_body(false),
+            }
+        } else {
+            Route::System(Box::new(crate::interface_system::SystemBalance::new(
+                prepared,
+                marker,
+                &slots,
+                &mut handle,
+                &mut mode,
+            )?))
+        };
+        Ok(InterfaceForce {
+            marker: handle(marker),
+            quantity,
+            axis,
+            frame,
+            route,
+            at_interface: on_body(true),
+            forces,
+        })
+    }
+
+    /// The component at (q, q̇, q̈) (module documentation). A formulation with recursive
+    /// kinematics has run its kinematic pass at (q, q̇).
+    pub(crate) fn read<K>(
+        &mut self,
+        query: &mut K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        qdd: &DVector<f64>,
+    ) -> f64
+    where
+        K: SensorQuery<Marker = M>,
+    {
+        if let Some(f) = &mut self.forces {
+            f.evaluate(query, q, qd);
+        }
+        let (rp, _) = query.marker_state(&self.marker, q, qd);
+        let (force, moment) = match &mut self.route {
+            Route::Body { balance, others } => {
+                let w = balance.wrench(query, q, qd, qdd);
+                let (mut force, mut moment) = (w.force, w.moment);
+                if let Some(f) = &self.forces {
+                    for &s in others.iter() {
+                        let (rk, fk) = f.at(s);
+                        force -= fk;
+                        moment -= (rk - w.origin).cross(&fk);
+                    }
+                }
+                (force, moment - (rp - w.origin).cross(&force))
+            }
+            Route::System(system) => {
+                let (mut force, mut moment) =
+                    system.reactions_at(query, q, qd, qdd, self.forces.as_ref(), &rp);
+                if let Some(f) = &self.forces {
+                    for &s in &self.at_interface {
+                        let (rk, fk) = f.at(s);
+                        force += fk;
+                        moment += (rk - rp).cross(&fk);
+                    }
+                }
+                (force, moment)
+            }
+        };
         let value = match self.quantity {
             InterfaceQuantity::Force => force,
-            InterfaceQuantity::Moment => {
-                let (rp, _) = query.marker_state(&self.marker, q, qd);
-                moment - (rp - r0).cross(&force)
-            }
+            InterfaceQuantity::Moment => moment,
         };
         match self.frame {
             None => value[self.axis],
@@ -263,9 +349,34 @@ impl<M> InterfaceForce<M> {
     }
 }
 
+impl<M> MarkerForces<M> {
+    /// Evaluate every element at the markers' positions and velocities now.
+    fn evaluate<K>(&mut self, query: &K, q: &DVector<f64>, qd: &DVector<f64>)
+    where
+        K: SensorQuery<Marker = M>,
+    {
+        for (s, h) in self.handles.iter().enumerate() {
+            let (r, v) = query.marker_state(h, q, qd);
+            self.q.fixed_rows_mut::<3>(3 * s).copy_from(&r);
+            self.qd.fixed_rows_mut::<3>(3 * s).copy_from(&v);
+        }
+        self.terms.forces.fill(0.0);
+        self.elements
+            .add_forces(&mut MarkerPoints, &self.q, &self.qd, false, &mut self.terms);
+    }
+
+    /// The position of slot `s` and the elements' force on it, from the last evaluation.
+    pub(crate) fn at(&self, s: usize) -> (Vector3<f64>, Vector3<f64>) {
+        (
+            self.q.fixed_rows::<3>(3 * s).into_owned(),
+            self.terms.forces.fixed_rows::<3>(3 * s).into_owned(),
+        )
+    }
+}
+
 /// The distinct markers of the force elements (their ends, link axis markers, load couple
 /// points), in first-appearance order: slot s holds coordinates 3 s … 3 s + 2.
-fn force_marker_slots(prepared: &PreparedScene) -> Vec<MarkerId> {
+pub(crate) fn force_marker_slots(prepared: &PreparedScene) -> Vec<MarkerId> {
     let mut slots: Vec<MarkerId> = Vec::new();
     for id in prepared.force_marker_ids() {
         if !slots.contains(&id) {

@@ -319,40 +319,6 @@ impl PreparedScene {
 }
 
 impl Scene {
-    /// An interface force at `body`.`marker` is the body's own balance less what acts at its
-    /// other markers: every joint and scene constraint on the body must then act at this
-    /// marker (the reactions elsewhere are not known from the body alone).
-    fn check_interface(&self, body: &str, marker: &str) -> Result<(), ModelError> {
-        // A `Free` joint transmits nothing.
-        let ends = self
-            .joints
-            .iter()
-            .filter(|j| !matches!(j.kind, crate::scene::JointKind::Free))
-            .map(|j| {
-                (
-                    j.name.as_str(),
-                    [
-                        (j.body1.as_str(), j.marker1.as_str()),
-                        (&*j.body2, &*j.marker2),
-                    ],
-                )
-            })
-            .chain(self.constraints.iter().map(|c| (c.name(), c.ends())));
-        for (name, pair) in ends {
-            if let Some((_, other)) = pair.iter().find(|(b, m)| *b == body && *m != marker) {
-                return Err(ModelError::Unsupported(format!(
-                    "{}: an interface force at `{body}`.`{marker}` is found from the body's own \
-                     balance, which needs every joint and constraint on `{body}` at that marker; \
-                     `{name}` acts on `{body}` at marker `{other}` (a body carried by joints at \
-                     two markers, such as a connecting rod, is not supported yet: read the force \
-                     on a body whose joints all sit at one marker)",
-                    self.origin
-                )));
-            }
-        }
-        Ok(())
-    }
-
     fn body_index(&self, name: &str) -> Option<usize> {
         if name == GROUND {
             return None;
@@ -465,15 +431,12 @@ impl Scene {
                 component,
                 quantity,
                 frame,
-            } => {
-                self.check_interface(body, marker)?;
-                SensorTarget::InterfaceForce {
-                    marker: self.marker_id(body, marker)?,
-                    component: *component,
-                    quantity: *quantity,
-                    frame: self.frame_id(frame)?,
-                }
-            }
+            } => SensorTarget::InterfaceForce {
+                marker: self.marker_id(body, marker)?,
+                component: *component,
+                quantity: *quantity,
+                frame: self.frame_id(frame)?,
+            },
             SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
                 element: self
                     .forces

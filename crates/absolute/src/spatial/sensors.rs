@@ -74,8 +74,13 @@ pub(super) fn sensor_terms(
                 terms.joints.insert(joint, coordinate);
             }
             SensorTarget::InterfaceForce { marker, .. } => {
-                // The marker, and the force elements' markers the body's balance reads.
-                for id in std::iter::once(marker).chain(prepared.force_marker_ids()) {
+                // The marker, and the force elements' and joints' markers the balances read.
+                let joints = prepared
+                    .joint_markers()
+                    .iter()
+                    .flat_map(|p| [p.first, p.second]);
+                let ids = std::iter::once(marker).chain(prepared.force_marker_ids());
+                for id in ids.chain(joints) {
                     let term = lookup.point(id);
                     terms.markers.insert(id, term);
                 }

@@ -386,19 +386,8 @@ impl Balance {
     }
 }
 
-/// Two unit vectors perpendicular to the unit vector `a` and to each other.
-fn perpendicular_pair(a: &Vector3<f64>) -> [Vector3<f64>; 2] {
-    let helper = if a.x.abs() < 0.6 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let u = a.cross(&helper).normalize();
-    [u, a.cross(&u)]
-}
-
 /// A joint's constrained directions (forces, moments), ground components, at the
-/// equilibrium (module documentation); `driven` adds its driven direction.
+/// equilibrium (`flexmbd_model::reaction_directions`); `driven` adds its driven direction.
 fn joint_directions(
     dim: Dim,
     kind: &JointKind,
@@ -406,57 +395,9 @@ fn joint_directions(
     turn2: &Matrix3<f64>,
     driven: bool,
 ) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
-    let all = vec![Vector3::x(), Vector3::y(), Vector3::z()];
-    let (planar_f, planar_m) = (vec![Vector3::x(), Vector3::y()], vec![Vector3::z()]);
-    let axis = |a: &Option<flexmbd_model::V3>| match a {
-        Some(a) => (turn2 * a.vec()).normalize(),
-        None => Vector3::z(),
-    };
-    let sliding = |a: &flexmbd_model::V3| (turn2 * a.vec()).normalize();
-    match (dim, kind) {
-        (_, JointKind::Free) => (vec![], vec![]),
-        (Dim::Planar, JointKind::Revolute { .. }) => {
-            (planar_f, if driven { planar_m } else { vec![] })
-        }
-        (Dim::Planar, JointKind::Prismatic { axis }) => {
-            let a = sliding(axis);
-            let mut forces = vec![Vector3::z().cross(&a)];
-            if driven {
-                forces.push(a);
-            }
-            (forces, planar_m)
-        }
-        (Dim::Planar, _) => (planar_f, planar_m),
-        (Dim::Spatial, JointKind::Revolute { axis: a }) => {
-            let a = axis(a);
-            let mut moments = perpendicular_pair(&a).to_vec();
-            if driven {
-                moments.push(a);
-            }
-            (all, moments)
-        }
-        (Dim::Spatial, JointKind::Spherical) => (all, vec![]),
-        (Dim::Spatial, JointKind::Universal { axis1, axis2 }) => {
-            let arm = (turn1 * axis1.vec()).cross(&(turn2 * axis2.vec()));
-            (all, vec![arm.normalize()])
-        }
-        (Dim::Spatial, JointKind::Prismatic { axis }) => {
-            let a = sliding(axis);
-            let mut forces = perpendicular_pair(&a).to_vec();
-            if driven {
-                forces.push(a);
-            }
-            (forces, all)
-        }
-        (Dim::Spatial, JointKind::Cylindrical { axis }) => {
-            let a = sliding(axis);
-            (
-                perpendicular_pair(&a).to_vec(),
-                perpendicular_pair(&a).to_vec(),
-            )
-        }
-        (Dim::Spatial, JointKind::Rigid) => (all.clone(), all),
-    }
+    let (forces, moments) =
+        flexmbd_model::reaction_directions::joint_directions(dim, kind, turn1, turn2, driven);
+    (forces.as_slice().to_vec(), moments.as_slice().to_vec())
 }
 
 /// One reaction component: which reaction it belongs to, its unit force and moment on
@@ -707,20 +648,5 @@ mod tests {
         assert!(min_norm_solution(&a, &DVector::from_element(1, f64::NAN)).is_none());
         let a = DMatrix::from_row_slice(1, 2, &[f64::INFINITY, 1.0]);
         assert!(min_norm_solution(&a, &DVector::from_element(1, 2.0)).is_none());
-    }
-
-    #[test]
-    fn perpendicular_pair_is_orthonormal_with_the_axis() {
-        for a in [
-            Vector3::x(),
-            Vector3::y(),
-            Vector3::new(1.0, 2.0, -3.0).normalize(),
-        ] {
-            let [u, v] = perpendicular_pair(&a);
-            for (p, q) in [(u, v), (u, a), (v, a)] {
-                assert!(p.dot(&q).abs() < 1e-15);
-            }
-            assert!((u.norm() - 1.0).abs() < 1e-15 && (v.norm() - 1.0).abs() < 1e-15);
-        }
     }
 }
