@@ -384,7 +384,7 @@ impl Formulation for Cable {
         &self.coordinates
     }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
-        let State { t, q, qd } = state;
+        let State { t, q, qd, .. } = state;
         let d = self.d;
         if req.dynamics {
             out.mass.copy_from(&self.mass);
@@ -436,7 +436,7 @@ impl flexmbd_core::Observe for Cable {
         &self.names
     }
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
-        let State { t, q, qd } = state;
+        let State { t, q, qd, .. } = state;
         let tip = self.tip_displacement(t, q);
         let d = self.d;
         out[..d].copy_from_slice(&tip[..d]);

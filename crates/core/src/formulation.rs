@@ -31,12 +31,28 @@ pub struct State<'a> {
     pub q: &'a DVector<f64>,
     /// Rates q̇ (n).
     pub qd: &'a DVector<f64>,
+    /// Accelerations q̈ (n) when whoever holds the state has them (an integrator after a
+    /// step); `None` reads as q̈ = 0 (a state at rest). Only the sensors read them.
+    pub qdd: Option<&'a DVector<f64>>,
 }
 
 impl<'a> State<'a> {
-    /// The state (t, q, q̇).
+    /// The state (t, q, q̇), without accelerations.
     pub fn new(t: f64, q: &'a DVector<f64>, qd: &'a DVector<f64>) -> Self {
-        State { t, q, qd }
+        State {
+            t,
+            q,
+            qd,
+            qdd: None,
+        }
+    }
+
+    /// The same state with its accelerations q̈ (n).
+    pub fn with_accelerations(self, qdd: &'a DVector<f64>) -> Self {
+        State {
+            qdd: Some(qdd),
+            ..self
+        }
     }
 }
 

@@ -12,7 +12,7 @@ pub mod kinematics;
 pub use formulation::{
     BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
 };
-pub use kinematics::{ElementReading, JointReading, MarkerKinematics, SensorQuery};
+pub use kinematics::{ElementReading, FrameMotion, JointReading, MarkerKinematics, SensorQuery};
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};

@@ -143,7 +143,9 @@ fn vehicle_force_elements_do_not_allocate() {
 
 /// Neither `step` (after a few steps have sized everything) nor `read_sensors` allocates,
 /// in either formulation (the flexible pendulum reads body-frame positions and the energy;
-/// the solid cantilever its stress sensors, σ = S y over a node set).
+/// the solid cantilever its stress sensors, σ = S y over a node set; the unbalanced rotor its
+/// journal's interface force, the rotor's balance with its bearing links; the solid
+/// slider-crank its rod's pin force, every body's balance solved together).
 #[test]
 fn steps_do_not_allocate() {
     for (name, form) in [
@@ -154,6 +156,10 @@ fn steps_do_not_allocate() {
         ("flexible_pendulum_3d.ron", FormulationKind::Relative),
         ("solid_cantilever.ron", FormulationKind::Absolute),
         ("solid_cantilever.ron", FormulationKind::Relative),
+        ("unbalanced_rotor.ron", FormulationKind::Absolute),
+        ("unbalanced_rotor.ron", FormulationKind::Relative),
+        ("solid_slider_crank_gmsh.ron", FormulationKind::Absolute),
+        ("solid_slider_crank_gmsh.ron", FormulationKind::Relative),
     ] {
         let mut scene = model(name);
         scene.solver.formulation = form;

@@ -13,7 +13,7 @@
 
 use flexmbd::Simulation;
 use flexmbd::model::inputs::InputKind;
-use flexmbd::model::{ElementQuantity, Scene, SensorKind};
+use flexmbd::model::{ElementQuantity, InterfaceQuantity, Scene, SensorKind};
 
 /// One input value of the FMU: input `input` of the scene, its value `component`.
 #[derive(Clone, Debug, PartialEq)]
@@ -225,6 +225,10 @@ fn sensor_unit(kind: &SensorKind) -> Option<&'static str> {
         SensorKind::ElementForce { quantity, .. } => Some(match quantity {
             ElementQuantity::Force => "N",
             ElementQuantity::Length => "m",
+        }),
+        SensorKind::InterfaceForce { quantity, .. } => Some(match quantity {
+            InterfaceQuantity::Force => "N",
+            InterfaceQuantity::Moment => "N.m",
         }),
         _ => None,
     }

@@ -274,9 +274,10 @@ impl Ali3p {
         self.pred_err.copy_from_slice(&c.pred_err);
     }
 
-    /// The current state (t, q, q̇), to evaluate the formulation or read its sensors at.
+    /// The current state (t, q, q̇) with its accelerations q̈, to evaluate the formulation or
+    /// read its sensors at.
     pub fn state(&self) -> State<'_> {
-        State::new(self.t, &self.q, &self.qd)
+        State::new(self.t, &self.q, &self.qd).with_accelerations(&self.qdd)
     }
 
     /// The penalty α in use.

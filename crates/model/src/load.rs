@@ -407,7 +407,18 @@ impl Scene {
                     return Err(self.missing(item("body"), "body", body));
                 }
             }
-            SensorKind::Position { .. } | SensorKind::Velocity { .. } | SensorKind::Energy => {}
+            SensorKind::InterfaceForce { body, .. } if body == GROUND => {
+                return Err(self.invalid(InvalidValue::new(
+                    item("body"),
+                    body,
+                    "an interface force acts on a moving body; name the body the joints and \
+                     force elements at the marker act on",
+                )));
+            }
+            SensorKind::Position { .. }
+            | SensorKind::Velocity { .. }
+            | SensorKind::InterfaceForce { .. }
+            | SensorKind::Energy => {}
         }
         Ok(())
     }

@@ -107,6 +107,18 @@ pub enum SensorTarget {
         /// What to report.
         quantity: crate::scene::StressQuantity,
     },
+    /// The force or moment the rest of the system exerts on a body at one of its markers
+    /// ([`crate::interface_force`]).
+    InterfaceForce {
+        /// The marker (on a moving body).
+        marker: MarkerId,
+        /// The component.
+        component: Axis,
+        /// Force or moment.
+        quantity: crate::scene::InterfaceQuantity,
+        /// Body whose axes the component is taken in (`None`: ground).
+        frame: Option<BodyId>,
+    },
     /// A force element's tension or normal force, or its length.
     ElementForce {
         /// Its index in the prepared scene's `forces`.
@@ -412,6 +424,18 @@ impl Scene {
                 // Filled in by crate::stress::stress_sets once the bodies are prepared.
                 table: usize::MAX,
                 quantity: *quantity,
+            },
+            SensorKind::InterfaceForce {
+                body,
+                marker,
+                component,
+                quantity,
+                frame,
+            } => SensorTarget::InterfaceForce {
+                marker: self.marker_id(body, marker)?,
+                component: *component,
+                quantity: *quantity,
+                frame: self.frame_id(frame)?,
             },
             SensorKind::ElementForce { force, quantity } => SensorTarget::ElementForce {
                 element: self

@@ -616,6 +616,35 @@ pub enum SensorKind {
         #[serde(default)]
         quantity: ElementQuantity,
     },
+    /// The force (N) or moment (N·m, about the marker's current point) that the rest of the
+    /// system exerts on a moving body at one of its markers, through every joint, scene
+    /// constraint and force element attached there: a bearing's force on a rotor, a pin's
+    /// force on a link (`flexmbd_model::interface_force`). Ground components, or components
+    /// in `frame`'s body axes.
+    InterfaceForce {
+        /// The body the force acts on.
+        body: String,
+        /// Its marker (an interface marker of an imported or solid body, or any marker).
+        marker: String,
+        /// Component.
+        component: Axis,
+        /// `Force` (N) or `Moment` (N·m); `Force` when omitted.
+        #[serde(default)]
+        quantity: InterfaceQuantity,
+        /// Body whose axes the components are taken in (`None`: ground).
+        #[serde(default)]
+        frame: Option<String>,
+    },
+}
+
+/// What an `InterfaceForce` sensor reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum InterfaceQuantity {
+    /// The force on the body (N).
+    #[default]
+    Force,
+    /// The moment on the body about the marker's current point (N·m).
+    Moment,
 }
 
 /// What a `Stress` sensor reports at each node of its set (the largest over the set).
@@ -666,8 +695,9 @@ pub enum ElementQuantity {
 }
 
 impl SensorKind {
-    /// The marker a Position or Velocity sensor reads, (body, marker), and the body whose
-    /// frame its components are taken in (`None`: ground); `None` for the other kinds.
+    /// The marker a Position, Velocity or InterfaceForce sensor reads, (body, marker), and the
+    /// body whose frame its components are taken in (`None`: ground); `None` for the other
+    /// kinds.
     pub fn marker(&self) -> Option<(&str, &str, Option<&str>)> {
         match self {
             SensorKind::Position {
@@ -677,6 +707,12 @@ impl SensorKind {
                 ..
             }
             | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::InterfaceForce {
                 body,
                 marker,
                 frame,
@@ -696,6 +732,12 @@ impl SensorKind {
                 ..
             }
             | SensorKind::Velocity {
+                body,
+                marker,
+                frame,
+                ..
+            }
+            | SensorKind::InterfaceForce {
                 body,
                 marker,
                 frame,

@@ -15,7 +15,9 @@
 //!   [`SensorQuery::body_frame`] and A(0) the orientation the scene gives the body: with
 //!   R = R_x(α) R_y(β) R_z(γ), α = atan2(−R₁₂, R₂₂), β = asin R₀₂, γ = atan2(−R₀₁, R₀₀);
 //! - `ElementForce`: a force element's tension (a tyre's normal force) or length (a tyre's
-//!   deflection), from [`SensorQuery::element_reading`], the code of the element's forces.
+//!   deflection), from [`SensorQuery::element_reading`], the code of the element's forces;
+//! - `InterfaceForce`: the force or moment the rest of the system exerts on a body at a
+//!   marker, from the body's balance at (q, q̇, q̈) ([`crate::interface_force`]).
 //!
 //! A `displacement` sensor reports its value minus the marker's undeformed value
 //! ([`PreparedScene::sensor_offsets`]).
@@ -27,8 +29,9 @@ use flexmbd_fe::solid::stress::{Stress, largest_principal, von_mises};
 use nalgebra::{DMatrix, DVector, Matrix3};
 
 use crate::error::ModelError;
+use crate::interface_force::InterfaceForce;
 use crate::prepared::{BodyId, JointId, MarkerId, PreparedScene, SensorTarget};
-use crate::scene::{Axis, ElementQuantity, StressQuantity};
+use crate::scene::{Axis, ElementQuantity, InterfaceQuantity, StressQuantity};
 
 /// One sensor, resolved into a formulation's handles (`M`: marker, `J`: joint coordinate).
 #[derive(Clone, Debug)]
@@ -61,6 +64,8 @@ enum Reading<M, J> {
         element: usize,
         quantity: ElementQuantity,
     },
+    /// The balance of the marker's body (boxed: it holds the body's inertia and storage).
+    InterfaceForce(Box<InterfaceForce<M>>),
     /// The coordinate index of each mode of the body, and the set's stress shapes.
     Stress {
         coords: Vec<Option<usize>>,
@@ -75,6 +80,8 @@ pub struct Sensors<M, J> {
     names: Vec<String>,
     readings: Vec<Reading<M, J>>,
     offsets: Vec<f64>,
+    /// q̈ = 0, for reads without accelerations.
+    at_rest: DVector<f64>,
 }
 
 impl<M, J> Default for Sensors<M, J> {
@@ -83,6 +90,7 @@ impl<M, J> Default for Sensors<M, J> {
             names: Vec::new(),
             readings: Vec::new(),
             offsets: Vec::new(),
+            at_rest: DVector::zeros(0),
         }
     }
 }
@@ -160,6 +168,22 @@ impl<M, J> Sensors<M, J> {
                 SensorTarget::ElementForce { element, quantity } => {
                     Reading::ElementForce { element, quantity }
                 }
+                SensorTarget::InterfaceForce {
+                    marker,
+                    component,
+                    quantity,
+                    frame,
+                } => Reading::InterfaceForce(Box::new(InterfaceForce::new(
+                    prepared,
+                    marker,
+                    (
+                        quantity,
+                        interface_axis(scene, &sensor.name, component, quantity)?,
+                        frame.map(|b| b.0),
+                    ),
+                    &mut handles.marker,
+                    &mut handles.mode,
+                )?)),
                 SensorTarget::Stress {
                     body,
                     table,
@@ -179,6 +203,7 @@ impl<M, J> Sensors<M, J> {
             names: scene.sensors.iter().map(|s| s.name.clone()).collect(),
             readings,
             offsets: prepared.sensor_offsets().to_vec(),
+            at_rest: DVector::zeros(0),
         })
     }
 
@@ -187,12 +212,29 @@ impl<M, J> Sensors<M, J> {
         &self.names
     }
 
-    /// Read every sensor at (q, q̇) into `out` (one value per name). A formulation with
+    /// Read every sensor at (q, q̇, q̈) into `out` (one value per name); `qdd` `None` reads
+    /// as q̈ = 0 (a state at rest; only interface forces read q̈). A formulation with
     /// recursive kinematics runs its kinematic pass at (q, q̇) first.
-    pub fn read<K>(&mut self, query: &mut K, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64])
-    where
+    pub fn read<K>(
+        &mut self,
+        query: &mut K,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        qdd: Option<&DVector<f64>>,
+        out: &mut [f64],
+    ) where
         K: SensorQuery<Marker = M, JointCoordinate = J>,
     {
+        let qdd = match qdd {
+            Some(qdd) => qdd,
+            None => {
+                // Sized once: the first read at rest of a scene allocates it.
+                if self.at_rest.len() != q.len() {
+                    self.at_rest = DVector::zeros(q.len());
+                }
+                &self.at_rest
+            }
+        };
         for (k, reading) in self.readings.iter_mut().enumerate() {
             let value = match reading {
                 Reading::Position {
@@ -243,6 +285,7 @@ impl<M, J> Sensors<M, J> {
                         ElementQuantity::Length => reading.length,
                     }
                 }
+                Reading::InterfaceForce(sensor) => sensor.read(query, q, qd, qdd),
                 Reading::Stress {
                     coords,
                     shapes,
@@ -270,6 +313,32 @@ impl<M, J> Sensors<M, J> {
             };
             out[k] = value - self.offsets[k];
         }
+    }
+}
+
+/// The component index of an interface force: a planar scene's forces have x and y
+/// components, its moments a z component only.
+fn interface_axis(
+    scene: &crate::scene::Scene,
+    sensor: &str,
+    component: Axis,
+    quantity: InterfaceQuantity,
+) -> Result<usize, ModelError> {
+    let planar = scene.dim == Dim::Planar;
+    match (planar, quantity, component) {
+        (true, InterfaceQuantity::Force, Axis::Z) => Err(scene.invalid(InvalidValue::new(
+            format!("sensors[{sensor}].component"),
+            "Z",
+            "a planar scene's forces have x and y components only",
+        ))),
+        (true, InterfaceQuantity::Moment, Axis::X | Axis::Y) => {
+            Err(scene.invalid(InvalidValue::new(
+                format!("sensors[{sensor}].component"),
+                format!("{component:?}"),
+                "a planar scene's moments have a z component only",
+            )))
+        }
+        _ => Ok(component.index()),
     }
 }
 

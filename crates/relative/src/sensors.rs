@@ -3,7 +3,7 @@
 //! included; a cut prismatic's slide from its t = 0 value; a tree joint's coordinate) and the
 //! [`SensorQuery`] the shared sensors read, answered from one kinematics pass at (z, ż).
 
-use flexmbd_core::{Dim, ElementReading, JointReading, SensorQuery};
+use flexmbd_core::{Dim, ElementReading, FrameMotion, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{BodyId, JointId, JointKind, MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{DVector, Matrix3, Vector2, Vector3};
@@ -118,11 +118,17 @@ impl Relative {
         n.dot(&(pj - pi))
     }
 
-    /// Read the sensors at (q, q̇) into `out`, after one kinematics pass there.
-    pub(crate) fn read_sensors(&mut self, q: &DVector<f64>, qd: &DVector<f64>, out: &mut [f64]) {
+    /// Read the sensors at (q, q̇, q̈) into `out`, after one kinematics pass at (q, q̇).
+    pub(crate) fn read_sensors(
+        &mut self,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        qdd: Option<&DVector<f64>>,
+        out: &mut [f64],
+    ) {
         self.kinematics(q, qd);
         let mut sensors = std::mem::take(&mut self.sensors);
-        sensors.read(self, q, qd, out);
+        sensors.read(self, q, qd, qdd, out);
         self.sensors = sensors;
     }
 }
@@ -168,5 +174,36 @@ impl SensorQuery for Relative {
         qd: &DVector<f64>,
     ) -> ElementReading {
         self.force_elements.reading(element, self, q, qd)
+    }
+
+    /// From the last kinematics pass (at q, q̇): the body frame's Z = {ṡ; ω} and
+    /// Ż = Σ_e v_e ë + D over the elementary joints e on its path (§4.2, ë = L_e q̈), and
+    /// the origin's ṙ0 = ṡ + ω × r0, r̈0 = s̈ + ω̇ × r0 + ω × ṙ0.
+    fn frame_motion(
+        &self,
+        body: usize,
+        _q: &DVector<f64>,
+        _qd: &DVector<f64>,
+        qdd: &DVector<f64>,
+    ) -> FrameMotion {
+        let f = self.bodies[body].frame;
+        let (r0, rotation) = (self.frame_position[f], self.frame_rotation[f]);
+        let z = self.frame_velocity[f];
+        let mut zd = self.frame_bias[f];
+        for &e in &self.paths[f] {
+            let acceleration: f64 = self.elem_rate[e].iter().map(|&(c, k)| k * qdd[c]).sum();
+            zd += self.elem_twist[e] * acceleration;
+        }
+        let omega = z.fixed_rows::<3>(3).into_owned();
+        let omega_dot = zd.fixed_rows::<3>(3).into_owned();
+        let velocity = z.fixed_rows::<3>(0) + omega.cross(&r0);
+        FrameMotion {
+            origin: r0,
+            rotation,
+            velocity,
+            angular_velocity: omega,
+            acceleration: zd.fixed_rows::<3>(0) + omega_dot.cross(&r0) + omega.cross(&velocity),
+            angular_acceleration: omega_dot,
+        }
     }
 }

@@ -173,7 +173,7 @@ impl flexmbd_core::Observe for Relative {
         self.sensors.names()
     }
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
-        self.read_sensors(state.q, state.qd, out);
+        self.read_sensors(state.q, state.qd, state.qdd, out);
     }
     /// From one kinematics pass at (z, ż), as the sensors.
     fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {

@@ -98,7 +98,7 @@ struct Evaluation<'a> {
 impl Planar {
     /// Φ, Φ_q, Φ_t and the bias, as requested.
     pub(super) fn constraints(&self, state: State<'_>, req: Request, out: &mut SystemTerms) {
-        let State { t, q, qd } = state;
+        let State { t, q, qd, .. } = state;
         let at = Evaluation { t, q, qd, req };
         let mut row = 0;
         for constraint in &self.constraints {

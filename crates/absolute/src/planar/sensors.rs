@@ -2,7 +2,7 @@
 //! joint coordinates (the relative angle of two body-fixed directions, or a prismatic slide,
 //! each from its value at q0) and the [`SensorQuery`] the shared sensors read.
 
-use flexmbd_core::{ElementReading, JointReading, SensorQuery};
+use flexmbd_core::{ElementReading, FrameMotion, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{BodyId, JointKind, ModelError, PreparedScene};
 use nalgebra::{DVector, Matrix3, Vector2, Vector3};
@@ -116,5 +116,32 @@ impl SensorQuery for Planar {
         qd: &DVector<f64>,
     ) -> ElementReading {
         self.force_elements.reading(element, self, q, qd)
+    }
+
+    /// (r0, u) = T x_b is linear in the coordinates: the frame's rates at q̇ are its
+    /// velocities and at q̈ its accelerations; with |u| = 1, u̇ = ω E u gives
+    /// ω = u × u̇ and ω̇ = u × ü (z components).
+    fn frame_motion(
+        &self,
+        body: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        qdd: &DVector<f64>,
+    ) -> FrameMotion {
+        let b = &self.bodies[body];
+        let frame = self.frame(b, q, qd);
+        let accelerations = self.frame(b, q, qdd);
+        let (r0, rotation) = self.body_frame(body, q);
+        let u2 = frame.u.norm_squared();
+        let cross = |a: &Vector2<f64>, b: &Vector2<f64>| a.x * b.y - a.y * b.x;
+        let v3 = |v: Vector2<f64>| Vector3::new(v.x, v.y, 0.0);
+        FrameMotion {
+            origin: r0,
+            rotation,
+            velocity: v3(frame.r0_rate),
+            angular_velocity: Vector3::z() * cross(&frame.u, &frame.u_rate) / u2,
+            acceleration: v3(accelerations.r0_rate),
+            angular_acceleration: Vector3::z() * cross(&frame.u, &accelerations.u_rate) / u2,
+        }
     }
 }

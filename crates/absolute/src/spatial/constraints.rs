@@ -66,7 +66,7 @@ pub(super) struct At<'a> {
 impl Spatial {
     /// Fill Φ, Φ_q, Φ_t and the acceleration term as `req` asks.
     pub(super) fn constraint_terms(&self, state: State<'_>, req: Request, out: &mut SystemTerms) {
-        let State { t, q, qd } = state;
+        let State { t, q, qd, .. } = state;
         let at = At {
             bodies: &self.bodies,
             t,

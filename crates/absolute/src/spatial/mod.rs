@@ -179,7 +179,7 @@ impl flexmbd_core::Observe for Spatial {
     }
     fn sensors(&mut self, state: State<'_>, out: &mut [f64]) {
         let mut sensors = std::mem::take(&mut self.sensors);
-        sensors.read(self, state.q, state.qd, out);
+        sensors.read(self, state.q, state.qd, state.qdd, out);
         self.sensors = sensors;
     }
     fn body_poses(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyPose]) {

@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use flexmbd_core::{ElementReading, JointReading, SensorQuery};
+use flexmbd_core::{ElementReading, FrameMotion, JointReading, SensorQuery};
 use flexmbd_model::sensors::{SensorHandles, Sensors};
 use flexmbd_model::{
     BodyId, JointId, JointKind, MarkerId, ModelError, PreparedScene, SensorTarget,
@@ -14,7 +14,7 @@ use nalgebra::{DVector, Matrix3, Vector3};
 
 use super::Spatial;
 use super::joints::perpendiculars;
-use super::kinematics::Term;
+use super::kinematics::{Term, frame_of};
 use super::lookup::TermLookup;
 
 /// A joint coordinate as the spatial formulation reads it.
@@ -72,6 +72,18 @@ pub(super) fn sensor_terms(
             SensorTarget::JointCoordinate(joint) => {
                 let coordinate = joint_coordinate(lookup, &sensor.name, joint)?;
                 terms.joints.insert(joint, coordinate);
+            }
+            SensorTarget::InterfaceForce { marker, .. } => {
+                // The marker, and the force elements' and joints' markers the balances read.
+                let joints = prepared
+                    .joint_markers()
+                    .iter()
+                    .flat_map(|p| [p.first, p.second]);
+                let ids = std::iter::once(marker).chain(prepared.force_marker_ids());
+                for id in ids.chain(joints) {
+                    let term = lookup.point(id);
+                    terms.markers.insert(id, term);
+                }
             }
             SensorTarget::Modal { .. }
             | SensorTarget::Energy
@@ -190,5 +202,21 @@ impl SensorQuery for Spatial {
         qd: &DVector<f64>,
     ) -> ElementReading {
         self.force_elements.reading(element, self, q, qd)
+    }
+
+    /// r0 and A = [u v w] are coordinates: their rates and accelerations are those
+    /// entries of q̇ and q̈.
+    fn frame_motion(
+        &self,
+        body: usize,
+        q: &DVector<f64>,
+        qd: &DVector<f64>,
+        qdd: &DVector<f64>,
+    ) -> FrameMotion {
+        let offset = self.bodies[body].offset;
+        let (r0, a) = frame_of(q.as_slice(), offset);
+        let (v0, ad) = frame_of(qd.as_slice(), offset);
+        let (a0, add) = frame_of(qdd.as_slice(), offset);
+        FrameMotion::from_rotation_rates([r0, v0, a0], [&a, &ad, &add])
     }
 }

@@ -44,8 +44,9 @@
 //! complete axial basis, FS0 without axial modes: modal coordinates the scene's sensors do
 //! not name).
 
-use flexmbd_core::{Dim, MarkerKinematics, SystemTerms};
+use flexmbd_core::{Dim, SystemTerms};
 use flexmbd_model::force_elements::ForceElements;
+use flexmbd_model::interface_force::{MarkerPoints, start_position};
 use flexmbd_model::{
     Axis, Constraint, JointKind, MarkerId, PreparedScene, Scene, Sensor, SensorKind,
 };
@@ -322,40 +323,6 @@ fn marker_position(
     })
 }
 
-/// The markers' positions as coordinates: a marker's generalized force is its force.
-struct MarkerPoints;
-
-impl MarkerKinematics for MarkerPoints {
-    type Marker = usize;
-
-    fn marker_state(
-        &self,
-        marker: &usize,
-        q: &DVector<f64>,
-        qd: &DVector<f64>,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let k = 3 * marker;
-        (
-            Vector3::new(q[k], q[k + 1], q[k + 2]),
-            Vector3::new(qd[k], qd[k + 1], qd[k + 2]),
-        )
-    }
-
-    fn marker_jacobian(
-        &mut self,
-        marker: &usize,
-        _: &DVector<f64>,
-        visit: &mut dyn FnMut(usize, Vector3<f64>),
-    ) {
-        for (a, e) in [Vector3::x(), Vector3::y(), Vector3::z()]
-            .into_iter()
-            .enumerate()
-        {
-            visit(3 * marker + a, e);
-        }
-    }
-}
-
 /// The balance equations: a wrench on a body about its frame origin, by rows.
 struct Balance {
     dim: Dim,
@@ -419,19 +386,8 @@ impl Balance {
     }
 }
 
-/// Two unit vectors perpendicular to the unit vector `a` and to each other.
-fn perpendicular_pair(a: &Vector3<f64>) -> [Vector3<f64>; 2] {
-    let helper = if a.x.abs() < 0.6 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let u = a.cross(&helper).normalize();
-    [u, a.cross(&u)]
-}
-
 /// A joint's constrained directions (forces, moments), ground components, at the
-/// equilibrium (module documentation); `driven` adds its driven direction.
+/// equilibrium (`flexmbd_model::reaction_directions`); `driven` adds its driven direction.
 fn joint_directions(
     dim: Dim,
     kind: &JointKind,
@@ -439,57 +395,9 @@ fn joint_directions(
     turn2: &Matrix3<f64>,
     driven: bool,
 ) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
-    let all = vec![Vector3::x(), Vector3::y(), Vector3::z()];
-    let (planar_f, planar_m) = (vec![Vector3::x(), Vector3::y()], vec![Vector3::z()]);
-    let axis = |a: &Option<flexmbd_model::V3>| match a {
-        Some(a) => (turn2 * a.vec()).normalize(),
-        None => Vector3::z(),
-    };
-    let sliding = |a: &flexmbd_model::V3| (turn2 * a.vec()).normalize();
-    match (dim, kind) {
-        (_, JointKind::Free) => (vec![], vec![]),
-        (Dim::Planar, JointKind::Revolute { .. }) => {
-            (planar_f, if driven { planar_m } else { vec![] })
-        }
-        (Dim::Planar, JointKind::Prismatic { axis }) => {
-            let a = sliding(axis);
-            let mut forces = vec![Vector3::z().cross(&a)];
-            if driven {
-                forces.push(a);
-            }
-            (forces, planar_m)
-        }
-        (Dim::Planar, _) => (planar_f, planar_m),
-        (Dim::Spatial, JointKind::Revolute { axis: a }) => {
-            let a = axis(a);
-            let mut moments = perpendicular_pair(&a).to_vec();
-            if driven {
-                moments.push(a);
-            }
-            (all, moments)
-        }
-        (Dim::Spatial, JointKind::Spherical) => (all, vec![]),
-        (Dim::Spatial, JointKind::Universal { axis1, axis2 }) => {
-            let arm = (turn1 * axis1.vec()).cross(&(turn2 * axis2.vec()));
-            (all, vec![arm.normalize()])
-        }
-        (Dim::Spatial, JointKind::Prismatic { axis }) => {
-            let a = sliding(axis);
-            let mut forces = perpendicular_pair(&a).to_vec();
-            if driven {
-                forces.push(a);
-            }
-            (forces, all)
-        }
-        (Dim::Spatial, JointKind::Cylindrical { axis }) => {
-            let a = sliding(axis);
-            (
-                perpendicular_pair(&a).to_vec(),
-                perpendicular_pair(&a).to_vec(),
-            )
-        }
-        (Dim::Spatial, JointKind::Rigid) => (all.clone(), all),
-    }
+    let (forces, moments) =
+        flexmbd_model::reaction_directions::joint_directions(dim, kind, turn1, turn2, driven);
+    (forces.as_slice().to_vec(), moments.as_slice().to_vec())
 }
 
 /// One reaction component: which reaction it belongs to, its unit force and moment on
@@ -614,13 +522,7 @@ fn applied_loads(
     let mut q0 = DVector::zeros(n);
     let mut q = DVector::zeros(n);
     for (s, id) in markers.iter().enumerate() {
-        let start = match id.body {
-            None => prepared.marker_position(*id),
-            Some(body) => {
-                let body = &scene.bodies[body.0];
-                body.origin.vec() + body.orientation.matrix() * prepared.marker_position(*id)
-            }
-        };
+        let start = start_position(prepared, *id);
         let now = marker_position(prepared, placements, *id).unwrap_or(start);
         q0.fixed_rows_mut::<3>(3 * s).copy_from(&start);
         q.fixed_rows_mut::<3>(3 * s).copy_from(&now);
@@ -746,20 +648,5 @@ mod tests {
         assert!(min_norm_solution(&a, &DVector::from_element(1, f64::NAN)).is_none());
         let a = DMatrix::from_row_slice(1, 2, &[f64::INFINITY, 1.0]);
         assert!(min_norm_solution(&a, &DVector::from_element(1, 2.0)).is_none());
-    }
-
-    #[test]
-    fn perpendicular_pair_is_orthonormal_with_the_axis() {
-        for a in [
-            Vector3::x(),
-            Vector3::y(),
-            Vector3::new(1.0, 2.0, -3.0).normalize(),
-        ] {
-            let [u, v] = perpendicular_pair(&a);
-            for (p, q) in [(u, v), (u, a), (v, a)] {
-                assert!(p.dot(&q).abs() < 1e-15);
-            }
-            assert!((u.norm() - 1.0).abs() < 1e-15 && (v.norm() - 1.0).abs() < 1e-15);
-        }
     }
 }
