@@ -115,13 +115,21 @@ impl Relative {
     /// The marker `s`'s columns (w, ∂r_P/∂w_w) at the point `p`: u_a = ṡ_a + ω_a × r_P of the
     /// elementary joints on its body's path, then A X^t of its node's modes.
     fn point_columns(&self, s: &Side, p: &Vector3<f64>, columns: &mut Vec<(usize, Vector3<f64>)>) {
-        for source in self.column_sources(s) {
-            columns.push(self.column(s, p, source));
+        let Some(k) = s.body else { return };
+        let b = &self.bodies[k];
+        for &a in &self.paths[b.frame] {
+            columns.push(self.column(s, p, ColumnSource::Joint(a)));
+        }
+        if s.node.is_some() {
+            for m in 0..b.n_modes {
+                columns.push(self.column(s, p, ColumnSource::Mode(m)));
+            }
         }
     }
 
-    /// Where the columns of marker `s` come from, in the order of [`point_columns`]: the
-    /// elementary joints on its body's path, then its node's modes.
+    /// Where the columns of marker `s` come from, in the order of `point_columns`: the
+    /// elementary joints on its body's path, then its node's modes (allocates: for
+    /// compiling the marker table).
     pub(crate) fn column_sources(&self, s: &Side) -> Vec<ColumnSource> {
         let Some(k) = s.body else { return Vec::new() };
         let b = &self.bodies[k];
