@@ -176,8 +176,9 @@ pub const MODAL_COORDINATE: Range = Range::symmetric(1e6, "");
 pub const AMPLITUDE: Range = Range::symmetric(1e6, "rad or m");
 /// A driver's frequency, Hz.
 pub const FREQUENCY: Range = Range::symmetric(1e4, "Hz");
-/// A time constant (the spin-up time), s.
-pub const TIME_CONSTANT: Range = Range::positive(1e6, "s");
+/// A time constant (the spin-up time), s: at least a nanosecond (a spin-up time of
+/// 1e-308 s made Ωs/Ts infinite and the hub's angle NaN at t = 0, found by the fuzzer).
+pub const TIME_CONSTANT: Range = Range::closed(1e-9, 1e6, "s");
 /// The solver's times: step, duration, output interval, s (a step of 1e308 s made
 /// t = 1e308 s and a singular leading matrix instead of a refusal).
 pub const SOLVER_TIME: Range = Range::positive(1e6, "s");

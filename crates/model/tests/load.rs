@@ -90,6 +90,19 @@ fn non_positive_step_and_duration_are_refused() {
     }
 }
 
+/// A spin-up time so short that Ωs/Ts overflows (1e-308 s, a fuzzer's finding: the hub's
+/// angle was NaN at t = 0) is refused by name, with its value.
+#[test]
+fn a_spin_up_time_below_a_nanosecond_is_refused() {
+    let text = std::fs::read_to_string(models_dir().join("spin_up_beam_2d.ron")).unwrap();
+    assert!(text.contains("t_s: 15.0"));
+    let e = Scene::from_ron_str(&text.replace("t_s: 15.0", "t_s: 1e-308"), "f.ron")
+        .unwrap()
+        .validate()
+        .unwrap_err();
+    assert_names_all(&e, &["SpinUp.t_s", "1e-308"]);
+}
+
 #[test]
 fn set_reaches_scalars_by_path() {
     let mut s = Scene::load(models_dir().join("double_four_bar.ron")).unwrap();
