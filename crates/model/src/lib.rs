@@ -28,6 +28,7 @@ pub mod rewrite;
 pub mod roads;
 pub mod scene;
 pub mod scene_constraints;
+pub mod sensor_spec;
 pub mod sensors;
 pub mod stress;
 mod values;

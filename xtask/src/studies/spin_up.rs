@@ -283,34 +283,30 @@ fn median_cpu_2d(first: f64, scene: impl Fn() -> Result<Scene, Error>) -> f64 {
     cpu[cpu.len() / 2]
 }
 
+/// The ANCF reference's tip component `k` over time, times `scale`, as the first series
+/// of a chart.
+pub(super) fn ancf_series(reference: &flexmbd::ancf::History, k: usize, scale: f64) -> Series {
+    Series {
+        label: "ANCF reference".into(),
+        points: reference
+            .t
+            .iter()
+            .zip(&reference.tip)
+            .map(|(&t, p)| (t, p[k] * scale))
+            .collect(),
+        dashed: false,
+        colour: 0,
+    }
+}
+
 /// The 2D runs' tip histories over the reference: transverse and axial.
 fn charts_2d(
     report: &mut Report,
     reference: &flexmbd::ancf::History,
     histories: &[(String, Tip)],
 ) -> StudyResult {
-    let mut sy = vec![Series {
-        label: "ANCF reference".into(),
-        points: reference
-            .t
-            .iter()
-            .zip(&reference.tip)
-            .map(|(&t, p)| (t, p[1]))
-            .collect(),
-        dashed: false,
-        colour: 0,
-    }];
-    let mut sx = vec![Series {
-        label: "ANCF reference".into(),
-        points: reference
-            .t
-            .iter()
-            .zip(&reference.tip)
-            .map(|(&t, p)| (t, p[0] * 1e3))
-            .collect(),
-        dashed: false,
-        colour: 0,
-    }];
+    let mut sy = vec![ancf_series(reference, 1, 1.0)];
+    let mut sx = vec![ancf_series(reference, 0, 1e3)];
     for (i, (label, tip)) in histories.iter().enumerate() {
         sy.push(Series {
             label: label.clone(),
@@ -664,17 +660,7 @@ fn charts_3d(
         ),
     ];
     for (c, (file, title, ylabel, scale)) in comps.into_iter().enumerate() {
-        let mut series = vec![Series {
-            label: "ANCF reference".into(),
-            points: reference
-                .t
-                .iter()
-                .zip(&reference.tip)
-                .map(|(&t, p)| (t, p[c] * scale))
-                .collect(),
-            dashed: false,
-            colour: 0,
-        }];
+        let mut series = vec![ancf_series(reference, c, scale)];
         for (i, (label, tip)) in histories.iter().enumerate() {
             series.push(Series {
                 label: label.clone(),

@@ -8,7 +8,7 @@ use flexmbd::core::Dim;
 use flexmbd::model::{FormulationKind, Scene, Stiffening};
 
 use super::StudyResult;
-use super::spin_up::{Error, Outcome, run_one, scene_2d};
+use super::spin_up::{Error, Outcome, ancf_series, run_one, scene_2d};
 use crate::Settings;
 use crate::chart::{LineChart, Series};
 use crate::report::Report;
@@ -59,17 +59,7 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         ));
     }
     let mut rows = Vec::new();
-    let mut series = vec![Series {
-        label: "ANCF reference".into(),
-        points: reference
-            .t
-            .iter()
-            .zip(&reference.tip)
-            .map(|(&t, p)| (t, p[1]))
-            .collect(),
-        dashed: false,
-        colour: 0,
-    }];
+    let mut series = vec![ancf_series(&reference, 1, 1.0)];
     let mut tips = Vec::new();
     for (model, method, scene) in runs {
         eprintln!("   {model}: {method}");
