@@ -124,10 +124,10 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
                 .poses
                 .iter()
                 .flat_map(|f| {
-                    f[k].modes
-                        .iter()
-                        .map(|&y| (scale * y) as f32)
-                        .collect::<Vec<_>>()
+                    shape
+                        .weights(&f[k].modes, scale)
+                        .into_iter()
+                        .map(|w| w as f32)
                 })
                 .collect();
             let output = b.floats(&weights, json::accessor::Type::Scalar, 1, false, None);

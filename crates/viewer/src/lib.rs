@@ -16,8 +16,9 @@
 //!   *Dynamics of Multibody Systems*, 3rd ed., ch. 5; docs/methods.md §1.1). A vertex at
 //!   section offset o from node P moves in mode j by X^t_P,j + X^r_P,j × o (the node's
 //!   translation and small-rotation rows). For a body linear in y this is exact at the
-//!   nodes; the stiffening methods' nonlinear terms (FNL1/FNL2 foreshortening) are not
-//!   drawn;
+//!   nodes. FNL1 and FNL2 stiffen the elastic forces only, so their bodies stay linear in
+//!   y and are drawn exactly so; a foreshortened body (FS0) adds its axial shortening
+//!   −½ ē₁ yᵀF y by morph targets weighted quadratically in y ([`quadratic`]), exact too;
 //! - a beam run rigid is the same tube through its polyline's points, undeformed;
 //! - a beam frame (`flexmbd::fe::frame`) is a tube of each member's section along the
 //!   member's FE nodes, deformed in the same way when it runs flexible;
@@ -40,6 +41,7 @@
 mod builder;
 pub mod glb;
 pub mod page;
+pub mod quadratic;
 pub mod record;
 pub mod shapes;
 pub mod springs;

@@ -14,7 +14,7 @@ use flexmbd::fe::Section;
 use flexmbd::fe::frame;
 use flexmbd::fe::spec::BeamBodySpec;
 use flexmbd::model::{BodyModel, PreparedBody, PreparedScene, Scene};
-use nalgebra::Vector3;
+use nalgebra::{DMatrix, Vector3};
 
 /// A body's mesh in its frame: vertices, normals, triangles and one morph target (vertex
 /// displacements) per modal coordinate.
@@ -28,8 +28,16 @@ pub struct BodyShape {
     pub normals: Vec<Vector3<f64>>,
     /// Triangles (vertex indices, counter-clockwise seen from outside).
     pub triangles: Vec<[u32; 3]>,
-    /// Per mode, the displacement of every vertex (m per unit modal coordinate).
+    /// Per morph target, the displacement of every vertex: first one per mode (m per unit
+    /// modal coordinate), then the [`quadratic`](Self::quadratic) ones of a foreshortened
+    /// body.
     pub targets: Vec<Vec<Vector3<f64>>>,
+    /// The FE node each vertex moves with (`None`: a vertex on no node), the first
+    /// `positions.len()` entries or fewer (the rest on no node).
+    pub vertex_nodes: Vec<Option<usize>>,
+    /// For each target after the modes' (a foreshortened body's, [`crate::quadratic`]), the
+    /// symmetric n × n matrix Q of its weight yᵀ Q y.
+    pub quadratic: Vec<DMatrix<f64>>,
 }
 
 /// A closed section outline: points (a, b) along (ȳ_e, z̄_e) with their outward normals,
@@ -92,6 +100,25 @@ pub fn stick_radius(prepared: &PreparedScene) -> f64 {
 }
 
 impl BodyShape {
+    /// The morph weights of modal coordinates `y` at deformation scale `s`: s y_j for each
+    /// mode's target, then s yᵀ Q y for each quadratic one.
+    pub fn weights(&self, y: &[f64], s: f64) -> Vec<f64> {
+        let n_linear = self.targets.len() - self.quadratic.len();
+        let y_vec = nalgebra::DVector::from_column_slice(y);
+        y[..n_linear]
+            .iter()
+            .map(|&y| s * y)
+            .chain(self.quadratic.iter().map(|q| s * y_vec.dot(&(q * &y_vec))))
+            .collect()
+    }
+
+    /// Note that the vertices from `first` on move with `node` (those before it unset
+    /// stay on no node).
+    fn on_node(&mut self, first: usize, node: Option<usize>) {
+        self.vertex_nodes.resize(first, None);
+        self.vertex_nodes.resize(self.positions.len(), node);
+    }
+
     /// A cylinder of `radius` along the y axis from 0 to 1 (a spring, placed and scaled).
     pub fn cylinder(name: &str, radius: f64) -> BodyShape {
         let mut shape = BodyShape {
@@ -156,6 +183,9 @@ impl BodyShape {
                     }
                 }
                 shape.joints(prepared, body, 1.5 * radius);
+                if let Some(fs) = &body.reduced.foreshortening {
+                    crate::quadratic::foreshorten(&mut shape, fs, body.nodes.n_modes());
+                }
                 shape
             })
             .collect()
@@ -188,7 +218,9 @@ impl BodyShape {
                     })
                 })
                 .collect();
+            let first = self.positions.len();
             self.sphere(centre, radius, &shift);
+            self.on_node(first, node);
         }
     }
 
@@ -293,7 +325,13 @@ impl BodyShape {
                 .collect::<Vec<_>>()
         };
         self.targets.resize(modes, Vec::new());
+        let first = self.positions.len();
         self.tube(&rings, outline, k, &shift);
+        self.vertex_nodes.resize(first, None);
+        for &node in along {
+            let ring = std::iter::repeat_n(Some(node), outline.points.len());
+            self.vertex_nodes.extend(ring);
+        }
     }
 
     /// A beam frame, each member a tube of its section along its FE nodes (named end, the
@@ -362,6 +400,8 @@ impl BodyShape {
         let modes = nodes.n_modes();
         self.targets.resize(modes, Vec::new());
         for (&k, normal) in used.iter().zip(normals) {
+            self.on_node(self.positions.len(), None);
+            self.vertex_nodes.push(Some(k));
             self.positions.push(nodes.position(k));
             self.normals
                 .push(normal.try_normalize(0.0).unwrap_or_else(Vector3::z));
