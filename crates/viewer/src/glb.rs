@@ -193,6 +193,21 @@ pub fn glb(recording: &Recording, scale: f64) -> Vec<u8> {
             b.channel(&mut animation, input, output, node, path);
         }
     }
+    for road in &recording.roads {
+        // Scenery of the ground frame, marked so that the page neither follows nor fits it.
+        let mesh = b.mesh(&road.shape(), [0.32, 0.30, 0.27]);
+        nodes.push(
+            b.root.push(json::Node {
+                name: Some(road.name.clone()),
+                mesh,
+                extras: serde_json::value::to_raw_value(
+                    &serde_json::json!({ "flexmbd": { "ground": true } }),
+                )
+                .ok(),
+                ..Default::default()
+            }),
+        );
+    }
     if !animation.channels.is_empty() {
         b.root.push(animation);
     }

@@ -31,7 +31,8 @@
 //!
 //! Each joint is a sphere at its marker on its body2 (body1 when body2 is the ground),
 //! moving with the FE node it sits on in a flexible body. Spring-dampers and links are grey
-//! cylinders between their markers ([`springs`]); loads and tyres are not drawn. Frames are interpolated linearly
+//! cylinders between their markers ([`springs`]); the roads the tyres roll on are strips of
+//! ground under the wheels ([`roads`]); loads and tyres are not drawn. Frames are interpolated linearly
 //! between output instants (positions, weights; rotations by spherical interpolation).
 //! A run that fails is recorded up to its failure, which is marked in the glTF (asset
 //! `extras.flexmbd`, the animation's name) and on the page.
@@ -43,6 +44,7 @@ pub mod glb;
 pub mod page;
 pub mod quadratic;
 pub mod record;
+pub mod roads;
 pub mod shapes;
 pub mod springs;
 

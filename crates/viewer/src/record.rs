@@ -40,6 +40,8 @@ pub struct Recording {
     pub spring_ends: Vec<Vec<[nalgebra::Vector3<f64>; 2]>>,
     /// A spring's shape: a unit cylinder along y, half as thick as the sticks.
     pub spring_shape: crate::shapes::BodyShape,
+    /// The roads the tyres roll on, with the extent their wheel centres covered.
+    pub roads: Vec<crate::roads::RoadStrip>,
 }
 
 /// Run `scene` to its duration and record a frame every 1 / `frames_per_second` s of
@@ -111,6 +113,7 @@ impl Recording {
                 "spring",
                 0.5 * crate::shapes::stick_radius(sim.prepared()),
             ),
+            roads: crate::roads::RoadStrip::of(sim.prepared()),
         };
         (recording, springs)
     }
@@ -126,6 +129,9 @@ impl Recording {
             .map(|s| s.at(sim.prepared(), &poses))
             .collect();
         self.spring_ends.push(ends);
+        for road in &mut self.roads {
+            road.observe(sim.prepared(), &poses);
+        }
         self.poses.push(poses);
         self.sensors.push(sim.sensors());
     }
