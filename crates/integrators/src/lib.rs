@@ -8,6 +8,7 @@
 pub mod ali3p;
 pub mod arrow_llt;
 mod error;
+mod contraction;
 mod initial;
 mod jacobian_pattern;
 pub mod linearise;

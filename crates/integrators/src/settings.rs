@@ -51,6 +51,13 @@ pub struct Ali3pSettings {
     /// Saves factorisations when f_q changes slowly (large n, mild nonlinearity) at the cost
     /// of extra iterations; off, every iteration refactorises.
     pub reuse_tangent: bool,
+    /// Judge the first Newton iterate by the contraction the steps before measured
+    /// (`crate::contraction`): stop after one correction when the second, as estimated,
+    /// would be within the tolerance. Default: `true`.
+    ///
+    /// `false` judges it by ‖Δq₁‖ itself, so every step whose predictor misses by more than
+    /// the tolerance makes a second iteration.
+    pub first_iterate_from_contraction: bool,
     /// Factorise the leading matrix with its structure where that pays
     /// (`crate::structured`): the arrow form of a tree in relative coordinates (a vehicle's
     /// chassis and corners, [`ARROW_FROM`](crate::arrow_llt::ARROW_FROM) coordinates and
@@ -79,6 +86,7 @@ impl Default for Ali3pSettings {
             accept_phi: 1e-6,
             max_iterations: 20,
             reuse_tangent: false,
+            first_iterate_from_contraction: true,
             structured_factorisation: true,
             profile_every: 8,
         }
