@@ -43,8 +43,8 @@ use std::time::Instant;
 use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
-pub use crate::error::IntegratorError;
 use crate::contraction::Contraction;
+pub use crate::error::IntegratorError;
 use crate::jacobian_pattern::JacobianPattern;
 use crate::lu::{DenseLlt, DenseLu};
 pub use crate::settings::{Ali3pSettings, Stats};

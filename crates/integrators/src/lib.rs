@@ -7,8 +7,8 @@
 
 pub mod ali3p;
 pub mod arrow_llt;
-mod error;
 mod contraction;
+mod error;
 mod initial;
 mod jacobian_pattern;
 pub mod linearise;
