@@ -43,6 +43,7 @@ use std::time::Instant;
 use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
+use crate::contraction::Contraction;
 pub use crate::error::IntegratorError;
 use crate::jacobian_pattern::JacobianPattern;
 use crate::lu::{DenseLlt, DenseLu};
@@ -64,6 +65,9 @@ pub struct Checkpoint {
     have_qdd_prev: bool,
     extrapolate: Vec<bool>,
     pred_err: Vec<(f64, f64)>,
+    /// Newton's contraction of the steps before (`crate::contraction`).
+    #[serde(default)]
+    contraction: Contraction,
 }
 
 impl Checkpoint {
@@ -140,6 +144,8 @@ pub struct Ali3p {
     pred_d: DVector<f64>,
     extrapolate: Vec<bool>,
     pred_err: Vec<(f64, f64)>,
+    /// Newton's contraction of the steps before, for the first iterate's test.
+    contraction: Contraction,
 }
 
 impl Ali3p {
@@ -190,6 +196,7 @@ impl Ali3p {
             pred_d: DVector::zeros(n),
             extrapolate: vec![false; n],
             pred_err: vec![(0.0, 0.0); n],
+            contraction: Contraction::default(),
             settings,
         };
         f.initial_guess(&mut s.q, &mut s.qd);
@@ -218,6 +225,7 @@ impl Ali3p {
             have_qdd_prev: self.have_qdd_prev,
             extrapolate: self.extrapolate.clone(),
             pred_err: self.pred_err.clone(),
+            contraction: self.contraction,
         }
     }
 
@@ -245,6 +253,7 @@ impl Ali3p {
         c.have_qdd_prev = self.have_qdd_prev;
         c.extrapolate.copy_from_slice(&self.extrapolate);
         c.pred_err.copy_from_slice(&self.pred_err);
+        c.contraction = self.contraction;
     }
 
     /// Return to a checkpoint of this integrator, so that the next step is the same step
@@ -272,6 +281,7 @@ impl Ali3p {
         self.have_qdd_prev = c.have_qdd_prev;
         self.extrapolate.copy_from_slice(&c.extrapolate);
         self.pred_err.copy_from_slice(&c.pred_err);
+        self.contraction = c.contraction;
     }
 
     /// The current state (t, q, q̇) with its accelerations q̈, to evaluate the formulation or
@@ -466,6 +476,8 @@ impl Ali3p {
         // on a kept tangent fails to halve the correction (the tangent moved: a contact or a
         // law's breakpoint was crossed).
         let mut full_newton = !self.settings.reuse_tangent;
+        // The first two corrections, when both were full Newton (`crate::contraction`).
+        let (mut first_dq, mut second_dq) = (f64::NAN, None);
         while iterations < self.settings.max_iterations {
             iterations += 1;
             let boost = slow >= 2 && boosts < 2;
@@ -492,11 +504,23 @@ impl Ali3p {
             } else {
                 1.0
             };
-            let error = if theta < 0.5 {
+            let error = if iterations == 1 {
+                first_dq = dq_norm;
+                // The second correction this one would take, as the steps before measured
+                // Newton's contraction; ‖Δq₁‖ itself while they have not.
+                self.settings
+                    .first_iterate_from_contraction
+                    .then(|| self.contraction.first_iterate_error(dq_norm))
+                    .flatten()
+                    .unwrap_or(dq_norm)
+            } else if theta < 0.5 {
                 theta / (1.0 - theta) * dq_norm
             } else {
                 dq_norm
             };
+            if iterations == 2 && refresh && !boost {
+                second_dq = Some(dq_norm);
+            }
             // A kept tangent's slow contraction says nothing about Φ_q's rank.
             if theta >= 0.5 && !refresh {
                 full_newton = true;
@@ -512,6 +536,10 @@ impl Ali3p {
         }
         self.alpha = alpha_step;
         self.stats.newton_iterations += iterations;
+        if let Some(d2) = second_dq {
+            self.contraction.record(first_dq, d2);
+        }
+        self.contraction.step_done(second_dq.is_some());
         if !converged {
             // Accepted only when the iterate has settled: ‖Φ‖∞ and the last correction
             // (relative to the positions) both below `accept_phi`. A Newton iteration that

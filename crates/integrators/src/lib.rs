@@ -7,6 +7,7 @@
 
 pub mod ali3p;
 pub mod arrow_llt;
+mod contraction;
 mod error;
 mod initial;
 mod jacobian_pattern;

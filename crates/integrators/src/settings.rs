@@ -51,6 +51,16 @@ pub struct Ali3pSettings {
     /// Saves factorisations when f_q changes slowly (large n, mild nonlinearity) at the cost
     /// of extra iterations; off, every iteration refactorises.
     pub reuse_tangent: bool,
+    /// Judge the first Newton iterate by the contraction the steps before measured
+    /// (`crate::contraction`): stop after one correction when the second, as estimated,
+    /// would be within the tolerance. Default: `false`.
+    ///
+    /// Saves 14–25 % of the iterations on the Iltis runs, but the steps' errors then reach
+    /// the tolerance where a second iteration left 10⁻⁵ of it, and at a kink of the road the
+    /// steps before do not predict the step's contraction: the rigid vehicle's link forces
+    /// move by 6e-5 of their range from a run at a 10⁴ times tighter tolerance, against
+    /// 1e-7 without it. Off, the first iterate is judged by ‖Δq₁‖ itself.
+    pub first_iterate_from_contraction: bool,
     /// Factorise the leading matrix with its structure where that pays
     /// (`crate::structured`): the arrow form of a tree in relative coordinates (a vehicle's
     /// chassis and corners, [`ARROW_FROM`](crate::arrow_llt::ARROW_FROM) coordinates and
@@ -79,6 +89,7 @@ impl Default for Ali3pSettings {
             accept_phi: 1e-6,
             max_iterations: 20,
             reuse_tangent: false,
+            first_iterate_from_contraction: false,
             structured_factorisation: true,
             profile_every: 8,
         }
