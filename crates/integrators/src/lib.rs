@@ -7,6 +7,7 @@
 
 pub mod ali3p;
 pub mod arrow_llt;
+pub mod declared_llt;
 mod error;
 mod initial;
 mod jacobian_pattern;
