@@ -246,7 +246,7 @@ pub trait Formulation {
         true
     }
     /// The non-zero structure of M, K, C and Φ_q, declared when the formulation is compiled
-    /// ([`DeclaredPattern`]); `None` (the default) leaves the integrator on its dense or
+    /// ([`DeclaredPattern`](crate::DeclaredPattern)); `None` (the default) leaves the integrator on its dense or
     /// discovered-structure route.
     fn declared_pattern(&self) -> Option<crate::DeclaredPattern> {
         None
