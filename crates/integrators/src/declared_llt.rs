@@ -35,7 +35,10 @@ use crate::sparse_llt::{SPARSE_FROM, SparseFailure};
 /// is used. Above `crate::sparse_llt::MAX_FILL` (0.2, set for the sparse factorisation of a
 /// densely formed matrix) because here the dense forming, clearing and scanning of n × n
 /// matrices go too: the 12-flexible Iltis vehicle's declared factor is 21 % full (8 394 of
-/// 39 340 entries at n = 280).
+/// 39 340 entries at n = 280). The rigid bump (n = 108) declares a factor over 30 % full,
+/// looser than the 20 % its numbers show (a rigid body's direction term writes only the
+/// columns of its non-zero local components), and at 0.5 it took the declared route and
+/// ran slower: 0.39–0.44 s against 0.32 s (CLI `cpu_seconds`, 3 interleaved runs).
 pub const DECLARED_MAX_FILL: f64 = 0.3;
 
 /// The declared structure of f_q with its sparse Cholesky factorisation.
