@@ -80,6 +80,9 @@ impl Formulation for Absolute {
     fn constant_mass(&self) -> bool {
         both!(self, f => f.constant_mass())
     }
+    fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
+        both!(self, f => f.declared_pattern())
+    }
 }
 
 impl flexmbd_core::Observe for Absolute {

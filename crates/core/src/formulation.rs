@@ -245,6 +245,12 @@ pub trait Formulation {
     fn symmetric_tangent(&self) -> bool {
         true
     }
+    /// The non-zero structure of M, K, C and Φ_q, declared when the formulation is compiled
+    /// ([`DeclaredPattern`](crate::DeclaredPattern)); `None` (the default) leaves the integrator on its dense or
+    /// discovered-structure route.
+    fn declared_pattern(&self) -> Option<crate::DeclaredPattern> {
+        None
+    }
 }
 
 /// The sensors of a compiled scene, read at output instants only: outside the integrator's

@@ -8,11 +8,13 @@
 
 pub mod formulation;
 pub mod kinematics;
+pub mod pattern;
 
 pub use formulation::{
     BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
 };
 pub use kinematics::{ElementReading, FrameMotion, JointReading, MarkerKinematics, SensorQuery};
+pub use pattern::DeclaredPattern;
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};

@@ -44,6 +44,7 @@ use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
 use crate::contraction::Contraction;
+use crate::declared_llt::DeclaredLlt;
 pub use crate::error::IntegratorError;
 use crate::jacobian_pattern::JacobianPattern;
 use crate::lu::{DenseLlt, DenseLu};
@@ -88,6 +89,7 @@ impl Checkpoint {
 enum Factored {
     Llt,
     Structured,
+    Declared,
     Lu,
 }
 
@@ -121,6 +123,9 @@ pub struct Ali3p {
     /// `None` keeps the dense kernels.
     structured: Option<StructuredLlt>,
     structure_decided: bool,
+    /// f_q over the structure the formulation declared (`crate::declared_llt`): formed,
+    /// cleared and factorised sparse; `None` keeps the routes above.
+    declared: Option<DeclaredLlt>,
     /// K and C are state-independent: evaluated once, kept.
     constant_tangents: bool,
     /// M, K and C are all constant: W is formed once (`w_ready` after that).
@@ -180,6 +185,7 @@ impl Ali3p {
             factored: Factored::Lu,
             structured: None,
             structure_decided: false,
+            declared: None,
             constant_tangents: f.constant_tangents(),
             constant_w,
             w_ready: false,
@@ -199,6 +205,11 @@ impl Ali3p {
             contraction: Contraction::default(),
             settings,
         };
+        if s.symmetric && s.settings.structured_factorisation {
+            s.declared = f
+                .declared_pattern()
+                .and_then(|pattern| DeclaredLlt::new(&pattern, n, m));
+        }
         f.initial_guess(&mut s.q, &mut s.qd);
         s.eval(f, Request::ALL);
         let h = s.settings.step;
@@ -314,7 +325,10 @@ impl Ali3p {
         } else {
             req
         };
-        self.terms.clear(req);
+        match &self.declared {
+            Some(declared) => declared.clear(&mut self.terms, req),
+            None => self.terms.clear(req),
+        }
         f.evaluate(State::new(self.t, &self.q, &self.qd), req, &mut self.terms);
         self.stats.evaluations += 1;
         if let Some(t0) = t0 {
@@ -398,6 +412,28 @@ impl Ali3p {
         }
     }
 
+    /// Form and factorise the leading matrix: over the declared structure when there is
+    /// one (`crate::declared_llt`), densely (`form_leading`, `factor_leading`) otherwise or
+    /// when the declared factorisation fails (f_q not positive definite).
+    fn form_and_factor(&mut self) -> Result<(), IntegratorError> {
+        if let Some(declared) = self.declared.as_mut() {
+            let h = self.settings.step;
+            let (a, b) = (0.5 * h, 0.25 * h * h);
+            declared.form(&self.terms, a, b, b * self.alpha);
+            if declared.factor().is_ok() {
+                self.stats.factorizations += 1;
+                self.stats.structured_factorizations += 1;
+                self.factored = Factored::Declared;
+                return Ok(());
+            }
+            declared.lower_into(self.lead.as_mut_slice());
+            self.structure_decided = true;
+            return self.factor_leading();
+        }
+        self.form_leading(self.symmetric);
+        self.factor_leading()
+    }
+
     /// Factorise the leading matrix: Cholesky when symmetric, LU otherwise or as the fallback.
     fn factor_leading(&mut self) -> Result<(), IntegratorError> {
         self.stats.factorizations += 1;
@@ -440,6 +476,9 @@ impl Ali3p {
     }
 
     fn solve_leading(&mut self) {
+        if let (Factored::Declared, Some(declared)) = (self.factored, self.declared.as_mut()) {
+            return declared.solve_in_place(&mut self.rhs);
+        }
         match (self.factored, self.structured.as_mut()) {
             (Factored::Structured, Some(structured)) => structured.solve_in_place(&mut self.rhs),
             (Factored::Llt, _) => self.llt.solve_in_place(&mut self.rhs),
@@ -667,8 +706,7 @@ impl Ali3p {
         self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
         self.rhs *= 0.25 * h * h;
         if refresh {
-            self.form_leading(self.symmetric);
-            self.factor_leading()?;
+            self.form_and_factor()?;
         }
         self.solve_leading();
         if let Some(t0) = t0 {
@@ -782,8 +820,7 @@ impl Ali3p {
         // h²/4 K is the last Newton iteration's: W only weights the (small) correction
         // q̇ − q̇*, so its O(ε_q) change moves q̇ by O(ε_q ‖q̇ − q̇*‖), and the formulation
         // pass it would take (M, Q, K, C at the converged state) is saved.
-        self.form_leading(self.symmetric);
-        self.factor_leading()?;
+        self.form_and_factor()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t, solved for the increment q̇ − q̇* (see
         // `project_increment`).
         self.project_increment(false, c);

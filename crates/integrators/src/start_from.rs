@@ -46,4 +46,7 @@ impl<F: Formulation + ?Sized> Formulation for StartFrom<'_, F> {
     fn symmetric_tangent(&self) -> bool {
         self.inner.symmetric_tangent()
     }
+    fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
+        self.inner.declared_pattern()
+    }
 }

@@ -130,6 +130,29 @@ impl<M> ForceElements<M> {
         })
     }
 
+    /// The marker handles of each element (both ends, a link's axis marker, a load's axis
+    /// markers), element by element: a formulation declares from them which coordinates
+    /// an element's tangents couple (`flexmbd_core::DeclaredPattern`).
+    pub fn markers_of_each(&self) -> Vec<Vec<&M>> {
+        self.elements
+            .iter()
+            .map(|element| match element {
+                Element::SpringDamper(s) => vec![&s.first, &s.second],
+                Element::Link(l) => {
+                    let mut m = vec![&l.first, &l.second];
+                    m.extend(l.axis.as_ref());
+                    m
+                }
+                Element::Tyre(t) => vec![&t.wheel],
+                Element::Load(l) => {
+                    let mut m = vec![&l.at];
+                    m.extend(l.axes.iter());
+                    m
+                }
+            })
+            .collect()
+    }
+
     /// Compile the scene's force elements for a formulation: `marker` maps a marker to the
     /// formulation's handle, `kinematics` at (`q0`, `qd0`) gives the markers' start positions
     /// (for free lengths left to the start); `n_coordinates` bounds the Jacobian columns.

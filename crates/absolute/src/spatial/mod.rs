@@ -85,6 +85,7 @@ mod joints;
 mod kinematics;
 mod lookup;
 mod marker_constraints;
+mod pattern;
 mod sensors;
 
 use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod, NaturalWorkspace};
@@ -170,6 +171,9 @@ impl flexmbd_core::Formulation for Spatial {
     }
     fn symmetric_tangent(&self) -> bool {
         ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
+    }
+    fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
+        Some(self.pattern())
     }
 }
 
