@@ -160,20 +160,10 @@ fn rows_dot_9(l: &[f64], n: usize, yd: &[f64]) -> Matrix3<f64> {
     Matrix3::from_fn(|b, c| dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], yd))
 }
 
-/// `C ẏ` from `lam` (`(C ẏ)_a = Σ_bc ε_abc lam[(b, c)]`).
-#[inline(always)]
-fn c_dot(lam: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(
-        lam[(1, 2)] - lam[(2, 1)],
-        lam[(2, 0)] - lam[(0, 2)],
-        lam[(0, 1)] - lam[(1, 0)],
-    )
-}
-
 impl FlexibleBody {
     /// Route (b) of the spatial relative set with the kinetic energy truncated by `terms`
-    /// (module doc). Skips the work of what is dropped: Sᵃᵇ y (9 n²) unless order 2 or the
-    /// couplings at order 1 need it, G(ω̄) ẏ (3 n²) unless kept.
+    /// (module doc). Skips the work of what is dropped: Sᵃᵇ y (9 n²) unless order 2 (order 1's
+    /// couplings read `C(y) = C(Sᵃ) + [G_a y]`, 3 n²), G(ω̄) ẏ (3 n²) unless kept.
     pub(crate) fn shape_3d_terms<SM, SQ>(
         &self,
         st: &BodyState<'_>,
@@ -190,7 +180,8 @@ impl FlexibleBody {
         let (y, yd) = (st.y, st.y_dot);
         let (wb, ab) = body_frame_motion(st);
         let v0b = st.a.tr_mul(&st.r0_dot());
-        let need_u = n > 0 && (k >= 2 || (k == 1 && cpl));
+        // Sᵃᵇ y (9 n²) only at order 2; order 1's C(y) = C(Sᵃ) + [G_1 y; G_2 y; G_3 y] (3 n²).
+        let need_u = n > 0 && k >= 2;
         // m̄ and P truncated; full L rows (Sᵇ + Sᵇᵃ y) in ws.l when need_u.
         let (mut mb, mut p) = (self.m_u, self.p_u);
         if need_u {
@@ -219,7 +210,7 @@ impl FlexibleBody {
         } else {
             Vector3::zeros()
         };
-        let lam0 = if n > 0 && (k == 1 || (k == 0 && cpl)) {
+        let lam0 = if n > 0 && k == 1 {
             rows_dot_9(&self.sa, n, yd)
         } else {
             Matrix3::zeros()
@@ -240,8 +231,15 @@ impl FlexibleBody {
         let s_kept = if cpl { s_yd } else { Vector3::zeros() };
         let qt = -wb.cross(&wb.cross(&mb)) - wb.cross(&(s_kept + mb_dot)) - self.mass * ab;
         let mut qr = -wb.cross(&(io * wb)) - io_dot * wb - mb.cross(&ab);
-        if cpl {
-            qr -= wb.cross(&c_dot(if k == 0 { &lam0 } else { &laml }));
+        if cpl && n > 0 {
+            // C(y) rows into ws.c, then C ẏ.
+            c_rows(n, if k >= 2 { &ws.l } else { &self.sa }, &mut ws.c);
+            if k == 1 {
+                for (cj, row) in ws.c.iter_mut().zip(self.g.chunks_exact(n)) {
+                    *cj += dot(row, y);
+                }
+            }
+            qr -= wb.cross(&crate::shape::rows_dot_3(&ws.c, n, yd));
         }
         if (k >= 1) != cpl {
             let sign = if k >= 1 { 1.0 } else { -1.0 };
@@ -286,8 +284,6 @@ impl FlexibleBody {
             qy[j] = v;
         }
         if cpl {
-            let lc: &[f64] = if k == 0 { &self.sa } else { &ws.l };
-            c_rows(n, lc, &mut ws.c);
             self.write_shape_couplings(
                 &st.a, &st.r0, &self.s, &ws.c, &mut ws.ax, &mut ws.wy, m_out,
             );
