@@ -3,9 +3,12 @@
 //! (4 modes) and 3D (8 modes). Target (issue 3): the 3D shape-integral evaluation
 //! with 8 modes in ≤ 2 µs, independent of the element count; the B-matrix route
 //! linear in the number of cloud points.
+//!
+//! `inertia_terms_*`: the shape-integral route of one beam (16 elements) with terms dropped
+//! (issue 31, `flexmbd_body::InertiaTerms`): the CPU per evaluation should fall with each.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use flexmbd::body::{FlexibleBody, InertiaMethod};
+use flexmbd::body::{FlexibleBody, InertiaMethod, InertiaTerms};
 use flexmbd::core::Dim;
 use flexmbd::fe::reduce;
 use flexmbd_test_support::samples::{Probe, cantilever};
@@ -40,5 +43,34 @@ fn inertia(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, inertia);
+fn inertia_terms(c: &mut Criterion) {
+    for (dim, modes, label) in [
+        (Dim::Planar, 8, "inertia_terms_2d_8modes"),
+        (Dim::Spatial, 8, "inertia_terms_3d_8modes"),
+        (Dim::Spatial, 16, "inertia_terms_3d_16modes"),
+    ] {
+        let mut group = c.benchmark_group(label);
+        let reduced = reduce(&cantilever(dim, 16, modes)).expect("fixture reduces");
+        for name in ["full", "o2-nv", "o1", "o1-nc", "o0", "o0-nc"] {
+            let terms = InertiaTerms::parse(name).expect("a label");
+            let mut body = FlexibleBody::new(&reduced).expect("fixture body");
+            body.set_inertia_terms(terms, "bench")
+                .expect("a linear body");
+            let nc = body.n_coords();
+            let probe = Probe::new(dim, body.n_modes());
+            let state = probe.state();
+            let (mut m, mut q) = (DMatrix::zeros(nc, nc), DVector::zeros(nc));
+            group.bench_function(name, |b| {
+                b.iter(|| {
+                    let method = InertiaMethod::ShapeIntegrals;
+                    body.inertia(std::hint::black_box(&state), method, &mut m, &mut q);
+                    std::hint::black_box(&m);
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, inertia, inertia_terms);
 criterion_main!(benches);

@@ -60,6 +60,7 @@ mod natural_points;
 mod node_rows;
 mod shape;
 mod state;
+mod terms;
 
 pub use elastic::{ElasticModel, ElasticTangents, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
@@ -75,6 +76,7 @@ pub(crate) use layout::{
     write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
 };
 pub use state::BodyState;
+pub use terms::InertiaTerms;
 
 use nalgebra::{DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector3};
 use serde::{Deserialize, Serialize};
@@ -183,6 +185,8 @@ pub struct FlexibleBody {
     workspace: Option<Box<Workspace>>,
     /// FS0 data (docs/methods.md §6.3), when the body is foreshortened.
     pub(crate) fs: Option<foreshortening::Foreshortening>,
+    /// The inertia terms kept (issue 31; `terms.rs`), all by default.
+    terms: InertiaTerms,
 }
 
 impl FlexibleBody {
@@ -237,7 +241,36 @@ impl FlexibleBody {
                 n,
                 reduced.foreshortening.is_some(),
             ))),
+            terms: InertiaTerms::FULL,
         })
+    }
+
+    /// Keep only `terms` of the inertia terms (issue 31; the truncated kinetic energy of
+    /// `terms.rs`), for route (b) in the relative set. Refused, naming `field`, for an order
+    /// above 2 and for a foreshortened body (FS0's hatted moments have no truncated form here).
+    /// The B-matrix route and the natural set ignore the choice: a formulation that runs them
+    /// refuses a truncated body when it is built.
+    pub fn set_inertia_terms(
+        &mut self,
+        terms: InertiaTerms,
+        field: &str,
+    ) -> Result<(), InvalidValue> {
+        terms.check(field)?;
+        if !terms.is_full() && self.fs.is_some() {
+            return Err(InvalidValue::new(
+                field,
+                terms,
+                "inertia terms cannot be dropped from a foreshortened (FS0) body: its hatted \
+                 moments have no truncated form; keep every term or choose another stiffening",
+            ));
+        }
+        self.terms = terms;
+        Ok(())
+    }
+
+    /// The inertia terms kept (all unless [`set_inertia_terms`](Self::set_inertia_terms)).
+    pub fn inertia_terms(&self) -> InertiaTerms {
+        self.terms
     }
 
     /// Planar or spatial.
@@ -324,7 +357,14 @@ impl FlexibleBody {
         let ws = workspace.as_mut();
         // Linear spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body
         // keeps their x, y, θz rows); linear planar bodies the lean planar ones.
+        let terms = self.terms;
         match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) if !terms.is_full() => {
+                self.shape_2d_terms(state, terms, ws, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, Dim::Spatial, false) if !terms.is_full() => {
+                self.shape_3d_terms(state, terms, ws, m_out, qv_out)
+            }
             (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
                 self.shape_2d(state, ws, m_out, qv_out)
             }

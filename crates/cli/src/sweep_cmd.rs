@@ -7,7 +7,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use flexmbd::body::InertiaMethod;
+use flexmbd::body::{InertiaMethod, InertiaTerms};
 use flexmbd::model::{FormulationKind, Scene};
 use flexmbd::sweep::{
     Axis, Grid, Reference, ReferenceKind, RunRecord, RunStatus, Sweep, SweepError, SweepReport,
@@ -144,10 +144,14 @@ fn parse_axis(arg: &str) -> Result<Axis, String> {
             body,
             counts: values(name, list, count)?,
         },
+        ("terms", _) => Axis::Terms {
+            body,
+            terms: values(name, list, InertiaTerms::parse)?,
+        },
         ("step", None) => Axis::Step(values(name, list, |v| v.parse::<f64>().ok())?),
         _ => {
             return Err(format!(
-                "--grid {arg}: unknown axis `{name}` (axes: formulation, inertia, stiffening, modes[.BODY], basis[.BODY], elements[.BODY], step)"
+                "--grid {arg}: unknown axis `{name}` (axes: formulation, inertia, stiffening, modes[.BODY], basis[.BODY], elements[.BODY], terms[.BODY], step)"
             ));
         }
     };
@@ -532,6 +536,16 @@ mod tests {
             Axis::Elements {
                 body: None,
                 counts: vec![10, 20],
+            },
+            Axis::Terms {
+                body: None,
+                terms: ["full", "o2-nv", "o1", "o1-nc", "o0", "o0-nv-nc"]
+                    .map(|l| InertiaTerms::parse(l).unwrap())
+                    .to_vec(),
+            },
+            Axis::Terms {
+                body: Some("beam".into()),
+                terms: vec![InertiaTerms::FULL],
             },
             Axis::Step(vec![2e-3, 1e-3, 5e-4, 1.0 / 3.0 * 1e-3]),
         ];

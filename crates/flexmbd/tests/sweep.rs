@@ -141,3 +141,40 @@ fn a_set_stop_flag_interrupts_the_sweep_and_keeps_no_half_run() {
     assert_eq!(errors(&whole), errors(&plain));
     assert!(whole.runs.iter().all(|r| r.status == RunStatus::Ok));
 }
+
+/// The inertia terms as an axis (issue 31): each choice reaches the beam through its
+/// `--set` overrides, the full model (the first value) is the converged reference, and
+/// dropping terms shows as an error against it.
+#[test]
+fn inertia_terms_are_an_axis() {
+    use flexmbd::body::InertiaTerms;
+    use flexmbd::model::FormulationKind;
+    let terms = ["full", "o1", "o0-nc"].map(|l| InertiaTerms::parse(l).unwrap());
+    let axes = vec![
+        Axis::Formulation(vec![FormulationKind::Relative]),
+        Axis::Terms {
+            body: None,
+            terms: terms.to_vec(),
+        },
+        Axis::Step(vec![1e-3]),
+    ];
+    let report = spin_up(Reference::Converged, axes).run().unwrap();
+    let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "relative terms=full h=0.001",
+            "relative terms=o1 h=0.001",
+            "relative terms=o0-nc h=0.001"
+        ]
+    );
+    assert!(report.runs.iter().all(|r| r.status == RunStatus::Ok));
+    assert_eq!(report.runs[0].error, 0.0);
+    assert!(report.runs[1].error > 0.0 && report.runs[2].error > 0.0);
+    let args = report.runs[2].args.join(" ");
+    assert!(
+        args.contains("--set bodies.beam.inertia_terms.order=0")
+            && args.contains("--set bodies.beam.inertia_terms.coupling=false"),
+        "{args}"
+    );
+}

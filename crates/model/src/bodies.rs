@@ -12,7 +12,9 @@ use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
 use flexmbd_stiffening::Nonlinear;
 
 use crate::error::ModelError;
-use crate::scene::{Body, BodyModel, ImportedBodySpec, ImportedFrame, Scene, Stiffening};
+use crate::scene::{
+    Body, BodyModel, FormulationKind, ImportedBodySpec, ImportedFrame, Scene, Stiffening,
+};
 
 /// The preprocessed form of one scene body.
 #[derive(Clone, Debug)]
@@ -49,6 +51,7 @@ impl Scene {
             .map(|(i, b)| {
                 let mut prepared = self.prepare_body(i, b)?;
                 self.install_stiffening(&mut prepared)?;
+                self.install_inertia_terms(b, &mut prepared)?;
                 Ok(prepared)
             })
             .collect()
@@ -265,6 +268,44 @@ impl Scene {
             self.install_foreshortening(prepared)?;
         }
         Ok(())
+    }
+}
+
+impl Scene {
+    /// Install `b.inertia_terms` on its run-time body (issue 31). A truncated choice is refused
+    /// by name where it has no meaning or no kernel: a body without modes, the B-matrix route
+    /// (a mass cloud has no named terms), the absolute formulation (not implemented: its modal
+    /// mass `Σ (e_a·e_b) Sᵃᵇ` keeps the quadratic terms in M), and FS0 (by the body).
+    fn install_inertia_terms(
+        &self,
+        b: &Body,
+        prepared: &mut PreparedBody,
+    ) -> Result<(), ModelError> {
+        let terms = b.inertia_terms;
+        if terms.is_full() {
+            return Ok(());
+        }
+        let field = format!("bodies[{}].inertia_terms", b.name);
+        let refuse = |why: &str| Err(self.invalid(InvalidValue::new(&field, terms, why)));
+        if !prepared.flexible || prepared.body.n_modes() == 0 {
+            return refuse("only a flexible body has inertia terms to drop; this one runs rigid");
+        }
+        if self.solver.inertia == flexmbd_body::InertiaMethod::BMatrix {
+            return refuse(
+                "the B-matrix route sums a mass cloud and has no named terms: use \
+                 solver.inertia: ShapeIntegrals to drop terms",
+            );
+        }
+        if self.solver.formulation == FormulationKind::Absolute {
+            return refuse(
+                "the absolute formulation keeps every inertia term (dropping them is \
+                 implemented in the relative formulation): use formulation: Relative",
+            );
+        }
+        prepared
+            .body
+            .set_inertia_terms(terms, &field)
+            .map_err(|e| self.invalid(e))
     }
 }
 

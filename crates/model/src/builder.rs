@@ -176,6 +176,7 @@ impl BodyBuilder {
                 markers: Vec::new(),
                 velocity: Velocity::default(),
                 initial_modes: Vec::new(),
+                inertia_terms: Default::default(),
             },
         }
     }
@@ -235,6 +236,12 @@ impl BodyBuilder {
     /// Initial modal coordinates of a flexible body.
     pub fn initial_modes(mut self, modes: Vec<f64>) -> Self {
         self.body.initial_modes = modes;
+        self
+    }
+
+    /// The inertia terms a flexible body keeps (every term by default).
+    pub fn inertia_terms(mut self, terms: flexmbd_body::InertiaTerms) -> Self {
+        self.body.inertia_terms = terms;
         self
     }
 }

@@ -276,6 +276,7 @@ fn substructure_body(
         markers: substructure_markers(b, n, k, ls, moved),
         velocity,
         initial_modes: Vec::new(),
+        inertia_terms: b.inertia_terms,
     }
 }
 

@@ -2,7 +2,7 @@
 //! will run it. Units are SI throughout (m, kg, s, N, rad); vectors are written
 //! `(x, y)` in 2D scenes and `(x, y, z)` in 3D scenes.
 
-use flexmbd_body::InertiaMethod;
+use flexmbd_body::{InertiaMethod, InertiaTerms};
 use flexmbd_core::Dim;
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
@@ -206,6 +206,11 @@ pub struct Body {
     /// Initial modal coordinates y(0) of a flexible body (the rest are zero).
     #[serde(default)]
     pub initial_modes: Vec<f64>,
+    /// The inertia terms a flexible body keeps (issue 31): `(order: 0|1|2, velocity: bool,
+    /// coupling: bool)`, every term by default; relative formulation, shape integrals
+    /// (`flexmbd_body::InertiaTerms`, docs/design.md "Inertia terms as a model choice").
+    #[serde(default)]
+    pub inertia_terms: InertiaTerms,
 }
 
 fn yes() -> bool {

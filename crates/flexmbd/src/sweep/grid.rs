@@ -7,7 +7,7 @@
 //! A new kind of axis is one more [`Axis`] variant with its [`Setting`]: its arguments
 //! and how it changes the scene.
 
-use flexmbd_body::InertiaMethod;
+use flexmbd_body::{InertiaMethod, InertiaTerms};
 use flexmbd_fe::ModeSelection;
 use flexmbd_model::{BodyModel, FormulationKind, Scene, Stiffening, parse_set};
 
@@ -48,6 +48,15 @@ pub enum Axis {
         /// The counts, each at least 1.
         counts: Vec<usize>,
     },
+    /// The inertia terms kept (`inertia_terms`, issue 31) by the flexible beam body `body`,
+    /// or by every flexible beam body when `None`; values are [`InertiaTerms::label`]s
+    /// (`full`, `o1`, `o0-nc`, ...).
+    Terms {
+        /// The body, or every flexible beam body.
+        body: Option<String>,
+        /// The choices.
+        terms: Vec<InertiaTerms>,
+    },
     /// The time step h (s).
     Step(Vec<f64>),
 }
@@ -81,6 +90,13 @@ pub enum Setting {
         bodies: Vec<String>,
         /// The count.
         count: usize,
+    },
+    /// `--set bodies.BODY.inertia_terms.{order,velocity,coupling}=…`, per body.
+    Terms {
+        /// The bodies.
+        bodies: Vec<String>,
+        /// The choice.
+        terms: InertiaTerms,
     },
     /// `--set solver.step=H`.
     Step(f64),
@@ -166,6 +182,18 @@ impl Setting {
                     )
                 })
                 .collect(),
+            Setting::Terms { bodies, terms } => bodies
+                .iter()
+                .flat_map(|b| {
+                    let path = |f: &str| format!("bodies.{b}.inertia_terms.{f}");
+                    [
+                        set(path("order"), terms.order.to_string()),
+                        set(path("velocity"), terms.velocity.to_string()),
+                        set(path("coupling"), terms.coupling.to_string()),
+                    ]
+                    .concat()
+                })
+                .collect(),
             // `{}` prints the shortest text that reads back as the same f64.
             Setting::Step(h) => set("solver.step".into(), format!("{h}")),
         }
@@ -180,6 +208,7 @@ impl Setting {
             Setting::Modes { count, .. } => format!("modes={count}"),
             Setting::Basis { kind, .. } => format!("basis={}", basis_name(*kind)),
             Setting::Elements { count, .. } => format!("elements={count}"),
+            Setting::Terms { terms, .. } => format!("terms={terms}"),
             Setting::Step(h) => format!("h={h}"),
         }
     }
@@ -286,6 +315,7 @@ impl Axis {
             Axis::Modes { .. } => "modes",
             Axis::Basis { .. } => "basis",
             Axis::Elements { .. } => "elements",
+            Axis::Terms { .. } => "terms",
             Axis::Step(_) => "step",
         }
     }
@@ -308,6 +338,7 @@ impl Axis {
                 (named(body), list(counts, usize::to_string))
             }
             Axis::Basis { body, kinds } => (named(body), list(kinds, |k| basis_name(*k).into())),
+            Axis::Terms { body, terms } => (named(body), list(terms, InertiaTerms::label)),
             // `{}` prints the shortest text that reads back as the same f64.
             Axis::Step(v) => (named(&None), list(v, |h| format!("{h}"))),
         };
@@ -321,6 +352,7 @@ impl Axis {
             Axis::Stiffening(v) => v.len(),
             Axis::Modes { counts, .. } | Axis::Elements { counts, .. } => counts.len(),
             Axis::Basis { kinds, .. } => kinds.len(),
+            Axis::Terms { terms, .. } => terms.len(),
             Axis::Step(v) => v.len(),
         }
     }
@@ -396,6 +428,16 @@ impl Axis {
                     .map(|&count| Setting::Elements {
                         bodies: bodies.clone(),
                         count,
+                    })
+                    .collect()
+            }
+            Axis::Terms { body, terms } => {
+                let bodies = self.bodies(body, scene)?;
+                terms
+                    .iter()
+                    .map(|&terms| Setting::Terms {
+                        bodies: bodies.clone(),
+                        terms,
                     })
                     .collect()
             }
