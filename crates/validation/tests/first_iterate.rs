@@ -11,38 +11,21 @@
 //! accepted first iterate is up to ε_q ‖q‖∞ from its step's solution, where a second
 //! iteration left 10⁻⁵ of that), but by far less than the tolerance allows over the run.
 
-use flexmbd::integrators::{Ali3p, Ali3pSettings, StartFrom, StaticSettings, solve_static};
-use flexmbd::model::FormulationKind;
-use flexmbd_test_support::iltis::vehicle_flexible;
+mod common;
+use common::flexible_vehicle_run;
+use flexmbd::integrators::Ali3pSettings;
 
 /// The vehicle's coordinates after `steps` steps from its moving static start, and the
 /// Newton iterations it took.
 fn run(from_contraction: bool, tol: f64, steps: usize) -> (Vec<f64>, usize) {
-    let scene = flexmbd_test_support::scenes::model_with(
-        "iltis_vehicle.ron",
-        FormulationKind::Relative,
-        &vehicle_flexible(12),
-    );
-    let mut compiled = flexmbd::simulation::compile(&scene).expect("the vehicle compiles");
-    let f = compiled.as_mut();
-    let equilibrium = solve_static(f, 0.0, &StaticSettings::default()).expect("it stands");
-    let (mut q, mut qd) = (equilibrium.q.clone(), equilibrium.q.clone());
-    f.initial_guess(&mut q, &mut qd);
-    let settings = Ali3pSettings {
+    let label = format!("from_contraction = {from_contraction}, tolerance {tol:e}");
+    let settings = |s| Ali3pSettings {
         first_iterate_from_contraction: from_contraction,
         tol_q: tol,
         tol_phi: tol,
-        ..flexmbd::integrator_settings(&scene.solver)
+        ..s
     };
-    let mut start = StartFrom::new(f, equilibrium.q.clone(), qd);
-    let mut integrator = Ali3p::new(&mut start, 0.0, settings).expect("consistent start");
-    for step in 0..steps {
-        if let Err(e) = integrator.step(f) {
-            panic!("from_contraction = {from_contraction}, step {step}: {e}");
-        }
-    }
-    let q = integrator.q.as_slice().to_vec();
-    (q, integrator.stats.newton_iterations)
+    flexible_vehicle_run(&label, settings, steps)
 }
 
 fn largest_difference(a: &[f64], b: &[f64]) -> f64 {

@@ -8,35 +8,16 @@
 //! t = 2.004 s with a singular leading matrix. Now modified Newton crosses the ramp and
 //! ends where full Newton does, to the accuracy of the Newton tolerance.
 
-use flexmbd::integrators::{Ali3p, Ali3pSettings, StartFrom, StaticSettings, solve_static};
-use flexmbd::model::FormulationKind;
-use flexmbd_test_support::iltis::vehicle_flexible;
+mod common;
+use common::flexible_vehicle_run;
+use flexmbd::integrators::Ali3pSettings;
 
 /// The vehicle's coordinates after `steps` steps from its moving static start, with the
 /// tangent kept between iterations or not.
 fn run(reuse_tangent: bool, steps: usize) -> Vec<f64> {
-    let scene = flexmbd_test_support::scenes::model_with(
-        "iltis_vehicle.ron",
-        FormulationKind::Relative,
-        &vehicle_flexible(12),
-    );
-    let mut compiled = flexmbd::simulation::compile(&scene).expect("the vehicle compiles");
-    let f = compiled.as_mut();
-    let equilibrium = solve_static(f, 0.0, &StaticSettings::default()).expect("it stands");
-    let (mut q, mut qd) = (equilibrium.q.clone(), equilibrium.q.clone());
-    f.initial_guess(&mut q, &mut qd);
-    let settings = Ali3pSettings {
-        reuse_tangent,
-        ..flexmbd::integrator_settings(&scene.solver)
-    };
-    let mut start = StartFrom::new(f, equilibrium.q.clone(), qd);
-    let mut integrator = Ali3p::new(&mut start, 0.0, settings).expect("consistent start");
-    for step in 0..steps {
-        if let Err(e) = integrator.step(f) {
-            panic!("reuse_tangent = {reuse_tangent}, step {step}: {e}");
-        }
-    }
-    integrator.q.as_slice().to_vec()
+    let label = format!("reuse_tangent = {reuse_tangent}");
+    let settings = |s| Ali3pSettings { reuse_tangent, ..s };
+    flexible_vehicle_run(&label, settings, steps).0
 }
 
 #[test]
