@@ -1,0 +1,161 @@
+//! The leading matrix of ALI3-P's Newton iterations and projections (docs/methods.md §5.2):
+//! f_q = W + h²/4 Φ_qᵀ α Φ_q with W = M + h/2 C + h²/4 K, formed (its lower triangle when it
+//! is symmetric), factorised by the kernel that pays (the structure the formulation declared,
+//! the arrow or sparse form found at the first factorisation, dense Cholesky, LU as the
+//! fallback) and solved with.
+
+use super::{Ali3p, Factored};
+use crate::error::IntegratorError;
+use crate::structured::{Fallback, StructuredLlt};
+
+impl Ali3p {
+    /// Write W = M + h/2 C + h²/4 K (the leading matrix without the penalty) into `lead`:
+    /// its lower triangle only when `lower_only`, the whole matrix otherwise. Formed in place
+    /// each time, or once into `w` and copied when M, K and C are constant.
+    pub(super) fn form_w(&mut self, lower_only: bool) {
+        let h = self.settings.step;
+        let (a, b) = (0.5 * h, 0.25 * h * h);
+        let n = self.lead.nrows();
+        let tt = &self.terms;
+        let (mass, damping, stiffness) = (
+            tt.mass.as_slice(),
+            tt.damping.as_slice(),
+            tt.stiffness.as_slice(),
+        );
+        // Column j's entries from row `first(j)` down: the lower triangle, or all of it.
+        let first = |j: usize| if lower_only { j } else { 0 };
+        let lead = self.lead.as_mut_slice();
+        if self.constant_w {
+            if !self.w_ready {
+                self.w_ready = true;
+                let w = self.w.as_mut_slice().iter_mut();
+                for (((w, m), c), k) in w.zip(mass).zip(damping).zip(stiffness) {
+                    *w = m + a * c + b * k;
+                }
+            }
+            for j in 0..n {
+                let column = j * n + first(j)..(j + 1) * n;
+                lead[column.clone()].copy_from_slice(&self.w.as_slice()[column]);
+            }
+            return;
+        }
+        for j in 0..n {
+            let column = j * n + first(j)..(j + 1) * n;
+            let terms = mass[column.clone()]
+                .iter()
+                .zip(&damping[column.clone()])
+                .zip(&stiffness[column.clone()]);
+            for (l, ((m, c), k)) in lead[column].iter_mut().zip(terms) {
+                *l = m + a * c + b * k;
+            }
+        }
+    }
+
+    /// Form f_q = W + h²/4 Φ_qᵀ α Φ_q: its lower triangle only when `lower_only` (the
+    /// Cholesky kernels read no more; the strict upper triangle is then stale), the whole
+    /// matrix for the LU.
+    pub(super) fn form_leading(&mut self, lower_only: bool) {
+        self.form_w(lower_only);
+        let h = self.settings.step;
+        let lead = self.lead.as_mut_slice();
+        let (m, n) = self.terms.phi_q.shape();
+        // Φ_qᵀ α Φ_q row by row over Φ_q's non-zero pattern (`JacobianPattern`): natural-
+        // coordinate Jacobians have a handful per row, where a dense product would cost m n².
+        // Column-major slices.
+        let c = 0.25 * h * h * self.alpha;
+        let pq = self.terms.phi_q.as_slice();
+        self.pattern.cover(pq);
+        for r in 0..m {
+            self.nz.clear();
+            self.nz
+                .extend(self.pattern.row(r).iter().map(|&j| (j, pq[r + j * m])));
+            for (k, &(j, vj)) in self.nz.iter().enumerate() {
+                let cj = c * vj;
+                let col = &mut lead[j * n..(j + 1) * n];
+                // `nz` is in increasing j: entries from k on are on or below the diagonal.
+                let rows = if lower_only {
+                    &self.nz[k..]
+                } else {
+                    &self.nz[..]
+                };
+                for &(i, vi) in rows {
+                    col[i] += cj * vi;
+                }
+            }
+        }
+    }
+
+    /// Form and factorise the leading matrix: over the declared structure when there is
+    /// one (`crate::declared_llt`), densely (`form_leading`, `factor_leading`) otherwise or
+    /// when the declared factorisation fails (f_q not positive definite).
+    pub(super) fn form_and_factor(&mut self) -> Result<(), IntegratorError> {
+        if let Some(declared) = self.declared.as_mut() {
+            let h = self.settings.step;
+            let (a, b) = (0.5 * h, 0.25 * h * h);
+            declared.form(&self.terms, a, b, b * self.alpha);
+            if declared.factor().is_ok() {
+                self.stats.factorizations += 1;
+                self.stats.structured_factorizations += 1;
+                self.factored = Factored::Declared;
+                return Ok(());
+            }
+            declared.lower_into(self.lead.as_mut_slice());
+            self.structure_decided = true;
+            return self.factor_leading();
+        }
+        self.form_leading(self.symmetric);
+        self.factor_leading()
+    }
+
+    /// Factorise the leading matrix: Cholesky when symmetric, LU otherwise or as the fallback.
+    pub(super) fn factor_leading(&mut self) -> Result<(), IntegratorError> {
+        self.stats.factorizations += 1;
+        if self.symmetric && !self.structure_decided {
+            self.structure_decided = true;
+            self.structured = self
+                .settings
+                .structured_factorisation
+                .then(|| StructuredLlt::choose(&self.lead))
+                .flatten();
+        }
+        // `structured` is only ever set for a symmetric f_q (above).
+        if let Some(structured) = self.structured.as_mut() {
+            match structured.factor(&self.lead) {
+                Ok(()) => {
+                    self.factored = Factored::Structured;
+                    self.stats.structured_factorizations += 1;
+                    return Ok(());
+                }
+                Err(Fallback::FromNowOn) => self.structured = None,
+                Err(Fallback::ThisTime) => {}
+            }
+        }
+        if self.symmetric && self.llt.factor(&self.lead).is_ok() {
+            self.factored = Factored::Llt;
+            return Ok(());
+        }
+        if self.symmetric {
+            // Not positive definite after all: the LU needs the upper triangle too.
+            self.form_leading(false);
+        }
+        self.factored = Factored::Lu;
+        self.lu.factor(&self.lead).map_err(|e| {
+            self.stats.failed_steps += 1;
+            IntegratorError::Singular {
+                t: self.t,
+                pivot_ratio: e.pivot_ratio,
+            }
+        })
+    }
+
+    pub(super) fn solve_leading(&mut self) {
+        if let (Factored::Declared, Some(declared)) = (self.factored, self.declared.as_mut()) {
+            return declared.solve_in_place(&mut self.rhs);
+        }
+        match (self.factored, self.structured.as_mut()) {
+            (Factored::Structured, Some(structured)) => structured.solve_in_place(&mut self.rhs),
+            (Factored::Llt, _) => self.llt.solve_in_place(&mut self.rhs),
+            _ => self.lu.solve_in_place(&mut self.rhs),
+        }
+    }
+}
