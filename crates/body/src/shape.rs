@@ -69,6 +69,22 @@ pub(crate) fn body_frame_motion(st: &BodyState<'_>) -> (Vector3<f64>, Vector3<f6
     (wb, wb.cross(&v0b))
 }
 
+/// The planar body frame's motion (§2.4 step 3 in the x, y, θz rows): the rotation a,
+/// ω, r0, v̄0 = aᵀṙ0 with ṙ0 = ṡ + ω E r0, and the shift term ā = ω E v̄0 (body components
+/// of ω × ṙ0), E the rotation by +90°.
+#[inline(always)]
+pub(crate) fn planar_frame_motion(
+    st: &BodyState<'_>,
+) -> (Matrix2<f64>, f64, Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+    let a = planar_rotation(&st.a);
+    let w = st.omega.z;
+    let r0 = st.r0.xy();
+    let r0_dot = st.s_dot.xy() + w * Vector2::new(-r0.y, r0.x);
+    let v0b = a.tr_mul(&r0_dot);
+    let ab = w * Vector2::new(-v0b.y, v0b.x);
+    (a, w, r0, v0b, ab)
+}
+
 /// The rows of `C_a = Σ_bc ε_abc (L_b)_c` (3 × n into `c`) from L ((L_b)_a at (3b + a) n):
 /// `C_1 = (L_2)_3 − (L_3)_2`, `C_2 = (L_3)_1 − (L_1)_3`, `C_3 = (L_1)_2 − (L_2)_1`.
 #[inline(always)]
@@ -381,14 +397,8 @@ impl FlexibleBody {
     {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
-        let a = planar_rotation(&st.a);
-        let w = st.omega.z;
-        let r0 = st.r0.xy();
+        let (a, w, r0, _, ab) = planar_frame_motion(st);
         let m = self.mass;
-        // ṙ0 = ṡ + ω E r0 ; ā = ω E v̄0 (body components of ω × ṙ0).
-        let r0_dot = st.s_dot.xy() + w * Vector2::new(-r0.y, r0.x);
-        let v0b = a.tr_mul(&r0_dot);
-        let ab = w * Vector2::new(-v0b.y, v0b.x);
 
         let (mb, s_yd) = self.planar_first_moment(y, yd);
         // I_zz(y) = P̄11 + P̄22 + 2 (S¹_1 + S²_2)·y + y·M_yy y ; h = S¹_1 + S²_2 + M_yy y ;

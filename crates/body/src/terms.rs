@@ -35,8 +35,8 @@
 //! from the ω block, which keeps M̄ positive definite only while the deformation is small
 //! against the body: the formulations fail the step by name when the factorisation fails.
 
-use crate::shape::{body_frame_motion, c_rows};
-use crate::{BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout};
+use crate::shape::{body_frame_motion, c_rows, planar_frame_motion};
+use crate::{BodyState, FlexibleBody, Workspace, dot, relative_layout};
 use crate::{write_modal_rows, write_planar_coupling, write_planar_rigid};
 use crate::{write_relative_couplings, write_relative_rigid};
 use flexmbd_core::InvalidValue;
@@ -314,13 +314,8 @@ impl FlexibleBody {
         let n = self.n;
         let (k, cpl) = (terms.order, terms.coupling);
         let (y, yd) = (st.y, st.y_dot);
-        let a = planar_rotation(&st.a);
-        let w = st.omega.z;
-        let r0 = st.r0.xy();
+        let (a, w, r0, v0b, ab) = planar_frame_motion(st);
         let m = self.mass;
-        let r0_dot = st.s_dot.xy() + w * Vector2::new(-r0.y, r0.x);
-        let v0b = a.tr_mul(&r0_dot);
-        let ab = w * Vector2::new(-v0b.y, v0b.x);
         let e = |v: Vector2<f64>| Vector2::new(-v.y, v.x);
         let cross = |p: Vector2<f64>, q: Vector2<f64>| p.x * q.y - p.y * q.x;
 
