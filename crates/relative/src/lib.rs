@@ -64,6 +64,7 @@ mod inspection;
 mod kinematics;
 mod marker_kinematics;
 mod marker_table;
+mod pattern;
 mod sensors;
 mod system;
 pub mod topology;

@@ -151,6 +151,9 @@ impl flexmbd_core::Formulation for Relative {
         ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
             && self.force_elements.is_empty()
     }
+    fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
+        Some(self.pattern())
+    }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         // Only the work the request needs: positions (and twists) when z changed, velocities
         // and D only for M, Q or c, and when z or ż changed.
