@@ -44,6 +44,7 @@ use flexmbd_core::{Formulation, Request, State, SystemTerms};
 use nalgebra::{DMatrix, DVector};
 
 use crate::contraction::Contraction;
+use crate::declared_entries::DeclaredEntries;
 use crate::declared_llt::DeclaredLlt;
 pub use crate::error::IntegratorError;
 use crate::jacobian_pattern::JacobianPattern;
@@ -125,9 +126,15 @@ pub struct Ali3p {
     /// `None` keeps the dense kernels.
     structured: Option<StructuredLlt>,
     structure_decided: bool,
-    /// f_q over the structure the formulation declared (`crate::declared_llt`): formed,
-    /// cleared and factorised sparse; `None` keeps the routes above.
+    /// The entries the formulation declared (`crate::declared_entries`): only these of M,
+    /// K, C and Φ_q are cleared, and, with `declared_runs`, formed.
+    entries: Option<DeclaredEntries>,
+    /// f_q over the declared structure factorised sparse (`crate::declared_llt`); `None`
+    /// keeps the routes above.
     declared: Option<DeclaredLlt>,
+    /// f_q's declared lower triangle as runs of column-major indices of `lead`, when the
+    /// declared structure is an arrow (`structured` then holds it): W is formed there only.
+    declared_runs: Vec<std::ops::Range<usize>>,
     /// K and C are state-independent: evaluated once, kept.
     constant_tangents: bool,
     /// M, K and C are all constant: W is formed once (`w_ready` after that).
@@ -187,7 +194,9 @@ impl Ali3p {
             factored: Factored::Lu,
             structured: None,
             structure_decided: false,
+            entries: None,
             declared: None,
+            declared_runs: Vec::new(),
             constant_tangents: f.constant_tangents(),
             constant_w,
             w_ready: false,
@@ -208,9 +217,7 @@ impl Ali3p {
             settings,
         };
         if s.symmetric && s.settings.structured_factorisation {
-            s.declared = f
-                .declared_pattern()
-                .and_then(|pattern| DeclaredLlt::new(&pattern, n, m));
+            s.take_declared_structure(f);
         }
         f.initial_guess(&mut s.q, &mut s.qd);
         s.eval(f, Request::ALL);
@@ -327,8 +334,8 @@ impl Ali3p {
         } else {
             req
         };
-        match &self.declared {
-            Some(declared) => declared.clear(&mut self.terms, req),
+        match &self.entries {
+            Some(entries) => entries.clear(&mut self.terms, req),
             None => self.terms.clear(req),
         }
         f.evaluate(State::new(self.t, &self.q, &self.qd), req, &mut self.terms);
@@ -554,7 +561,10 @@ impl Ali3p {
         self.tmp_m.copy_from(&self.lambda);
         self.tmp_m.axpy(self.alpha, &tt.phi, 1.0);
         self.rhs.copy_from(&tt.forces);
-        self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0);
+        match &self.entries {
+            Some(entries) => entries.sub_product(&tt.mass, &self.qdd, &mut self.rhs),
+            None => self.rhs.gemv(-1.0, &tt.mass, &self.qdd, 1.0),
+        }
         self.rhs.gemv_tr(-1.0, &tt.phi_q, &self.tmp_m, 1.0);
         self.rhs *= 0.25 * h * h;
         if refresh {

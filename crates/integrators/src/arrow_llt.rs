@@ -79,20 +79,32 @@ impl ArrowLlt {
     /// The arrow form of `a`'s pattern (lower triangle) if it has a border and at least two
     /// blocks and saves at least half the work of a dense Cholesky; `None` otherwise.
     pub fn detect(a: &DMatrix<f64>) -> Option<Self> {
-        let n = a.nrows();
+        Self::with_coupling(a.nrows(), |i, j| {
+            let (hi, lo) = if i > j { (i, j) } else { (j, i) };
+            a[(hi, lo)] != 0.0
+        })
+    }
+
+    /// The arrow form of a pattern declared when the scene was compiled
+    /// (`lower[i + j n]`: entry (i, j), i ≥ j, of f_q may be non-zero), found as
+    /// [`ArrowLlt::detect`] finds it in a matrix's non-zeros. Entries between blocks are
+    /// then zero by declaration, so no factorisation checks them.
+    pub fn declared(n: usize, lower: &[bool]) -> Option<Self> {
+        let mut arrow = Self::with_coupling(n, |i, j| lower[i.max(j) + i.min(j) * n])?;
+        arrow.between_blocks.clear();
+        Some(arrow)
+    }
+
+    fn with_coupling(n: usize, coupled: impl Fn(usize, usize) -> bool) -> Option<Self> {
         if n < ARROW_FROM {
             return None;
         }
-        let coupled = |i: usize, j: usize| {
-            let (hi, lo) = if i > j { (i, j) } else { (j, i) };
-            a[(hi, lo)] != 0.0
-        };
         let degree: Vec<usize> = (0..n)
             .map(|i| (0..n).filter(|&j| j != i && coupled(i, j)).count())
             .collect();
         let in_border: Vec<bool> = degree.iter().map(|&d| 2 * d > n).collect();
         let border: Vec<usize> = (0..n).filter(|&i| in_border[i]).collect();
-        let blocks = components(n, &in_border, coupled);
+        let blocks = components(n, &in_border, &coupled);
         // No border, no tree: blocks that are uncoupled at the start are usually so by the
         // symmetry of the initial configuration (a beam's two bending planes), which the
         // motion breaks.
@@ -280,7 +292,7 @@ impl ArrowLlt {
 }
 
 /// Increasing indices as runs of consecutive ones.
-fn runs(indices: impl Iterator<Item = usize>) -> Vec<std::ops::Range<usize>> {
+pub(crate) fn runs(indices: impl Iterator<Item = usize>) -> Vec<std::ops::Range<usize>> {
     let mut runs: Vec<std::ops::Range<usize>> = Vec::new();
     for k in indices {
         match runs.last_mut() {

@@ -26,9 +26,10 @@ use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use flexmbd_core::{DeclaredPattern, Request, SystemTerms};
+use flexmbd_core::{DeclaredPattern, SystemTerms};
 use nalgebra::DVector;
 
+use crate::declared_entries::DeclaredEntries;
 use crate::sparse_llt::{SPARSE_FROM, SparseFailure};
 
 /// The largest share of a dense factor's n(n+1)/2 entries at which the declared structure
@@ -62,15 +63,10 @@ pub struct DeclaredLlt {
     row_entries: Vec<(usize, usize)>,
     /// Position in the current column of each row (left-looking factorisation).
     position: Vec<usize>,
-    /// Φ_q's declared rows: row r's columns are `jac_cols[jac_ptr[r]..jac_ptr[r + 1]]`.
-    jac_ptr: Vec<usize>,
-    jac_cols: Vec<usize>,
     /// Per row r, the slots of its pairs (k ≤ l of its columns, k outer) in `values`, from
     /// `pair_ptr[r]`.
     pair_ptr: Vec<usize>,
     pair_slot: Vec<usize>,
-    /// Column-major indices of M, K, C's pattern (both triangles), cleared between passes.
-    clear_coupling: Vec<usize>,
     l_values: Vec<f64>,
     /// One right-hand side in the new order.
     work: Vec<f64>,
@@ -81,33 +77,13 @@ pub struct DeclaredLlt {
 impl DeclaredLlt {
     /// Set up for `pattern` of a system of n coordinates and m constraints; `None` when the
     /// sparse factorisation would not pay (module docs) or the pattern does not fit n, m.
-    pub fn new(pattern: &DeclaredPattern, n: usize, m: usize) -> Option<Self> {
-        if n < SPARSE_FROM || pattern.jacobian_rows.len() != m {
+    pub fn new(pattern: &DeclaredPattern, entries: &DeclaredEntries) -> Option<Self> {
+        let n = entries.n();
+        if n < SPARSE_FROM {
             return None;
         }
-        let in_range = |c: &Vec<usize>| c.iter().all(|&j| j < n);
-        if !(pattern.coupled.iter().all(in_range) && pattern.jacobian_rows.iter().all(in_range)) {
-            return None;
-        }
-        let mut lower = pattern.coupling_flags(n);
-        for row in &pattern.jacobian_rows {
-            for &j in row {
-                for &i in row {
-                    lower[i + j * n] = true;
-                }
-            }
-        }
-        let clear_coupling: Vec<usize> = {
-            let flags = pattern.coupling_flags(n);
-            (0..n * n).filter(|&k| flags[k]).collect()
-        };
-        for j in 0..n {
-            lower[j + j * n] = true;
-            for i in 0..j {
-                lower[i + j * n] = false;
-            }
-        }
-        let to_new = fill_reducing_order(n, &lower).ok()?;
+        let (m, lower) = (pattern.jacobian_rows.len(), entries.lower());
+        let to_new = fill_reducing_order(n, lower).ok()?;
         // The lower triangle of P f_q Pᵀ: entry (i, j), i ≥ j, goes to (max, min) of their
         // new places; then the factor's pattern by symbolic elimination (each column's
         // rows below the diagonal couple pairwise in the later columns).
@@ -165,11 +141,8 @@ impl DeclaredLlt {
             row_entries.extend(list);
             row_ptr.push(row_entries.len());
         }
-        let (mut jac_ptr, mut jac_cols) = (vec![0], Vec::new());
         let (mut pair_ptr, mut pair_slot) = (vec![0], Vec::new());
         for row in &pattern.jacobian_rows {
-            jac_cols.extend_from_slice(row);
-            jac_ptr.push(jac_cols.len());
             for (k, &j) in row.iter().enumerate() {
                 for &i in &row[k..] {
                     // Lower-triangle entry (i, j): i ≥ j as the row is increasing.
@@ -191,11 +164,8 @@ impl DeclaredLlt {
             row_ptr,
             row_entries,
             position: vec![0; n],
-            jac_ptr,
-            jac_cols,
             pair_ptr,
             pair_slot,
-            clear_coupling,
             work: vec![0.0; n],
             row_values: Vec::with_capacity(n),
         })
@@ -206,44 +176,9 @@ impl DeclaredLlt {
         self.row_idx.len()
     }
 
-    /// Set to zero the terms `req` asks for, as [`SystemTerms::clear`] does, but of M, K,
-    /// C and Φ_q only the declared entries (the formulation writes no others).
-    pub fn clear(&self, terms: &mut SystemTerms, req: Request) {
-        if req.dynamics {
-            let mass = terms.mass.as_mut_slice();
-            for &k in &self.clear_coupling {
-                mass[k] = 0.0;
-            }
-            terms.forces.as_mut_slice().fill(0.0);
-            if req.tangents {
-                let (stiffness, damping) =
-                    (terms.stiffness.as_mut_slice(), terms.damping.as_mut_slice());
-                for &k in &self.clear_coupling {
-                    stiffness[k] = 0.0;
-                    damping[k] = 0.0;
-                }
-            }
-        }
-        if req.constraints {
-            terms.phi.as_mut_slice().fill(0.0);
-        }
-        if req.jacobian {
-            let (m, phi_q) = (self.m, terms.phi_q.as_mut_slice());
-            for r in 0..m {
-                for &j in &self.jac_cols[self.jac_ptr[r]..self.jac_ptr[r + 1]] {
-                    phi_q[r + j * m] = 0.0;
-                }
-            }
-            terms.phi_t.as_mut_slice().fill(0.0);
-        }
-        if req.accel_term {
-            terms.accel_term.as_mut_slice().fill(0.0);
-        }
-    }
-
     /// Form f_q = M + a C + b K + c Φ_qᵀ Φ_q (a = h/2, b = h²/4, c = h²α/4) over the
     /// pattern, entry for entry as the dense forming does.
-    pub fn form(&mut self, terms: &SystemTerms, a: f64, b: f64, c: f64) {
+    pub fn form(&mut self, entries: &DeclaredEntries, terms: &SystemTerms, a: f64, b: f64, c: f64) {
         let (mass, damping, stiffness) = (
             terms.mass.as_slice(),
             terms.damping.as_slice(),
@@ -255,7 +190,7 @@ impl DeclaredLlt {
         }
         let (m, pq) = (self.m, terms.phi_q.as_slice());
         for r in 0..m {
-            let columns = &self.jac_cols[self.jac_ptr[r]..self.jac_ptr[r + 1]];
+            let columns = entries.jacobian_row(r);
             self.row_values.clear();
             self.row_values
                 .extend(columns.iter().map(|&j| pq[r + j * m]));
@@ -417,9 +352,10 @@ mod tests {
             + a * &terms.damping
             + b * &terms.stiffness
             + c * terms.phi_q.transpose() * &terms.phi_q;
-        let mut llt = DeclaredLlt::new(&pattern, n, terms.phi.len()).expect("sparse pays");
+        let entries = DeclaredEntries::new(&pattern, n, terms.phi.len()).unwrap();
+        let mut llt = DeclaredLlt::new(&pattern, &entries).expect("sparse pays");
         assert!(llt.factor_entries() < n * (n + 1) / 5);
-        llt.form(&terms, a, b, c);
+        llt.form(&entries, &terms, a, b, c);
         let mut lower = DMatrix::zeros(n, n);
         llt.lower_into(lower.as_mut_slice());
         for j in 0..n {
@@ -439,10 +375,15 @@ mod tests {
         let (pattern, mut terms) = chain(8, 14);
         let n = terms.mass.nrows();
         terms.mass[(50, 50)] = -5.0;
-        let mut llt = DeclaredLlt::new(&pattern, n, terms.phi.len()).unwrap();
-        llt.form(&terms, 0.0, 0.0, 1.0);
+        let entries = DeclaredEntries::new(&pattern, n, terms.phi.len()).unwrap();
+        let mut llt = DeclaredLlt::new(&pattern, &entries).unwrap();
+        llt.form(&entries, &terms, 0.0, 0.0, 1.0);
         assert!(llt.factor().is_err());
         let (small, terms) = chain(4, 14);
-        assert!(DeclaredLlt::new(&small, terms.mass.nrows(), terms.phi.len()).is_none());
+        assert!(
+            DeclaredEntries::new(&small, terms.mass.nrows(), terms.phi.len())
+                .and_then(|entries| DeclaredLlt::new(&small, &entries))
+                .is_none()
+        );
     }
 }

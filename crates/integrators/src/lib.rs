@@ -8,6 +8,7 @@
 pub mod ali3p;
 pub mod arrow_llt;
 mod contraction;
+pub mod declared_entries;
 pub mod declared_llt;
 mod error;
 mod initial;

@@ -5,10 +5,37 @@
 //! fallback) and solved with.
 
 use super::{Ali3p, Factored};
+use crate::arrow_llt::ArrowLlt;
+use crate::declared_entries::DeclaredEntries;
+use crate::declared_llt::DeclaredLlt;
 use crate::error::IntegratorError;
 use crate::structured::{Fallback, StructuredLlt};
+use flexmbd_core::Formulation;
 
 impl Ali3p {
+    /// Take the structure `f` declares, if any, for the run (issue 26 item 2): its arrow
+    /// form when that pays (blocks of a tree's branches and the root's border, factorised by
+    /// `crate::arrow_llt` with W formed on the declared entries only), else the sparse
+    /// Cholesky over it when that pays (`crate::declared_llt`), else neither (the entries are
+    /// still what is cleared between passes).
+    pub(super) fn take_declared_structure<F: Formulation + ?Sized>(&mut self, f: &F) {
+        let (n, m) = (self.q.len(), self.lambda.len());
+        let Some(pattern) = f.declared_pattern() else {
+            return;
+        };
+        let Some(entries) = DeclaredEntries::new(&pattern, n, m) else {
+            return;
+        };
+        if let Some(arrow) = ArrowLlt::declared(n, entries.lower()) {
+            self.structured = Some(StructuredLlt::Arrow(arrow));
+            self.structure_decided = true;
+            self.declared_runs = entries.lower_runs();
+        } else {
+            self.declared = DeclaredLlt::new(&pattern, &entries);
+        }
+        self.entries = Some(entries);
+    }
+
     /// Write W = M + h/2 C + h²/4 K (the leading matrix without the penalty) into `lead`:
     /// its lower triangle only when `lower_only`, the whole matrix otherwise. Formed in place
     /// each time, or once into `w` and copied when M, K and C are constant.
@@ -36,6 +63,18 @@ impl Ali3p {
             for j in 0..n {
                 let column = j * n + first(j)..(j + 1) * n;
                 lead[column.clone()].copy_from_slice(&self.w.as_slice()[column]);
+            }
+            return;
+        }
+        if lower_only && !self.declared_runs.is_empty() {
+            for run in &self.declared_runs {
+                let terms = mass[run.clone()]
+                    .iter()
+                    .zip(&damping[run.clone()])
+                    .zip(&stiffness[run.clone()]);
+                for (l, ((m, c), k)) in lead[run.clone()].iter_mut().zip(terms) {
+                    *l = m + a * c + b * k;
+                }
             }
             return;
         }
@@ -89,10 +128,10 @@ impl Ali3p {
     /// one (`crate::declared_llt`), densely (`form_leading`, `factor_leading`) otherwise or
     /// when the declared factorisation fails (f_q not positive definite).
     pub(super) fn form_and_factor(&mut self) -> Result<(), IntegratorError> {
-        if let Some(declared) = self.declared.as_mut() {
+        if let (Some(declared), Some(entries)) = (self.declared.as_mut(), self.entries.as_ref()) {
             let h = self.settings.step;
             let (a, b) = (0.5 * h, 0.25 * h * h);
-            declared.form(&self.terms, a, b, b * self.alpha);
+            declared.form(entries, &self.terms, a, b, b * self.alpha);
             if declared.factor().is_ok() {
                 self.stats.factorizations += 1;
                 self.stats.structured_factorizations += 1;
