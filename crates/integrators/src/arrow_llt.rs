@@ -236,12 +236,7 @@ impl ArrowLlt {
             let w = w_t.as_slice();
             for j in 0..self.border.len() {
                 for i in j..self.border.len() {
-                    let dot: f64 = w[i * s..(i + 1) * s]
-                        .iter()
-                        .zip(&w[j * s..(j + 1) * s])
-                        .map(|(x, y)| x * y)
-                        .sum();
-                    self.schur[(i, j)] -= dot;
+                    self.schur[(i, j)] -= dot(&w[i * s..(i + 1) * s], &w[j * s..(j + 1) * s]);
                 }
             }
         }
@@ -263,12 +258,7 @@ impl ArrowLlt {
             forward(self.factors[k].factor_data(), &self.inverse_diagonals[k], y);
             let (s, w) = (block.len(), self.w_t[k].as_slice());
             for i in 0..self.border.len() {
-                let dot: f64 = w[i * s..(i + 1) * s]
-                    .iter()
-                    .zip(y.iter())
-                    .map(|(x, y)| x * y)
-                    .sum();
-                self.y_border[i] -= dot;
+                self.y_border[i] -= dot(&w[i * s..(i + 1) * s], y);
             }
         }
         self.schur_factor.solve_in_place(&mut self.y_border);
@@ -316,6 +306,25 @@ fn arrow_work(blocks: &[Vec<usize>], r: usize) -> f64 {
         + r * r * r / 3.0
 }
 
+/// The dot product of `a` and `b` (equal lengths) in four interleaved partial sums, added
+/// pairwise at the end: the sums of a block's rows and of the border's are a block's
+/// length long (28 on the 12-flexible vehicle), and one running sum would wait on each
+/// addition's latency in turn. The order is fixed, so the result is the same bits every run.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (a_rest, b_rest) = (a4.remainder(), b4.remainder());
+    let mut sums = [0.0; 4];
+    for (x, y) in a4.zip(b4) {
+        for ((sum, x), y) in sums.iter_mut().zip(x).zip(y) {
+            *sum += x * y;
+        }
+    }
+    for ((sum, x), y) in sums.iter_mut().zip(a_rest).zip(b_rest) {
+        *sum += x * y;
+    }
+    (sums[0] + sums[2]) + (sums[1] + sums[3])
+}
+
 /// L y = b in place for L column-major (s × s, lower triangle) with the reciprocals of its
 /// diagonal.
 fn forward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
@@ -333,11 +342,7 @@ fn forward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
 fn backward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
     let s = y.len();
     for j in (0..s).rev() {
-        let mut sum = y[j];
-        for (v, x) in l[j * s + j + 1..(j + 1) * s].iter().zip(&y[j + 1..]) {
-            sum -= v * x;
-        }
-        y[j] = sum * inverse_diagonal[j];
+        y[j] = (y[j] - dot(&l[j * s + j + 1..(j + 1) * s], &y[j + 1..])) * inverse_diagonal[j];
     }
 }
 
