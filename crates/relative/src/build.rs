@@ -11,6 +11,7 @@ use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Vector3, Vector6};
 
+use crate::body_kernels::BodyKernel;
 use crate::constraints::Constraint;
 use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constraints};
 use crate::kinematics::angle_of;
@@ -206,7 +207,8 @@ impl Relative {
     }
 }
 
-/// The run-time bodies with their body terms sized (rigid_size + n_modes).
+/// The run-time bodies, each with its kernel (rigid in closed form, or flexible with its
+/// body terms sized rigid_size + n_modes).
 fn run_time_bodies(
     infos: &[BodyInfo],
     flex: Vec<FlexibleBody>,
@@ -216,17 +218,12 @@ fn run_time_bodies(
 ) -> Vec<RunTimeBody> {
     let mut bodies = Vec::new();
     for (k, (info, body)) in infos.iter().zip(flex).enumerate() {
-        let nc = rigid_size + info.n_modes;
         bodies.push(RunTimeBody {
-            body,
+            kernel: BodyKernel::new(body, info.n_modes, rigid_size),
             frame: body_frame[k],
             n_modes: info.n_modes,
             first_mode: first_mode[k],
             node_rows: info.node_rows.clone(),
-            m_bar: DMatrix::zeros(nc, nc),
-            q_bar: DVector::zeros(nc),
-            gravity_forces: vec![0.0; nc],
-            elastic_forces: vec![0.0; info.n_modes],
         });
     }
     bodies

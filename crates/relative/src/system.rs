@@ -13,12 +13,13 @@
 //! and Q. M_w is never cleared (its structural non-zeros are rewritten every pass) and
 //! its z × z block is written into M in place.
 
-use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod};
+use flexmbd_body::{ElasticTangents, InertiaMethod};
 use flexmbd_core::{Coordinates, Dim, Request, State, SystemTerms};
 use flexmbd_model::ModelError;
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
+use crate::body_kernels::BodyKernel;
 use crate::constraints::Constraint;
 use crate::marker_kinematics::MarkerJacobian;
 use crate::marker_table::MarkerTable;
@@ -28,7 +29,8 @@ use flexmbd_body::NodeRows;
 
 /// One body at run time.
 pub(crate) struct RunTimeBody {
-    pub(crate) body: FlexibleBody,
+    /// Its M̄, Q̄ kernel: rigid in closed form, or flexible (`body_kernels.rs`).
+    pub(crate) kernel: BodyKernel,
     /// Its frame in the augmented tree.
     pub(crate) frame: usize,
     /// Number of modal coordinates.
@@ -37,13 +39,6 @@ pub(crate) struct RunTimeBody {
     pub(crate) first_mode: usize,
     /// Its mode rows at its FE nodes (for markers at nodes).
     pub(crate) node_rows: NodeRows,
-    /// M̄_k, Q̄_k in the s form (rigid_size + n_modes).
-    pub(crate) m_bar: DMatrix<f64>,
-    pub(crate) q_bar: DVector<f64>,
-    /// Scratch: the generalized gravity forces (rigid_size + n_modes).
-    pub(crate) gravity_forces: Vec<f64>,
-    /// Scratch: the elastic forces on the modes (n_modes).
-    pub(crate) elastic_forces: Vec<f64>,
 }
 
 /// The semi-recursive relative-coordinate formulation of one scene.
@@ -133,6 +128,15 @@ pub struct Relative {
     pub(crate) marker_table: MarkerTable,
 }
 
+impl Relative {
+    /// The flexible bodies' run-time bodies (rigid bodies have no elastic model to ask).
+    fn flexible_bodies(&self) -> impl Iterator<Item = &flexmbd_body::FlexibleBody> {
+        self.bodies
+            .iter()
+            .filter_map(|b| b.kernel.flexible().map(|f| &f.body))
+    }
+}
+
 /// A scene this formulation cannot run.
 pub(crate) fn unsupported(s: String) -> ModelError {
     ModelError::Unsupported(s)
@@ -143,13 +147,12 @@ impl flexmbd_core::Formulation for Relative {
         &self.coordinates
     }
     fn symmetric_tangent(&self) -> bool {
-        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
+        ElasticTangents::of(self.flexible_bodies()).symmetric
     }
     fn constant_tangents(&self) -> bool {
         // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
         // linear elasticity, state-dependent for the stiffening models.
-        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
-            && self.force_elements.is_empty()
+        ElasticTangents::of(self.flexible_bodies()).linear && self.force_elements.is_empty()
     }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         // Only the work the request needs: positions (and twists) when z changed, velocities
