@@ -121,7 +121,6 @@ impl Relative {
             velocities_zd: DVector::zeros(n_z),
             fixed_identity,
             planar_frames,
-            write_jacobian: true,
             force_elements: ForceElements::default(),
             marker_jacobian: MarkerJacobian::default(),
             marker_table: MarkerTable::default(),

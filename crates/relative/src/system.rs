@@ -97,6 +97,8 @@ pub struct Relative {
     pub(crate) elem_twist: Vec<Vector6<f64>>,
     pub(crate) m_w: DMatrix<f64>,
     pub(crate) q_w: DVector<f64>,
+    /// Φ_w, of which a pass writes only the node-joint columns (w ≥ n_z): the z columns go
+    /// straight into Φ_z.
     pub(crate) phi_w: DMatrix<f64>,
     // Initial state and outputs.
     /// Number, constraint count, z(0) and ż(0), coordinates the integrator holds (none).
@@ -118,8 +120,6 @@ pub struct Relative {
     /// frame rotations then have the form [R 0; 0 1] and the fixed-frame products run
     /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
     pub(crate) planar_frames: bool,
-    /// The current constraint pass writes Φ_w (a Jacobian was requested).
-    pub(crate) write_jacobian: bool,
     /// Spring–dampers and their Jacobian scratch.
     pub(crate) force_elements: ForceElements<Side>,
     /// Scratch of one marker's Jacobian (the force elements' query).
