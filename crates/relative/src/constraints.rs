@@ -19,6 +19,14 @@ use crate::kinematics::{angle_at, dir_at, point_at};
 use crate::system::Relative;
 use crate::topology::Side;
 
+/// Where a constraint's rows start, and how many elementary joints its two sides' paths
+/// share from the root (fixed when the scene is compiled; 0 when a side is the ground).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RowAt {
+    row: usize,
+    shared: usize,
+}
+
 /// The row outputs of a constraint pass besides the Jacobian: Φ, Φ_t and c, and what the
 /// pass asks for.
 pub(crate) struct RowTerms<'a> {
@@ -67,6 +75,18 @@ impl Constraint {
             _ => 1,
         }
     }
+
+    /// Its two sides (none for a driven tree coordinate).
+    pub(crate) fn sides(&self) -> Option<(&Side, &Side)> {
+        match self {
+            Constraint::Point { i, j }
+            | Constraint::Angle2 { i, j, .. }
+            | Constraint::Slide { i, j, .. }
+            | Constraint::Perp { i, j, .. }
+            | Constraint::Distance { i, j, .. } => Some((i, j)),
+            Constraint::Coord { .. } => None,
+        }
+    }
 }
 
 /// Where a constraint pass writes its Jacobian: the z columns straight into Φ_z (which comes
@@ -92,23 +112,59 @@ impl JacobianSink<'_> {
 }
 
 impl Relative {
-    /// Add g·Z_k (and the modal coefficients, by the caller) to row `row` of Φ_w; returns g·D_k.
-    pub(crate) fn body_row(
+    /// Per constraint, the number of elementary joints its two sides' paths share from the
+    /// root (0 when a side is the ground or for a driven coordinate): fixed when the scene is
+    /// compiled, so that a pass walks the shared joints once (allocates: for compiling).
+    pub(crate) fn shared_path_lengths(&self) -> Vec<usize> {
+        self.constraints
+            .iter()
+            .map(|c| match c.sides() {
+                Some((i, j)) if i.body.is_some() && j.body.is_some() => {
+                    let (pi, pj) = (self.path_of(i.body), self.path_of(j.body));
+                    pi.iter().zip(pj).take_while(|(a, b)| a == b).count()
+                }
+                _ => 0,
+            })
+            .collect()
+    }
+
+    /// The path of side `body`'s frame (empty for the ground).
+    #[inline(always)]
+    fn path_of(&self, body: Option<usize>) -> &[usize] {
+        body.map_or(&[][..], |k| &self.paths[self.bodies[k].frame])
+    }
+
+    /// g·D_k of side `body` (0 for the ground).
+    #[inline(always)]
+    fn bias_of(&self, body: Option<usize>, g: &Vector6<f64>) -> f64 {
+        body.map_or(0.0, |k| g.dot(&self.frame_bias[self.bodies[k].frame]))
+    }
+
+    /// Add g_i·Z_i + g_j·Z_j of the two sides' bodies to row `row` of Φ_w (the modal
+    /// coefficients by the caller), walking the `shared` elementary joints the two paths
+    /// start with once, with g_i + g_j; returns g_i·D_i + g_j·D_j.
+    pub(crate) fn pair_row(
         &self,
         jac: &mut JacobianSink<'_>,
         row: usize,
-        body: Option<usize>,
-        g: &Vector6<f64>,
+        shared: usize,
+        (bi, gi): (Option<usize>, &Vector6<f64>),
+        (bj, gj): (Option<usize>, &Vector6<f64>),
     ) -> f64 {
-        let Some(k) = body else { return 0.0 };
-        let f = self.bodies[k].frame;
-        if !jac.write {
-            return g.dot(&self.frame_bias[f]);
+        if jac.write {
+            let (path_i, path_j) = (self.path_of(bi), self.path_of(bj));
+            let gs = gi + gj;
+            for &a in &path_i[..shared] {
+                jac.add(row, self.elem_w[a], gs.dot(&self.elem_twist[a]));
+            }
+            for &a in &path_i[shared..] {
+                jac.add(row, self.elem_w[a], gi.dot(&self.elem_twist[a]));
+            }
+            for &a in &path_j[shared..] {
+                jac.add(row, self.elem_w[a], gj.dot(&self.elem_twist[a]));
+            }
         }
-        for &a in &self.paths[f] {
-            jac.add(row, self.elem_w[a], g.dot(&self.elem_twist[a]));
-        }
-        g.dot(&self.frame_bias[f])
+        self.bias_of(bi, gi) + self.bias_of(bj, gj)
     }
 
     /// Φ, Φ_z, Φ_t and c as the request asks, every constraint in turn (§4.6), at the
@@ -142,29 +198,30 @@ impl Relative {
             req,
         };
         let mut row = 0;
-        for c in &self.constraints {
+        for (c, &shared) in self.constraints.iter().zip(&self.constraint_shared) {
             let rows = &mut rows;
             let jac = &mut jac;
+            let row_at = RowAt { row, shared };
             match c {
-                Constraint::Point { i, j } => self.point_constraint(row, i, j, rows, jac),
+                Constraint::Point { i, j } => self.point_constraint(row_at, i, j, rows, jac),
                 Constraint::Angle2 {
                     i,
                     j,
                     psi0,
                     law,
                     sign,
-                } => self.angle_constraint(row, (i, j), *psi0, law.eval(t), *sign, rows, jac),
+                } => self.angle_constraint(row_at, (i, j), *psi0, law.eval(t), *sign, rows, jac),
                 Constraint::Slide { i, nbar, j } => {
-                    self.slide_constraint(row, i, nbar, j, rows, jac)
+                    self.slide_constraint(row_at, i, nbar, j, rows, jac)
                 }
                 Constraint::Perp { i, abar, j, bbar } => {
-                    self.perp_constraint(row, (i, abar), (j, bbar), rows, jac)
+                    self.perp_constraint(row_at, (i, abar), (j, bbar), rows, jac)
                 }
                 Constraint::Coord { z, law, sign } => {
                     self.coord_constraint(row, *z, law.eval(t), *sign, rows, jac)
                 }
                 Constraint::Distance { i, j, length } => {
-                    self.distance_constraint(row, (i, j), *length, rows, jac)
+                    self.distance_constraint(row_at, (i, j), *length, rows, jac)
                 }
             }
             row += c.rows(self.dim);
@@ -185,7 +242,7 @@ impl Relative {
     /// r_i − r_j = 0: rows `row..row + n_trans`.
     fn point_constraint(
         &self,
-        row: usize,
+        RowAt { row, shared }: RowAt,
         i: &Side,
         j: &Side,
         rows: &mut RowTerms<'_>,
@@ -200,6 +257,17 @@ impl Relative {
             }
         }
         if rows.req.jacobian || rows.req.accel_term {
+            if jac.write {
+                // The shared joints move both points: their columns are ω_a × (r_i − r_j).
+                let (path_i, path_j) = (self.path_of(i.body), self.path_of(j.body));
+                let rij = pi - pj;
+                for &a in &path_i[..shared] {
+                    let u = self.elem_twist[a].fixed_rows::<3>(3).cross(&rij);
+                    self.add_point_column(jac, row, self.elem_w[a], &u);
+                }
+                self.point_columns_from(jac, row, &path_i[shared..], &pi, 1.0);
+                self.point_columns_from(jac, row, &path_j[shared..], &pj, -1.0);
+            }
             let bias = self.point_rows(jac, row, i, &pi, &vi, 1.0)
                 - self.point_rows(jac, row, j, &pj, &vj, -1.0);
             if rows.req.accel_term {
@@ -210,11 +278,37 @@ impl Relative {
         }
     }
 
+    /// Column w of the point rows `row..row + n_trans`: += u.
+    #[inline(always)]
+    fn add_point_column(&self, jac: &mut JacobianSink<'_>, row: usize, w: usize, u: &Vector3<f64>) {
+        for c in 0..self.dim.n_trans() {
+            jac.add(row + c, w, u[c]);
+        }
+    }
+
+    /// The columns of a point p per unit rate of the elementary joints `path`,
+    /// u_a = ṡ_a + ω_a × p, signed by `sg`, into rows `row..row + n_trans`.
+    fn point_columns_from(
+        &self,
+        jac: &mut JacobianSink<'_>,
+        row: usize,
+        path: &[usize],
+        p: &Vector3<f64>,
+        sg: f64,
+    ) {
+        for &a in path {
+            let elem_twist = &self.elem_twist[a];
+            let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
+            self.add_point_column(jac, row, self.elem_w[a], &(sg * u));
+        }
+    }
+
     /// 2D: sin(θ_j − θ_i − ψ₀ − s θ(t)) = 0, the sides given as (i, j), the law's
     /// (θ, θ̇, θ̈) at t as `drive`.
+    #[allow(clippy::too_many_arguments)]
     fn angle_constraint(
         &self,
-        row: usize,
+        RowAt { row, shared }: RowAt,
         (i, j): (&Side, &Side),
         psi0: f64,
         drive: (f64, f64, f64),
@@ -231,12 +325,11 @@ impl Relative {
             rows.phi[row] = sd;
         }
         if rows.req.jacobian || rows.req.accel_term {
-            let mut g = Vector6::zeros();
-            g[5] = cd;
-            let mut bias = self.body_row(jac, row, j.body, &g);
+            let (mut gi, mut gj) = (Vector6::zeros(), Vector6::zeros());
+            gj[5] = cd;
+            gi[5] = -cd;
+            let bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
             self.rot_modal(jac, row, j, cd);
-            g[5] = -cd;
-            bias += self.body_row(jac, row, i.body, &g);
             self.rot_modal(jac, row, i, -cd);
             let rate = wj - wi - sign * thd;
             if rows.req.jacobian {
@@ -251,7 +344,7 @@ impl Relative {
     /// n · (r_j − r_i) = 0 with n = A_i n̄ fixed at side i.
     fn slide_constraint(
         &self,
-        row: usize,
+        RowAt { row, shared }: RowAt,
         i: &Side,
         nbar: &Vector3<f64>,
         j: &Side,
@@ -267,9 +360,12 @@ impl Relative {
             rows.phi[row] = n.dot(&d);
         }
         if rows.req.jacobian || rows.req.accel_term {
-            let mut bias = self.point_row(jac, row, j, &pj, &vj, &n, 1.0)
-                - self.point_row(jac, row, i, &pi, &vi, &n, -1.0);
-            bias += self.dir_row(jac, row, i, nbar, &n, &nd, &d);
+            let (gj, rest_j) = self.point_side(jac, row, j, &pj, &vj, &n, 1.0);
+            let (gi_point, rest_i) = self.point_side(jac, row, i, &pi, &vi, &n, -1.0);
+            let (gi_dir, rest_dir) = self.dir_side(jac, row, i, nbar, &n, &nd, &d);
+            let gi = gi_point + gi_dir;
+            let mut bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
+            bias += rest_j - rest_i + rest_dir;
             bias += 2.0 * nd.dot(&dd);
             if rows.req.accel_term {
                 rows.accel_term[row] = bias;
@@ -280,7 +376,7 @@ impl Relative {
     /// a · b = 0, a = A_i ā fixed at side i, b = A_j b̄ at side j.
     fn perp_constraint(
         &self,
-        row: usize,
+        RowAt { row, shared }: RowAt,
         (i, abar): (&Side, &Vector3<f64>),
         (j, bbar): (&Side, &Vector3<f64>),
         rows: &mut RowTerms<'_>,
@@ -292,8 +388,10 @@ impl Relative {
             rows.phi[row] = a.dot(&b);
         }
         if rows.req.jacobian || rows.req.accel_term {
-            let mut bias = self.dir_row(jac, row, i, abar, &a, &ad, &b);
-            bias += self.dir_row(jac, row, j, bbar, &b, &bd, &a);
+            let (gi, rest_i) = self.dir_side(jac, row, i, abar, &a, &ad, &b);
+            let (gj, rest_j) = self.dir_side(jac, row, j, bbar, &b, &bd, &a);
+            let mut bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
+            bias += rest_i + rest_j;
             bias += 2.0 * ad.dot(&bd);
             if rows.req.accel_term {
                 rows.accel_term[row] = bias;
@@ -306,7 +404,7 @@ impl Relative {
     /// from the same walk as d·(bias_j − bias_i).
     fn distance_constraint(
         &self,
-        row: usize,
+        RowAt { row, shared }: RowAt,
         (i, j): (&Side, &Side),
         length: f64,
         rows: &mut RowTerms<'_>,
@@ -324,8 +422,10 @@ impl Relative {
             rows.phi[row] = equation.phi;
         }
         if rows.req.jacobian || rows.req.accel_term {
-            let d_bias = self.point_row(jac, row, j, &pj, &vj, &d.value, 1.0)
-                - self.point_row(jac, row, i, &pi, &vi, &d.value, -1.0);
+            let (gj, rest_j) = self.point_side(jac, row, j, &pj, &vj, &d.value, 1.0);
+            let (gi, rest_i) = self.point_side(jac, row, i, &pi, &vi, &d.value, -1.0);
+            let d_bias =
+                self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj)) + rest_j - rest_i;
             if rows.req.accel_term {
                 rows.accel_term[row] = equation.accel_term + d_bias;
             }
@@ -357,9 +457,9 @@ impl Relative {
         }
     }
 
-    /// Jacobian rows `row..row + n_trans` of r_P for a point of side `s` (sign `sg` applied
-    /// to the rows; one walk of the path for all components), and the Cartesian bias
-    /// D_s + D_ω × p + ω × ṙ_P + ω × A X ẏ (returned unsigned).
+    /// The modal columns of rows `row..row + n_trans` of r_P for a point of side `s` (sign
+    /// `sg` applied; its path's columns are written by `point_constraint`), and the Cartesian
+    /// bias D_s + D_ω × p + ω × ṙ_P + ω × A X ẏ (returned unsigned).
     pub(crate) fn point_rows(
         &self,
         jac: &mut JacobianSink<'_>,
@@ -374,17 +474,6 @@ impl Relative {
         };
         let nt = self.dim.n_trans();
         let f = self.bodies[k].frame;
-        if jac.write {
-            for &a in &self.paths[f] {
-                // Velocity of the point per unit rate of elementary joint a.
-                let elem_twist = &self.elem_twist[a];
-                let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
-                let wa = self.elem_w[a];
-                for c in 0..nt {
-                    jac.add(row + c, wa, sg * u[c]);
-                }
-            }
-        }
         let d = &self.frame_bias[f];
         let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
         let mut bias = d.fixed_rows::<3>(0) + d.fixed_rows::<3>(3).cross(p) + w.cross(v);
@@ -411,9 +500,11 @@ impl Relative {
         bias
     }
 
-    /// Jacobian row of e·r_P for a point of side `s` (sign `sg` applied to the row) and the
-    /// Cartesian bias e·(ω × ṙ_P + ω × A X ẏ) + g·D (returned unsigned).
-    pub(crate) fn point_row(
+    /// Side `s`'s share of a row e·r_P (sign `sg`): its coefficient g = sg {e; p × e} on
+    /// the body's Z_k (walked by [`pair_row`](Self::pair_row)), its node's modal columns, and
+    /// the Cartesian bias e·(ω × ṙ_P + ω × A X ẏ) without g·D (returned unsigned).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn point_side(
         &self,
         jac: &mut JacobianSink<'_>,
         row: usize,
@@ -422,16 +513,15 @@ impl Relative {
         v: &Vector3<f64>,
         e: &Vector3<f64>,
         sg: f64,
-    ) -> f64 {
-        let Some(k) = s.body else { return 0.0 };
+    ) -> (Vector6<f64>, f64) {
         let mut g = Vector6::zeros();
+        let Some(k) = s.body else { return (g, 0.0) };
         g.fixed_rows_mut::<3>(0).copy_from(&(sg * e));
         g.fixed_rows_mut::<3>(3).copy_from(&(sg * p.cross(e)));
-        let gd = sg * self.body_row(jac, row, s.body, &g);
         let f = self.bodies[k].frame;
         let a = self.frame_rotation[f];
         let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
-        let mut bias = gd + e.dot(&w.cross(v));
+        let mut bias = e.dot(&w.cross(v));
         if let Some(node) = s.node {
             let b = &self.bodies[k];
             let at_e = a.transpose() * e;
@@ -449,12 +539,14 @@ impl Relative {
             }
             bias += e.dot(&w.cross(&(a * axy)));
         }
-        bias
+        (g, bias)
     }
 
-    /// Jacobian row of d·u for a direction d = A (d̄ + θ̄ × d̄) at side `s` (u specified fixed),
-    /// and its bias terms (D part, ä_bias · u); returned.
-    pub(crate) fn dir_row(
+    /// Side `s`'s share of a row d·u for a direction d = A (d̄ + θ̄ × d̄) there (u held
+    /// fixed): its coefficient g = {0; d × u} on the body's Z_k, its node's modal columns, and
+    /// the bias (ω × ḋ + ω × A (θ̄̇ × d̄))·u without g·D.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn dir_side(
         &self,
         jac: &mut JacobianSink<'_>,
         row: usize,
@@ -463,11 +555,10 @@ impl Relative {
         d: &Vector3<f64>,
         dd: &Vector3<f64>,
         u: &Vector3<f64>,
-    ) -> f64 {
-        let Some(k) = s.body else { return 0.0 };
+    ) -> (Vector6<f64>, f64) {
         let mut g = Vector6::zeros();
+        let Some(k) = s.body else { return (g, 0.0) };
         g.fixed_rows_mut::<3>(3).copy_from(&d.cross(u));
-        let gd = self.body_row(jac, row, s.body, &g);
         let f = self.bodies[k].frame;
         let a = self.frame_rotation[f];
         let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
@@ -490,7 +581,7 @@ impl Relative {
             }
             extra = a * th_d.cross(dbar);
         }
-        gd + (w.cross(dd) + w.cross(&extra)).dot(u)
+        (g, (w.cross(dd) + w.cross(&extra)).dot(u))
     }
 
     /// Modal coefficients of a 2D node rotation, scaled.

@@ -72,6 +72,9 @@ pub struct Relative {
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     /// The cut-joint and driver constraints, in the order of their rows in Φ.
     pub(crate) constraints: Vec<Constraint>,
+    /// Per constraint: the number of elementary joints its two sides' paths share from the
+    /// root, walked once per row (`constraints.rs`).
+    pub(crate) constraint_shared: Vec<usize>,
     // Workspace.
     /// Per frame (§4.5 steps 1–3): position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and
     /// velocity-product acceleration D_F.
