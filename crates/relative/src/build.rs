@@ -33,7 +33,7 @@ impl Relative {
         marker_constraints(prepared, &infos, &mut constraints);
         let mut rel =
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
-        rel.constraint_shared = rel.shared_path_lengths();
+        rel.row_paths = rel.compile_row_paths();
         rel.initial_coordinates(scene);
         rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene)?;
@@ -97,7 +97,7 @@ impl Relative {
             p_scratch: vec![0.0; rigid_size + infos.iter().map(|i| i.n_modes).max().unwrap_or(0)],
             elem_rate,
             constraints,
-            constraint_shared: Vec::new(),
+            row_paths: Default::default(),
             frame_position: vec![Vector3::zeros(); nf],
             frame_rotation: vec![Matrix3::identity(); nf],
             frame_velocity: vec![Vector6::zeros(); nf],

@@ -19,12 +19,24 @@ use crate::kinematics::{angle_at, dir_at, point_at};
 use crate::system::Relative;
 use crate::topology::Side;
 
-/// Where a constraint's rows start, and how many elementary joints its two sides' paths
-/// share from the root (fixed when the scene is compiled; 0 when a side is the ground).
+/// Where a constraint's rows start, and the runs of its compiled path joints
+/// ([`RowPaths`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RowAt {
     row: usize,
-    shared: usize,
+    runs: [usize; 4],
+}
+
+/// The elementary joints each constraint's rows walk, compiled once as flat runs: per
+/// constraint, the joints its two sides' paths share from the root (walked once, with
+/// g_i + g_j), then side i's own, then side j's own, each with its w index. A side on the
+/// ground has no path, and nothing is shared with it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct RowPaths {
+    /// (elementary joint, its w index), constraint after constraint.
+    joints: Vec<(usize, usize)>,
+    /// Per constraint: [start, end of the shared run, end of side i's, end of side j's].
+    runs: Vec<[usize; 4]>,
 }
 
 /// The row outputs of a constraint pass besides the Jacobian: Φ, Φ_t and c, and what the
@@ -112,24 +124,33 @@ impl JacobianSink<'_> {
 }
 
 impl Relative {
-    /// Per constraint, the number of elementary joints its two sides' paths share from the
-    /// root (0 when a side is the ground or for a driven coordinate): fixed when the scene is
-    /// compiled, so that a pass walks the shared joints once (allocates: for compiling).
-    pub(crate) fn shared_path_lengths(&self) -> Vec<usize> {
-        self.constraints
-            .iter()
-            .map(|c| match c.sides() {
-                Some((i, j)) if i.body.is_some() && j.body.is_some() => {
+    /// The constraints' [`RowPaths`], from the tree's paths (allocates: for compiling).
+    pub(crate) fn compile_row_paths(&self) -> RowPaths {
+        let mut paths = RowPaths::default();
+        for c in &self.constraints {
+            let start = paths.joints.len();
+            let (path_i, path_j, shared) = match c.sides() {
+                Some((i, j)) => {
                     let (pi, pj) = (self.path_of(i.body), self.path_of(j.body));
-                    pi.iter().zip(pj).take_while(|(a, b)| a == b).count()
+                    let shared = pi.iter().zip(pj).take_while(|(a, b)| a == b).count();
+                    (pi, pj, shared)
                 }
-                _ => 0,
-            })
-            .collect()
+                None => (&[][..], &[][..], 0),
+            };
+            let with_w = |a: &usize| (*a, self.elem_w[*a]);
+            paths.joints.extend(path_i[..shared].iter().map(with_w));
+            let end_shared = paths.joints.len();
+            paths.joints.extend(path_i[shared..].iter().map(with_w));
+            let end_i = paths.joints.len();
+            paths.joints.extend(path_j[shared..].iter().map(with_w));
+            paths
+                .runs
+                .push([start, end_shared, end_i, paths.joints.len()]);
+        }
+        paths
     }
 
     /// The path of side `body`'s frame (empty for the ground).
-    #[inline(always)]
     fn path_of(&self, body: Option<usize>) -> &[usize] {
         body.map_or(&[][..], |k| &self.paths[self.bodies[k].frame])
     }
@@ -141,27 +162,23 @@ impl Relative {
     }
 
     /// Add g_i·Z_i + g_j·Z_j of the two sides' bodies to row `row` of Φ_w (the modal
-    /// coefficients by the caller), walking the `shared` elementary joints the two paths
-    /// start with once, with g_i + g_j; returns g_i·D_i + g_j·D_j.
+    /// coefficients by the caller) over the constraint's compiled path `runs`, the shared run
+    /// once with g_i + g_j; returns g_i·D_i + g_j·D_j.
     pub(crate) fn pair_row(
         &self,
         jac: &mut JacobianSink<'_>,
         row: usize,
-        shared: usize,
+        runs: [usize; 4],
         (bi, gi): (Option<usize>, &Vector6<f64>),
         (bj, gj): (Option<usize>, &Vector6<f64>),
     ) -> f64 {
         if jac.write {
-            let (path_i, path_j) = (self.path_of(bi), self.path_of(bj));
+            let joints = &self.row_paths.joints;
             let gs = gi + gj;
-            for &a in &path_i[..shared] {
-                jac.add(row, self.elem_w[a], gs.dot(&self.elem_twist[a]));
-            }
-            for &a in &path_i[shared..] {
-                jac.add(row, self.elem_w[a], gi.dot(&self.elem_twist[a]));
-            }
-            for &a in &path_j[shared..] {
-                jac.add(row, self.elem_w[a], gj.dot(&self.elem_twist[a]));
+            for (run, g) in [(0, &gs), (1, gi), (2, gj)] {
+                for &(a, w) in &joints[runs[run]..runs[run + 1]] {
+                    jac.add(row, w, g.dot(&self.elem_twist[a]));
+                }
             }
         }
         self.bias_of(bi, gi) + self.bias_of(bj, gj)
@@ -198,10 +215,10 @@ impl Relative {
             req,
         };
         let mut row = 0;
-        for (c, &shared) in self.constraints.iter().zip(&self.constraint_shared) {
+        for (c, &runs) in self.constraints.iter().zip(&self.row_paths.runs) {
             let rows = &mut rows;
             let jac = &mut jac;
-            let row_at = RowAt { row, shared };
+            let row_at = RowAt { row, runs };
             match c {
                 Constraint::Point { i, j } => self.point_constraint(row_at, i, j, rows, jac),
                 Constraint::Angle2 {
@@ -242,7 +259,7 @@ impl Relative {
     /// r_i − r_j = 0: rows `row..row + n_trans`.
     fn point_constraint(
         &self,
-        RowAt { row, shared }: RowAt,
+        RowAt { row, runs }: RowAt,
         i: &Side,
         j: &Side,
         rows: &mut RowTerms<'_>,
@@ -259,14 +276,14 @@ impl Relative {
         if rows.req.jacobian || rows.req.accel_term {
             if jac.write {
                 // The shared joints move both points: their columns are ω_a × (r_i − r_j).
-                let (path_i, path_j) = (self.path_of(i.body), self.path_of(j.body));
+                let joints = &self.row_paths.joints;
                 let rij = pi - pj;
-                for &a in &path_i[..shared] {
+                for &(a, w) in &joints[runs[0]..runs[1]] {
                     let u = self.elem_twist[a].fixed_rows::<3>(3).cross(&rij);
-                    self.add_point_column(jac, row, self.elem_w[a], &u);
+                    self.add_point_column(jac, row, w, &u);
                 }
-                self.point_columns_from(jac, row, &path_i[shared..], &pi, 1.0);
-                self.point_columns_from(jac, row, &path_j[shared..], &pj, -1.0);
+                self.point_columns_from(jac, row, &joints[runs[1]..runs[2]], &pi, 1.0);
+                self.point_columns_from(jac, row, &joints[runs[2]..runs[3]], &pj, -1.0);
             }
             let bias = self.point_rows(jac, row, i, &pi, &vi, 1.0)
                 - self.point_rows(jac, row, j, &pj, &vj, -1.0);
@@ -286,20 +303,20 @@ impl Relative {
         }
     }
 
-    /// The columns of a point p per unit rate of the elementary joints `path`,
+    /// The columns of a point p per unit rate of the elementary joints `joints` ((joint, w)),
     /// u_a = ṡ_a + ω_a × p, signed by `sg`, into rows `row..row + n_trans`.
     fn point_columns_from(
         &self,
         jac: &mut JacobianSink<'_>,
         row: usize,
-        path: &[usize],
+        joints: &[(usize, usize)],
         p: &Vector3<f64>,
         sg: f64,
     ) {
-        for &a in path {
+        for &(a, w) in joints {
             let elem_twist = &self.elem_twist[a];
             let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
-            self.add_point_column(jac, row, self.elem_w[a], &(sg * u));
+            self.add_point_column(jac, row, w, &(sg * u));
         }
     }
 
@@ -308,7 +325,7 @@ impl Relative {
     #[allow(clippy::too_many_arguments)]
     fn angle_constraint(
         &self,
-        RowAt { row, shared }: RowAt,
+        RowAt { row, runs }: RowAt,
         (i, j): (&Side, &Side),
         psi0: f64,
         drive: (f64, f64, f64),
@@ -328,7 +345,7 @@ impl Relative {
             let (mut gi, mut gj) = (Vector6::zeros(), Vector6::zeros());
             gj[5] = cd;
             gi[5] = -cd;
-            let bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
+            let bias = self.pair_row(jac, row, runs, (i.body, &gi), (j.body, &gj));
             self.rot_modal(jac, row, j, cd);
             self.rot_modal(jac, row, i, -cd);
             let rate = wj - wi - sign * thd;
@@ -344,7 +361,7 @@ impl Relative {
     /// n · (r_j − r_i) = 0 with n = A_i n̄ fixed at side i.
     fn slide_constraint(
         &self,
-        RowAt { row, shared }: RowAt,
+        RowAt { row, runs }: RowAt,
         i: &Side,
         nbar: &Vector3<f64>,
         j: &Side,
@@ -364,7 +381,7 @@ impl Relative {
             let (gi_point, rest_i) = self.point_side(jac, row, i, &pi, &vi, &n, -1.0);
             let (gi_dir, rest_dir) = self.dir_side(jac, row, i, nbar, &n, &nd, &d);
             let gi = gi_point + gi_dir;
-            let mut bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
+            let mut bias = self.pair_row(jac, row, runs, (i.body, &gi), (j.body, &gj));
             bias += rest_j - rest_i + rest_dir;
             bias += 2.0 * nd.dot(&dd);
             if rows.req.accel_term {
@@ -376,7 +393,7 @@ impl Relative {
     /// a · b = 0, a = A_i ā fixed at side i, b = A_j b̄ at side j.
     fn perp_constraint(
         &self,
-        RowAt { row, shared }: RowAt,
+        RowAt { row, runs }: RowAt,
         (i, abar): (&Side, &Vector3<f64>),
         (j, bbar): (&Side, &Vector3<f64>),
         rows: &mut RowTerms<'_>,
@@ -390,7 +407,7 @@ impl Relative {
         if rows.req.jacobian || rows.req.accel_term {
             let (gi, rest_i) = self.dir_side(jac, row, i, abar, &a, &ad, &b);
             let (gj, rest_j) = self.dir_side(jac, row, j, bbar, &b, &bd, &a);
-            let mut bias = self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj));
+            let mut bias = self.pair_row(jac, row, runs, (i.body, &gi), (j.body, &gj));
             bias += rest_i + rest_j;
             bias += 2.0 * ad.dot(&bd);
             if rows.req.accel_term {
@@ -404,7 +421,7 @@ impl Relative {
     /// from the same walk as d·(bias_j − bias_i).
     fn distance_constraint(
         &self,
-        RowAt { row, shared }: RowAt,
+        RowAt { row, runs }: RowAt,
         (i, j): (&Side, &Side),
         length: f64,
         rows: &mut RowTerms<'_>,
@@ -425,7 +442,7 @@ impl Relative {
             let (gj, rest_j) = self.point_side(jac, row, j, &pj, &vj, &d.value, 1.0);
             let (gi, rest_i) = self.point_side(jac, row, i, &pi, &vi, &d.value, -1.0);
             let d_bias =
-                self.pair_row(jac, row, shared, (i.body, &gi), (j.body, &gj)) + rest_j - rest_i;
+                self.pair_row(jac, row, runs, (i.body, &gi), (j.body, &gj)) + rest_j - rest_i;
             if rows.req.accel_term {
                 rows.accel_term[row] = equation.accel_term + d_bias;
             }

@@ -20,7 +20,7 @@ use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
 use crate::body_kernels::BodyKernel;
-use crate::constraints::Constraint;
+use crate::constraints::{Constraint, RowPaths};
 use crate::marker_kinematics::MarkerJacobian;
 use crate::marker_table::MarkerTable;
 use crate::sensors::RelativeSensors;
@@ -72,9 +72,9 @@ pub struct Relative {
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     /// The cut-joint and driver constraints, in the order of their rows in Φ.
     pub(crate) constraints: Vec<Constraint>,
-    /// Per constraint: the number of elementary joints its two sides' paths share from the
-    /// root, walked once per row (`constraints.rs`).
-    pub(crate) constraint_shared: Vec<usize>,
+    /// The elementary joints each constraint's rows walk, compiled as flat runs (the two
+    /// sides' shared path once, then each side's own; `constraints.rs`).
+    pub(crate) row_paths: RowPaths,
     // Workspace.
     /// Per frame (§4.5 steps 1–3): position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and
     /// velocity-product acceleration D_F.
