@@ -11,6 +11,7 @@ use flexmbd_model::force_elements::ForceElements;
 use flexmbd_model::{MarkerId, ModelError, PreparedScene, Scene};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, Vector3, Vector6};
 
+use crate::body_kernels::BodyKernel;
 use crate::constraints::Constraint;
 use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constraints};
 use crate::kinematics::angle_of;
@@ -32,6 +33,7 @@ impl Relative {
         marker_constraints(prepared, &infos, &mut constraints);
         let mut rel =
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
+        rel.row_paths = rel.compile_row_paths();
         rel.initial_coordinates(scene);
         rel.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene)?;
@@ -95,6 +97,7 @@ impl Relative {
             p_scratch: vec![0.0; rigid_size + infos.iter().map(|i| i.n_modes).max().unwrap_or(0)],
             elem_rate,
             constraints,
+            row_paths: Default::default(),
             frame_position: vec![Vector3::zeros(); nf],
             frame_rotation: vec![Matrix3::identity(); nf],
             frame_velocity: vec![Vector6::zeros(); nf],
@@ -120,7 +123,6 @@ impl Relative {
             velocities_zd: DVector::zeros(n_z),
             fixed_identity,
             planar_frames,
-            write_jacobian: true,
             force_elements: ForceElements::default(),
             marker_jacobian: MarkerJacobian::default(),
             marker_table: MarkerTable::default(),
@@ -206,7 +208,8 @@ impl Relative {
     }
 }
 
-/// The run-time bodies with their body terms sized (rigid_size + n_modes).
+/// The run-time bodies, each with its kernel (rigid in closed form, or flexible with its
+/// body terms sized rigid_size + n_modes).
 fn run_time_bodies(
     infos: &[BodyInfo],
     flex: Vec<FlexibleBody>,
@@ -216,17 +219,12 @@ fn run_time_bodies(
 ) -> Vec<RunTimeBody> {
     let mut bodies = Vec::new();
     for (k, (info, body)) in infos.iter().zip(flex).enumerate() {
-        let nc = rigid_size + info.n_modes;
         bodies.push(RunTimeBody {
-            body,
+            kernel: BodyKernel::new(body, info.n_modes, rigid_size),
             frame: body_frame[k],
             n_modes: info.n_modes,
             first_mode: first_mode[k],
             node_rows: info.node_rows.clone(),
-            m_bar: DMatrix::zeros(nc, nc),
-            q_bar: DVector::zeros(nc),
-            gravity_forces: vec![0.0; nc],
-            elastic_forces: vec![0.0; info.n_modes],
         });
     }
     bodies

@@ -1,7 +1,9 @@
 //! The dynamic terms M and Q (docs/methods.md §4.5 steps 4–7; the tangents of §4.6).
 //!
-//! Step 4: the body terms M̄_k, Q̄_k in the s form from `flexmbd-body` (inertia by either
-//! [`flexmbd_body::InertiaMethod`], gravity, elastic forces) and P_k = Q̄_k − M̄_k {D_k; 0}.
+//! Step 4: the body terms M̄_k, Q̄_k in the s form by each body's kernel (`body_kernels.rs`:
+//! a rigid body's in closed form on fixed-size blocks, a flexible body's from `flexmbd-body`,
+//! inertia by either [`flexmbd_body::InertiaMethod`], gravity, elastic forces) and
+//! P_k = Q̄_k − M̄_k {D_k; 0}.
 //! Step 5: 𝕄_F, ℙ_F accumulated leaves → root over the tree of elementary joints. Steps 6–7:
 //!
 //! ```text
@@ -24,6 +26,7 @@
 use flexmbd_core::{State, SystemTerms};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
+use crate::body_kernels::{BodyKernel, FrameMotion};
 use crate::system::Relative;
 
 /// Writes M_w[i, j] = v into M (column-major, n_z × n_z) when i and j are z indices, into
@@ -56,27 +59,31 @@ pub(crate) fn fold_w_to_z(l_rows: &[Vec<(usize, f64)>], v: &[f64], out: &mut [f6
 }
 
 impl Relative {
-    /// §4.5 step 4: M̄_k and Q̄_k (inertia, gravity, elastic) of every body, at the
-    /// state of the last kinematics pass.
+    /// §4.5 step 4 for the flexible bodies: M̄_k and Q̄_k (inertia, gravity, elastic) at the
+    /// state of the last kinematics pass (the rigid bodies' terms are formed in
+    /// [`body_rows`](Self::body_rows), in closed form).
     pub(crate) fn evaluate_bodies(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
         for k in 0..self.bodies.len() {
+            if self.bodies[k].n_modes == 0 {
+                continue;
+            }
             let state = self.body_state(k, z, zd);
-            let g = self.gravity;
-            let inertia_method = self.inertia_method;
-            let b = &mut self.bodies[k];
-            b.body
-                .inertia(&state, inertia_method, &mut b.m_bar, &mut b.q_bar);
-            b.body.gravity_forces(&state, &g, &mut b.gravity_forces);
-            for (q, gv) in b.q_bar.iter_mut().zip(&b.gravity_forces) {
-                *q += gv;
+            let (g, method, rigid_size) = (self.gravity, self.inertia_method, self.rigid_size);
+            if let BodyKernel::Flexible(f) = &mut self.bodies[k].kernel {
+                f.evaluate(&state, method, &g, rigid_size);
             }
-            if b.n_modes > 0 {
-                b.body
-                    .elastic_forces(state.y, state.y_dot, &mut b.elastic_forces);
-                for m in 0..b.n_modes {
-                    b.q_bar[self.rigid_size + m] += b.elastic_forces[m];
-                }
-            }
+        }
+    }
+
+    /// The motion of body k's frame from the last kinematics pass.
+    #[inline(always)]
+    pub(crate) fn frame_motion(&self, k: usize) -> FrameMotion {
+        let f = self.bodies[k].frame;
+        FrameMotion {
+            r0: self.frame_position[f],
+            a: self.frame_rotation[f],
+            velocity: self.frame_velocity[f],
+            bias: self.frame_bias[f],
         }
     }
 
@@ -109,54 +116,72 @@ impl Relative {
         }
     }
 
-    /// Step 4: P_k = Q̄_k − M̄_k {D_k; 0}, the bodies' rigid blocks and P_k in the 6-layout,
-    /// and the modal rows of M_w and Q_w.
+    /// Step 4: P_k = Q̄_k − M̄_k {D_k; 0} and the bodies' rigid blocks in the 6-layout, by the
+    /// rigid kernels in closed form or from a flexible body's dense terms, with its modal rows
+    /// of M_w and Q_w.
     fn body_rows(&mut self, mass: &mut [f64]) {
+        for k in 0..self.bodies.len() {
+            let frame = self.frame_motion(k);
+            let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+            match &self.bodies[k].kernel {
+                BodyKernel::RigidSpatial(r) => r.terms(&frame, &self.gravity, mm, pp),
+                BodyKernel::RigidPlanar(r) => r.terms(&frame, &self.gravity, mm, pp),
+                BodyKernel::Flexible(_) => {
+                    let d = frame.bias;
+                    self.flexible_body_rows(k, &d, mass)
+                }
+            }
+        }
+    }
+
+    /// [`body_rows`](Self::body_rows) of flexible body k, whose M̄_k and Q̄_k
+    /// [`evaluate_bodies`](Self::evaluate_bodies) formed, with its frame's D.
+    fn flexible_body_rows(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
         let rigid_size = self.rigid_size;
         let rigid_entries = self.rigid_entries;
         let nz = self.n_z;
         let planar = rigid_size == 3;
-        for k in 0..self.bodies.len() {
-            let b = &self.bodies[k];
-            let f = b.frame;
-            let d = self.frame_bias[f];
-            let nc = rigid_size + b.n_modes;
-            let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
-            // P = Q̄ − M̄[:, rigid] D, column by column (the same operation order per row).
-            let mb = b.m_bar.as_slice();
-            let p = &mut self.p_scratch[..nc];
-            p.copy_from_slice(b.q_bar.as_slice());
-            for c in 0..rigid_size {
-                let dc = d[rigid_entries[c]];
-                for (pr, m) in p.iter_mut().zip(&mb[c * nc..(c + 1) * nc]) {
-                    *pr -= m * dc;
-                }
-                for r in 0..rigid_size {
-                    mm[(rigid_entries[r], rigid_entries[c])] = mb[c * nc + r];
-                }
+        let b = &self.bodies[k];
+        let BodyKernel::Flexible(flexible) = &b.kernel else {
+            return;
+        };
+        let f = b.frame;
+        let nc = rigid_size + b.n_modes;
+        let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+        // P = Q̄ − M̄[:, rigid] D, column by column (the same operation order per row).
+        let mb = flexible.m_bar.as_slice();
+        let p = &mut self.p_scratch[..nc];
+        p.copy_from_slice(flexible.q_bar.as_slice());
+        for c in 0..rigid_size {
+            let dc = d[rigid_entries[c]];
+            for (pr, m) in p.iter_mut().zip(&mb[c * nc..(c + 1) * nc]) {
+                *pr -= m * dc;
             }
             for r in 0..rigid_size {
-                pp[rigid_entries[r]] = p[r];
+                mm[(rigid_entries[r], rigid_entries[c])] = mb[c * nc + r];
             }
-            self.q_w.as_mut_slice()[b.first_mode..b.first_mode + b.n_modes]
-                .copy_from_slice(&p[rigid_size..]);
-            for m in 0..b.n_modes {
-                let wm = b.first_mode + m;
-                let col = &mb[(rigid_size + m) * nc..(rigid_size + m + 1) * nc];
-                let mut u = Vector6::zeros();
-                for r in 0..rigid_size {
-                    u[rigid_entries[r]] = col[r];
-                }
-                for &a in &self.paths[f] {
-                    let val = twist_dot(planar, &self.elem_twist[a], &u);
-                    let wa = self.elem_w[a];
-                    put(mass, &mut self.m_w, nz, wa, wm, val);
-                    put(mass, &mut self.m_w, nz, wm, wa, val);
-                }
-                // M̄_yy (modes are z coordinates): column m of the block, row m2.
-                for m2 in 0..b.n_modes {
-                    mass[b.first_mode + m2 + wm * nz] = col[rigid_size + m2];
-                }
+        }
+        for r in 0..rigid_size {
+            pp[rigid_entries[r]] = p[r];
+        }
+        self.q_w.as_mut_slice()[b.first_mode..b.first_mode + b.n_modes]
+            .copy_from_slice(&p[rigid_size..]);
+        for m in 0..b.n_modes {
+            let wm = b.first_mode + m;
+            let col = &mb[(rigid_size + m) * nc..(rigid_size + m + 1) * nc];
+            let mut u = Vector6::zeros();
+            for r in 0..rigid_size {
+                u[rigid_entries[r]] = col[r];
+            }
+            for &a in &self.paths[f] {
+                let val = twist_dot(planar, &self.elem_twist[a], &u);
+                let wa = self.elem_w[a];
+                put(mass, &mut self.m_w, nz, wa, wm, val);
+                put(mass, &mut self.m_w, nz, wm, wa, val);
+            }
+            // M̄_yy (modes are z coordinates): column m of the block, row m2.
+            for m2 in 0..b.n_modes {
+                mass[b.first_mode + m2 + wm * nz] = col[rigid_size + m2];
             }
         }
     }
@@ -232,10 +257,12 @@ impl Relative {
             }
             let (o, n) = (b.first_mode, b.n_modes);
             let (y, yd) = (&z.as_slice()[o..o + n], &zd.as_slice()[o..o + n]);
-            b.body
-                .add_elastic_tangents(y, yd, 1.0, 0.0, out.stiffness.view_mut((o, o), (n, n)));
-            b.body
-                .add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (n, n)));
+            let Some(flexible) = b.kernel.flexible() else {
+                continue;
+            };
+            let body = &flexible.body;
+            body.add_elastic_tangents(y, yd, 1.0, 0.0, out.stiffness.view_mut((o, o), (n, n)));
+            body.add_elastic_tangents(y, yd, 0.0, 1.0, out.damping.view_mut((o, o), (n, n)));
         }
     }
 }

@@ -10,6 +10,7 @@ use flexmbd_core::Dim;
 use flexmbd_model::{ModelError, Scene};
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
+use crate::body_kernels::{BodyKernel, FrameMotion, rigid_dense_terms};
 use crate::system::Relative;
 
 /// The SVD's iteration cap in the velocity fit (it converges in a few sweeps per singular
@@ -66,6 +67,11 @@ impl Relative {
         for k in 0..nb {
             let f = self.bodies[k].frame;
             let (r0, a) = (self.frame_position[f], self.frame_rotation[f]);
+            let frame = FrameMotion {
+                velocity: Vector6::zeros(),
+                bias: Vector6::zeros(),
+                ..self.frame_motion(k)
+            };
             let bk = &mut self.bodies[k];
             let y: Vec<f64> = q0.as_slice()[bk.first_mode..bk.first_mode + bk.n_modes].to_vec();
             let yd = vec![0.0; bk.n_modes];
@@ -77,8 +83,18 @@ impl Relative {
                 y: &y,
                 y_dot: &yd,
             };
-            bk.body
-                .inertia(&state, self.inertia_method, &mut bk.m_bar, &mut bk.q_bar);
+            let m_bar = match &mut bk.kernel {
+                BodyKernel::Flexible(f) => {
+                    f.body
+                        .inertia(&state, self.inertia_method, &mut f.m_bar, &mut f.q_bar);
+                    f.m_bar.clone()
+                }
+                kernel => {
+                    rigid_dense_terms(kernel, &frame, &Vector3::zeros())
+                        .expect("a body without a flexible kernel is rigid")
+                        .0
+                }
+            };
             let v = &scene.bodies[k].velocity;
             let mut w = v.angular.vec();
             let mut lin = v.linear.vec();
@@ -95,9 +111,9 @@ impl Relative {
             for i in 0..self.rigid_size {
                 target[i] = target6[self.rigid_entries[i]];
             }
-            let mt = &bk.m_bar * &target;
+            let mt = &m_bar * &target;
             for c in 0..n {
-                let mc = &bk.m_bar * &cols[k][c];
+                let mc = &m_bar * &cols[k][c];
                 b[c] += cols[k][c].dot(&mt);
                 for d in 0..n {
                     m[(c, d)] += cols[k][d].dot(&mc);

@@ -3,24 +3,22 @@
 //! potentials, and the public inspectors for tests and tools (they allocate; they are not
 //! on the per-step path).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
+use crate::body_kernels::{BodyKernel, rigid_dense_terms};
 use crate::system::Relative;
 
 impl Relative {
-    /// Total mechanical energy: ½ Σ Z_kᵀ M̄_k Z_k + gravity potential + ½ Σ yᵀ K_ff y.
+    /// Total mechanical energy: ½ Σ Z_kᵀ M̄_k Z_k + gravity potential + Σ U_k(y).
     pub(crate) fn energy(&mut self, z: &DVector<f64>, zd: &DVector<f64>) -> f64 {
         let mut e = 0.0;
         for k in 0..self.bodies.len() {
             let state = self.body_state(k, z, zd);
-            let inertia_method = self.inertia_method;
+            let frame = self.frame_motion(k);
             let (rigid_size, rigid_entries, g) =
                 (self.rigid_size, self.rigid_entries, self.gravity);
-            let zr = self.frame_velocity[self.bodies[k].frame];
-            let b = &mut self.bodies[k];
-            b.body
-                .inertia(&state, inertia_method, &mut b.m_bar, &mut b.q_bar);
-            let nc = rigid_size + b.n_modes;
+            let zr = frame.velocity;
+            let (inertia_method, b) = (self.inertia_method, &mut self.bodies[k]);
             let v = |i: usize| {
                 if i < rigid_size {
                     zr[rigid_entries[i]]
@@ -28,16 +26,37 @@ impl Relative {
                     state.y_dot[i - rigid_size]
                 }
             };
-            let mut kin = 0.0;
-            for r in 0..nc {
-                for c in 0..nc {
-                    kin += v(r) * b.m_bar[(r, c)] * v(c);
+            // ½ Zᵀ M̄ Z over the body's nc velocity entries, M̄ given entry by entry.
+            let kinetic = |m: &dyn Fn(usize, usize) -> f64, nc: usize| {
+                let mut kin = 0.0;
+                for r in 0..nc {
+                    for c in 0..nc {
+                        kin += v(r) * m(r, c) * v(c);
+                    }
+                }
+                0.5 * kin
+            };
+            match &mut b.kernel {
+                BodyKernel::Flexible(f) => {
+                    f.body
+                        .inertia(&state, inertia_method, &mut f.m_bar, &mut f.q_bar);
+                    e += kinetic(&|r, c| f.m_bar[(r, c)], rigid_size + b.n_modes);
+                    e += f.body.strain_energy(state.y);
+                }
+                BodyKernel::RigidSpatial(r) => {
+                    let (mut m6, mut p6) = (Matrix6::zeros(), Vector6::zeros());
+                    r.terms(&frame, &g, &mut m6, &mut p6);
+                    e += kinetic(&|i, j| m6[(i, j)], 6);
+                }
+                BodyKernel::RigidPlanar(r) => {
+                    let (mut m6, mut p6) = (Matrix6::zeros(), Vector6::zeros());
+                    r.terms(&frame, &g, &mut m6, &mut p6);
+                    let at = |i: usize| rigid_entries[i];
+                    e += kinetic(&|i, j| m6[(at(i), at(j))], 3);
                 }
             }
-            e += 0.5 * kin;
-            let mb = b.body.first_moment_at(state.y);
-            e -= g.dot(&(state.r0 * b.body.mass() + state.a * mb));
-            e += b.body.strain_energy(state.y);
+            let (mass, mb) = b.kernel.mass_and_first_moment(state.y);
+            e -= g.dot(&(state.r0 * mass + state.a * mb));
         }
         e + self.force_elements.potential_energy(self, z, zd)
     }
@@ -94,7 +113,13 @@ impl Relative {
     ) -> (DMatrix<f64>, DVector<f64>) {
         self.kinematics(z, zd);
         self.evaluate_bodies(z, zd);
-        (self.bodies[k].m_bar.clone(), self.bodies[k].q_bar.clone())
+        let frame = self.frame_motion(k);
+        let kernel = &self.bodies[k].kernel;
+        match kernel.flexible() {
+            Some(f) => (f.m_bar.clone(), f.q_bar.clone()),
+            None => rigid_dense_terms(kernel, &frame, &self.gravity)
+                .expect("a body without a flexible kernel is rigid"),
+        }
     }
     /// Total mechanical energy at (z, ż) (the `Energy` sensor).
     pub fn total_energy(&mut self, z: &DVector<f64>, zd: &DVector<f64>) -> f64 {

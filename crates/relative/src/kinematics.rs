@@ -254,7 +254,11 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
             &rel.last_z.as_slice()[ys.clone()],
             &rel.last_zd.as_slice()[ys],
         );
-        if let Some(sh) = b.body.node_foreshortening(node, y, yd) {
+        let shift = b
+            .kernel
+            .flexible()
+            .and_then(|f| f.body.node_foreshortening(node, y, yd));
+        if let Some(sh) = shift {
             pl += sh.position;
             vl += sh.velocity;
         }

@@ -53,8 +53,10 @@
 // Compiling a scene: `build` (in named steps), `cut_joints` (the constraints of the cut
 // joints and drivers), `initial_state`, on `topology` (the augmented tree). The pass:
 // `system` (the storage and the `Formulation` pass), `kinematics` (§4.5 steps 1–3),
-// `dynamics` (steps 4–7), `constraints` (§4.6), `marker_kinematics` (the force elements'
-// query). Outputs: `sensors`, `inspection`.
+// `body_kernels` (step 4: rigid in closed form, flexible), `dynamics` (steps 4–7),
+// `constraints` (§4.6), `marker_kinematics` (the force elements' query). Outputs: `sensors`,
+// `inspection`.
+mod body_kernels;
 mod build;
 mod constraints;
 mod cut_joints;

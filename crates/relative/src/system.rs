@@ -13,13 +13,14 @@
 //! and Q. M_w is never cleared (its structural non-zeros are rewritten every pass) and
 //! its z × z block is written into M in place.
 
-use flexmbd_body::{ElasticTangents, FlexibleBody, InertiaMethod};
+use flexmbd_body::{ElasticTangents, InertiaMethod};
 use flexmbd_core::{Coordinates, Dim, Request, State, SystemTerms};
 use flexmbd_model::ModelError;
 use flexmbd_model::force_elements::ForceElements;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector3, Vector6};
 
-use crate::constraints::Constraint;
+use crate::body_kernels::BodyKernel;
+use crate::constraints::{Constraint, RowPaths};
 use crate::marker_kinematics::MarkerJacobian;
 use crate::marker_table::MarkerTable;
 use crate::sensors::RelativeSensors;
@@ -28,7 +29,8 @@ use flexmbd_body::NodeRows;
 
 /// One body at run time.
 pub(crate) struct RunTimeBody {
-    pub(crate) body: FlexibleBody,
+    /// Its M̄, Q̄ kernel: rigid in closed form, or flexible (`body_kernels.rs`).
+    pub(crate) kernel: BodyKernel,
     /// Its frame in the augmented tree.
     pub(crate) frame: usize,
     /// Number of modal coordinates.
@@ -37,13 +39,6 @@ pub(crate) struct RunTimeBody {
     pub(crate) first_mode: usize,
     /// Its mode rows at its FE nodes (for markers at nodes).
     pub(crate) node_rows: NodeRows,
-    /// M̄_k, Q̄_k in the s form (rigid_size + n_modes).
-    pub(crate) m_bar: DMatrix<f64>,
-    pub(crate) q_bar: DVector<f64>,
-    /// Scratch: the generalized gravity forces (rigid_size + n_modes).
-    pub(crate) gravity_forces: Vec<f64>,
-    /// Scratch: the elastic forces on the modes (n_modes).
-    pub(crate) elastic_forces: Vec<f64>,
 }
 
 /// The semi-recursive relative-coordinate formulation of one scene.
@@ -77,6 +72,9 @@ pub struct Relative {
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     /// The cut-joint and driver constraints, in the order of their rows in Φ.
     pub(crate) constraints: Vec<Constraint>,
+    /// The elementary joints each constraint's rows walk, compiled as flat runs (the two
+    /// sides' shared path once, then each side's own; `constraints.rs`).
+    pub(crate) row_paths: RowPaths,
     // Workspace.
     /// Per frame (§4.5 steps 1–3): position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and
     /// velocity-product acceleration D_F.
@@ -102,6 +100,8 @@ pub struct Relative {
     pub(crate) elem_twist: Vec<Vector6<f64>>,
     pub(crate) m_w: DMatrix<f64>,
     pub(crate) q_w: DVector<f64>,
+    /// Φ_w, of which a pass writes only the node-joint columns (w ≥ n_z): the z columns go
+    /// straight into Φ_z.
     pub(crate) phi_w: DMatrix<f64>,
     // Initial state and outputs.
     /// Number, constraint count, z(0) and ż(0), coordinates the integrator holds (none).
@@ -123,14 +123,21 @@ pub struct Relative {
     /// frame rotations then have the form [R 0; 0 1] and the fixed-frame products run
     /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
     pub(crate) planar_frames: bool,
-    /// The current constraint pass writes Φ_w (a Jacobian was requested).
-    pub(crate) write_jacobian: bool,
     /// Spring–dampers and their Jacobian scratch.
     pub(crate) force_elements: ForceElements<Side>,
     /// Scratch of one marker's Jacobian (the force elements' query).
     pub(crate) marker_jacobian: MarkerJacobian,
     /// The force elements' markers, evaluated once per dynamics pass.
     pub(crate) marker_table: MarkerTable,
+}
+
+impl Relative {
+    /// The flexible bodies' run-time bodies (rigid bodies have no elastic model to ask).
+    fn flexible_bodies(&self) -> impl Iterator<Item = &flexmbd_body::FlexibleBody> {
+        self.bodies
+            .iter()
+            .filter_map(|b| b.kernel.flexible().map(|f| &f.body))
+    }
 }
 
 /// A scene this formulation cannot run.
@@ -143,13 +150,12 @@ impl flexmbd_core::Formulation for Relative {
         &self.coordinates
     }
     fn symmetric_tangent(&self) -> bool {
-        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).symmetric
+        ElasticTangents::of(self.flexible_bodies()).symmetric
     }
     fn constant_tangents(&self) -> bool {
         // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
         // linear elasticity, state-dependent for the stiffening models.
-        ElasticTangents::of(self.bodies.iter().map(|b| &b.body)).linear
-            && self.force_elements.is_empty()
+        ElasticTangents::of(self.flexible_bodies()).linear && self.force_elements.is_empty()
     }
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         Some(self.pattern())
