@@ -15,9 +15,9 @@ use flexmbd_core::Formulation;
 impl Ali3p {
     /// Take the structure `f` declares, if any, for the run (issue 26 item 2): its arrow
     /// form when that pays (blocks of a tree's branches and the root's border, factorised by
-    /// `crate::arrow_llt` with W formed on the declared entries only), else the sparse
-    /// Cholesky over it when that pays (`crate::declared_llt`), else neither (the entries are
-    /// still what is cleared between passes).
+    /// `crate::arrow_llt`), else the sparse Cholesky over it when that pays
+    /// (`crate::declared_llt`), else neither; in large systems only the declared entries
+    /// are cleared and formed.
     pub(super) fn take_declared_structure<F: Formulation + ?Sized>(&mut self, f: &F) {
         let (n, m) = (self.q.len(), self.lambda.len());
         let Some(pattern) = f.declared_pattern() else {
@@ -29,11 +29,18 @@ impl Ali3p {
         if let Some(arrow) = ArrowLlt::declared(n, entries.lower()) {
             self.structured = Some(StructuredLlt::Arrow(arrow));
             self.structure_decided = true;
-            self.declared_runs = entries.lower_runs();
         } else {
             self.declared = DeclaredLlt::new(&pattern, &entries);
         }
-        self.entries = Some(entries);
+        // Below `SPARSE_FROM` a memset and a dense forming of the n² entries cost less than
+        // the loops over the pattern's runs, which are short there: the rigid Iltis vehicle
+        // (n = 42, 36 % of n²) ran 10 % slower with them (process CPU, 7 interleaved runs).
+        if n >= SPARSE_FROM {
+            if self.declared.is_none() {
+                self.declared_runs = entries.lower_runs();
+            }
+            self.entries = Some(entries);
+        }
     }
 
     /// Write W = M + h/2 C + h²/4 K (the leading matrix without the penalty) into `lead`:
