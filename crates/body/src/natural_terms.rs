@@ -15,10 +15,13 @@
 //! ```
 //!
 //! with m̄, P truncated at order k as in `terms.rs`, the constant M_yy (the full kernel's
-//! `Σ (e_a·e_b) Sᵃᵇ` equals it on the manifold but costs 9 n² more in M and Q_v) and only the
+//! `Σ (e_a·e_b) Sᵃᵇ` equals it on the manifold but costs about 13 n² more in M and Q_v) and only the
 //! skew half of L's linear part (`Sᵇᵃ − Sᵃᵇ = Σ_c ε_abc G_c`, 3 n² instead of Sᵃᵇ y's 9 n²; C(y)
 //! is exact). At order 2 with couplings M differs from the full kernel's Gram matrix by that
 //! symmetric half only, which acts on the stretch of A the orthonormality constraints hold.
+//! The extension is free for the exact motion, not for the integrator's: with every term kept it
+//! drifts 2 to 4 times the full kernel's energy on the free 2D spin-up beam at h = 1 to 0.25 ms
+//! (the same order in h; `crates/validation/tests/inertia_terms.rs`).
 //! Lagrange's equations of this T give M (its Hessian in q̇) and `Q_v = ∂T/∂q − Ṁ q̇`:
 //!
 //! ```text
