@@ -57,6 +57,7 @@ mod kinematics;
 mod layout;
 mod natural;
 mod natural_points;
+mod natural_terms;
 mod node_rows;
 mod shape;
 mod state;
@@ -246,10 +247,10 @@ impl FlexibleBody {
     }
 
     /// Keep only `terms` of the inertia terms (issue 31; the truncated kinetic energy of
-    /// `terms.rs`), for route (b) in the relative set. Refused, naming `field`, for an order
-    /// above 2 and for a foreshortened body (FS0's hatted moments have no truncated form here).
-    /// The B-matrix route and the natural set ignore the choice: a formulation that runs them
-    /// refuses a truncated body when it is built.
+    /// `terms.rs`, in natural coordinates `natural_terms.rs`), for route (b) in the relative
+    /// and the natural set. Refused, naming `field`, for an order above 2 and for a
+    /// foreshortened body (FS0's hatted moments have no truncated form here). The B-matrix
+    /// route ignores the choice: a scene that runs it refuses a truncated body when compiled.
     pub fn set_inertia_terms(
         &mut self,
         terms: InertiaTerms,
@@ -459,7 +460,9 @@ impl FlexibleBody {
     /// caller storage ((12+n)² in 3D, (4+n)² in 2D; every entry overwritten). Takes
     /// `&self` and a workspace from [`natural_workspace`](Self::natural_workspace).
     /// The exact `e_a·e_b` is used in M_yy, so M and Q_v derive from one kinetic
-    /// energy even when the orthonormality constraints are violated.
+    /// energy even when the orthonormality constraints are violated; a body with dropped
+    /// terms ([`set_inertia_terms`](Self::set_inertia_terms)) uses the truncated kinetic
+    /// energy written in natural coordinates (`natural_terms.rs`), which is also one T.
     ///
     /// # Panics
     /// If the output sizes or `y`, `y_dot` lengths do not match.
@@ -486,7 +489,16 @@ impl FlexibleBody {
             self.fs.is_none(),
             "inertia_natural: workspace made before set_foreshortening (make it after)"
         );
+        // A truncated body (never FS0, `set_inertia_terms`) runs the kernels of
+        // `natural_terms.rs`; every term kept, the kernels below unchanged.
+        let terms = self.terms;
         match (method, self.dim, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, Dim::Spatial, false) if !terms.is_full() => {
+                self.natural_shape_3d_terms(state, terms, &mut ws.0, m_out, qv_out)
+            }
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) if !terms.is_full() => {
+                self.natural_shape_2d_terms(state, terms, &mut ws.0, m_out, qv_out)
+            }
             (InertiaMethod::ShapeIntegrals, Dim::Spatial, _) => {
                 self.natural_shape_3d(state, ws, m_out, qv_out)
             }

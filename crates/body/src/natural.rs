@@ -132,7 +132,9 @@ impl BodyPoint {
 
 /// The frame of a planar natural state: `u`, `u̇`, `A = [u  E u]` and `Ȧ = [u̇  E u̇]`.
 #[inline(always)]
-fn planar_frame(st: &NaturalState<'_>) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
+pub(crate) fn planar_frame(
+    st: &NaturalState<'_>,
+) -> (Vector2<f64>, Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
     let u = st.a.column(0).xy();
     let ud = st.a_dot.column(0).xy();
     let a = Matrix2::new(u.x, -u.y, u.y, u.x);
@@ -160,7 +162,7 @@ pub(crate) struct PlanarMoments {
 /// The rigid 4 × 4 block of a planar natural-coordinate mass matrix over (r0, u):
 /// `[[m I, m̄_1 I + m̄_2 E], [(m̄_1 I + m̄_2 E)ᵀ, (P_11 + P_22) I]]`.
 #[inline(always)]
-fn write_natural_rigid_block_2d<SM>(
+pub(crate) fn write_natural_rigid_block_2d<SM>(
     m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
     m: f64,
     mb: &Vector2<f64>,
@@ -184,7 +186,7 @@ fn write_natural_rigid_block_2d<SM>(
 }
 
 #[inline(always)]
-fn e2(v: Vector2<f64>) -> Vector2<f64> {
+pub(crate) fn e2(v: Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-v.y, v.x)
 }
 

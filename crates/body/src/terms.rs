@@ -156,11 +156,46 @@ fn centrifugal(om: &Matrix3<f64>, l: &[f64], n: usize, j: usize) -> f64 {
 
 /// `lam[(b, c)] = (L_b)_c · ẏ` for rows L at (3b + c) n.
 #[inline(always)]
-fn rows_dot_9(l: &[f64], n: usize, yd: &[f64]) -> Matrix3<f64> {
+pub(crate) fn rows_dot_9(l: &[f64], n: usize, yd: &[f64]) -> Matrix3<f64> {
     Matrix3::from_fn(|b, c| dot(&l[(3 * b + c) * n..(3 * b + c + 1) * n], yd))
 }
 
 impl FlexibleBody {
+    /// m̄(y) and P(y) truncated at `order` (module doc): the undeformed body's at 0, `m̄_u + S y`
+    /// and `P₁ = P̄_u + Sᵃ_b·y + Sᵇ_a·y` at 1, all at 2, where `u^{ab} = Sᵃᵇ y` (9 n²) and the
+    /// full L rows `(L_b)_a = Sᵇ_a + u^{ab}` are left in `ws.u`, `ws.l` (order 2 only).
+    #[inline(always)]
+    pub(crate) fn truncated_moments(
+        &self,
+        y: &[f64],
+        order: u8,
+        ws: &mut Workspace,
+    ) -> (Vector3<f64>, Matrix3<f64>) {
+        let n = self.n;
+        if n > 0 && order >= 2 {
+            return self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
+        }
+        let (mut mb, mut p) = (self.m_u, self.p_u);
+        if order >= 1 {
+            for c in 0..3 {
+                mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
+            }
+        }
+        if order == 1 && n > 0 {
+            // P₁ = P̄ + Sᵃ_b·y + Sᵇ_a·y (sa: Sᵇ row a at (3b + a) n).
+            for c in 0..3 {
+                for b in c..3 {
+                    let v = self.p_u[(c, b)]
+                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
+                        + dot(&self.sa[(3 * b + c) * n..(3 * b + c + 1) * n], y);
+                    p[(c, b)] = v;
+                    p[(b, c)] = v;
+                }
+            }
+        }
+        (mb, p)
+    }
+
     /// Route (b) of the spatial relative set with the kinetic energy truncated by `terms`
     /// (module doc). Skips the work of what is dropped: Sᵃᵇ y (9 n²) unless order 2 (order 1's
     /// couplings read `C(y) = C(Sᵃ) + [G_a y]`, 3 n²), G(ω̄) ẏ (3 n²) unless kept.
@@ -182,29 +217,7 @@ impl FlexibleBody {
         let v0b = st.a.tr_mul(&st.r0_dot());
         // Sᵃᵇ y (9 n²) only at order 2; order 1's C(y) = C(Sᵃ) + [G_1 y; G_2 y; G_3 y] (3 n²).
         let need_u = n > 0 && k >= 2;
-        // m̄ and P truncated; full L rows (Sᵇ + Sᵇᵃ y) in ws.l when need_u.
-        let (mut mb, mut p) = (self.m_u, self.p_u);
-        if need_u {
-            let (m, p2) = self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
-            mb = m;
-            p = p2;
-        } else if k >= 1 {
-            for c in 0..3 {
-                mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
-            }
-        }
-        if k == 1 && n > 0 {
-            // P₁ = P̄ + Sᵃ_b·y + Sᵇ_a·y (sa: Sᵇ row a at (3b + a) n).
-            for c in 0..3 {
-                for b in c..3 {
-                    let v = self.p_u[(c, b)]
-                        + dot(&self.sa[(3 * c + b) * n..(3 * c + b + 1) * n], y)
-                        + dot(&self.sa[(3 * b + c) * n..(3 * b + c + 1) * n], y);
-                    p[(c, b)] = v;
-                    p[(b, c)] = v;
-                }
-            }
-        }
+        let (mb, p) = self.truncated_moments(y, k, ws);
         let s_yd = if n > 0 && (k >= 1 || cpl) {
             crate::shape::rows_dot_3(&self.s, n, yd)
         } else {

@@ -19,7 +19,7 @@
 mod common;
 use common::*;
 use flexmbd_body::NaturalWorkspace;
-use flexmbd_body::{BodyPoint, BodyState, Dim, FlexibleBody, InertiaMethod, NaturalState};
+use flexmbd_body::{BodyPoint, Dim, FlexibleBody, InertiaMethod, NaturalState};
 use flexmbd_fe::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2, Vector3};
 
@@ -204,70 +204,6 @@ fn lagrange_check_2d_3d() {
 }
 
 // ---------------------------------------------------------------- relative set
-
-/// On the manifold, `q̇ = R Z`. 3D: `ṙ0 = ṡ − r̃0 ω`, `ė_a = −ẽ_a ω`; 2D: `ṙ0 = ṡ + ω E r0`,
-/// `u̇ = ω E u`. Returns (natural state, R, Ṙ Z).
-fn natural_from_relative(
-    st: &BodyState<'_>,
-    dim: Dim,
-    n: usize,
-) -> (Q, DMatrix<f64>, DVector<f64>) {
-    let nr = n_rigid(dim);
-    let mut q = DVector::zeros(nr + n);
-    let mut qd = DVector::zeros(nr + n);
-    let r0d = st.r0_dot();
-    let om = st.omega;
-    match dim {
-        Dim::Spatial => {
-            let mut rm = DMatrix::zeros(12 + n, 6 + n);
-            let mut rdz = DVector::zeros(12 + n);
-            q.fixed_rows_mut::<3>(0).copy_from(&st.r0);
-            qd.fixed_rows_mut::<3>(0).copy_from(&r0d);
-            rm.view_mut((0, 0), (3, 3)).fill_with_identity();
-            rm.view_mut((0, 3), (3, 3))
-                .copy_from(&(-flexmbd_core::skew(&st.r0)));
-            rdz.fixed_rows_mut::<3>(0).copy_from(&om.cross(&r0d));
-            for a in 0..3 {
-                let e: Vector3<f64> = st.a.column(a).into();
-                let ed = om.cross(&e);
-                q.fixed_rows_mut::<3>(3 + 3 * a).copy_from(&e);
-                qd.fixed_rows_mut::<3>(3 + 3 * a).copy_from(&ed);
-                rm.view_mut((3 + 3 * a, 3), (3, 3))
-                    .copy_from(&(-flexmbd_core::skew(&e)));
-                rdz.fixed_rows_mut::<3>(3 + 3 * a).copy_from(&om.cross(&ed));
-            }
-            rm.view_mut((12, 6), (n, n)).fill_with_identity();
-            for j in 0..n {
-                q[12 + j] = st.y[j];
-                qd[12 + j] = st.y_dot[j];
-            }
-            (Q { dim, q, qd }, rm, rdz)
-        }
-        Dim::Planar => {
-            let w = om.z;
-            let mut rm = DMatrix::zeros(4 + n, 3 + n);
-            let mut rdz = DVector::zeros(4 + n);
-            let r0 = st.r0.xy();
-            let u: Vector2<f64> = st.a.fixed_view::<2, 1>(0, 0).into();
-            let (r0d, ud) = (r0d.xy(), w * E * u);
-            q.fixed_rows_mut::<2>(0).copy_from(&r0);
-            q.fixed_rows_mut::<2>(2).copy_from(&u);
-            qd.fixed_rows_mut::<2>(0).copy_from(&r0d);
-            qd.fixed_rows_mut::<2>(2).copy_from(&ud);
-            rm.view_mut((0, 0), (2, 2)).fill_with_identity();
-            rm.view_mut((0, 2), (2, 1)).copy_from(&(E * r0));
-            rm.view_mut((2, 2), (2, 1)).copy_from(&(E * u));
-            rm.view_mut((4, 3), (n, n)).fill_with_identity();
-            rdz.fixed_rows_mut::<2>(0).copy_from(&(w * E * r0d));
-            rdz.fixed_rows_mut::<2>(2).copy_from(&(w * E * ud));
-            for j in 0..n {
-                q[4 + j] = st.y[j];
-                qd[4 + j] = st.y_dot[j];
-            }
-            (Q { dim, q, qd }, rm, rdz)
-        }
-    }
-}
 
 fn check_relative(rb: &ReducedBody, seed: u64, y_scale: f64) -> (f64, f64, f64) {
     let mut r = rng(seed);

@@ -1,11 +1,12 @@
-//! One inertia evaluation (both routes, 2D and 3D, relative and natural sets), the elastic
+//! One inertia evaluation (both routes, 2D and 3D, relative and natural sets, full and with
+//! inertia terms dropped), the elastic
 //! forces, gravity, the potential energy and the body-point queries allocate nothing after
 //! set-up (counting global allocator, counting per thread).
 //!
 
 mod common;
 use common::*;
-use flexmbd_body::{BodyPoint, Dim, FlexibleBody, InertiaMethod, NaturalState};
+use flexmbd_body::{BodyPoint, Dim, FlexibleBody, InertiaMethod, InertiaTerms, NaturalState};
 use nalgebra::{DMatrix, DVector, Vector3};
 
 #[global_allocator]
@@ -38,6 +39,16 @@ fn evaluation_allocates_nothing() {
         let p = BodyPoint::rigid(Vector3::new(0.5, 0.1, 0.0), n);
         let mut jac = DMatrix::zeros(dim.n_trans(), nn);
         let mut sink = 0.0;
+        // Truncated inertia terms (issue 31) in both sets.
+        let mut truncated: Vec<FlexibleBody> = ["o2-nv", "o1", "o0-nc"]
+            .iter()
+            .map(|l| {
+                let mut b = body.clone();
+                let t = InertiaTerms::parse(l).unwrap();
+                b.set_inertia_terms(t, "test").unwrap();
+                b
+            })
+            .collect();
         let before = flexmbd_test_support::allocations();
         for _ in 0..3 {
             body.inertia(&view, InertiaMethod::BMatrix, &mut m, &mut q);
@@ -48,6 +59,16 @@ fn evaluation_allocates_nothing() {
             let st = NaturalState::from_coords(dim, nat.q.as_slice(), nat.qd.as_slice());
             for method in [InertiaMethod::BMatrix, InertiaMethod::ShapeIntegrals] {
                 body.inertia_natural(&st, method, &mut nws, &mut mn, &mut qn);
+            }
+            for b in truncated.iter_mut() {
+                b.inertia(&view, InertiaMethod::ShapeIntegrals, &mut m, &mut q);
+                b.inertia_natural(
+                    &st,
+                    InertiaMethod::ShapeIntegrals,
+                    &mut nws,
+                    &mut mn,
+                    &mut qn,
+                );
             }
             body.gravity_natural(&st, &g, &mut gn);
             sink += body.natural_potential_energy(&st, &g);

@@ -12,9 +12,7 @@ use flexmbd_fe::{ReducedBody, ReferenceFrame, reduce};
 use flexmbd_stiffening::Nonlinear;
 
 use crate::error::ModelError;
-use crate::scene::{
-    Body, BodyModel, FormulationKind, ImportedBodySpec, ImportedFrame, Scene, Stiffening,
-};
+use crate::scene::{Body, BodyModel, ImportedBodySpec, ImportedFrame, Scene, Stiffening};
 
 /// The preprocessed form of one scene body.
 #[derive(Clone, Debug)]
@@ -274,8 +272,8 @@ impl Scene {
 impl Scene {
     /// Install `b.inertia_terms` on its run-time body (issue 31). A truncated choice is refused
     /// by name where it has no meaning or no kernel: a body without modes, the B-matrix route
-    /// (a mass cloud has no named terms), the absolute formulation (not implemented: its modal
-    /// mass `Σ (e_a·e_b) Sᵃᵇ` keeps the quadratic terms in M), and FS0 (by the body).
+    /// (a mass cloud has no named terms) and FS0 (by the body). Both formulations drop terms
+    /// (the relative set in `flexmbd_body`'s `terms.rs`, the natural set in `natural_terms.rs`).
     fn install_inertia_terms(
         &self,
         b: &Body,
@@ -294,12 +292,6 @@ impl Scene {
             return refuse(
                 "the B-matrix route sums a mass cloud and has no named terms: use \
                  solver.inertia: ShapeIntegrals to drop terms",
-            );
-        }
-        if self.solver.formulation == FormulationKind::Absolute {
-            return refuse(
-                "the absolute formulation keeps every inertia term (dropping them is \
-                 implemented in the relative formulation): use formulation: Relative",
             );
         }
         prepared

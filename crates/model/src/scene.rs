@@ -207,7 +207,7 @@ pub struct Body {
     #[serde(default)]
     pub initial_modes: Vec<f64>,
     /// The inertia terms a flexible body keeps (issue 31): `(order: 0|1|2, velocity: bool,
-    /// coupling: bool)`, every term by default; relative formulation, shape integrals
+    /// coupling: bool)`, every term by default; both formulations, shape integrals
     /// (`flexmbd_body::InertiaTerms`, docs/design.md "Inertia terms as a model choice").
     #[serde(default)]
     pub inertia_terms: InertiaTerms,

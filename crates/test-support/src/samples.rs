@@ -1,7 +1,7 @@
 //! Standard bodies and states shared by the report (`xtask`) and the benchmarks,
 //! so both measure exactly the same thing (feature `samples`).
 
-use flexmbd_body::BodyState;
+use flexmbd_body::{BodyState, NaturalState};
 use flexmbd_core::Dim;
 use flexmbd_fe::BeamBodySpec;
 use nalgebra::{Matrix3, Rotation3, Vector3};
@@ -58,6 +58,30 @@ impl Probe {
                 a: *Rotation3::from_euler_angles(0.3, -0.5, 0.9).matrix(),
                 omega: Vector3::new(0.7, -1.1, 1.3),
                 s_dot: Vector3::new(0.4, 0.1, -0.3),
+            },
+        }
+    }
+    /// The same state in natural coordinates (on the constraint manifold): `ṙ0 = ṡ + ω × r0`,
+    /// `Ȧ = ω̃ A`.
+    pub fn natural_state(&self, dim: Dim) -> NaturalState<'_> {
+        let r0_dot = self.s_dot + self.omega.cross(&self.r0);
+        let a_dot = self.omega.cross_matrix() * self.a;
+        match dim {
+            Dim::Planar => NaturalState::planar(
+                self.r0.xy(),
+                self.a.column(0).xy(),
+                r0_dot.xy(),
+                a_dot.column(0).xy(),
+                &self.y,
+                &self.yd,
+            ),
+            Dim::Spatial => NaturalState {
+                r0: self.r0,
+                a: self.a,
+                r0_dot,
+                a_dot,
+                y: &self.y,
+                y_dot: &self.yd,
             },
         }
     }
