@@ -287,13 +287,13 @@ impl WeightMeter {
             ));
         }
         let mut body = body.clone();
-        body.set_inertia_terms(
-            InertiaTerms {
-                order: 1,
-                ..InertiaTerms::FULL
-            },
-            field,
-        )?;
+        // Every truncation must be possible (FS0 refuses them all): probe one.
+        let probe = InertiaTerms {
+            order: 1,
+            ..InertiaTerms::FULL
+        };
+        body.set_inertia_terms(probe, field)
+            .map_err(|e| InvalidValue::new(field, "foreshortened (FS0)", e.reason))?;
         body.set_inertia_terms(InertiaTerms::FULL, field)?;
         let nc = body.n_coords();
         let nr = body.dim().n_rigid();

@@ -1,7 +1,8 @@
 //! `flexmbd terms` (issue 31 item 2): the weights of each flexible body's inertia terms over
 //! a pilot run and the choice at a threshold, as a table and as JSON; bad input — a
 //! threshold outside (0, 1), a scene without a flexible body, a pilot duration that is not
-//! positive — each a clear error naming the value.
+//! positive, a foreshortened body (FS0 cannot drop terms) — each a clear error naming the
+//! value.
 
 mod common;
 
@@ -54,6 +55,11 @@ fn bad_input_is_named() {
     }
     let err = refused(&["terms", &scene, "--duration", "-1"]);
     assert_contains_all(&err, &["duration = -1", "positive"]);
+    let err = refused(&["terms", &scene, "--stiffening", "fs0", "--duration", "0.1"]);
+    assert_contains_all(
+        &err,
+        &["bodies[beam] = foreshortened (FS0)", "cannot be dropped"],
+    );
     let rigid = model("double_four_bar.ron");
     let err = refused(&["terms", &rigid]);
     assert_contains_all(&err, &["no flexible body", "flexible=true"]);
