@@ -62,6 +62,7 @@ mod node_rows;
 mod shape;
 mod state;
 mod terms;
+pub mod weights;
 
 pub use elastic::{ElasticModel, ElasticTangents, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};

@@ -22,6 +22,9 @@
 //! - `flexmbd tune SCENE.ron --sensor NAME[,NAME…] --tolerance X` prints the cheapest run
 //!   of that sweep whose error is at most X, and the `flexmbd simulate` arguments that
 //!   reproduce it.
+//! - `flexmbd terms SCENE.ron [--threshold X] [--duration T]` weighs each flexible body's
+//!   inertia terms over a pilot run of the full model and prints the cheapest terms whose
+//!   dropped groups weigh at most the threshold ([`terms_cmd`]).
 //! - `flexmbd fmu SCENE.ron --output NAME.fmu` writes the scene's FMI 3.0 co-simulation
 //!   FMU ([`fmu_cmd`]).
 //! - `flexmbd animate SCENE.ron --output run.glb|run.html [--fps F] [--scale S]` runs the
@@ -40,6 +43,7 @@ mod fmu_cmd;
 mod jsonl_output;
 mod output_file;
 mod sweep_cmd;
+mod terms_cmd;
 
 #[cfg(test)]
 #[global_allocator]
@@ -119,6 +123,10 @@ enum Command {
     /// tolerance, with the `flexmbd simulate` arguments that reproduce it.
     #[command(after_help = sweep_cmd::help())]
     Tune(sweep_cmd::TuneArgs),
+    /// Weigh each flexible body's inertia terms over a pilot run of the full model and
+    /// print the cheapest terms whose dropped groups weigh at most a threshold.
+    #[command(after_help = exit::HELP)]
+    Terms(terms_cmd::TermsArgs),
     /// Export a scene as an FMI 3.0 co-simulation FMU (a shared library and the scene
     /// with the files it reads), to run it in another simulator.
     Fmu(fmu_cmd::FmuArgs),
@@ -209,6 +217,7 @@ fn main() -> ExitCode {
             Command::Eigen(args) => eigen(&args),
             Command::Sweep(args) => sweep_cmd::sweep(&args),
             Command::Tune(args) => sweep_cmd::tune(&args),
+            Command::Terms(args) => terms_cmd::terms(&args),
             Command::Fmu(args) => fmu_cmd::fmu(&args),
             Command::Animate(args) => animate_cmd::animate(&args),
         };

@@ -33,6 +33,10 @@ Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
     normal modes, those the body's loads excite most, load-dependent Ritz vectors, or the
     proper orthogonal modes of a pilot run of the scene on its lowest max(2n, 4) modes,
     which is part of the run's preprocessing)
+  terms=full,o2-nv,o1,o1-nc,o0,o0-nc   terms.BODY=... (the inertia terms kept, relative
+    formulation with shape integrals)   terms=auto@1e-2,auto@1e-3 (each beam keeps the
+    cheapest terms whose dropped groups weigh at most X over one pilot run of the scene with
+    every term, `flexmbd terms`; chosen once, set at every point)
   step=1e-3,5e-4
 
 Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the
@@ -143,6 +147,12 @@ fn parse_axis(arg: &str) -> Result<Axis, String> {
         ("elements", _) => Axis::Elements {
             body,
             counts: values(name, list, count)?,
+        },
+        ("terms", _) if list.contains("auto@") => Axis::AutoTerms {
+            body,
+            thresholds: values(name, list, |v| v.strip_prefix("auto@")?.parse().ok()).map_err(
+                |e| format!("{e} (auto@X and fixed choices cannot share an axis; auto@1e-9 keeps every term)"),
+            )?,
         },
         ("terms", _) => Axis::Terms {
             body,

@@ -266,6 +266,48 @@ pub trait Observe {
     /// its modal coordinates y (`modes` resized to the body's number of modes, empty when
     /// rigid). A formulation without floating frames (the ANCF cable) writes nothing.
     fn body_poses(&mut self, state: State<'_>, out: &mut [BodyPose]);
+    /// The motion of every body at `state` (q̈ = 0 when the state has none): each
+    /// [`BodyMotion`] gets its frame's motion (as [`SensorQuery::frame_motion`](crate::SensorQuery::frame_motion)
+    /// gives it) and its modal coordinates with their rates and accelerations. Returns false,
+    /// writing nothing, when the formulation does not report body motions (the default).
+    fn body_motions(&mut self, _state: State<'_>, _out: &mut [BodyMotion]) -> bool {
+        false
+    }
+}
+
+/// A body's motion at a state: its floating frame's motion (origin, rotation, their rates
+/// and accelerations, ground components) and its modal coordinates y, ẏ, ÿ (empty for a
+/// rigid body), the data an inertia force M̄Ż − Q̄_v is evaluated from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyMotion {
+    /// The frame's motion.
+    pub frame: crate::FrameMotion,
+    /// Modal coordinates y.
+    pub modes: Vec<f64>,
+    /// Their rates ẏ.
+    pub mode_rates: Vec<f64>,
+    /// Their accelerations ÿ.
+    pub mode_accelerations: Vec<f64>,
+}
+
+impl Default for BodyMotion {
+    /// At rest at the ground origin, unrotated, undeformed.
+    fn default() -> Self {
+        let zero = nalgebra::Vector3::zeros();
+        BodyMotion {
+            frame: crate::FrameMotion {
+                origin: zero,
+                rotation: nalgebra::Matrix3::identity(),
+                velocity: zero,
+                angular_velocity: zero,
+                acceleration: zero,
+                angular_acceleration: zero,
+            },
+            modes: Vec::new(),
+            mode_rates: Vec::new(),
+            mode_accelerations: Vec::new(),
+        }
+    }
 }
 
 /// A body's pose at a state: its floating frame's origin r0 (m, ground components), its

@@ -11,7 +11,8 @@ pub mod kinematics;
 pub mod pattern;
 
 pub use formulation::{
-    BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State, SystemTerms,
+    BodyMotion, BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State,
+    SystemTerms,
 };
 pub use kinematics::{ElementReading, FrameMotion, JointReading, MarkerKinematics, SensorQuery};
 pub use pattern::DeclaredPattern;

@@ -160,6 +160,7 @@ pub mod output;
 mod pilot;
 pub mod simulation;
 pub mod sweep;
+pub mod term_weights;
 pub mod vibration;
 
 pub use equilibrium::{Equilibrium, equilibrium};

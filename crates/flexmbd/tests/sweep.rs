@@ -178,3 +178,54 @@ fn inertia_terms_are_an_axis() {
         "{args}"
     );
 }
+
+/// `terms=auto@X`: one pilot of the sweep's scene weighs the beam's terms and each threshold
+/// sets its choice at every point; a threshold no term group can meet keeps them all.
+#[test]
+fn inertia_terms_chosen_by_their_weights_are_an_axis() {
+    use flexmbd::model::FormulationKind;
+    let axes = vec![
+        Axis::Formulation(vec![FormulationKind::Relative]),
+        Axis::AutoTerms {
+            body: None,
+            thresholds: vec![1e-12, 0.5],
+        },
+        Axis::Step(vec![1e-3]),
+    ];
+    let report = spin_up(Reference::Converged, axes).run().unwrap();
+    let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
+    eprintln!("{labels:?}");
+    assert_eq!(
+        labels[0],
+        "relative terms=auto@0.000000000001(full) h=0.001"
+    );
+    assert!(
+        labels[1].starts_with("relative terms=auto@0.5(o"),
+        "{labels:?}"
+    );
+    assert!(!labels[1].contains("(full)"), "{labels:?}");
+    assert!(report.runs.iter().all(|r| r.status == RunStatus::Ok));
+    // The reference is the smallest threshold's point: every term kept.
+    assert_eq!(report.runs[0].error, 0.0);
+    let args = report.runs[1].args.join(" ");
+    assert!(
+        args.contains("--set bodies.beam.inertia_terms.order="),
+        "{args}"
+    );
+    // A threshold outside (0, 1) is refused by name before any run.
+    let bad = spin_up(
+        Reference::Converged,
+        vec![Axis::AutoTerms {
+            body: None,
+            thresholds: vec![1.0],
+        }],
+    )
+    .run()
+    .unwrap_err();
+    assert!(matches!(bad, SweepError::Grid { .. }), "{bad}");
+    assert!(
+        bad.to_string()
+            .contains("auto@1: a threshold must be in (0, 1)"),
+        "{bad}"
+    );
+}

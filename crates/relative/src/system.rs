@@ -195,4 +195,29 @@ impl flexmbd_core::Observe for Relative {
                 .extend_from_slice(&state.q.as_slice()[first..first + self.bodies[b].n_modes]);
         }
     }
+    /// From one kinematics pass at (z, ż), as the sensors; ż̇ = 0 when the state has none.
+    fn body_motions(&mut self, state: State<'_>, out: &mut [flexmbd_core::BodyMotion]) -> bool {
+        self.kinematics(state.q, state.qd);
+        let at_rest;
+        let qdd = match state.qdd {
+            Some(qdd) => qdd,
+            None => {
+                at_rest = DVector::zeros(state.q.len());
+                &at_rest
+            }
+        };
+        for (b, motion) in out.iter_mut().enumerate() {
+            motion.frame = flexmbd_core::SensorQuery::frame_motion(self, b, state.q, state.qd, qdd);
+            let modes =
+                self.bodies[b].first_mode..self.bodies[b].first_mode + self.bodies[b].n_modes;
+            let copy = |to: &mut Vec<f64>, from: &DVector<f64>| {
+                to.clear();
+                to.extend_from_slice(&from.as_slice()[modes.clone()]);
+            };
+            copy(&mut motion.modes, state.q);
+            copy(&mut motion.mode_rates, state.qd);
+            copy(&mut motion.mode_accelerations, qdd);
+        }
+        true
+    }
 }

@@ -12,6 +12,7 @@ pub mod solid_mesh;
 pub mod spin_up;
 pub mod spin_up_solid;
 pub mod stability_map;
+pub mod term_weights;
 pub mod work_precision;
 
 /// What a study returns when it cannot finish.
@@ -95,6 +96,11 @@ pub fn all() -> Vec<Study> {
             name: "work-precision",
             title: "Work–precision: error against CPU time, and the cheapest model for a tolerance",
             run: work_precision::run,
+        },
+        Study {
+            name: "term-weights",
+            title: "Inertia terms by weight: which terms matter, and what dropping them saves (thesis ch. 5, issue 31)",
+            run: term_weights::run,
         },
     ]
 }

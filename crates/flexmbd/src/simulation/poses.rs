@@ -4,7 +4,7 @@
 //! r0 + A (r̄_u + Φ y) (floating frame of reference, docs/methods.md §1.1). The bodies are
 //! those of the prepared scene ([`Simulation::prepared`]): a substructured beam is several.
 
-use flexmbd_core::BodyPose;
+use flexmbd_core::{BodyMotion, BodyPose};
 use flexmbd_model::PreparedScene;
 
 use super::Simulation;
@@ -23,6 +23,16 @@ impl Simulation {
         out.resize(self.prepared.bodies().len(), BodyPose::default());
         let state = self.integrator.state();
         self.formulation.body_poses(state, out);
+    }
+
+    /// Write the motion of every body of the prepared scene at the current state into `out`
+    /// (resized to one per body): its frame's motion and its modal coordinates, rates and
+    /// accelerations. Returns false, writing nothing, when the formulation does not report
+    /// them (the absolute one). Reads the state only: the trajectory does not change.
+    pub fn body_motions(&mut self, out: &mut Vec<BodyMotion>) -> bool {
+        out.resize(self.prepared.bodies().len(), BodyMotion::default());
+        let state = self.integrator.state();
+        self.formulation.body_motions(state, out)
     }
 }
 

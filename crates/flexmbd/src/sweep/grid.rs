@@ -57,6 +57,17 @@ pub enum Axis {
         /// The choices.
         terms: Vec<InertiaTerms>,
     },
+    /// The inertia terms chosen by their weights (`terms[.BODY]=auto@X,…`, docs/design.md
+    /// "Inertia terms by weight"): each flexible beam body (or `body`) keeps the cheapest
+    /// terms whose dropped groups weigh at most X over one pilot run of the sweep's scene with
+    /// every term kept ([`crate::term_weights`]). The choice is made once, for the scene as the
+    /// sweep gets it, and the same terms are set at every point of the grid.
+    AutoTerms {
+        /// The body, or every flexible beam body.
+        body: Option<String>,
+        /// The thresholds X, each in (0, 1).
+        thresholds: Vec<f64>,
+    },
     /// The time step h (s).
     Step(Vec<f64>),
 }
@@ -98,8 +109,28 @@ pub enum Setting {
         /// The choice.
         terms: InertiaTerms,
     },
+    /// The terms chosen by their weights at `threshold` ([`Axis::AutoTerms`]):
+    /// `--set bodies.BODY.inertia_terms.{order,velocity,coupling}=…` for each body's choice.
+    ChosenTerms {
+        /// The threshold.
+        threshold: f64,
+        /// Each body and its choice.
+        choices: Vec<(String, InertiaTerms)>,
+    },
     /// `--set solver.step=H`.
     Step(f64),
+}
+
+/// `--set bodies.BODY.inertia_terms.{order,velocity,coupling}=…` for `terms` on `body`.
+fn terms_args(body: &str, terms: &InertiaTerms) -> Vec<String> {
+    let path = |f: &str| format!("bodies.{body}.inertia_terms.{f}");
+    let set = |path: String, value: String| vec!["--set".to_string(), format!("{path}={value}")];
+    [
+        set(path("order"), terms.order.to_string()),
+        set(path("velocity"), terms.velocity.to_string()),
+        set(path("coupling"), terms.coupling.to_string()),
+    ]
+    .concat()
 }
 
 /// The name of a formulation on the command line.
@@ -182,17 +213,12 @@ impl Setting {
                     )
                 })
                 .collect(),
-            Setting::Terms { bodies, terms } => bodies
+            Setting::Terms { bodies, terms } => {
+                bodies.iter().flat_map(|b| terms_args(b, terms)).collect()
+            }
+            Setting::ChosenTerms { choices, .. } => choices
                 .iter()
-                .flat_map(|b| {
-                    let path = |f: &str| format!("bodies.{b}.inertia_terms.{f}");
-                    [
-                        set(path("order"), terms.order.to_string()),
-                        set(path("velocity"), terms.velocity.to_string()),
-                        set(path("coupling"), terms.coupling.to_string()),
-                    ]
-                    .concat()
-                })
+                .flat_map(|(b, terms)| terms_args(b, terms))
                 .collect(),
             // `{}` prints the shortest text that reads back as the same f64.
             Setting::Step(h) => set("solver.step".into(), format!("{h}")),
@@ -209,6 +235,10 @@ impl Setting {
             Setting::Basis { kind, .. } => format!("basis={}", basis_name(*kind)),
             Setting::Elements { count, .. } => format!("elements={count}"),
             Setting::Terms { terms, .. } => format!("terms={terms}"),
+            Setting::ChosenTerms { threshold, choices } => {
+                let chosen: Vec<String> = choices.iter().map(|(_, t)| t.label()).collect();
+                format!("terms=auto@{threshold}({})", chosen.join(","))
+            }
             Setting::Step(h) => format!("h={h}"),
         }
     }
@@ -315,7 +345,7 @@ impl Axis {
             Axis::Modes { .. } => "modes",
             Axis::Basis { .. } => "basis",
             Axis::Elements { .. } => "elements",
-            Axis::Terms { .. } => "terms",
+            Axis::Terms { .. } | Axis::AutoTerms { .. } => "terms",
             Axis::Step(_) => "step",
         }
     }
@@ -339,6 +369,9 @@ impl Axis {
             }
             Axis::Basis { body, kinds } => (named(body), list(kinds, |k| basis_name(*k).into())),
             Axis::Terms { body, terms } => (named(body), list(terms, InertiaTerms::label)),
+            Axis::AutoTerms { body, thresholds } => {
+                (named(body), list(thresholds, |t| format!("auto@{t}")))
+            }
             // `{}` prints the shortest text that reads back as the same f64.
             Axis::Step(v) => (named(&None), list(v, |h| format!("{h}"))),
         };
@@ -353,6 +386,7 @@ impl Axis {
             Axis::Modes { counts, .. } | Axis::Elements { counts, .. } => counts.len(),
             Axis::Basis { kinds, .. } => kinds.len(),
             Axis::Terms { terms, .. } => terms.len(),
+            Axis::AutoTerms { thresholds, .. } => thresholds.len(),
             Axis::Step(v) => v.len(),
         }
     }
@@ -440,6 +474,32 @@ impl Axis {
                         terms,
                     })
                     .collect()
+            }
+            Axis::AutoTerms { body, thresholds } => {
+                if let Some(t) = thresholds.iter().find(|t| !(**t > 0.0 && **t < 1.0)) {
+                    return Err(bad(format!("auto@{t}: a threshold must be in (0, 1)")));
+                }
+                let bodies = self.bodies(body, scene)?;
+                let weights = crate::term_weights::weigh_terms(scene, None).map_err(|e| {
+                    bad(format!(
+                        "the pilot run that weighs the inertia terms failed: {e}"
+                    ))
+                })?;
+                let mut settings = Vec::new();
+                for &threshold in thresholds {
+                    let mut choices = Vec::new();
+                    for b in &bodies {
+                        let w = weights.iter().find(|w| &w.body == b).ok_or_else(|| {
+                            bad(format!(
+                                "`{b}` was not weighed (a substructured beam is pieces)"
+                            ))
+                        })?;
+                        let terms = w.choose(threshold).map_err(|e| bad(e.to_string()))?;
+                        choices.push((b.clone(), terms));
+                    }
+                    settings.push(Setting::ChosenTerms { threshold, choices });
+                }
+                settings
             }
             Axis::Step(v) => {
                 if let Some(h) = v.iter().find(|h| !(h.is_finite() && **h > 0.0)) {
@@ -544,7 +604,10 @@ impl Grid {
                     let k = (0..counts.len()).max_by_key(|&k| counts[k]).unwrap_or(0);
                     all[k].clone()
                 }
-                Axis::Step(steps) => {
+                Axis::Step(steps)
+                | Axis::AutoTerms {
+                    thresholds: steps, ..
+                } => {
                     let k = (0..steps.len())
                         .min_by(|&a, &b| steps[a].total_cmp(&steps[b]))
                         .unwrap_or(0);
