@@ -9,6 +9,7 @@ use crate::arrow_llt::ArrowLlt;
 use crate::declared_entries::DeclaredEntries;
 use crate::declared_llt::DeclaredLlt;
 use crate::error::IntegratorError;
+use crate::sparse_llt::SPARSE_FROM;
 use crate::structured::{Fallback, StructuredLlt};
 use flexmbd_core::Formulation;
 
