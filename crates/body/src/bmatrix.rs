@@ -21,10 +21,11 @@
 //! 2D: `B_k = [I₂  E r_k  A X_k]` (E = 90° rotation, `e_z × r = E r`),
 //! `Ḃ_k Z = ω E ṡ − ω² r_k + 2 ω E A X_k ẏ`.
 
+use crate::blocks::RelativeSink;
 use crate::kinematics::PointKinematics;
 use crate::{
-    BodyState, FlexibleBody, Workspace, planar_rotation, relative_layout, write_modal_block,
-    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
+    BodyState, FlexibleBody, Workspace, planar_rotation, write_modal_block, write_planar_coupling,
+    write_planar_rigid,
 };
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -32,18 +33,13 @@ impl FlexibleBody {
     /// Route (a) in the spatial relative set for the cloud-point kinematics `points`
     /// (`X̂_k` for `X_k`, `+ A b_k` in `Ḃ_k Z`); a planar body keeps the x, y, θz rows and
     /// columns of the 3D sums.
-    pub(crate) fn bmatrix_3d<K, SM, SQ>(
+    pub(crate) fn bmatrix_3d<K: PointKinematics, O: RelativeSink>(
         &self,
         st: &BodyState<'_>,
         mut points: K,
         ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        K: PointKinematics,
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        out: &mut O,
+    ) {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
         let a = &st.a;
@@ -88,10 +84,9 @@ impl FlexibleBody {
         }
         let jo = Matrix3::identity() * psum.trace() - psum;
         let force = [-asum.x, -asum.y, -asum.z, -tq.x, -tq.y, -tq.z];
-        write_relative_rigid(m_out, q_out, self.dim, msum, &gsum, &jo, &force);
-        write_relative_couplings(m_out, self.dim, n, &ws.sy, &ws.wy);
-        let (_, nr) = relative_layout(self.dim);
-        write_modal_block(m_out, q_out, nr, n, &ws.yy, &ws.qy);
+        out.rigid(self.dim, msum, &gsum, &jo, &force);
+        out.couplings(self.dim, n, &ws.sy, &ws.wy);
+        out.modal_block(self.dim, n, &ws.yy, &ws.qy);
     }
 
     pub(crate) fn bmatrix_2d<SM, SQ>(

@@ -48,6 +48,7 @@
 //! Scratch is held one way: every kernel takes `&self` and a `&mut Workspace`, the body's own
 //! for the relative set and the caller's [`NaturalWorkspace`] for natural coordinates.
 
+mod blocks;
 mod bmatrix;
 mod construction;
 pub mod elastic;
@@ -64,6 +65,7 @@ mod state;
 mod terms;
 pub mod weights;
 
+pub use blocks::RelativeBlocks;
 pub use elastic::{ElasticModel, ElasticTangents, LinearElastic};
 pub use flexmbd_core::{Dim, InvalidValue};
 pub use flexmbd_fe::ReducedBody;
@@ -357,32 +359,112 @@ impl FlexibleBody {
         self.check_sizes("inertia", nc, m_shape, q_rows, state.y, state.y_dot);
         let mut workspace = self.workspace.take().expect("inertia: workspace lent out");
         let ws = workspace.as_mut();
-        // Linear spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body
-        // keeps their x, y, θz rows); linear planar bodies the lean planar ones.
+        let mut out = blocks::Dense {
+            m: m_out,
+            q: qv_out,
+        };
+        self.relative_kernel(state, method, ws, &mut out);
+        self.workspace = Some(workspace);
+    }
+
+    /// M̄ and Q̄_v in the relative set, as [`inertia`](Self::inertia), written by block into
+    /// `out` (the rigid 6 × 6 block in the spatial entries {ṡ; ω}, a planar body's x, y, θz):
+    /// the spatial kernels write the blocks directly, the lean planar ones through dense
+    /// storage. Same values, bit for bit, as [`inertia`](Self::inertia).
+    ///
+    /// # Panics
+    /// If `out` was not made by [`relative_blocks`](Self::relative_blocks) of this body or
+    /// `state.y`, `state.y_dot` lengths do not match.
+    pub fn inertia_blocks(
+        &mut self,
+        state: &BodyState<'_>,
+        method: InertiaMethod,
+        out: &mut RelativeBlocks,
+    ) {
+        let nc = self.n_coords();
+        let shape = (nc, nc);
+        self.check_sizes("inertia_blocks", nc, shape, nc, state.y, state.y_dot);
+        assert_eq!(
+            out.n_modes(),
+            self.n,
+            "inertia_blocks: blocks must hold n modes"
+        );
+        let mut workspace = self
+            .workspace
+            .take()
+            .expect("inertia_blocks: workspace lent out");
+        let ws = workspace.as_mut();
+        if let Some((mut m, mut q)) = out.planar.take() {
+            let mut dense = blocks::Dense {
+                m: &mut m,
+                q: &mut q,
+            };
+            self.relative_kernel(state, method, ws, &mut dense);
+            out.planar = Some((m, q));
+            out.take_planar();
+        } else {
+            self.spatial_kernel(state, method, ws, out);
+        }
+        self.workspace = Some(workspace);
+    }
+
+    /// Blocks for [`inertia_blocks`](Self::inertia_blocks), sized for this body.
+    pub fn relative_blocks(&self) -> RelativeBlocks {
+        let lean_planar = self.dim == Dim::Planar && self.fs.is_none();
+        RelativeBlocks::new(self.n, lean_planar)
+    }
+
+    /// The relative-set kernel of this body's route, dimension and terms, into `out`. Linear
+    /// spatial bodies and every FS0 body run the spatial kernels (an FS0 planar body keeps
+    /// their x, y, θz rows); linear planar bodies the lean planar ones, which only write
+    /// dense storage.
+    fn relative_kernel<SM, SQ>(
+        &self,
+        state: &BodyState<'_>,
+        method: InertiaMethod,
+        ws: &mut Workspace,
+        out: &mut blocks::Dense<'_, SM, SQ>,
+    ) where
+        SM: StorageMut<f64, Dyn, Dyn>,
+        SQ: StorageMut<f64, Dyn, U1>,
+    {
         let terms = self.terms;
         match (method, self.dim, self.fs.is_some()) {
             (InertiaMethod::ShapeIntegrals, Dim::Planar, false) if !terms.is_full() => {
-                self.shape_2d_terms(state, terms, ws, m_out, qv_out)
-            }
-            (InertiaMethod::ShapeIntegrals, Dim::Spatial, false) if !terms.is_full() => {
-                self.shape_3d_terms(state, terms, ws, m_out, qv_out)
+                self.shape_2d_terms(state, terms, ws, out.m, out.q)
             }
             (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
-                self.shape_2d(state, ws, m_out, qv_out)
+                self.shape_2d(state, ws, out.m, out.q)
             }
-            (InertiaMethod::ShapeIntegrals, _, _) => self.shape_3d(state, ws, m_out, qv_out),
             (InertiaMethod::BMatrix, Dim::Planar, false) => {
-                self.bmatrix_2d(state, ws, m_out, qv_out)
+                self.bmatrix_2d(state, ws, out.m, out.q)
             }
-            (InertiaMethod::BMatrix, _, false) => self.bmatrix_3d(state, Linear, ws, m_out, qv_out),
-            (InertiaMethod::BMatrix, _, true) => {
+            _ => self.spatial_kernel(state, method, ws, out),
+        }
+    }
+
+    /// The spatial relative-set kernels (see [`relative_kernel`](Self::relative_kernel)).
+    fn spatial_kernel<O: blocks::RelativeSink>(
+        &self,
+        state: &BodyState<'_>,
+        method: InertiaMethod,
+        ws: &mut Workspace,
+        out: &mut O,
+    ) {
+        let terms = self.terms;
+        match (method, self.fs.is_some()) {
+            (InertiaMethod::ShapeIntegrals, false) if !terms.is_full() => {
+                self.shape_3d_terms(state, terms, ws, out)
+            }
+            (InertiaMethod::ShapeIntegrals, _) => self.shape_3d(state, ws, out),
+            (InertiaMethod::BMatrix, false) => self.bmatrix_3d(state, Linear, ws, out),
+            (InertiaMethod::BMatrix, true) => {
                 let mut scratch = std::mem::take(&mut ws.points);
                 let points = Foreshortened::new(self, state.y, state.y_dot, &mut scratch);
-                self.bmatrix_3d(state, points, ws, m_out, qv_out);
+                self.bmatrix_3d(state, points, ws, out);
                 ws.points = scratch;
             }
         }
-        self.workspace = Some(workspace);
     }
 
     /// M̄_0 and Q̄_v0 in the **origin form** {ṙ0, ω, ẏ} (docs/methods.md §2.4 step 2), written

@@ -15,9 +15,10 @@
 //! `M̄_ωω = J_O = tr(P_g) I − P_g` with `P_g = ∫ r rᵀ dm` about the global origin,
 //! `M̄_ωy = r̃0 A S + A C`.
 
+use crate::blocks::RelativeSink;
 use crate::{
-    BodyState, FlexibleBody, Workspace, dot, planar_rotation, relative_layout, write_modal_rows,
-    write_planar_coupling, write_planar_rigid, write_relative_couplings, write_relative_rigid,
+    BodyState, FlexibleBody, Workspace, dot, planar_rotation, write_planar_coupling,
+    write_planar_rigid,
 };
 use nalgebra::{Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector2, Vector3};
 
@@ -213,7 +214,7 @@ impl FlexibleBody {
     /// global rows `translation` and `rotation` (3n each).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(crate) fn write_shape_couplings<SM>(
+    pub(crate) fn write_shape_couplings<O: RelativeSink>(
         &self,
         a: &Matrix3<f64>,
         r0: &Vector3<f64>,
@@ -221,10 +222,8 @@ impl FlexibleBody {
         c: &[f64],
         translation: &mut [f64],
         rotation: &mut [f64],
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-    {
+        out: &mut O,
+    ) {
         let n = self.n;
         for j in 0..n {
             let sj = Vector3::new(s[j], s[n + j], s[2 * n + j]);
@@ -236,7 +235,7 @@ impl FlexibleBody {
                 rotation[i * n + j] = wyj[i];
             }
         }
-        write_relative_couplings(m_out, self.dim, n, translation, rotation);
+        out.couplings(self.dim, n, translation, rotation);
     }
 
     /// The S rows (3 × n) of the moments just formed: the body's own for a linear body, FS0's
@@ -280,16 +279,12 @@ impl FlexibleBody {
     /// Route (b) in the spatial relative set (§2.4 steps 1–3), linear or FS0 (the hatted
     /// moments of `fs_shape.rs`, and the velocity-product terms `e c₀`, `c₁ × e`,
     /// `Σ w c_k X̂_kᵀ e`); a planar FS0 body runs it too and keeps x, y, θz.
-    pub(crate) fn shape_3d<SM, SQ>(
+    pub(crate) fn shape_3d<O: RelativeSink>(
         &self,
         st: &BodyState<'_>,
         ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        out: &mut O,
+    ) {
         let n = self.n;
         let (y, yd) = (st.y, st.y_dot);
         let (wb, ab) = body_frame_motion(st);
@@ -323,9 +318,7 @@ impl FlexibleBody {
             ),
         };
         let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
-        write_relative_rigid(
-            m_out,
-            q_out,
+        out.rigid(
             self.dim,
             self.mass,
             &rigid.moment,
@@ -340,9 +333,8 @@ impl FlexibleBody {
         let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
         let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
-        self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, m_out);
-        let (_, o) = relative_layout(self.dim);
-        write_modal_rows(m_out, q_out, o, modal_mass.unwrap_or(&yy), &qy);
+        self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, out);
+        out.modal_rows(self.dim, modal_mass.unwrap_or(&yy), &qy);
         ws.qy = qy;
         ws.yy = yy;
     }

@@ -35,10 +35,10 @@
 //! from the ω block, which keeps M̄ positive definite only while the deformation is small
 //! against the body: the formulations fail the step by name when the factorisation fails.
 
+use crate::blocks::RelativeSink;
 use crate::shape::{body_frame_motion, c_rows, planar_frame_motion};
-use crate::{BodyState, FlexibleBody, Workspace, dot, relative_layout};
-use crate::{write_modal_rows, write_planar_coupling, write_planar_rigid};
-use crate::{write_relative_couplings, write_relative_rigid};
+use crate::{BodyState, FlexibleBody, Workspace, dot};
+use crate::{write_planar_coupling, write_planar_rigid};
 use flexmbd_core::InvalidValue;
 use nalgebra::{Dyn, Matrix, Matrix3, StorageMut, U1, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
@@ -199,17 +199,13 @@ impl FlexibleBody {
     /// Route (b) of the spatial relative set with the kinetic energy truncated by `terms`
     /// (module doc). Skips the work of what is dropped: Sᵃᵇ y (9 n²) unless order 2 (order 1's
     /// couplings read `C(y) = C(Sᵃ) + [G_a y]`, 3 n²), G(ω̄) ẏ (3 n²) unless kept.
-    pub(crate) fn shape_3d_terms<SM, SQ>(
+    pub(crate) fn shape_3d_terms<O: RelativeSink>(
         &self,
         st: &BodyState<'_>,
         terms: InertiaTerms,
         ws: &mut Workspace,
-        m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
-        q_out: &mut Matrix<f64, Dyn, U1, SQ>,
-    ) where
-        SM: StorageMut<f64, Dyn, Dyn>,
-        SQ: StorageMut<f64, Dyn, U1>,
-    {
+        out: &mut O,
+    ) {
         let n = self.n;
         let (k, cpl) = (terms.order, terms.coupling);
         let (y, yd) = (st.y, st.y_dot);
@@ -259,9 +255,7 @@ impl FlexibleBody {
             qr -= sign * s_yd.cross(&v0b);
         }
         let rigid = self.global_rigid(&st.a, &st.r0, &mb, &p, &qt, &qr);
-        write_relative_rigid(
-            m_out,
-            q_out,
+        out.rigid(
             self.dim,
             self.mass,
             &rigid.moment,
@@ -297,16 +291,13 @@ impl FlexibleBody {
             qy[j] = v;
         }
         if cpl {
-            self.write_shape_couplings(
-                &st.a, &st.r0, &self.s, &ws.c, &mut ws.ax, &mut ws.wy, m_out,
-            );
+            self.write_shape_couplings(&st.a, &st.r0, &self.s, &ws.c, &mut ws.ax, &mut ws.wy, out);
         } else {
             ws.ax.fill(0.0);
             ws.wy.fill(0.0);
-            write_relative_couplings(m_out, self.dim, n, &ws.ax, &ws.wy);
+            out.couplings(self.dim, n, &ws.ax, &ws.wy);
         }
-        let (_, o) = relative_layout(self.dim);
-        write_modal_rows(m_out, q_out, o, &self.m_yy, &qy);
+        out.modal_rows(self.dim, &self.m_yy, &qy);
         ws.qy = qy;
     }
 

@@ -25,7 +25,7 @@
 //! on its dense M̄_k, Q̄_k, with gravity and the elastic forces; `dynamics.rs` then takes its
 //! rigid block and modal rows apart.
 
-use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod};
+use flexmbd_body::{BodyState, FlexibleBody, InertiaMethod, RelativeBlocks};
 use flexmbd_core::skew;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Vector2, Vector3, Vector6};
 
@@ -52,11 +52,15 @@ pub(crate) struct RigidPlanar {
     inertia: f64,
 }
 
-/// A flexible body and the storage of its dense terms (rigid_size + n_modes).
+/// A flexible body: its terms by block for the dynamics pass (a fixed 6 × 6 rigid block,
+/// the coupling columns and the modal rows), and dense storage for the inspectors.
 #[derive(Clone, Debug)]
 pub(crate) struct Flexible {
     pub(crate) body: FlexibleBody,
-    /// M̄_k, Q̄_k in the s form.
+    /// M̄_k, Q̄_k in the s form by block (Q̄ with gravity and the elastic forces), from
+    /// [`evaluate`](Self::evaluate).
+    pub(crate) blocks: RelativeBlocks,
+    /// Dense M̄_k, Q̄_k (rigid_size + n_modes) for the energy and the initial velocity fit.
     pub(crate) m_bar: DMatrix<f64>,
     pub(crate) q_bar: DVector<f64>,
     /// Scratch: the generalized gravity forces.
@@ -91,6 +95,7 @@ impl BodyKernel {
         if n_modes > 0 {
             let nc = rigid_size + n_modes;
             return BodyKernel::Flexible(Box::new(Flexible {
+                blocks: body.relative_blocks(),
                 body,
                 m_bar: DMatrix::zeros(nc, nc),
                 q_bar: DVector::zeros(nc),
@@ -259,26 +264,56 @@ impl RigidPlanar {
 }
 
 impl Flexible {
-    /// M̄_k and Q̄_k (inertia by `method`, gravity γ, elastic forces) into `m_bar`, `q_bar`.
+    /// M̄_k and Q̄_k (inertia by `method`, gravity γ, elastic forces) into `blocks`;
+    /// `rigid_entries` are the scene's rigid entries of the 6-layout (x, y, θz in 2D).
     pub(crate) fn evaluate(
         &mut self,
         state: &BodyState<'_>,
         method: InertiaMethod,
         gravity: &Vector3<f64>,
-        rigid_size: usize,
+        rigid_entries: &[usize],
     ) {
-        self.body
-            .inertia(state, method, &mut self.m_bar, &mut self.q_bar);
+        let rigid_size = rigid_entries.len();
+        self.body.inertia_blocks(state, method, &mut self.blocks);
         self.body
             .gravity_forces(state, gravity, &mut self.gravity_forces);
-        for (q, gv) in self.q_bar.iter_mut().zip(&self.gravity_forces) {
+        let (rigid_gravity, modal_gravity) = self.gravity_forces.split_at(rigid_size);
+        for (&e, gv) in rigid_entries.iter().zip(rigid_gravity) {
+            self.blocks.rigid_force[e] += gv;
+        }
+        for (q, gv) in self.blocks.modal_force.iter_mut().zip(modal_gravity) {
             *q += gv;
         }
         self.body
             .elastic_forces(state.y, state.y_dot, &mut self.elastic_forces);
-        for (m, f) in self.elastic_forces.iter().enumerate() {
-            self.q_bar[rigid_size + m] += f;
+        for (q, f) in self.blocks.modal_force.iter_mut().zip(&self.elastic_forces) {
+            *q += f;
         }
+    }
+
+    /// The dense M̄_k and Q̄_k of the last [`evaluate`](Self::evaluate) in the body's layout
+    /// (allocates; for the inspectors).
+    pub(crate) fn dense_terms(&self, rigid_entries: &[usize]) -> (DMatrix<f64>, DVector<f64>) {
+        let (rs, b) = (rigid_entries.len(), &self.blocks);
+        let n = b.modal_force.len();
+        let (mut m, mut q) = (DMatrix::zeros(rs + n, rs + n), DVector::zeros(rs + n));
+        for (r, &er) in rigid_entries.iter().enumerate() {
+            q[r] = b.rigid_force[er];
+            for (c, &ec) in rigid_entries.iter().enumerate() {
+                m[(r, c)] = b.rigid[(er, ec)];
+            }
+            for (j, u) in b.coupling.iter().enumerate() {
+                m[(r, rs + j)] = u[er];
+                m[(rs + j, r)] = u[er];
+            }
+        }
+        for i in 0..n {
+            q[rs + i] = b.modal_force[i];
+            for j in 0..n {
+                m[(rs + i, rs + j)] = b.modal_mass[i * n + j];
+            }
+        }
+        (m, q)
     }
 }
 

@@ -94,7 +94,6 @@ impl Relative {
             paths,
             l_rows,
             mass_map: Vec::new(),
-            p_scratch: vec![0.0; rigid_size + infos.iter().map(|i| i.n_modes).max().unwrap_or(0)],
             elem_rate,
             constraints,
             row_paths: Default::default(),

@@ -68,9 +68,10 @@ impl Relative {
                 continue;
             }
             let state = self.body_state(k, z, zd);
-            let (g, method, rigid_size) = (self.gravity, self.inertia_method, self.rigid_size);
+            let (g, method) = (self.gravity, self.inertia_method);
+            let entries = &self.rigid_entries[..self.rigid_size];
             if let BodyKernel::Flexible(f) = &mut self.bodies[k].kernel {
-                f.evaluate(&state, method, &g, rigid_size);
+                f.evaluate(&state, method, &g, entries);
             }
         }
     }
@@ -134,54 +135,53 @@ impl Relative {
         }
     }
 
-    /// [`body_rows`](Self::body_rows) of flexible body k, whose M̄_k and Q̄_k
-    /// [`evaluate_bodies`](Self::evaluate_bodies) formed, with its frame's D.
+    /// [`body_rows`](Self::body_rows) of flexible body k, whose blocks
+    /// [`evaluate_bodies`](Self::evaluate_bodies) formed, with its frame's D: the rigid block
+    /// into 𝕄's part M̄_k, P_k = Q̄_k − M̄_k[:, rigid] D (per row in the order of the rigid
+    /// entries), the coupling columns into M_w's rows of the joints that move body k and
+    /// M̄_yy into M.
     fn flexible_body_rows(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
-        let rigid_size = self.rigid_size;
-        let rigid_entries = self.rigid_entries;
+        let entries = &self.rigid_entries[..self.rigid_size];
         let nz = self.n_z;
-        let planar = rigid_size == 3;
+        let planar = self.rigid_size == 3;
         let b = &self.bodies[k];
         let BodyKernel::Flexible(flexible) = &b.kernel else {
             return;
         };
-        let f = b.frame;
-        let nc = rigid_size + b.n_modes;
+        let blocks = &flexible.blocks;
+        let (f, n) = (b.frame, b.n_modes);
         let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
-        // P = Q̄ − M̄[:, rigid] D, column by column (the same operation order per row).
-        let mb = flexible.m_bar.as_slice();
-        let p = &mut self.p_scratch[..nc];
-        p.copy_from_slice(flexible.q_bar.as_slice());
-        for c in 0..rigid_size {
-            let dc = d[rigid_entries[c]];
-            for (pr, m) in p.iter_mut().zip(&mb[c * nc..(c + 1) * nc]) {
-                *pr -= m * dc;
+        *mm = blocks.rigid;
+        for &r in entries {
+            let mut p = blocks.rigid_force[r];
+            for &c in entries {
+                p -= blocks.rigid[(r, c)] * d[c];
             }
-            for r in 0..rigid_size {
-                mm[(rigid_entries[r], rigid_entries[c])] = mb[c * nc + r];
+            pp[r] = p;
+        }
+        let q_w = &mut self.q_w.as_mut_slice()[b.first_mode..b.first_mode + n];
+        for ((q, &force), u) in q_w
+            .iter_mut()
+            .zip(&blocks.modal_force)
+            .zip(&blocks.coupling)
+        {
+            let mut p = force;
+            for &c in entries {
+                p -= u[c] * d[c];
             }
+            *q = p;
         }
-        for r in 0..rigid_size {
-            pp[rigid_entries[r]] = p[r];
-        }
-        self.q_w.as_mut_slice()[b.first_mode..b.first_mode + b.n_modes]
-            .copy_from_slice(&p[rigid_size..]);
-        for m in 0..b.n_modes {
+        for (m, u) in blocks.coupling.iter().enumerate() {
             let wm = b.first_mode + m;
-            let col = &mb[(rigid_size + m) * nc..(rigid_size + m + 1) * nc];
-            let mut u = Vector6::zeros();
-            for r in 0..rigid_size {
-                u[rigid_entries[r]] = col[r];
-            }
             for &a in &self.paths[f] {
-                let val = twist_dot(planar, &self.elem_twist[a], &u);
+                let val = twist_dot(planar, &self.elem_twist[a], u);
                 let wa = self.elem_w[a];
                 put(mass, &mut self.m_w, nz, wa, wm, val);
                 put(mass, &mut self.m_w, nz, wm, wa, val);
             }
             // M̄_yy (modes are z coordinates): column m of the block, row m2.
-            for m2 in 0..b.n_modes {
-                mass[b.first_mode + m2 + wm * nz] = col[rigid_size + m2];
+            for m2 in 0..n {
+                mass[b.first_mode + m2 + wm * nz] = blocks.modal_mass[m2 * n + m];
             }
         }
     }

@@ -116,7 +116,7 @@ impl Relative {
         let frame = self.frame_motion(k);
         let kernel = &self.bodies[k].kernel;
         match kernel.flexible() {
-            Some(f) => (f.m_bar.clone(), f.q_bar.clone()),
+            Some(f) => f.dense_terms(&self.rigid_entries[..self.rigid_size]),
             None => rigid_dense_terms(kernel, &frame, &self.gravity)
                 .expect("a body without a flexible kernel is rigid"),
         }

@@ -66,8 +66,6 @@ pub struct Relative {
     /// the pass writes into M directly): (index in M, index in M_w, coefficient),
     /// column-major indices.
     pub(crate) mass_map: Vec<(usize, usize, f64)>,
-    /// Scratch of the largest body size (P_k).
-    pub(crate) p_scratch: Vec<f64>,
     /// Per elementary joint: its value (and rate) as a combination of z, (z index, coefficient).
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
     /// The cut-joint and driver constraints, in the order of their rows in Φ.
