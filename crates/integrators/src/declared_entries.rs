@@ -76,6 +76,11 @@ impl DeclaredEntries {
         self.n
     }
 
+    /// The number of constraint rows m.
+    pub fn m(&self) -> usize {
+        self.m
+    }
+
     /// f_q's lower-triangle pattern, n × n column-major.
     pub fn lower(&self) -> &[bool] {
         &self.lower

@@ -26,7 +26,7 @@ use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use flexmbd_core::{DeclaredPattern, SystemTerms};
+use flexmbd_core::SystemTerms;
 use nalgebra::DVector;
 
 use crate::declared_entries::DeclaredEntries;
@@ -75,14 +75,14 @@ pub struct DeclaredLlt {
 }
 
 impl DeclaredLlt {
-    /// Set up for `pattern` of a system of n coordinates and m constraints; `None` when the
-    /// sparse factorisation would not pay (module docs) or the pattern does not fit n, m.
-    pub fn new(pattern: &DeclaredPattern, entries: &DeclaredEntries) -> Option<Self> {
+    /// Set up for the declared `entries` of a system; `None` when the sparse factorisation
+    /// would not pay (module docs).
+    pub fn new(entries: &DeclaredEntries) -> Option<Self> {
         let n = entries.n();
         if n < SPARSE_FROM {
             return None;
         }
-        let (m, lower) = (pattern.jacobian_rows.len(), entries.lower());
+        let (m, lower) = (entries.m(), entries.lower());
         let to_new = fill_reducing_order(n, lower).ok()?;
         // The lower triangle of P f_q Pᵀ: entry (i, j), i ≥ j, goes to (max, min) of their
         // new places; then the factor's pattern by symbolic elimination (each column's
@@ -142,7 +142,8 @@ impl DeclaredLlt {
             row_ptr.push(row_entries.len());
         }
         let (mut pair_ptr, mut pair_slot) = (vec![0], Vec::new());
-        for row in &pattern.jacobian_rows {
+        for r in 0..m {
+            let row = entries.jacobian_row(r);
             for (k, &j) in row.iter().enumerate() {
                 for &i in &row[k..] {
                     // Lower-triangle entry (i, j): i ≥ j as the row is increasing.
@@ -300,6 +301,7 @@ fn fill_reducing_order(n: usize, pattern: &[bool]) -> Result<Vec<usize>, SparseF
 #[cfg(test)]
 mod tests {
     use super::*;
+    use flexmbd_core::DeclaredPattern;
     use nalgebra::DMatrix;
 
     /// A chain of `bodies` blocks of `size` coordinates, each joined to the next by a
@@ -353,7 +355,7 @@ mod tests {
             + b * &terms.stiffness
             + c * terms.phi_q.transpose() * &terms.phi_q;
         let entries = DeclaredEntries::new(&pattern, n, terms.phi.len()).unwrap();
-        let mut llt = DeclaredLlt::new(&pattern, &entries).expect("sparse pays");
+        let mut llt = DeclaredLlt::new(&entries).expect("sparse pays");
         assert!(llt.factor_entries() < n * (n + 1) / 5);
         llt.form(&entries, &terms, a, b, c);
         let mut lower = DMatrix::zeros(n, n);
@@ -376,13 +378,13 @@ mod tests {
         let n = terms.mass.nrows();
         terms.mass[(50, 50)] = -5.0;
         let entries = DeclaredEntries::new(&pattern, n, terms.phi.len()).unwrap();
-        let mut llt = DeclaredLlt::new(&pattern, &entries).unwrap();
+        let mut llt = DeclaredLlt::new(&entries).unwrap();
         llt.form(&entries, &terms, 0.0, 0.0, 1.0);
         assert!(llt.factor().is_err());
         let (small, terms) = chain(4, 14);
         assert!(
             DeclaredEntries::new(&small, terms.mass.nrows(), terms.phi.len())
-                .and_then(|entries| DeclaredLlt::new(&small, &entries))
+                .and_then(|entries| DeclaredLlt::new(&entries))
                 .is_none()
         );
     }

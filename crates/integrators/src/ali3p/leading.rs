@@ -31,7 +31,7 @@ impl Ali3p {
             self.structured = Some(StructuredLlt::Arrow(arrow));
             self.structure_decided = true;
         } else {
-            self.declared = DeclaredLlt::new(&pattern, &entries);
+            self.declared = DeclaredLlt::new(&entries);
         }
         // Below `SPARSE_FROM` a memset and a dense forming of the n² entries cost less than
         // the loops over the pattern's runs, which are short there: the rigid Iltis vehicle
