@@ -68,8 +68,8 @@ impl Relative {
                 continue;
             }
             let state = self.body_state(k, z, zd);
-            let (g, method) = (self.gravity, self.inertia_method);
-            let entries = &self.rigid_entries[..self.rigid_size];
+            let (g, method) = (self.assembly.gravity, self.assembly.inertia_method);
+            let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
             if let BodyKernel::Flexible(f) = &mut self.bodies[k].kernel {
                 f.evaluate(&state, method, &g, entries);
             }
@@ -81,10 +81,10 @@ impl Relative {
     pub(crate) fn frame_motion(&self, k: usize) -> FrameMotion {
         let f = self.bodies[k].frame;
         FrameMotion {
-            r0: self.frame_position[f],
-            a: self.frame_rotation[f],
-            velocity: self.frame_velocity[f],
-            bias: self.frame_bias[f],
+            r0: self.frames.position[f],
+            a: self.frames.rotation[f],
+            velocity: self.frames.velocity[f],
+            bias: self.frames.bias[f],
         }
     }
 
@@ -101,19 +101,23 @@ impl Relative {
         // M = Lᵀ M_w L, Q = Lᵀ Q_w. The z × z block was written into `out` directly; the
         // node-joint rows and columns of M_w (only its structural non-zeros) are added
         // through L.
-        let mw = self.m_w.as_slice();
-        for &(d, src, k) in &self.mass_map {
+        let mw = self.assembly.m_w.as_slice();
+        for &(d, src, k) in &self.tree.mass_map {
             mass[d] += k * mw[src];
         }
-        fold_w_to_z(&self.l_rows, self.q_w.as_slice(), out.forces.as_mut_slice());
+        fold_w_to_z(
+            &self.tree.l_rows,
+            self.assembly.q_w.as_slice(),
+            out.forces.as_mut_slice(),
+        );
         if tangents {
             self.add_modal_tangents(z, zd, out);
         }
-        if !self.force_elements.is_empty() {
+        if !self.forces.elements.is_empty() {
             self.fill_marker_table();
-            let mut force_elements = std::mem::take(&mut self.force_elements);
+            let mut force_elements = std::mem::take(&mut self.forces.elements);
             force_elements.add_forces(self, z, zd, tangents, out);
-            self.force_elements = force_elements;
+            self.forces.elements = force_elements;
         }
     }
 
@@ -123,10 +127,13 @@ impl Relative {
     fn body_rows(&mut self, mass: &mut [f64]) {
         for k in 0..self.bodies.len() {
             let frame = self.frame_motion(k);
-            let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+            let (mm, pp) = (
+                &mut self.assembly.body_mass[k],
+                &mut self.assembly.body_p[k],
+            );
             match &self.bodies[k].kernel {
-                BodyKernel::RigidSpatial(r) => r.terms(&frame, &self.gravity, mm, pp),
-                BodyKernel::RigidPlanar(r) => r.terms(&frame, &self.gravity, mm, pp),
+                BodyKernel::RigidSpatial(r) => r.terms(&frame, &self.assembly.gravity, mm, pp),
+                BodyKernel::RigidPlanar(r) => r.terms(&frame, &self.assembly.gravity, mm, pp),
                 BodyKernel::Flexible(_) => {
                     let d = frame.bias;
                     self.flexible_body_rows(k, &d, mass)
@@ -141,16 +148,19 @@ impl Relative {
     /// entries), the coupling columns into M_w's rows of the joints that move body k and
     /// M̄_yy into M.
     fn flexible_body_rows(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
-        let entries = &self.rigid_entries[..self.rigid_size];
-        let nz = self.n_z;
-        let planar = self.rigid_size == 3;
+        let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
+        let nz = self.tree.n_z;
+        let planar = self.tree.rigid_size == 3;
         let b = &self.bodies[k];
         let BodyKernel::Flexible(flexible) = &b.kernel else {
             return;
         };
         let blocks = &flexible.blocks;
         let (f, n) = (b.frame, b.n_modes);
-        let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+        let (mm, pp) = (
+            &mut self.assembly.body_mass[k],
+            &mut self.assembly.body_p[k],
+        );
         *mm = blocks.rigid;
         for &r in entries {
             let mut p = blocks.rigid_force[r];
@@ -159,7 +169,7 @@ impl Relative {
             }
             pp[r] = p;
         }
-        let q_w = &mut self.q_w.as_mut_slice()[b.first_mode..b.first_mode + n];
+        let q_w = &mut self.assembly.q_w.as_mut_slice()[b.first_mode..b.first_mode + n];
         for ((q, &force), u) in q_w
             .iter_mut()
             .zip(&blocks.modal_force)
@@ -173,11 +183,11 @@ impl Relative {
         }
         for (m, u) in blocks.coupling.iter().enumerate() {
             let wm = b.first_mode + m;
-            for &a in &self.paths[f] {
-                let val = twist_dot(planar, &self.elem_twist[a], u);
-                let wa = self.elem_w[a];
-                put(mass, &mut self.m_w, nz, wa, wm, val);
-                put(mass, &mut self.m_w, nz, wm, wa, val);
+            for &a in &self.tree.paths[f] {
+                let val = twist_dot(planar, &self.frames.elem_twist[a], u);
+                let wa = self.tree.elem_w[a];
+                put(mass, &mut self.assembly.m_w, nz, wa, wm, val);
+                put(mass, &mut self.assembly.m_w, nz, wm, wa, val);
             }
             // M̄_yy (modes are z coordinates): column m of the block, row m2.
             for m2 in 0..n {
@@ -189,17 +199,17 @@ impl Relative {
     /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
     /// elementary joints (a child's index is larger than its parent's).
     fn accumulate_subtrees(&mut self) {
-        let rigid_entries = self.rigid_entries;
-        let planar = self.rigid_size == 3;
-        for e in (0..self.topology.elems.len()).rev() {
+        let rigid_entries = self.tree.rigid_entries;
+        let planar = self.tree.rigid_size == 3;
+        for e in (0..self.tree.topology.elems.len()).rev() {
             let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
-            let parts = self.elem_bodies[e]
+            let parts = self.tree.elem_bodies[e]
                 .iter()
-                .map(|&k| (&self.body_mass[k], &self.body_p[k]))
+                .map(|&k| (&self.assembly.body_mass[k], &self.assembly.body_p[k]))
                 .chain(
-                    self.elem_children[e]
+                    self.tree.elem_children[e]
                         .iter()
-                        .map(|&c| (&self.subtree_mass[c], &self.subtree_p[c])),
+                        .map(|&c| (&self.assembly.subtree_mass[c], &self.assembly.subtree_p[c])),
                 );
             if planar {
                 for (bm, bp) in parts {
@@ -216,19 +226,19 @@ impl Relative {
                     pv += bp;
                 }
             }
-            self.subtree_mass[e] = m;
-            self.subtree_p[e] = pv;
+            self.assembly.subtree_mass[e] = m;
+            self.assembly.subtree_p[e] = pv;
         }
     }
 
     /// Steps 6–7 for the elementary joints: `M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e` for a on the path
     /// of e, and `Q_w[e] = v_eᵀ ℙ_{F(e)}`.
     fn elem_rows(&mut self, mass: &mut [f64]) {
-        let nz = self.n_z;
-        let planar = self.rigid_size == 3;
-        for e in 0..self.topology.elems.len() {
-            let f = self.topology.elems[e].frame;
-            let (me, ve) = (&self.subtree_mass[e], &self.elem_twist[e]);
+        let nz = self.tree.n_z;
+        let planar = self.tree.rigid_size == 3;
+        for e in 0..self.tree.topology.elems.len() {
+            let f = self.tree.topology.elems[e].frame;
+            let (me, ve) = (&self.assembly.subtree_mass[e], &self.frames.elem_twist[e]);
             let ke = if planar {
                 let mut ke = Vector6::zeros();
                 for r in [0, 1, 5] {
@@ -238,14 +248,18 @@ impl Relative {
             } else {
                 me * ve
             };
-            let we = self.elem_w[e];
-            for &a in &self.paths[f] {
-                let val = twist_dot(planar, &self.elem_twist[a], &ke);
-                let wa = self.elem_w[a];
-                put(mass, &mut self.m_w, nz, wa, we, val);
-                put(mass, &mut self.m_w, nz, we, wa, val);
+            let we = self.tree.elem_w[e];
+            for &a in &self.tree.paths[f] {
+                let val = twist_dot(planar, &self.frames.elem_twist[a], &ke);
+                let wa = self.tree.elem_w[a];
+                put(mass, &mut self.assembly.m_w, nz, wa, we, val);
+                put(mass, &mut self.assembly.m_w, nz, we, wa, val);
             }
-            self.q_w[we] = twist_dot(planar, &self.elem_twist[e], &self.subtree_p[e]);
+            self.assembly.q_w[we] = twist_dot(
+                planar,
+                &self.frames.elem_twist[e],
+                &self.assembly.subtree_p[e],
+            );
         }
     }
 

@@ -32,79 +32,85 @@ impl Relative {
     /// `last_zd` and the caches of [`update_positions`](Self::update_positions) and
     /// [`update_velocities`](Self::update_velocities).
     pub(crate) fn kinematics(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
-        self.last_z.copy_from(z);
-        self.last_zd.copy_from(zd);
+        self.frames.last_z.copy_from(z);
+        self.frames.last_zd.copy_from(zd);
         self.positions();
-        self.positions_current = true;
+        self.frames.positions_current = true;
         self.velocities();
-        self.velocities_zd.copy_from(zd);
-        self.velocities_current = true;
+        self.frames.velocities_zd.copy_from(zd);
+        self.frames.velocities_current = true;
     }
 
     /// Positions (and twists) at z unless they are already those of `last_z`; invalidates
     /// the velocities when z changed.
     pub(crate) fn update_positions(&mut self, z: &DVector<f64>) {
-        if self.positions_current && self.last_z.as_slice() == z.as_slice() {
+        if self.frames.positions_current && self.frames.last_z.as_slice() == z.as_slice() {
             return;
         }
-        self.last_z.copy_from(z);
+        self.frames.last_z.copy_from(z);
         self.positions();
-        self.positions_current = true;
-        self.velocities_current = false;
+        self.frames.positions_current = true;
+        self.frames.velocities_current = false;
     }
 
     /// Velocities and D at `last_zd` unless already done at these positions and rates.
     pub(crate) fn update_velocities(&mut self) {
-        if self.velocities_current && self.velocities_zd.as_slice() == self.last_zd.as_slice() {
+        if self.frames.velocities_current
+            && self.frames.velocities_zd.as_slice() == self.frames.last_zd.as_slice()
+        {
             return;
         }
-        self.velocities_zd.copy_from(&self.last_zd);
+        self.frames.velocities_zd.copy_from(&self.frames.last_zd);
         self.velocities();
-        self.velocities_current = true;
+        self.frames.velocities_current = true;
     }
 
     /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
     /// on positions only), root → leaves.
     #[inline(never)]
     pub(crate) fn positions(&mut self) {
-        self.marker_table.invalidate();
-        let z = self.last_z.as_slice();
-        for f in 0..self.topology.frames.len() {
-            let (rp, ap) = match self.topology.frames[f].parent {
+        self.forces.marker_table.invalidate();
+        let z = self.frames.last_z.as_slice();
+        for f in 0..self.tree.topology.frames.len() {
+            let (rp, ap) = match self.tree.topology.frames[f].parent {
                 None => (Vector3::zeros(), Matrix3::identity()),
-                Some(p) => (self.frame_position[p], self.frame_rotation[p]),
+                Some(p) => (self.frames.position[p], self.frames.rotation[p]),
             };
-            match &self.topology.frames[f].kind {
+            match &self.tree.topology.frames[f].kind {
                 FrameKind::Fixed { offset, rot } => {
-                    if self.planar_frames {
+                    if self.tree.planar_frames {
                         // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
                         // are exact zeros.
                         let mut r = rp;
                         r.x += ap[(0, 0)] * offset.x + ap[(0, 1)] * offset.y;
                         r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
                         r.z += offset.z;
-                        self.frame_position[f] = r;
-                        if !self.fixed_identity[f] {
+                        self.frames.position[f] = r;
+                        if !self.tree.fixed_identity[f] {
                             let mut a = ap;
                             for i in 0..2 {
                                 let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
                                 a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
                                 a[(i, 1)] = p0 * rot[(0, 1)] + p1 * rot[(1, 1)];
                             }
-                            self.frame_rotation[f] = a;
+                            self.frames.rotation[f] = a;
                         } else {
-                            self.frame_rotation[f] = ap;
+                            self.frames.rotation[f] = ap;
                         }
                     } else {
-                        self.frame_position[f] = rp + ap * offset;
-                        self.frame_rotation[f] = if self.fixed_identity[f] { ap } else { ap * rot };
+                        self.frames.position[f] = rp + ap * offset;
+                        self.frames.rotation[f] = if self.tree.fixed_identity[f] {
+                            ap
+                        } else {
+                            ap * rot
+                        };
                     }
                 }
                 FrameKind::Elem(e) => {
                     let e = *e;
-                    let el = &self.topology.elems[e];
+                    let el = &self.tree.topology.elems[e];
                     let mut val = 0.0;
-                    for &(c, k) in &self.elem_rate[e] {
+                    for &(c, k) in &self.tree.elem_rate[e] {
                         val += k * z[c];
                     }
                     let a = ap * el.axis;
@@ -114,7 +120,7 @@ impl Relative {
                             // b = {p × a; a}.
                             v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
                             v.fixed_rows_mut::<3>(3).copy_from(&a);
-                            self.frame_position[f] = rp;
+                            self.frames.position[f] = rp;
                             if el.axis == Vector3::z() {
                                 // A_p R_z(val), R_z as `from_axis_angle` forms it for ā = z.
                                 let (sn, cs) = val.sin_cos();
@@ -124,9 +130,9 @@ impl Relative {
                                     a_new[(i, 0)] = c0 * cs + c1 * sn;
                                     a_new[(i, 1)] = c1 * cs - c0 * sn;
                                 }
-                                self.frame_rotation[f] = a_new;
+                                self.frames.rotation[f] = a_new;
                             } else {
-                                self.frame_rotation[f] = ap
+                                self.frames.rotation[f] = ap
                                     * Rotation3::from_axis_angle(
                                         &Unit::new_unchecked(el.axis),
                                         val,
@@ -137,11 +143,11 @@ impl Relative {
                         ElemKind::Prismatic => {
                             // b = {a; 0}.
                             v.fixed_rows_mut::<3>(0).copy_from(&a);
-                            self.frame_position[f] = rp + a * val;
-                            self.frame_rotation[f] = ap;
+                            self.frames.position[f] = rp + a * val;
+                            self.frames.rotation[f] = ap;
                         }
                     }
-                    self.elem_twist[e] = v;
+                    self.frames.elem_twist[e] = v;
                 }
             }
         }
@@ -150,25 +156,25 @@ impl Relative {
     /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
     #[inline(never)]
     pub(crate) fn velocities(&mut self) {
-        self.marker_table.invalidate();
-        let zd = self.last_zd.as_slice();
+        self.forces.marker_table.invalidate();
+        let zd = self.frames.last_zd.as_slice();
         // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
         // has its parent's Z and D.
-        for e in 0..self.topology.elems.len() {
-            let el = &self.topology.elems[e];
+        for e in 0..self.tree.topology.elems.len() {
+            let el = &self.tree.topology.elems[e];
             let f = el.frame;
-            let (zp, dp) = match self.elem_parent[e] {
+            let (zp, dp) = match self.tree.elem_parent[e] {
                 None => (Vector6::zeros(), Vector6::zeros()),
                 Some(pe) => {
-                    let pf = self.topology.elems[pe].frame;
-                    (self.frame_velocity[pf], self.frame_bias[pf])
+                    let pf = self.tree.topology.elems[pe].frame;
+                    (self.frames.velocity[pf], self.frames.bias[pf])
                 }
             };
             let mut rate = 0.0;
-            for &(c, k) in &self.elem_rate[e] {
+            for &(c, k) in &self.tree.elem_rate[e] {
                 rate += k * zd[c];
             }
-            let v = self.elem_twist[e];
+            let v = self.frames.elem_twist[e];
             let w_f = zp.fixed_rows::<3>(3).into_owned();
             let mut d = dp;
             match el.kind {
@@ -176,7 +182,7 @@ impl Relative {
                     // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
                     let a = v.fixed_rows::<3>(3).into_owned();
                     let wxa = w_f.cross(&a);
-                    let rp = self.frame_position[f];
+                    let rp = self.frames.position[f];
                     let s_f = zp.fixed_rows::<3>(0).into_owned();
                     let p_dot = s_f + w_f.cross(&rp);
                     let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
@@ -194,19 +200,19 @@ impl Relative {
                     }
                 }
             }
-            self.frame_velocity[f] = zp + v * rate;
-            self.frame_bias[f] = d;
+            self.frames.velocity[f] = zp + v * rate;
+            self.frames.bias[f] = d;
         }
         for b in &self.bodies {
-            let (z, d) = match self.paths[b.frame].last() {
+            let (z, d) = match self.tree.paths[b.frame].last() {
                 None => (Vector6::zeros(), Vector6::zeros()),
                 Some(&e) => {
-                    let ef = self.topology.elems[e].frame;
-                    (self.frame_velocity[ef], self.frame_bias[ef])
+                    let ef = self.tree.topology.elems[e].frame;
+                    (self.frames.velocity[ef], self.frames.bias[ef])
                 }
             };
-            self.frame_velocity[b.frame] = z;
-            self.frame_bias[b.frame] = d;
+            self.frames.velocity[b.frame] = z;
+            self.frames.bias[b.frame] = d;
         }
     }
 
@@ -218,10 +224,10 @@ impl Relative {
     ) -> BodyState<'a> {
         let b = &self.bodies[k];
         let f = b.frame;
-        let zr = self.frame_velocity[f];
+        let zr = self.frames.velocity[f];
         BodyState {
-            r0: self.frame_position[f],
-            a: self.frame_rotation[f],
+            r0: self.frames.position[f],
+            a: self.frames.rotation[f],
             omega: zr.fixed_rows::<3>(3).into_owned(),
             s_dot: zr.fixed_rows::<3>(0).into_owned(),
             y: &z.as_slice()[b.first_mode..b.first_mode + b.n_modes],
@@ -238,9 +244,9 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
     let b = &rel.bodies[k];
     let f = b.frame;
     let (r0, a, zr) = (
-        rel.frame_position[f],
-        rel.frame_rotation[f],
-        rel.frame_velocity[f],
+        rel.frames.position[f],
+        rel.frames.rotation[f],
+        rel.frames.velocity[f],
     );
     let mut pl = s.rbar;
     let mut vl = Vector3::zeros();
@@ -251,8 +257,8 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
         // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.first_mode..b.first_mode + b.n_modes;
         let (y, yd) = (
-            &rel.last_z.as_slice()[ys.clone()],
-            &rel.last_zd.as_slice()[ys],
+            &rel.frames.last_z.as_slice()[ys.clone()],
+            &rel.frames.last_zd.as_slice()[ys],
         );
         let shift = b
             .kernel
@@ -280,7 +286,7 @@ pub(crate) fn dir_at(
     };
     let b = &rel.bodies[k];
     let f = b.frame;
-    let (a, zr) = (rel.frame_rotation[f], rel.frame_velocity[f]);
+    let (a, zr) = (rel.frames.rotation[f], rel.frames.velocity[f]);
     let w = zr.fixed_rows::<3>(3).into_owned();
     let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
     if let Some(node) = s.node {
@@ -302,7 +308,10 @@ fn add_node_modes(
     rows: impl Fn(usize, usize) -> f64,
 ) {
     for m in 0..b.n_modes {
-        let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
+        let (y, yd) = (
+            rel.frames.last_z[b.first_mode + m],
+            rel.frames.last_zd[b.first_mode + m],
+        );
         for i in 0..3 {
             x[i] += rows(i, m) * y;
             xd[i] += rows(i, m) * yd;
@@ -315,11 +324,11 @@ pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
     let Some(k) = s.body else { return (0.0, 0.0) };
     let b = &rel.bodies[k];
     let f = b.frame;
-    let (mut th, mut thd) = (angle_of(&rel.frame_rotation[f]), rel.frame_velocity[f][5]);
+    let (mut th, mut thd) = (angle_of(&rel.frames.rotation[f]), rel.frames.velocity[f][5]);
     if let Some(node) = s.node {
         for m in 0..b.n_modes {
-            th += b.node_rows.rotation_entry(node, 2, m) * rel.last_z[b.first_mode + m];
-            thd += b.node_rows.rotation_entry(node, 2, m) * rel.last_zd[b.first_mode + m];
+            th += b.node_rows.rotation_entry(node, 2, m) * rel.frames.last_z[b.first_mode + m];
+            thd += b.node_rows.rotation_entry(node, 2, m) * rel.frames.last_zd[b.first_mode + m];
         }
     }
     (th, thd)
