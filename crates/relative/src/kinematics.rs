@@ -241,10 +241,32 @@ impl Relative {
 }
 
 /// Global position and velocity of a marker: r = r0 + A (r̄ + X^t y), ṙ = ṡ + ω × r + A X^t ẏ.
+/// Inlined for a rigid marker (its two vectors come back in registers, not through memory
+/// read back at once); a marker at a node is evaluated out of line.
+#[inline(always)]
 pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
     let Some(k) = s.body else {
         return (s.rbar, Vector3::zeros());
     };
+    if s.node.is_some() {
+        return node_point_at(rel, k, s);
+    }
+    let f = rel.bodies[k].frame;
+    let (r0, a, zr) = (
+        &rel.frame_position[f],
+        &rel.frame_rotation[f],
+        &rel.frame_velocity[f],
+    );
+    let p = r0 + a * s.rbar;
+    let sd = zr.fixed_rows::<3>(0).into_owned();
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    (p, sd + w.cross(&p) + a * Vector3::zeros())
+}
+
+/// [`point_at`] for a marker at a node of body k: r̄ + X^t y with FS0's axial shift, and
+/// its rate X^t ẏ, at the last (z, ż).
+#[inline(never)]
+fn node_point_at(rel: &Relative, k: usize, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
     let b = &rel.bodies[k];
     let f = b.frame;
     let (r0, a, zr) = (
