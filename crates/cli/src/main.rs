@@ -22,9 +22,10 @@
 //! - `flexmbd tune SCENE.ron --sensor NAME[,NAME…] --tolerance X` prints the cheapest run
 //!   of that sweep whose error is at most X, and the `flexmbd simulate` arguments that
 //!   reproduce it.
-//! - `flexmbd terms SCENE.ron [--threshold X] [--duration T]` weighs each flexible body's
-//!   inertia terms over a pilot run of the full model and prints the cheapest terms whose
-//!   dropped groups weigh at most the threshold ([`terms_cmd`]).
+//! - `flexmbd terms SCENE.ron [--threshold X] [--duration T] [--sensor S,…]` weighs each
+//!   flexible body's inertia terms over a pilot run of the full model and prints the terms
+//!   that meet tolerance X on the pilot: the weights' choices run in place of the full
+//!   model, the first whose sensors move by at most X of their range ([`terms_cmd`]).
 //! - `flexmbd fmu SCENE.ron --output NAME.fmu` writes the scene's FMI 3.0 co-simulation
 //!   FMU ([`fmu_cmd`]).
 //! - `flexmbd animate SCENE.ron --output run.glb|run.html [--fps F] [--scale S]` runs the

@@ -33,10 +33,11 @@ Grid axes (--grid NAME=V1,V2,...; repeat --grid for more axes):
     normal modes, those the body's loads excite most, load-dependent Ritz vectors, or the
     proper orthogonal modes of a pilot run of the scene on its lowest max(2n, 4) modes,
     which is part of the run's preprocessing)
-  terms=full,o2-nv,o1,o1-nc,o0,o0-nc   terms.BODY=... (the inertia terms kept, relative
-    formulation with shape integrals)   terms=auto@1e-2,auto@1e-3 (each beam keeps the
-    cheapest terms whose dropped groups weigh at most X over one pilot run of the scene with
-    every term, `flexmbd terms`; chosen once, set at every point)
+  terms=full,o2-nv,o1,o1-nc,o0,o0-nc   terms.BODY=... (the inertia terms kept, shape
+    integrals, either formulation)   terms=auto@1e-2,auto@1e-3 (the terms that meet X on
+    one pilot run of the scene with every term, `flexmbd terms`: the weights' choices run in
+    place of the full model, the first whose judged sensors move by at most X of their range
+    over the pilot; chosen once, set at every point, labelled with that pilot error)
   step=1e-3,5e-4
 
 Errors: the largest |run - reference| over time (and the RMS) on each judged sensor, the

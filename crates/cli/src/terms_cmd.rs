@@ -1,15 +1,17 @@
-//! `flexmbd terms SCENE.ron [--threshold X] [--duration T] [--json]`: the weight of each
-//! flexible body's inertia terms over a pilot run of the full model, and the cheapest
-//! terms whose dropped groups weigh at most the threshold
-//! ([`flexmbd::term_weights`], docs/design.md "Inertia terms by weight").
+//! `flexmbd terms SCENE.ron [--threshold X] [--duration T] [--sensor S,…] [--json]`: the
+//! weight of each flexible body's inertia terms over a pilot run of the full model, each
+//! body's cheapest terms whose dropped groups weigh at most X (the weights' choice), and
+//! the choice confirmed at tolerance X: the weights' ladder run rung by rung in place of the
+//! full model over the pilot, the first whose judged sensors move by at most X of their
+//! range taken, with its measured error and cost ([`flexmbd::term_weights`],
+//! docs/design.md "Inertia terms by weight").
 
 use std::fmt::Write as _;
 
 use clap::Args;
 use flexmbd::body::InertiaMethod;
 use flexmbd::body::weights::kernel_work;
-use flexmbd::model::FormulationKind;
-use flexmbd::term_weights::{BodyWeights, weigh_terms};
+use flexmbd::term_weights::{BodyWeights, TermChoice, Trial, pilot};
 use serde_json::json;
 
 use crate::{CliResult, SceneInput, exit, print_json_or_table};
@@ -19,13 +21,19 @@ use crate::{CliResult, SceneInput, exit, print_json_or_table};
 pub(crate) struct TermsArgs {
     #[command(flatten)]
     input: SceneInput,
-    /// The largest weight, relative to the full inertia force, of the terms that may be
-    /// dropped (in (0, 1)).
+    /// The tolerance (in (0, 1)): the largest change of a judged sensor, relative to its
+    /// range over the pilot, the chosen terms may make; also the largest weight, relative
+    /// to the full inertia force, of the terms the weights' choice drops.
     #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
     threshold: f64,
-    /// The pilot run's duration (s; default and at most the scene's).
+    /// The pilot run's duration (s; default and at most the scene's): the horizon on which
+    /// the choice is confirmed.
     #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
+    /// The sensors the choice is judged on, comma-separated (default: every sensor of the
+    /// scene but the energy).
+    #[arg(long = "sensor", value_delimiter = ',')]
+    sensors: Vec<String>,
     /// Print one JSON object on stdout instead of a table.
     #[arg(long)]
     json: bool,
@@ -108,8 +116,88 @@ fn body_text(w: &BodyWeights, threshold: f64) -> Result<String, flexmbd::Error> 
             if *t == chosen { "   ← chosen" } else { "" }
         );
     }
-    let _ = writeln!(s, "  chosen at {threshold:.0e}: {chosen}");
+    let _ = writeln!(s, "  weights' choice at {threshold:.0e}: {chosen}");
     Ok(s)
+}
+
+/// One rung of the ladder as JSON.
+fn trial_json(t: &Trial) -> serde_json::Value {
+    let choices: serde_json::Map<String, serde_json::Value> = t
+        .choices
+        .iter()
+        .map(|(b, terms)| (b.clone(), json!(terms.label())))
+        .collect();
+    let errors: serde_json::Map<String, serde_json::Value> = t
+        .errors
+        .iter()
+        .map(|(s, e)| (s.clone(), json_number(*e)))
+        .collect();
+    json!({"terms": choices, "weight": t.weight, "pilot_error": json_number(t.error),
+           "sensor_errors": errors, "cpu_seconds": t.cpu_seconds,
+           "kernel_work_n2": t.kernel_work, "failure": t.failure})
+}
+
+/// A number, or the text `inf` for an infinite error (a run that failed).
+fn json_number(x: f64) -> serde_json::Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        json!("inf")
+    }
+}
+
+/// The confirmed choice as JSON.
+fn choice_json(c: &TermChoice) -> serde_json::Value {
+    json!({"tolerance": c.tolerance, "horizon_seconds": c.horizon, "sensors": c.sensors,
+           "chosen": trial_json(&c.chosen),
+           "rejected": c.rejected.iter().map(trial_json).collect::<Vec<_>>(),
+           "weights_choice": c.weights_choice().label(),
+           "full_cpu_seconds": c.full_cpu_seconds, "full_kernel_work_n2": c.full_kernel_work})
+}
+
+/// The confirmed choice as text: each rung run, then the choice.
+fn choice_text(c: &TermChoice) -> String {
+    let mut s = format!(
+        "confirmed at {:.0e}: the weights' ladder run in place of the full model over the pilot \
+         ({} s), judged on {} (largest |Δ| / the sensor's range)\n",
+        c.tolerance,
+        c.horizon,
+        c.sensors.join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "  {:<24}{:>11}{:>13}{:>10}{:>16}",
+        "terms", "weight", "pilot error", "CPU (s)", "kernel work n²"
+    );
+    for t in c.rejected.iter().chain(std::iter::once(&c.chosen)) {
+        let verdict = match &t.failure {
+            Some(why) => format!("rejected: failed: {why}"),
+            None if t.error <= c.tolerance => "← chosen".into(),
+            None => "rejected".into(),
+        };
+        let _ = writeln!(
+            s,
+            "  {:<24}{:>11.2e}{:>13.2e}{:>10.3}{:>16}   {verdict}",
+            t.label(),
+            t.weight,
+            t.error,
+            t.cpu_seconds,
+            t.kernel_work
+        );
+    }
+    let _ = writeln!(
+        s,
+        "chosen at {:.0e}: {} (pilot error {:.2e}; CPU {:.3} s against the full model's {:.3} s; \
+         kernel work {} of {} n² multiply-adds)",
+        c.tolerance,
+        c.chosen.label(),
+        c.chosen.error,
+        c.chosen.cpu_seconds,
+        c.full_cpu_seconds,
+        c.chosen.kernel_work,
+        c.full_kernel_work
+    );
+    s
 }
 
 /// `flexmbd terms`.
@@ -117,8 +205,8 @@ pub(crate) fn terms(args: &TermsArgs) -> CliResult {
     flexmbd::body::weights::check_threshold(args.threshold).map_err(|e| format!("--{e}"))?;
     let scene = args.input.load()?;
     scene.validate()?;
-    let weights = match weigh_terms(&scene, args.duration) {
-        Ok(w) => w,
+    let pilot = match pilot(&scene, args.duration, &args.sensors) {
+        Ok(p) => p,
         Err(e @ (flexmbd::Error::Integrator(_) | flexmbd::Error::Static(_))) => {
             eprintln!(
                 "error: {}: the pilot run failed: {e}",
@@ -128,28 +216,32 @@ pub(crate) fn terms(args: &TermsArgs) -> CliResult {
         }
         Err(e) => return Err(e.into()),
     };
+    let weights = &pilot.weights;
     let bodies: Vec<serde_json::Value> = weights
         .iter()
         .map(|w| body_json(w, args.threshold))
         .collect::<Result<_, _>>()?;
-    // Terms are dropped in relative coordinates with shape integrals only (the B-matrix
-    // route sums a mass cloud with no named terms; the absolute set keeps them all).
-    let applies = scene.solver.formulation == FormulationKind::Relative
-        && scene.solver.inertia == InertiaMethod::ShapeIntegrals;
+    let choice = pilot.confirm(args.threshold, None)?;
+    // Terms are dropped with shape integrals only (the B-matrix route sums a mass cloud
+    // with no named terms); the choice is confirmed in relative coordinates, and the
+    // absolute formulation carries the same physics per truncation.
+    let applies = scene.solver.inertia == InertiaMethod::ShapeIntegrals;
     let report = json!({"scene": scene.name, "threshold": args.threshold,
-                        "applies_as_given": applies, "bodies": bodies});
+                        "applies_as_given": applies, "bodies": bodies,
+                        "confirmed": choice_json(&choice)});
     print_json_or_table(&report, args.json, |_| {
         let mut s = format!(
             "inertia-term weights of {} (pilot: full model, relative, shape integrals)\n",
             scene.name
         );
         if !applies {
-            s += "note: the scene runs another formulation or inertia route; the chosen terms \
-                  apply with --formulation relative --inertia shape-integrals\n";
+            s += "note: the scene runs the B-matrix inertia route, which keeps every term; the \
+                  chosen terms apply with --inertia shape-integrals\n";
         }
-        for w in &weights {
+        for w in weights {
             s += &body_text(w, args.threshold).unwrap_or_default();
         }
+        s += &choice_text(&choice);
         s
     })
 }

@@ -1,8 +1,9 @@
 //! `flexmbd terms` (issue 31 item 2): the weights of each flexible body's inertia terms over
-//! a pilot run and the choice at a threshold, as a table and as JSON; bad input — a
-//! threshold outside (0, 1), a scene without a flexible body, a pilot duration that is not
-//! positive, a foreshortened body (FS0 cannot drop terms) — each a clear error naming the
-//! value.
+//! a pilot run, the weights' choice and the choice confirmed at the tolerance (its pilot
+//! error, CPU and kernel work), as a table and as JSON; bad input — a threshold outside
+//! (0, 1), a scene without a flexible body, a pilot duration that is not positive, a
+//! foreshortened body (FS0 cannot drop terms), an unknown sensor — each a clear error
+//! naming the value.
 
 mod common;
 
@@ -21,7 +22,10 @@ fn the_table_and_the_json_agree_on_the_choice() {
             "second-order",
             "gyroscopic",
             "deform max",
-            "chosen at 1e-2:",
+            "weights' choice at 1e-2:",
+            "confirmed at 1e-2",
+            "pilot error",
+            "kernel work",
         ],
     );
     let out = run([
@@ -39,9 +43,23 @@ fn the_table_and_the_json_agree_on_the_choice() {
     assert_eq!(body["body"], "beam");
     assert_eq!(body["groups"].as_array().unwrap().len(), 4);
     assert_eq!(body["candidates"].as_array().unwrap().len(), 8);
-    let chosen = body["chosen"].as_str().unwrap();
+    let weights_choice = body["chosen"].as_str().unwrap();
     assert!(
-        table.contains(&format!("chosen at 1e-2: {chosen}")),
+        table.contains(&format!("weights' choice at 1e-2: {weights_choice}")),
+        "{weights_choice} vs {table}"
+    );
+    let confirmed = &json["confirmed"];
+    assert_eq!(confirmed["weights_choice"], weights_choice);
+    assert_eq!(confirmed["horizon_seconds"], 2.0);
+    let chosen = confirmed["chosen"]["terms"]["beam"].as_str().unwrap();
+    let error = confirmed["chosen"]["pilot_error"].as_f64().unwrap();
+    assert!((0.0..=0.01).contains(&error), "{confirmed}");
+    for rejected in confirmed["rejected"].as_array().unwrap() {
+        let e = &rejected["pilot_error"];
+        assert!(e == "inf" || e.as_f64().unwrap() > 0.01, "{confirmed}");
+    }
+    assert!(
+        table.contains(&format!("chosen at 1e-2: {chosen} (pilot error")),
         "{chosen} vs {table}"
     );
 }
@@ -60,6 +78,8 @@ fn bad_input_is_named() {
         &err,
         &["bodies[beam] = foreshortened (FS0)", "cannot be dropped"],
     );
+    let err = refused(&["terms", &scene, "--duration", "0.1", "--sensor", "tip_q"]);
+    assert_contains_all(&err, &["sensor = tip_q", "is not a sensor", "tip_uy"]);
     let rigid = model("double_four_bar.ron");
     let err = refused(&["terms", &rigid]);
     assert_contains_all(&err, &["no flexible body", "flexible=true"]);

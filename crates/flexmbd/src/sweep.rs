@@ -376,7 +376,7 @@ impl Sweep {
     fn prepare(&self, stop: &AtomicBool) -> Result<Prepared, SweepError> {
         let (pristine, base) = self.scenes()?;
         self.check_sensors(&base)?;
-        let points = self.grid.points(&base)?;
+        let points = self.grid.points(&base, &self.sensors)?;
         let clock = Instant::now();
         let (resolved, reference_cached) = match &self.reference {
             Reference::Csv(path) => {
@@ -606,7 +606,7 @@ impl Sweep {
         let (_, base) = self.scenes()?;
         Ok(self
             .grid
-            .points(&base)?
+            .points(&base, &self.sensors)?
             .into_iter()
             .map(|p| p.settings)
             .collect())
@@ -618,7 +618,7 @@ impl Sweep {
     /// before) is marked failed.
     pub fn retime(&self, report: &mut SweepReport, indices: &[usize]) -> Result<(), SweepError> {
         let (pristine, base) = self.scenes()?;
-        let points = self.grid.points(&base)?;
+        let points = self.grid.points(&base, &self.sensors)?;
         for &i in indices {
             let mut times = Vec::with_capacity(RETIME_REPEATS_SHORT);
             let mut repeats = RETIME_REPEATS;

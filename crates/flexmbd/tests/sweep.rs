@@ -179,8 +179,61 @@ fn inertia_terms_are_an_axis() {
     );
 }
 
-/// `terms=auto@X`: one pilot of the sweep's scene weighs the beam's terms and each threshold
-/// sets its choice at every point; a threshold no term group can meet keeps them all.
+/// `terms=absolute` too: the absolute formulation takes `inertia_terms` (shape integrals).
+/// Each choice runs from its `--set` overrides; against the absolute full model (the
+/// reference), a truncation moves the tip by far more than the relative full model differs
+/// from the absolute one, and the relative run of the same truncation agrees with the
+/// absolute one to that difference (the two formulations carry the same physics per
+/// truncation), so the axis changes the absolute run and not only its label.
+#[test]
+fn inertia_terms_are_an_axis_of_the_absolute_formulation() {
+    use flexmbd::body::InertiaTerms;
+    use flexmbd::model::FormulationKind;
+    let terms = ["full", "o1", "o0-nc"].map(|l| InertiaTerms::parse(l).unwrap());
+    let axes = vec![
+        Axis::Formulation(vec![FormulationKind::Absolute, FormulationKind::Relative]),
+        Axis::Terms {
+            body: None,
+            terms: terms.to_vec(),
+        },
+        Axis::Step(vec![1e-3]),
+    ];
+    let report = spin_up(Reference::Converged, axes).run().unwrap();
+    let labels: Vec<&str> = report.runs.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(labels[1], "absolute terms=o1 h=0.001");
+    assert!(
+        report.runs.iter().all(|r| r.status == RunStatus::Ok),
+        "{:?}",
+        report.runs
+    );
+    let e: Vec<f64> = report.runs.iter().map(|r| r.error).collect();
+    eprintln!("{labels:?}\n{e:?}");
+    // Absolute full is the reference; relative full differs by the formulations' own
+    // discretisation difference.
+    assert_eq!(e[0], 0.0);
+    let between = e[3];
+    for k in [1, 2] {
+        assert!(
+            e[k] > 10.0 * between,
+            "absolute {}: {:e} vs {between:e}",
+            labels[k],
+            e[k]
+        );
+        // Relative and absolute runs of one truncation: within the formulations' difference.
+        assert!(
+            (e[k + 3] - e[k]).abs() <= 2.0 * between + 1e-3 * e[k],
+            "{}: {:e} vs {:e}",
+            labels[k],
+            e[k + 3],
+            e[k]
+        );
+    }
+}
+
+/// `terms=auto@X`: one pilot of the sweep's scene weighs the beam's terms, each tolerance
+/// takes the first rung of the weights' ladder whose run meets it on the sweep's judged
+/// sensor over the pilot, and the label carries that pilot error; a tolerance no dropped
+/// term can meet keeps them all.
 #[test]
 fn inertia_terms_chosen_by_their_weights_are_an_axis() {
     use flexmbd::model::FormulationKind;
@@ -197,13 +250,20 @@ fn inertia_terms_chosen_by_their_weights_are_an_axis() {
     eprintln!("{labels:?}");
     assert_eq!(
         labels[0],
-        "relative terms=auto@0.000000000001(full) h=0.001"
+        "relative terms=auto@0.000000000001(full;pilot=0.0e0) h=0.001"
     );
     assert!(
         labels[1].starts_with("relative terms=auto@0.5(o"),
         "{labels:?}"
     );
-    assert!(!labels[1].contains("(full)"), "{labels:?}");
+    assert!(!labels[1].contains("(full"), "{labels:?}");
+    let pilot_error: f64 = labels[1]
+        .split("pilot=")
+        .nth(1)
+        .and_then(|s| s.split(')').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap();
+    assert!(pilot_error > 0.0 && pilot_error <= 0.5, "{labels:?}");
     assert!(report.runs.iter().all(|r| r.status == RunStatus::Ok));
     // The reference is the smallest threshold's point: every term kept.
     assert_eq!(report.runs[0].error, 0.0);

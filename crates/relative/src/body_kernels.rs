@@ -88,6 +88,14 @@ pub(crate) struct FrameMotion {
     pub(crate) bias: Vector6<f64>,
 }
 
+/// A [`FrameMotion`]'s r0, A, Z^r and D by reference.
+pub(crate) type FrameParts<'a> = (
+    &'a Vector3<f64>,
+    &'a Matrix3<f64>,
+    &'a Vector6<f64>,
+    &'a Vector6<f64>,
+);
+
 impl BodyKernel {
     /// The kernel of `body` with `n_modes` coordinates (0: rigid) for a scene whose rigid
     /// velocity set has `rigid_size` entries (3 planar, 6 spatial).
@@ -224,9 +232,24 @@ impl RigidPlanar {
         mass: &mut Matrix6<f64>,
         p: &mut Vector6<f64>,
     ) {
-        let (q, g, j) = self.mass_and_forces(frame, gravity);
+        let motion = (&frame.r0, &frame.a, &frame.velocity, &frame.bias);
+        self.terms_at(motion, gravity, mass, p);
+    }
+
+    /// [`terms`](Self::terms) at the frame's r0, A, Z^r and D given by reference: only the
+    /// planar entries are read (the pass reads them straight from its arrays, without copying
+    /// the whole motion).
+    #[inline(always)]
+    pub(crate) fn terms_at(
+        &self,
+        (r0, a, velocity, bias): FrameParts<'_>,
+        gravity: &Vector3<f64>,
+        mass: &mut Matrix6<f64>,
+        p: &mut Vector6<f64>,
+    ) {
+        let (q, g, j) = self.mass_and_forces((r0, a, velocity), gravity);
         let m = self.mass;
-        let (dx, dy, dth) = (frame.bias[0], frame.bias[1], frame.bias[5]);
+        let (dx, dy, dth) = (bias[0], bias[1], bias[5]);
         // M̄ = [[m, 0, −g_y], [0, m, g_x], [−g_y, g_x, J]].
         p[0] = q[0] - m * dx + g.y * dth;
         p[1] = q[1] - m * dy - g.x * dth;
@@ -244,13 +267,13 @@ impl RigidPlanar {
     #[inline(always)]
     fn mass_and_forces(
         &self,
-        frame: &FrameMotion,
+        (r0, a, velocity): (&Vector3<f64>, &Matrix3<f64>, &Vector6<f64>),
         gravity: &Vector3<f64>,
     ) -> ([f64; 3], Vector2<f64>, f64) {
-        let a = frame.a.fixed_view::<2, 2>(0, 0).into_owned();
-        let r0 = frame.r0.xy();
-        let w = frame.velocity[5];
-        let s_dot = Vector2::new(frame.velocity[0], frame.velocity[1]);
+        let a = a.fixed_view::<2, 2>(0, 0).into_owned();
+        let r0 = r0.xy();
+        let w = velocity[5];
+        let s_dot = Vector2::new(velocity[0], velocity[1]);
         let c = a * self.first_moment;
         let g = self.mass * r0 + c;
         let r0_dot = s_dot + w * Vector2::new(-r0.y, r0.x);

@@ -285,11 +285,15 @@ impl Relative {
                 self.point_columns_from(jac, row, &joints[runs[1]..runs[2]], &pi, 1.0);
                 self.point_columns_from(jac, row, &joints[runs[2]..runs[3]], &pj, -1.0);
             }
-            let bias = self.point_rows(jac, row, i, &pi, &vi, 1.0)
-                - self.point_rows(jac, row, j, &pj, &vj, -1.0);
-            if rows.req.accel_term {
-                for a in 0..nt {
-                    rows.accel_term[row + a] = bias[a];
+            // The Cartesian bias is for c only; a side at a node writes its modal columns
+            // there too.
+            if rows.req.accel_term || i.node.is_some() || j.node.is_some() {
+                let bias = self.point_rows(jac, row, i, &pi, &vi, 1.0)
+                    - self.point_rows(jac, row, j, &pj, &vj, -1.0);
+                if rows.req.accel_term {
+                    for a in 0..nt {
+                        rows.accel_term[row + a] = bias[a];
+                    }
                 }
             }
         }

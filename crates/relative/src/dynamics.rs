@@ -126,16 +126,33 @@ impl Relative {
     /// of M_w and Q_w.
     fn body_rows(&mut self, mass: &mut [f64]) {
         for k in 0..self.bodies.len() {
-            let frame = self.frame_motion(k);
+            // The frame's motion by reference: a planar body reads its entries in place
+            // (copying the motion whole would read the kinematic pass's fresh stores back
+            // with wider loads, a stall).
+            let f = self.bodies[k].frame;
+            let motion = (
+                &self.frames.position[f],
+                &self.frames.rotation[f],
+                &self.frames.velocity[f],
+                &self.frames.bias[f],
+            );
             let (mm, pp) = (
                 &mut self.assembly.body_mass[k],
                 &mut self.assembly.body_p[k],
             );
             match &self.bodies[k].kernel {
-                BodyKernel::RigidSpatial(r) => r.terms(&frame, &self.assembly.gravity, mm, pp),
-                BodyKernel::RigidPlanar(r) => r.terms(&frame, &self.assembly.gravity, mm, pp),
+                BodyKernel::RigidSpatial(r) => {
+                    let frame = FrameMotion {
+                        r0: *motion.0,
+                        a: *motion.1,
+                        velocity: *motion.2,
+                        bias: *motion.3,
+                    };
+                    r.terms(&frame, &self.assembly.gravity, mm, pp)
+                }
+                BodyKernel::RigidPlanar(r) => r.terms_at(motion, &self.assembly.gravity, mm, pp),
                 BodyKernel::Flexible(_) => {
-                    let d = frame.bias;
+                    let d = *motion.3;
                     self.flexible_body_rows(k, &d, mass)
                 }
             }
@@ -199,8 +216,10 @@ impl Relative {
     /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
     /// elementary joints (a child's index is larger than its parent's).
     fn accumulate_subtrees(&mut self) {
-        let rigid_entries = self.tree.rigid_entries;
-        let planar = self.tree.rigid_size == 3;
+        if self.tree.rigid_size == 3 {
+            self.accumulate_planar_subtrees();
+            return;
+        }
         for e in (0..self.tree.topology.elems.len()).rev() {
             let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
             let parts = self.tree.elem_bodies[e]
@@ -211,23 +230,50 @@ impl Relative {
                         .iter()
                         .map(|&c| (&self.assembly.subtree_mass[c], &self.assembly.subtree_p[c])),
                 );
-            if planar {
-                for (bm, bp) in parts {
-                    for &c in &rigid_entries[..3] {
-                        pv[c] += bp[c];
-                        for &r in &rigid_entries[..3] {
-                            m[(r, c)] += bm[(r, c)];
-                        }
-                    }
-                }
-            } else {
-                for (bm, bp) in parts {
-                    m += bm;
-                    pv += bp;
-                }
+            for (bm, bp) in parts {
+                m += bm;
+                pv += bp;
             }
             self.assembly.subtree_mass[e] = m;
             self.assembly.subtree_p[e] = pv;
+        }
+    }
+
+    /// [`accumulate_subtrees`](Self::accumulate_subtrees) of a planar scene: the sums on the
+    /// x, y, θz entries, entry by entry, stored as scalars (the other entries of 𝕄 and ℙ
+    /// stay at their zeros). Accumulating into a whole zeroed 6 × 6 and storing it would
+    /// read narrow stores back with wide loads (a stall per joint).
+    fn accumulate_planar_subtrees(&mut self) {
+        let [r0, r1, r2, ..] = self.tree.rigid_entries;
+        let entries = [r0, r1, r2];
+        for e in (0..self.tree.topology.elems.len()).rev() {
+            let (mut m, mut pv) = ([[0.0; 3]; 3], [0.0; 3]);
+            let parts = self.tree.elem_bodies[e]
+                .iter()
+                .map(|&k| (&self.assembly.body_mass[k], &self.assembly.body_p[k]))
+                .chain(
+                    self.tree.elem_children[e]
+                        .iter()
+                        .map(|&c| (&self.assembly.subtree_mass[c], &self.assembly.subtree_p[c])),
+                );
+            for (bm, bp) in parts {
+                for (j, &c) in entries.iter().enumerate() {
+                    pv[j] += bp[c];
+                    for (i, &r) in entries.iter().enumerate() {
+                        m[j][i] += bm[(r, c)];
+                    }
+                }
+            }
+            let (sm, sp) = (
+                &mut self.assembly.subtree_mass[e],
+                &mut self.assembly.subtree_p[e],
+            );
+            for (j, &c) in entries.iter().enumerate() {
+                sp[c] = pv[j];
+                for (i, &r) in entries.iter().enumerate() {
+                    sm[(r, c)] = m[j][i];
+                }
+            }
         }
     }
 

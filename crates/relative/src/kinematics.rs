@@ -71,12 +71,17 @@ impl Relative {
     pub(crate) fn positions(&mut self) {
         self.forces.marker_table.invalidate();
         let z = self.frames.last_z.as_slice();
+        // The frame just computed, kept in registers: most frames' parent is the frame
+        // before them (a chain), and reading it back from the arrays it was just stored to
+        // stalls (a wide load over narrower stores cannot be forwarded).
+        let (mut r_last, mut a_last) = (Vector3::zeros(), Matrix3::identity());
         for f in 0..self.tree.topology.frames.len() {
             let (rp, ap) = match self.tree.topology.frames[f].parent {
                 None => (Vector3::zeros(), Matrix3::identity()),
+                Some(p) if p + 1 == f => (r_last, a_last),
                 Some(p) => (self.frames.position[p], self.frames.rotation[p]),
             };
-            match &self.tree.topology.frames[f].kind {
+            let (r, a) = match &self.tree.topology.frames[f].kind {
                 FrameKind::Fixed { offset, rot } => {
                     if self.tree.planar_frames {
                         // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
@@ -85,25 +90,22 @@ impl Relative {
                         r.x += ap[(0, 0)] * offset.x + ap[(0, 1)] * offset.y;
                         r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
                         r.z += offset.z;
-                        self.frames.position[f] = r;
+                        let mut a = ap;
                         if !self.tree.fixed_identity[f] {
-                            let mut a = ap;
                             for i in 0..2 {
                                 let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
                                 a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
                                 a[(i, 1)] = p0 * rot[(0, 1)] + p1 * rot[(1, 1)];
                             }
-                            self.frames.rotation[f] = a;
-                        } else {
-                            self.frames.rotation[f] = ap;
                         }
+                        (r, a)
                     } else {
-                        self.frames.position[f] = rp + ap * offset;
-                        self.frames.rotation[f] = if self.tree.fixed_identity[f] {
+                        let a = if self.tree.fixed_identity[f] {
                             ap
                         } else {
                             ap * rot
                         };
+                        (rp + ap * offset, a)
                     }
                 }
                 FrameKind::Elem(e) => {
@@ -115,12 +117,11 @@ impl Relative {
                     }
                     let a = ap * el.axis;
                     let mut v = Vector6::zeros();
-                    match el.kind {
+                    let moved = match el.kind {
                         ElemKind::Revolute => {
                             // b = {p × a; a}.
                             v.fixed_rows_mut::<3>(0).copy_from(&rp.cross(&a));
                             v.fixed_rows_mut::<3>(3).copy_from(&a);
-                            self.frames.position[f] = rp;
                             if el.axis == Vector3::z() {
                                 // A_p R_z(val), R_z as `from_axis_angle` forms it for ā = z.
                                 let (sn, cs) = val.sin_cos();
@@ -130,26 +131,26 @@ impl Relative {
                                     a_new[(i, 0)] = c0 * cs + c1 * sn;
                                     a_new[(i, 1)] = c1 * cs - c0 * sn;
                                 }
-                                self.frames.rotation[f] = a_new;
+                                (rp, a_new)
                             } else {
-                                self.frames.rotation[f] = ap
-                                    * Rotation3::from_axis_angle(
-                                        &Unit::new_unchecked(el.axis),
-                                        val,
-                                    )
-                                    .matrix();
+                                let turn =
+                                    Rotation3::from_axis_angle(&Unit::new_unchecked(el.axis), val);
+                                (rp, ap * turn.matrix())
                             }
                         }
                         ElemKind::Prismatic => {
                             // b = {a; 0}.
                             v.fixed_rows_mut::<3>(0).copy_from(&a);
-                            self.frames.position[f] = rp + a * val;
-                            self.frames.rotation[f] = ap;
+                            (rp + a * val, ap)
                         }
-                    }
+                    };
                     self.frames.elem_twist[e] = v;
+                    moved
                 }
-            }
+            };
+            self.frames.position[f] = r;
+            self.frames.rotation[f] = a;
+            (r_last, a_last) = (r, a);
         }
     }
 
@@ -160,11 +161,15 @@ impl Relative {
         let zd = self.frames.last_zd.as_slice();
         // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
         // has its parent's Z and D.
+        // The last joint's Z and D kept in registers, as in `positions` (most joints' parent
+        // is the joint before them).
+        let (mut z_last, mut d_last) = (Vector6::zeros(), Vector6::zeros());
         for e in 0..self.tree.topology.elems.len() {
             let el = &self.tree.topology.elems[e];
             let f = el.frame;
             let (zp, dp) = match self.tree.elem_parent[e] {
                 None => (Vector6::zeros(), Vector6::zeros()),
+                Some(pe) if pe + 1 == e => (z_last, d_last),
                 Some(pe) => {
                     let pf = self.tree.topology.elems[pe].frame;
                     (self.frames.velocity[pf], self.frames.bias[pf])
@@ -200,19 +205,24 @@ impl Relative {
                     }
                 }
             }
-            self.frames.velocity[f] = zp + v * rate;
+            let z_f = zp + v * rate;
+            self.frames.velocity[f] = z_f;
             self.frames.bias[f] = d;
+            // The bodies whose nearest elementary joint this is have its Z and D, written
+            // from registers (copying them from the arrays just written would stall, as above).
+            for &k in &self.tree.elem_bodies[e] {
+                let bf = self.bodies[k].frame;
+                self.frames.velocity[bf] = z_f;
+                self.frames.bias[bf] = d;
+            }
+            (z_last, d_last) = (z_f, d);
         }
+        // A body with no elementary joint towards the root is fixed to the ground.
         for b in &self.bodies {
-            let (z, d) = match self.tree.paths[b.frame].last() {
-                None => (Vector6::zeros(), Vector6::zeros()),
-                Some(&e) => {
-                    let ef = self.tree.topology.elems[e].frame;
-                    (self.frames.velocity[ef], self.frames.bias[ef])
-                }
-            };
-            self.frames.velocity[b.frame] = z;
-            self.frames.bias[b.frame] = d;
+            if self.tree.paths[b.frame].is_empty() {
+                self.frames.velocity[b.frame] = Vector6::zeros();
+                self.frames.bias[b.frame] = Vector6::zeros();
+            }
         }
     }
 
@@ -237,10 +247,32 @@ impl Relative {
 }
 
 /// Global position and velocity of a marker: r = r0 + A (r̄ + X^t y), ṙ = ṡ + ω × r + A X^t ẏ.
+/// Inlined for a rigid marker (its two vectors come back in registers, not through memory
+/// read back at once); a marker at a node is evaluated out of line.
+#[inline(always)]
 pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
     let Some(k) = s.body else {
         return (s.rbar, Vector3::zeros());
     };
+    if s.node.is_some() {
+        return node_point_at(rel, k, s);
+    }
+    let f = rel.bodies[k].frame;
+    let (r0, a, zr) = (
+        &rel.frames.position[f],
+        &rel.frames.rotation[f],
+        &rel.frames.velocity[f],
+    );
+    let p = r0 + a * s.rbar;
+    let sd = zr.fixed_rows::<3>(0).into_owned();
+    let w = zr.fixed_rows::<3>(3).into_owned();
+    (p, sd + w.cross(&p) + a * Vector3::zeros())
+}
+
+/// [`point_at`] for a marker at a node of body k: r̄ + X^t y with FS0's axial shift, and
+/// its rate X^t ẏ, at the last (z, ż).
+#[inline(never)]
+fn node_point_at(rel: &Relative, k: usize, s: &Side) -> (Vector3<f64>, Vector3<f64>) {
     let b = &rel.bodies[k];
     let f = b.frame;
     let (r0, a, zr) = (

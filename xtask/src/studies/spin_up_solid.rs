@@ -3,8 +3,6 @@
 //! (`flexmbd_fe::solid::geometric`), against the beam model with FNL1 and the ANCF reference
 //! of the `spin_up` study. Cheap in every mode: a 20 s run of the solid takes a few seconds.
 
-use flexmbd::ancf::{CableSpec, run_spin_up};
-use flexmbd::core::Dim;
 use flexmbd::model::{FormulationKind, Scene, Stiffening};
 
 use super::StudyResult;
@@ -31,8 +29,7 @@ fn not_run(status: String, why: String) -> Vec<String> {
 
 /// Run the study and append its section to the report.
 pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
-    eprintln!("   reference: ANCF cable, 16 elements, Ωs = 6 rad/s");
-    let reference = run_spin_up(&CableSpec::spin_up_beam(Dim::Planar, 16), 1e-3, 20.0, 0.01)?;
+    let reference = super::spin_up::cable_2d()?;
     let (rc, ac) = (FormulationKind::Relative, FormulationKind::Absolute);
     let mut runs: Vec<(&str, &str, Result<Scene, Error>)> = vec![
         (

@@ -4,12 +4,16 @@
 //! flexible body's term groups weighed over a pilot run of the full model
 //! ([`flexmbd::term_weights`]), the choices at two thresholds, and what they save and cost:
 //! CPU time of the run against the full model's, and the error they add against it (largest
-//! |Δ| over the judged sensors, relative to the sensor's range).
+//! |Δ| over the judged sensors, relative to the sensor's range); the weights' choice and the
+//! choice confirmed at the same tolerance ([`flexmbd::term_weights::Pilot::confirm`]); and
+//! a work–precision chart of the 2D spin-up beam with the terms as an axis ([`chart`]).
+
+mod chart;
 
 use flexmbd::body::weights::{TermGroup, Weight};
 use flexmbd::model::{FormulationKind, Scene, parse_set};
 use flexmbd::simulation::{self, History};
-use flexmbd::term_weights::{BodyWeights, apply_choice, weigh_terms};
+use flexmbd::term_weights::{BodyWeights, TermChoice, apply_choice, pilot};
 use flexmbd_test_support::iltis::vehicle_flexible;
 
 use super::{StudyResult, check_run};
@@ -159,6 +163,39 @@ fn weights_table(report: &mut Report, weights: &[BodyWeights]) -> StudyResult {
     Ok(())
 }
 
+/// The labels of a choice's distinct terms (`o1, o1-nv`).
+fn labels(choices: &[(String, flexmbd::body::InertiaTerms)]) -> String {
+    let mut labels: Vec<String> = choices.iter().map(|(_, c)| c.label()).collect();
+    labels.dedup();
+    labels.join(", ")
+}
+
+/// The row of the confirmed choice: its terms, the rungs rejected before it, its error over
+/// the pilot (the same run as the full model's horizon here).
+fn confirmed_row(label: &str, c: &TermChoice, steps: f64) -> Vec<String> {
+    let rejected: Vec<String> = c
+        .rejected
+        .iter()
+        .map(|t| format!("{} {:.1e}", labels(&t.choices), t.error))
+        .collect();
+    vec![
+        label.to_string(),
+        format!(
+            "confirmed at {:.0e}: {}{}",
+            c.tolerance,
+            labels(&c.chosen.choices),
+            if rejected.is_empty() {
+                String::new()
+            } else {
+                format!(" (rejected: {})", rejected.join("; "))
+            }
+        ),
+        format!("{:.3}", c.chosen.cpu_seconds),
+        format!("{:.2}", 1e6 * c.chosen.cpu_seconds / steps),
+        format!("{:.1e}", c.chosen.error),
+    ]
+}
+
 /// The section.
 pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
     let reps = if settings.quick { 1 } else { 3 };
@@ -167,24 +204,32 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          (`flexmbd terms`, relative formulation, shape integrals): for each group, the largest \
          change its removal makes to the body's inertia force over the run, relative to the \
          largest full force, in the rigid part / the modal part (kinetic-energy norms) / the \
-         deformation it would cause against the deformation (strain-energy norm). The choice \
-         at a threshold is the cheapest set of terms whose dropped groups all weigh at most it. \
-         The threshold bounds forces, not the trajectory: the second table judges each choice \
-         against the full model's run (largest |Δ| on the sensors named, relative to the \
-         sensor's range) and gives its CPU time (median of {reps} run(s)).\n"
+         deformation it would cause against the deformation (strain-energy norm). The weights' \
+         choice at a threshold is the cheapest set of terms whose dropped groups all weigh at \
+         most it. The threshold bounds forces, not the trajectory: the second table judges each \
+         choice against the full model's run (largest |Δ| on the sensors named, relative to the \
+         sensor's range) and gives its CPU time (median of {reps} run(s)). The **confirmed** \
+         choice at tolerance X (`flexmbd terms --threshold X`, `--grid terms=auto@X`) runs the \
+         weights' choices in place of the full model over the pilot, from the weights' choice at \
+         X down to every term kept, and takes the first whose judged sensors move by at most X \
+         of their range: X is met on the pilot's horizon and sensors (here the whole run), not \
+         beyond; its CPU is one run's.\n"
             .replace("{reps}", &reps.to_string())
             .as_str(),
     );
     let mut cost_rows = Vec::new();
+    let mut spin_up_2d = String::new();
     for case in cases(settings.quick)? {
         let clock = std::time::Instant::now();
-        let weights = weigh_terms(&case.scene, None)?;
-        let pilot = clock.elapsed().as_secs_f64();
+        let judged: Vec<String> = case.sensors.iter().map(|s| s.to_string()).collect();
+        let pilot = pilot(&case.scene, None, &judged)?;
+        let weights = &pilot.weights;
+        let elapsed = clock.elapsed().as_secs_f64();
         report.text(&format!(
-            "**{}** (pilot {pilot:.2} s; rigid / modal / deformation weights, max over the run):\n",
+            "**{}** (pilot {elapsed:.2} s; rigid / modal / deformation weights, max over the run):\n",
             case.label
         ));
-        weights_table(report, &weights)?;
+        weights_table(report, weights)?;
         let (full, full_cpu) = timed(&case.scene, reps, case.label)?;
         let steps = (case.scene.solver.duration / case.scene.solver.step).round();
         cost_rows.push(vec![
@@ -195,17 +240,23 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
             "0".into(),
         ]);
         for t in THRESHOLDS {
-            let (scene, choices) = apply_choice(&case.scene, &weights, t)?;
-            let mut labels: Vec<String> = choices.iter().map(|(_, c)| c.label()).collect();
-            labels.dedup();
+            let (scene, choices) = apply_choice(&case.scene, weights, t)?;
             let (h, cpu) = timed(&scene, reps, case.label)?;
             cost_rows.push(vec![
                 case.label.to_string(),
-                format!("auto@{t} ({})", labels.join(", ")),
+                format!("weights at {t:.0e}: {}", labels(&choices)),
                 format!("{cpu:.3}"),
                 format!("{:.2}", 1e6 * cpu / steps),
                 format!("{:.1e}", error(&h, &full, case.sensors)),
             ]);
+            let confirmed = pilot.confirm(t, None)?;
+            if case.label.starts_with("spin-up beam 2D") {
+                spin_up_2d += &format!(
+                    "Confirmed at {t:.0e} on this scene: {}. ",
+                    labels(&confirmed.chosen.choices)
+                );
+            }
+            cost_rows.push(confirmed_row(case.label, &confirmed, steps));
         }
     }
     report.text(
@@ -225,7 +276,9 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
         "The inertia kernels are a small part of a step (the constraints, the leading matrix \
          and its factorisation are most of it), so what a dropped term saves per step is within \
          the timing noise of these runs; `cargo bench -p flexmbd-benches --bench inertia` \
-         (`inertia_terms_*`) times the kernels alone. A pilot costs one run of the full model.\n",
+         (`inertia_terms_*`) times the kernels alone. A pilot costs one run of the full model, \
+         a confirmation one run per rung it tries.\n",
     );
+    chart::run(settings, report, &spin_up_2d)?;
     Ok(())
 }

@@ -26,7 +26,7 @@ use super::StudyResult;
 use crate::Settings;
 use crate::report::Report;
 
-mod charts;
+pub(super) mod charts;
 mod tables;
 mod vehicle;
 

@@ -48,7 +48,7 @@ impl Sweep {
         let faithful = matches!(self.reference, Reference::Faithful);
         let key = match &self.reference_cache {
             Some(_) => {
-                let richest = self.grid.richest(base)?;
+                let richest = self.grid.richest(base, &self.sensors)?;
                 let scene_ron = ron::to_string(base).unwrap_or_default();
                 Some(cache::key(
                     if faithful { "faithful" } else { "converged" },
@@ -210,7 +210,7 @@ impl Sweep {
         stop: &AtomicBool,
         why: String,
     ) -> Result<Resolved, SweepError> {
-        let richest = self.grid.richest(base)?;
+        let richest = self.grid.richest(base, &self.sensors)?;
         let h = self.smallest_step(base)?;
         let at = |h: f64| {
             let mut point = richest.clone();
@@ -233,7 +233,7 @@ impl Sweep {
     fn smallest_step(&self, base: &Scene) -> Result<f64, SweepError> {
         Ok(self
             .grid
-            .richest(base)?
+            .richest(base, &self.sensors)?
             .settings
             .iter()
             .find_map(|s| match s {
@@ -308,7 +308,7 @@ impl Sweep {
         base: &Scene,
         stop: &AtomicBool,
     ) -> Result<(ReferenceTable, String, Option<Vec<SensorError>>), SweepError> {
-        let richest = self.grid.richest(base)?;
+        let richest = self.grid.richest(base, &self.sensors)?;
         let h = self.smallest_step(base)?;
         let mut half = richest.clone();
         half.settings.retain(|s| !matches!(s, Setting::Step(_)));

@@ -57,11 +57,12 @@ pub enum Axis {
         /// The choices.
         terms: Vec<InertiaTerms>,
     },
-    /// The inertia terms chosen by their weights (`terms[.BODY]=auto@X,…`, docs/design.md
-    /// "Inertia terms by weight"): each flexible beam body (or `body`) keeps the cheapest
-    /// terms whose dropped groups weigh at most X over one pilot run of the sweep's scene with
-    /// every term kept ([`crate::term_weights`]). The choice is made once, for the scene as the
-    /// sweep gets it, and the same terms are set at every point of the grid.
+    /// The inertia terms chosen to meet a tolerance (`terms[.BODY]=auto@X,…`, docs/design.md
+    /// "Inertia terms by weight"): over one pilot run of the sweep's scene with every term
+    /// kept, the flexible beam bodies (or `body`) take the first rung of the weights' ladder
+    /// whose run moves the sweep's judged sensors by at most X of their range over the
+    /// pilot ([`crate::term_weights::Pilot::confirm`]). The choice is made once, for the
+    /// scene as the sweep gets it, and the same terms are set at every point of the grid.
     AutoTerms {
         /// The body, or every flexible beam body.
         body: Option<String>,
@@ -109,13 +110,17 @@ pub enum Setting {
         /// The choice.
         terms: InertiaTerms,
     },
-    /// The terms chosen by their weights at `threshold` ([`Axis::AutoTerms`]):
+    /// The terms chosen at tolerance `threshold` ([`Axis::AutoTerms`]):
     /// `--set bodies.BODY.inertia_terms.{order,velocity,coupling}=…` for each body's choice.
     ChosenTerms {
-        /// The threshold.
+        /// The tolerance.
         threshold: f64,
         /// Each body and its choice.
         choices: Vec<(String, InertiaTerms)>,
+        /// The choice's error against the full model over the pilot, on the sweep's
+        /// judged sensors (largest |Δ| over the sensor's range,
+        /// [`crate::term_weights::Trial::error`]).
+        pilot_error: f64,
     },
     /// `--set solver.step=H`.
     Step(f64),
@@ -235,9 +240,16 @@ impl Setting {
             Setting::Basis { kind, .. } => format!("basis={}", basis_name(*kind)),
             Setting::Elements { count, .. } => format!("elements={count}"),
             Setting::Terms { terms, .. } => format!("terms={terms}"),
-            Setting::ChosenTerms { threshold, choices } => {
+            Setting::ChosenTerms {
+                threshold,
+                choices,
+                pilot_error,
+            } => {
                 let chosen: Vec<String> = choices.iter().map(|(_, t)| t.label()).collect();
-                format!("terms=auto@{threshold}({})", chosen.join(","))
+                format!(
+                    "terms=auto@{threshold}({};pilot={pilot_error:.1e})",
+                    chosen.join(",")
+                )
             }
             Setting::Step(h) => format!("h={h}"),
         }
@@ -414,8 +426,10 @@ impl Axis {
     }
 
     /// The settings of this axis for `scene`, checked: at least one value, element counts
-    /// at least 1, steps positive and finite, bodies that are flexible beams.
-    fn settings(&self, scene: &Scene) -> Result<Vec<Setting>, SweepError> {
+    /// at least 1, steps positive and finite, bodies that are flexible beams; the terms
+    /// chosen by their weights are confirmed on the sensors `judged` (none named: every
+    /// sensor but the energy).
+    fn settings(&self, scene: &Scene, judged: &[String]) -> Result<Vec<Setting>, SweepError> {
         let bad = |message: String| SweepError::Grid {
             axis: self.name().into(),
             message,
@@ -480,24 +494,21 @@ impl Axis {
                     return Err(bad(format!("auto@{t}: a threshold must be in (0, 1)")));
                 }
                 let bodies = self.bodies(body, scene)?;
-                let weights = crate::term_weights::weigh_terms(scene, None).map_err(|e| {
+                let pilot = crate::term_weights::cached_pilot(scene, judged).map_err(|e| {
                     bad(format!(
                         "the pilot run that weighs the inertia terms failed: {e}"
                     ))
                 })?;
                 let mut settings = Vec::new();
                 for &threshold in thresholds {
-                    let mut choices = Vec::new();
-                    for b in &bodies {
-                        let w = weights.iter().find(|w| &w.body == b).ok_or_else(|| {
-                            bad(format!(
-                                "`{b}` was not weighed (a substructured beam is pieces)"
-                            ))
-                        })?;
-                        let terms = w.choose(threshold).map_err(|e| bad(e.to_string()))?;
-                        choices.push((b.clone(), terms));
-                    }
-                    settings.push(Setting::ChosenTerms { threshold, choices });
+                    let choice = pilot
+                        .confirm(threshold, Some(&bodies))
+                        .map_err(|e| bad(e.to_string()))?;
+                    settings.push(Setting::ChosenTerms {
+                        threshold,
+                        choices: choice.chosen.choices,
+                        pilot_error: choice.chosen.error,
+                    });
                 }
                 settings
             }
@@ -561,9 +572,10 @@ impl Grid {
         Grid { axes }
     }
 
-    /// Every point of the grid for `scene`, in order (the last axis varies fastest).
-    /// Refused: a grid without axes, an axis without values, a bad value.
-    pub fn points(&self, scene: &Scene) -> Result<Vec<GridPoint>, SweepError> {
+    /// Every point of the grid for `scene`, in order (the last axis varies fastest), the
+    /// terms chosen to a tolerance judged on the sensors `judged` (none named: every sensor
+    /// but the energy). Refused: a grid without axes, an axis without values, a bad value.
+    pub fn points(&self, scene: &Scene, judged: &[String]) -> Result<Vec<GridPoint>, SweepError> {
         if self.axes.is_empty() {
             return Err(SweepError::Grid {
                 axis: "grid".into(),
@@ -573,7 +585,7 @@ impl Grid {
         let values = self
             .axes
             .iter()
-            .map(|a| a.settings(scene))
+            .map(|a| a.settings(scene, judged))
             .collect::<Result<Vec<_>, _>>()?;
         let total: usize = values.iter().map(Vec::len).product();
         Ok((0..total)
@@ -594,11 +606,12 @@ impl Grid {
 
     /// The richest model of the grid at its smallest step: on each categorical axis
     /// (formulation, inertia, stiffening) the first value, the most modes and elements,
-    /// the smallest step. The reference of [`Reference::Converged`](super::Reference).
-    pub fn richest(&self, scene: &Scene) -> Result<GridPoint, SweepError> {
+    /// the smallest step, the smallest tolerance of the terms (`judged` as in
+    /// [`points`](Self::points)). The reference of [`Reference::Converged`](super::Reference).
+    pub fn richest(&self, scene: &Scene, judged: &[String]) -> Result<GridPoint, SweepError> {
         let mut settings = Vec::new();
         for axis in &self.axes {
-            let all = axis.settings(scene)?;
+            let all = axis.settings(scene, judged)?;
             let pick = match axis {
                 Axis::Modes { counts, .. } | Axis::Elements { counts, .. } => {
                     let k = (0..counts.len()).max_by_key(|&k| counts[k]).unwrap_or(0);
@@ -644,7 +657,7 @@ mod tests {
                 Axis::Step(vec![1e-3, 5e-4, 2.5e-4]),
             ],
         };
-        let points = grid.points(&spin_up()).unwrap();
+        let points = grid.points(&spin_up(), &[]).unwrap();
         let labels: Vec<String> = points.iter().map(GridPoint::label).collect();
         assert_eq!(
             labels,
@@ -673,7 +686,7 @@ mod tests {
             ],
         };
         let scene = spin_up();
-        let point = &grid.points(&scene).unwrap()[0];
+        let point = &grid.points(&scene, &[]).unwrap()[0];
         let sets = vec!["solver.duration=2".to_string()];
         assert_eq!(
             point.args("models/spin_up_beam_2d.ron", &sets),
@@ -708,7 +721,7 @@ mod tests {
             }],
         };
         let scene = spin_up();
-        let points = grid.points(&scene).unwrap();
+        let points = grid.points(&scene, &[]).unwrap();
         let labels: Vec<String> = points.iter().map(GridPoint::label).collect();
         assert_eq!(labels, ["basis=lowest", "basis=ritz"]);
         assert_eq!(
@@ -739,7 +752,7 @@ mod tests {
                 counts: vec![0, 2],
             }],
         };
-        let points = grid.points(&scene).unwrap();
+        let points = grid.points(&scene, &[]).unwrap();
         assert_eq!(points[0].label(), "modes=0");
         let BodyModel::Beam(spec) = &points[0].scene(&scene, &[]).unwrap().bodies[0].model else {
             panic!("the spin-up beam is a beam")
@@ -750,7 +763,7 @@ mod tests {
     #[test]
     fn empty_grids_and_bad_axis_values_are_refused_by_name() {
         let scene = spin_up();
-        let refused = |axes: Vec<Axis>| Grid { axes }.points(&scene).unwrap_err().to_string();
+        let refused = |axes: Vec<Axis>| Grid { axes }.points(&scene, &[]).unwrap_err().to_string();
         assert!(refused(vec![]).contains("empty grid"));
         let e = refused(vec![Axis::Step(vec![])]);
         assert!(e.contains("step") && e.contains("no values"), "{e}");
@@ -784,7 +797,7 @@ mod tests {
             ],
         };
         assert_eq!(
-            grid.richest(&spin_up()).unwrap().label(),
+            grid.richest(&spin_up(), &[]).unwrap().label(),
             "relative modes=4 h=0.00025"
         );
     }

@@ -13,6 +13,11 @@ use crate::sparse_llt::SPARSE_FROM;
 use crate::structured::{Fallback, StructuredLlt};
 use flexmbd_core::Formulation;
 
+/// Up to this many coordinates the penalty term Φ_qᵀ α Φ_q is formed densely
+/// ([`Ali3p::form_leading`]): the rigid double four-bar (n = 5 relative, 6 absolute) spent
+/// 9 % (relative) and 15 % (absolute) of its run in the pattern-driven loop.
+const DENSE_PENALTY_UP_TO: usize = 8;
+
 impl Ali3p {
     /// Take the structure `f` declares, if any, for the run (issue 26 item 2): its arrow
     /// form when that pays (blocks of a tree's branches and the root's border, factorised by
@@ -111,6 +116,26 @@ impl Ali3p {
         // Column-major slices.
         let c = 0.25 * h * h * self.alpha;
         let pq = self.terms.phi_q.as_slice();
+        if n <= DENSE_PENALTY_UP_TO {
+            // Small systems: every entry's sum over the rows in a register, in the same row
+            // order and with the same products (c Φ_rj) Φ_ri as the loop below, the entries
+            // outside the pattern adding exact zeros. The pattern's bookkeeping and the
+            // updates of the same entries through memory, row after row, cost more here than
+            // the few products they skip.
+            for j in 0..n {
+                let col = &mut lead[j * n..(j + 1) * n];
+                let phi_j = &pq[j * m..(j + 1) * m];
+                for i in if lower_only { j } else { 0 }..n {
+                    let phi_i = &pq[i * m..(i + 1) * m];
+                    let mut sum = col[i];
+                    for (vj, vi) in phi_j.iter().zip(phi_i) {
+                        sum += c * vj * vi;
+                    }
+                    col[i] = sum;
+                }
+            }
+            return;
+        }
         self.pattern.cover(pq);
         for r in 0..m {
             self.nz.clear();

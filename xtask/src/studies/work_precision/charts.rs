@@ -80,7 +80,7 @@ pub(super) fn chart(
 
 /// A log–log chart of the largest error over time against the run's CPU time, the error in
 /// mm (the unit the tolerances of these cases are given in).
-fn error_against_cpu(title: String, series: Vec<Series>) -> LineChart {
+pub(crate) fn error_against_cpu(title: String, series: Vec<Series>) -> LineChart {
     let series = series
         .into_iter()
         .map(|s| Series {
