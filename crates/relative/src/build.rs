@@ -17,7 +17,10 @@ use crate::cut_joints::{cut_joint_constraints, driver_constraints, marker_constr
 use crate::kinematics::angle_of;
 use crate::marker_kinematics::MarkerJacobian;
 use crate::marker_table::MarkerTable;
-use crate::system::{Relative, RunTimeBody, unsupported};
+use crate::system::{
+    Assembly, ConstraintRows, ForceElementWork, FrameStates, Relative, RunTimeBody, Tree,
+    unsupported,
+};
 use crate::topology::{BodyInfo, CoordRef, ElemKind, Frame, FrameKind, Side, Topology};
 use flexmbd_body::NodeRows;
 
@@ -33,9 +36,9 @@ impl Relative {
         marker_constraints(prepared, &infos, &mut constraints);
         let mut rel =
             Relative::with_workspace(scene, &infos, flex, topology, coordinates, constraints);
-        rel.row_paths = rel.compile_row_paths();
+        rel.rows.paths = rel.compile_row_paths();
         rel.initial_coordinates(scene);
-        rel.mass_map = rel.build_mass_map();
+        rel.tree.mass_map = rel.build_mass_map();
         rel.initial_velocities(scene)?;
         rel.sensors = rel.build_sensors(prepared, &infos)?;
         rel.build_force_elements(prepared, &infos)?;
@@ -81,50 +84,60 @@ impl Relative {
             gravity.z = 0.0;
         }
         Relative {
-            dim,
-            rigid_size,
-            rigid_entries,
-            inertia_method: scene.solver.inertia,
-            gravity,
-            n_z,
-            n_w,
-            topology,
+            tree: Tree {
+                dim,
+                rigid_size,
+                rigid_entries,
+                n_z,
+                n_w,
+                topology,
+                elem_w,
+                paths,
+                l_rows,
+                mass_map: Vec::new(),
+                elem_rate,
+                elem_children: tree.children,
+                elem_parent: tree.parent,
+                elem_bodies: tree.bodies,
+                fixed_identity,
+                planar_frames,
+            },
             bodies,
-            elem_w,
-            paths,
-            l_rows,
-            mass_map: Vec::new(),
-            elem_rate,
-            constraints,
-            row_paths: Default::default(),
-            frame_position: vec![Vector3::zeros(); nf],
-            frame_rotation: vec![Matrix3::identity(); nf],
-            frame_velocity: vec![Vector6::zeros(); nf],
-            frame_bias: vec![Vector6::zeros(); nf],
-            body_mass: vec![Matrix6::zeros(); n_bodies],
-            body_p: vec![Vector6::zeros(); n_bodies],
-            subtree_mass: vec![Matrix6::zeros(); ne],
-            subtree_p: vec![Vector6::zeros(); ne],
-            elem_children: tree.children,
-            elem_bodies: tree.bodies,
-            elem_parent: tree.parent,
-            elem_twist: vec![Vector6::zeros(); ne],
-            m_w: DMatrix::zeros(n_w, n_w),
-            q_w: DVector::zeros(n_w),
-            phi_w: DMatrix::zeros(n_constraints, n_w),
+            frames: FrameStates {
+                position: vec![Vector3::zeros(); nf],
+                rotation: vec![Matrix3::identity(); nf],
+                velocity: vec![Vector6::zeros(); nf],
+                bias: vec![Vector6::zeros(); nf],
+                elem_twist: vec![Vector6::zeros(); ne],
+                last_z: DVector::zeros(n_z),
+                last_zd: DVector::zeros(n_z),
+                positions_current: false,
+                velocities_current: false,
+                velocities_zd: DVector::zeros(n_z),
+            },
+            assembly: Assembly {
+                inertia_method: scene.solver.inertia,
+                gravity,
+                body_mass: vec![Matrix6::zeros(); n_bodies],
+                body_p: vec![Vector6::zeros(); n_bodies],
+                subtree_mass: vec![Matrix6::zeros(); ne],
+                subtree_p: vec![Vector6::zeros(); ne],
+                m_w: DMatrix::zeros(n_w, n_w),
+                q_w: DVector::zeros(n_w),
+            },
+            rows: ConstraintRows {
+                constraints,
+                paths: Default::default(),
+                phi_w: DMatrix::zeros(n_constraints, n_w),
+            },
+            forces: ForceElementWork {
+                elements: ForceElements::default(),
+                marker_jacobian: MarkerJacobian::default(),
+                marker_table: MarkerTable::default(),
+            },
             coordinates: flexmbd_core::Coordinates::zeros(n_z, n_constraints),
             sensors: Default::default(),
             coordinate_names,
-            last_z: DVector::zeros(n_z),
-            last_zd: DVector::zeros(n_z),
-            positions_current: false,
-            velocities_current: false,
-            velocities_zd: DVector::zeros(n_z),
-            fixed_identity,
-            planar_frames,
-            force_elements: ForceElements::default(),
-            marker_jacobian: MarkerJacobian::default(),
-            marker_table: MarkerTable::default(),
         }
     }
 
@@ -154,14 +167,15 @@ impl Relative {
         }
         let (q0, qd0) = (self.coordinates.q0.clone(), self.coordinates.qd0.clone());
         self.kinematics(&q0, &qd0);
-        self.marker_jacobian = MarkerJacobian::new(self.n_w, self.n_z);
-        self.force_elements = ForceElements::new(prepared, side_at, &*self, &q0, &qd0, self.n_z)?;
+        self.forces.marker_jacobian = MarkerJacobian::new(self.tree.n_w, self.tree.n_z);
+        self.forces.elements =
+            ForceElements::new(prepared, side_at, &*self, &q0, &qd0, self.tree.n_z)?;
         let mut table = MarkerTable::default();
-        for side in self.force_elements.markers_mut() {
+        for side in self.forces.elements.markers_mut() {
             side.slot = Some(table.row_of(side));
         }
         table.plan(self);
-        self.marker_table = table;
+        self.forces.marker_table = table;
         self.fill_marker_table();
         Ok(())
     }
@@ -169,21 +183,21 @@ impl Relative {
     /// The entries of M_w outside its z × z block that [`dynamics`](Self::dynamics) writes
     /// (the others are zero for every state), mapped through L into M.
     pub(crate) fn build_mass_map(&self) -> Vec<(usize, usize, f64)> {
-        let (nz, nw) = (self.n_z, self.n_w);
+        let (nz, nw) = (self.tree.n_z, self.tree.n_w);
         let mut pattern = vec![false; nw * nw];
         let mut mark = |i: usize, j: usize| {
             pattern[i + j * nw] = true;
             pattern[j + i * nw] = true;
         };
-        for (e, el) in self.topology.elems.iter().enumerate() {
-            for &a in &self.paths[el.frame] {
-                mark(self.elem_w[a], self.elem_w[e]);
+        for (e, el) in self.tree.topology.elems.iter().enumerate() {
+            for &a in &self.tree.paths[el.frame] {
+                mark(self.tree.elem_w[a], self.tree.elem_w[e]);
             }
         }
         for b in &self.bodies {
             for m in 0..b.n_modes {
-                for &a in &self.paths[b.frame] {
-                    mark(self.elem_w[a], b.first_mode + m);
+                for &a in &self.tree.paths[b.frame] {
+                    mark(self.tree.elem_w[a], b.first_mode + m);
                 }
                 for m2 in 0..b.n_modes {
                     mark(b.first_mode + m, b.first_mode + m2);
@@ -196,8 +210,8 @@ impl Relative {
                 if !pattern[i + j * nw] || (i < nz && j < nz) {
                     continue;
                 }
-                for &(c, a) in &self.l_rows[i] {
-                    for &(d, b) in &self.l_rows[j] {
+                for &(c, a) in &self.tree.l_rows[i] {
+                    for &(d, b) in &self.tree.l_rows[j] {
                         map.push((c + d * nz, i + j * nw, a * b));
                     }
                 }

@@ -127,7 +127,7 @@ impl Relative {
     /// The constraints' [`RowPaths`], from the tree's paths (allocates: for compiling).
     pub(crate) fn compile_row_paths(&self) -> RowPaths {
         let mut paths = RowPaths::default();
-        for c in &self.constraints {
+        for c in &self.rows.constraints {
             let start = paths.joints.len();
             let (path_i, path_j, shared) = match c.sides() {
                 Some((i, j)) => {
@@ -137,7 +137,7 @@ impl Relative {
                 }
                 None => (&[][..], &[][..], 0),
             };
-            let with_w = |a: &usize| (*a, self.elem_w[*a]);
+            let with_w = |a: &usize| (*a, self.tree.elem_w[*a]);
             paths.joints.extend(path_i[..shared].iter().map(with_w));
             let end_shared = paths.joints.len();
             paths.joints.extend(path_i[shared..].iter().map(with_w));
@@ -152,13 +152,13 @@ impl Relative {
 
     /// The path of side `body`'s frame (empty for the ground).
     fn path_of(&self, body: Option<usize>) -> &[usize] {
-        body.map_or(&[][..], |k| &self.paths[self.bodies[k].frame])
+        body.map_or(&[][..], |k| &self.tree.paths[self.bodies[k].frame])
     }
 
     /// g·D_k of side `body` (0 for the ground).
     #[inline(always)]
     fn bias_of(&self, body: Option<usize>, g: &Vector6<f64>) -> f64 {
-        body.map_or(0.0, |k| g.dot(&self.frame_bias[self.bodies[k].frame]))
+        body.map_or(0.0, |k| g.dot(&self.frames.bias[self.bodies[k].frame]))
     }
 
     /// Add g_i·Z_i + g_j·Z_j of the two sides' bodies to row `row` of Φ_w (the modal
@@ -173,11 +173,11 @@ impl Relative {
         (bj, gj): (Option<usize>, &Vector6<f64>),
     ) -> f64 {
         if jac.write {
-            let joints = &self.row_paths.joints;
+            let joints = &self.rows.paths.joints;
             let gs = gi + gj;
             for (run, g) in [(0, &gs), (1, gi), (2, gj)] {
                 for &(a, w) in &joints[runs[run]..runs[run + 1]] {
-                    jac.add(row, w, g.dot(&self.elem_twist[a]));
+                    jac.add(row, w, g.dot(&self.frames.elem_twist[a]));
                 }
             }
         }
@@ -188,8 +188,8 @@ impl Relative {
     /// kinematics of the last pass.
     #[inline(never)]
     pub(crate) fn constraint_terms(&mut self, t: f64, req: Request, out: &mut SystemTerms) {
-        let (nz, nw) = (self.n_z, self.n_w);
-        let mut node_columns = std::mem::replace(&mut self.phi_w, DMatrix::zeros(0, 0));
+        let (nz, nw) = (self.tree.n_z, self.tree.n_w);
+        let mut node_columns = std::mem::replace(&mut self.rows.phi_w, DMatrix::zeros(0, 0));
         if req.jacobian {
             // Only the node-joint columns of Φ_w: the z columns go straight into Φ_z.
             let first = node_columns.nrows() * nz;
@@ -215,7 +215,7 @@ impl Relative {
             req,
         };
         let mut row = 0;
-        for (c, &runs) in self.constraints.iter().zip(&self.row_paths.runs) {
+        for (c, &runs) in self.rows.constraints.iter().zip(&self.rows.paths.runs) {
             let rows = &mut rows;
             let jac = &mut jac;
             let row_at = RowAt { row, runs };
@@ -241,19 +241,19 @@ impl Relative {
                     self.distance_constraint(row_at, (i, j), *length, rows, jac)
                 }
             }
-            row += c.rows(self.dim);
+            row += c.rows(self.tree.dim);
         }
         if req.jacobian {
             // Φ_z += Φ_w[:, node joints] L_node (L = [I; L_node]).
             for w in nz..nw {
-                for &(c, a) in &self.l_rows[w] {
+                for &(c, a) in &self.tree.l_rows[w] {
                     jac.phi_z
                         .column_mut(c)
                         .axpy(a, &jac.node_columns.column(w), 1.0);
                 }
             }
         }
-        self.phi_w = node_columns;
+        self.rows.phi_w = node_columns;
     }
 
     /// r_i − r_j = 0: rows `row..row + n_trans`.
@@ -265,7 +265,7 @@ impl Relative {
         rows: &mut RowTerms<'_>,
         jac: &mut JacobianSink<'_>,
     ) {
-        let nt = self.dim.n_trans();
+        let nt = self.tree.dim.n_trans();
         let (pi, vi) = point_at(self, i);
         let (pj, vj) = point_at(self, j);
         if rows.req.constraints {
@@ -276,10 +276,10 @@ impl Relative {
         if rows.req.jacobian || rows.req.accel_term {
             if jac.write {
                 // The shared joints move both points: their columns are ω_a × (r_i − r_j).
-                let joints = &self.row_paths.joints;
+                let joints = &self.rows.paths.joints;
                 let rij = pi - pj;
                 for &(a, w) in &joints[runs[0]..runs[1]] {
-                    let u = self.elem_twist[a].fixed_rows::<3>(3).cross(&rij);
+                    let u = self.frames.elem_twist[a].fixed_rows::<3>(3).cross(&rij);
                     self.add_point_column(jac, row, w, &u);
                 }
                 self.point_columns_from(jac, row, &joints[runs[1]..runs[2]], &pi, 1.0);
@@ -302,7 +302,7 @@ impl Relative {
     /// Column w of the point rows `row..row + n_trans`: += u.
     #[inline(always)]
     fn add_point_column(&self, jac: &mut JacobianSink<'_>, row: usize, w: usize, u: &Vector3<f64>) {
-        for c in 0..self.dim.n_trans() {
+        for c in 0..self.tree.dim.n_trans() {
             jac.add(row + c, w, u[c]);
         }
     }
@@ -318,7 +318,7 @@ impl Relative {
         sg: f64,
     ) {
         for &(a, w) in joints {
-            let elem_twist = &self.elem_twist[a];
+            let elem_twist = &self.frames.elem_twist[a];
             let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
             self.add_point_column(jac, row, w, &(sg * u));
         }
@@ -465,7 +465,7 @@ impl Relative {
     ) {
         let (th, thd, thdd) = drive;
         if rows.req.constraints {
-            rows.phi[row] = self.last_z[zc] - sign * th;
+            rows.phi[row] = self.frames.last_z[zc] - sign * th;
         }
         if rows.req.jacobian {
             jac.add(row, zc, 1.0);
@@ -493,14 +493,14 @@ impl Relative {
         let Some(k) = s.body else {
             return Vector3::zeros();
         };
-        let nt = self.dim.n_trans();
+        let nt = self.tree.dim.n_trans();
         let f = self.bodies[k].frame;
-        let d = &self.frame_bias[f];
-        let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
+        let d = &self.frames.bias[f];
+        let w = self.frames.velocity[f].fixed_rows::<3>(3).into_owned();
         let mut bias = d.fixed_rows::<3>(0) + d.fixed_rows::<3>(3).cross(p) + w.cross(v);
         if let Some(node) = s.node {
             let b = &self.bodies[k];
-            let a = self.frame_rotation[f];
+            let a = self.frames.rotation[f];
             let mut xy = Vector3::zeros();
             for m in 0..b.n_modes {
                 let col = Vector3::new(
@@ -514,7 +514,7 @@ impl Relative {
                         jac.add(row + c, b.first_mode + m, sg * ac[c]);
                     }
                 }
-                xy += col * self.last_zd[b.first_mode + m];
+                xy += col * self.frames.last_zd[b.first_mode + m];
             }
             bias += w.cross(&(a * xy));
         }
@@ -540,8 +540,8 @@ impl Relative {
         g.fixed_rows_mut::<3>(0).copy_from(&(sg * e));
         g.fixed_rows_mut::<3>(3).copy_from(&(sg * p.cross(e)));
         let f = self.bodies[k].frame;
-        let a = self.frame_rotation[f];
-        let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
+        let a = self.frames.rotation[f];
+        let w = self.frames.velocity[f].fixed_rows::<3>(3).into_owned();
         let mut bias = e.dot(&w.cross(v));
         if let Some(node) = s.node {
             let b = &self.bodies[k];
@@ -556,7 +556,7 @@ impl Relative {
                 if jac.write {
                     jac.add(row, b.first_mode + m, sg * at_e.dot(&col));
                 }
-                axy += col * self.last_zd[b.first_mode + m];
+                axy += col * self.frames.last_zd[b.first_mode + m];
             }
             bias += e.dot(&w.cross(&(a * axy)));
         }
@@ -581,8 +581,8 @@ impl Relative {
         let Some(k) = s.body else { return (g, 0.0) };
         g.fixed_rows_mut::<3>(3).copy_from(&d.cross(u));
         let f = self.bodies[k].frame;
-        let a = self.frame_rotation[f];
-        let w = self.frame_velocity[f].fixed_rows::<3>(3).into_owned();
+        let a = self.frames.rotation[f];
+        let w = self.frames.velocity[f].fixed_rows::<3>(3).into_owned();
         // ä_bias = ω × ḋ + ω × A (θ̄̇ × d̄).
         let mut extra = Vector3::zeros();
         if let Some(node) = s.node {
@@ -598,7 +598,7 @@ impl Relative {
                 if jac.write {
                     jac.add(row, b.first_mode + m, at_u.dot(&col.cross(dbar)));
                 }
-                th_d += col * self.last_zd[b.first_mode + m];
+                th_d += col * self.frames.last_zd[b.first_mode + m];
             }
             extra = a * th_d.cross(dbar);
         }

@@ -68,8 +68,8 @@ impl Relative {
                 continue;
             }
             let state = self.body_state(k, z, zd);
-            let (g, method) = (self.gravity, self.inertia_method);
-            let entries = &self.rigid_entries[..self.rigid_size];
+            let (g, method) = (self.assembly.gravity, self.assembly.inertia_method);
+            let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
             if let BodyKernel::Flexible(f) = &mut self.bodies[k].kernel {
                 f.evaluate(&state, method, &g, entries);
             }
@@ -81,10 +81,10 @@ impl Relative {
     pub(crate) fn frame_motion(&self, k: usize) -> FrameMotion {
         let f = self.bodies[k].frame;
         FrameMotion {
-            r0: self.frame_position[f],
-            a: self.frame_rotation[f],
-            velocity: self.frame_velocity[f],
-            bias: self.frame_bias[f],
+            r0: self.frames.position[f],
+            a: self.frames.rotation[f],
+            velocity: self.frames.velocity[f],
+            bias: self.frames.bias[f],
         }
     }
 
@@ -101,19 +101,23 @@ impl Relative {
         // M = Lᵀ M_w L, Q = Lᵀ Q_w. The z × z block was written into `out` directly; the
         // node-joint rows and columns of M_w (only its structural non-zeros) are added
         // through L.
-        let mw = self.m_w.as_slice();
-        for &(d, src, k) in &self.mass_map {
+        let mw = self.assembly.m_w.as_slice();
+        for &(d, src, k) in &self.tree.mass_map {
             mass[d] += k * mw[src];
         }
-        fold_w_to_z(&self.l_rows, self.q_w.as_slice(), out.forces.as_mut_slice());
+        fold_w_to_z(
+            &self.tree.l_rows,
+            self.assembly.q_w.as_slice(),
+            out.forces.as_mut_slice(),
+        );
         if tangents {
             self.add_modal_tangents(z, zd, out);
         }
-        if !self.force_elements.is_empty() {
+        if !self.forces.elements.is_empty() {
             self.fill_marker_table();
-            let mut force_elements = std::mem::take(&mut self.force_elements);
+            let mut force_elements = std::mem::take(&mut self.forces.elements);
             force_elements.add_forces(self, z, zd, tangents, out);
-            self.force_elements = force_elements;
+            self.forces.elements = force_elements;
         }
     }
 
@@ -127,12 +131,15 @@ impl Relative {
             // with wider loads, a stall).
             let f = self.bodies[k].frame;
             let motion = (
-                &self.frame_position[f],
-                &self.frame_rotation[f],
-                &self.frame_velocity[f],
-                &self.frame_bias[f],
+                &self.frames.position[f],
+                &self.frames.rotation[f],
+                &self.frames.velocity[f],
+                &self.frames.bias[f],
             );
-            let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+            let (mm, pp) = (
+                &mut self.assembly.body_mass[k],
+                &mut self.assembly.body_p[k],
+            );
             match &self.bodies[k].kernel {
                 BodyKernel::RigidSpatial(r) => {
                     let frame = FrameMotion {
@@ -141,9 +148,9 @@ impl Relative {
                         velocity: *motion.2,
                         bias: *motion.3,
                     };
-                    r.terms(&frame, &self.gravity, mm, pp)
+                    r.terms(&frame, &self.assembly.gravity, mm, pp)
                 }
-                BodyKernel::RigidPlanar(r) => r.terms_at(motion, &self.gravity, mm, pp),
+                BodyKernel::RigidPlanar(r) => r.terms_at(motion, &self.assembly.gravity, mm, pp),
                 BodyKernel::Flexible(_) => {
                     let d = *motion.3;
                     self.flexible_body_rows(k, &d, mass)
@@ -158,16 +165,19 @@ impl Relative {
     /// entries), the coupling columns into M_w's rows of the joints that move body k and
     /// M̄_yy into M.
     fn flexible_body_rows(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
-        let entries = &self.rigid_entries[..self.rigid_size];
-        let nz = self.n_z;
-        let planar = self.rigid_size == 3;
+        let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
+        let nz = self.tree.n_z;
+        let planar = self.tree.rigid_size == 3;
         let b = &self.bodies[k];
         let BodyKernel::Flexible(flexible) = &b.kernel else {
             return;
         };
         let blocks = &flexible.blocks;
         let (f, n) = (b.frame, b.n_modes);
-        let (mm, pp) = (&mut self.body_mass[k], &mut self.body_p[k]);
+        let (mm, pp) = (
+            &mut self.assembly.body_mass[k],
+            &mut self.assembly.body_p[k],
+        );
         *mm = blocks.rigid;
         for &r in entries {
             let mut p = blocks.rigid_force[r];
@@ -176,7 +186,7 @@ impl Relative {
             }
             pp[r] = p;
         }
-        let q_w = &mut self.q_w.as_mut_slice()[b.first_mode..b.first_mode + n];
+        let q_w = &mut self.assembly.q_w.as_mut_slice()[b.first_mode..b.first_mode + n];
         for ((q, &force), u) in q_w
             .iter_mut()
             .zip(&blocks.modal_force)
@@ -190,11 +200,11 @@ impl Relative {
         }
         for (m, u) in blocks.coupling.iter().enumerate() {
             let wm = b.first_mode + m;
-            for &a in &self.paths[f] {
-                let val = twist_dot(planar, &self.elem_twist[a], u);
-                let wa = self.elem_w[a];
-                put(mass, &mut self.m_w, nz, wa, wm, val);
-                put(mass, &mut self.m_w, nz, wm, wa, val);
+            for &a in &self.tree.paths[f] {
+                let val = twist_dot(planar, &self.frames.elem_twist[a], u);
+                let wa = self.tree.elem_w[a];
+                put(mass, &mut self.assembly.m_w, nz, wa, wm, val);
+                put(mass, &mut self.assembly.m_w, nz, wm, wa, val);
             }
             // M̄_yy (modes are z coordinates): column m of the block, row m2.
             for m2 in 0..n {
@@ -206,26 +216,26 @@ impl Relative {
     /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
     /// elementary joints (a child's index is larger than its parent's).
     fn accumulate_subtrees(&mut self) {
-        if self.rigid_size == 3 {
+        if self.tree.rigid_size == 3 {
             self.accumulate_planar_subtrees();
             return;
         }
-        for e in (0..self.topology.elems.len()).rev() {
+        for e in (0..self.tree.topology.elems.len()).rev() {
             let (mut m, mut pv) = (Matrix6::zeros(), Vector6::zeros());
-            let parts = self.elem_bodies[e]
+            let parts = self.tree.elem_bodies[e]
                 .iter()
-                .map(|&k| (&self.body_mass[k], &self.body_p[k]))
+                .map(|&k| (&self.assembly.body_mass[k], &self.assembly.body_p[k]))
                 .chain(
-                    self.elem_children[e]
+                    self.tree.elem_children[e]
                         .iter()
-                        .map(|&c| (&self.subtree_mass[c], &self.subtree_p[c])),
+                        .map(|&c| (&self.assembly.subtree_mass[c], &self.assembly.subtree_p[c])),
                 );
             for (bm, bp) in parts {
                 m += bm;
                 pv += bp;
             }
-            self.subtree_mass[e] = m;
-            self.subtree_p[e] = pv;
+            self.assembly.subtree_mass[e] = m;
+            self.assembly.subtree_p[e] = pv;
         }
     }
 
@@ -234,17 +244,17 @@ impl Relative {
     /// stay at their zeros). Accumulating into a whole zeroed 6 × 6 and storing it would
     /// read narrow stores back with wide loads (a stall per joint).
     fn accumulate_planar_subtrees(&mut self) {
-        let [r0, r1, r2, ..] = self.rigid_entries;
+        let [r0, r1, r2, ..] = self.tree.rigid_entries;
         let entries = [r0, r1, r2];
-        for e in (0..self.topology.elems.len()).rev() {
+        for e in (0..self.tree.topology.elems.len()).rev() {
             let (mut m, mut pv) = ([[0.0; 3]; 3], [0.0; 3]);
-            let parts = self.elem_bodies[e]
+            let parts = self.tree.elem_bodies[e]
                 .iter()
-                .map(|&k| (&self.body_mass[k], &self.body_p[k]))
+                .map(|&k| (&self.assembly.body_mass[k], &self.assembly.body_p[k]))
                 .chain(
-                    self.elem_children[e]
+                    self.tree.elem_children[e]
                         .iter()
-                        .map(|&c| (&self.subtree_mass[c], &self.subtree_p[c])),
+                        .map(|&c| (&self.assembly.subtree_mass[c], &self.assembly.subtree_p[c])),
                 );
             for (bm, bp) in parts {
                 for (j, &c) in entries.iter().enumerate() {
@@ -254,7 +264,10 @@ impl Relative {
                     }
                 }
             }
-            let (sm, sp) = (&mut self.subtree_mass[e], &mut self.subtree_p[e]);
+            let (sm, sp) = (
+                &mut self.assembly.subtree_mass[e],
+                &mut self.assembly.subtree_p[e],
+            );
             for (j, &c) in entries.iter().enumerate() {
                 sp[c] = pv[j];
                 for (i, &r) in entries.iter().enumerate() {
@@ -267,11 +280,11 @@ impl Relative {
     /// Steps 6–7 for the elementary joints: `M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e` for a on the path
     /// of e, and `Q_w[e] = v_eᵀ ℙ_{F(e)}`.
     fn elem_rows(&mut self, mass: &mut [f64]) {
-        let nz = self.n_z;
-        let planar = self.rigid_size == 3;
-        for e in 0..self.topology.elems.len() {
-            let f = self.topology.elems[e].frame;
-            let (me, ve) = (&self.subtree_mass[e], &self.elem_twist[e]);
+        let nz = self.tree.n_z;
+        let planar = self.tree.rigid_size == 3;
+        for e in 0..self.tree.topology.elems.len() {
+            let f = self.tree.topology.elems[e].frame;
+            let (me, ve) = (&self.assembly.subtree_mass[e], &self.frames.elem_twist[e]);
             let ke = if planar {
                 let mut ke = Vector6::zeros();
                 for r in [0, 1, 5] {
@@ -281,14 +294,18 @@ impl Relative {
             } else {
                 me * ve
             };
-            let we = self.elem_w[e];
-            for &a in &self.paths[f] {
-                let val = twist_dot(planar, &self.elem_twist[a], &ke);
-                let wa = self.elem_w[a];
-                put(mass, &mut self.m_w, nz, wa, we, val);
-                put(mass, &mut self.m_w, nz, we, wa, val);
+            let we = self.tree.elem_w[e];
+            for &a in &self.tree.paths[f] {
+                let val = twist_dot(planar, &self.frames.elem_twist[a], &ke);
+                let wa = self.tree.elem_w[a];
+                put(mass, &mut self.assembly.m_w, nz, wa, we, val);
+                put(mass, &mut self.assembly.m_w, nz, we, wa, val);
             }
-            self.q_w[we] = twist_dot(planar, &self.elem_twist[e], &self.subtree_p[e]);
+            self.assembly.q_w[we] = twist_dot(
+                planar,
+                &self.frames.elem_twist[e],
+                &self.assembly.subtree_p[e],
+            );
         }
     }
 

@@ -33,7 +33,7 @@ impl Relative {
     /// fit without coordinates; a fit whose matrix is not finite or whose SVD does not
     /// converge is refused, naming the scene.
     pub(crate) fn initial_velocities(&mut self, scene: &Scene) -> Result<(), ModelError> {
-        let n = self.n_z;
+        let n = self.tree.n_z;
         if n == 0 {
             return Ok(());
         }
@@ -51,14 +51,14 @@ impl Relative {
             self.kinematics(&q0, &e);
             for k in 0..nb {
                 let bk = &self.bodies[k];
-                let nc = self.rigid_size + bk.n_modes;
-                let z = self.frame_velocity[bk.frame];
+                let nc = self.tree.rigid_size + bk.n_modes;
+                let z = self.frames.velocity[bk.frame];
                 let mut col = DVector::zeros(nc);
-                for i in 0..self.rigid_size {
-                    col[i] = z[self.rigid_entries[i]];
+                for i in 0..self.tree.rigid_size {
+                    col[i] = z[self.tree.rigid_entries[i]];
                 }
                 for mm in 0..bk.n_modes {
-                    col[self.rigid_size + mm] = e[bk.first_mode + mm];
+                    col[self.tree.rigid_size + mm] = e[bk.first_mode + mm];
                 }
                 cols[k].push(col);
             }
@@ -66,7 +66,7 @@ impl Relative {
         self.kinematics(&q0, &zero);
         for k in 0..nb {
             let f = self.bodies[k].frame;
-            let (r0, a) = (self.frame_position[f], self.frame_rotation[f]);
+            let (r0, a) = (self.frames.position[f], self.frames.rotation[f]);
             let frame = FrameMotion {
                 velocity: Vector6::zeros(),
                 bias: Vector6::zeros(),
@@ -85,8 +85,12 @@ impl Relative {
             };
             let m_bar = match &mut bk.kernel {
                 BodyKernel::Flexible(f) => {
-                    f.body
-                        .inertia(&state, self.inertia_method, &mut f.m_bar, &mut f.q_bar);
+                    f.body.inertia(
+                        &state,
+                        self.assembly.inertia_method,
+                        &mut f.m_bar,
+                        &mut f.q_bar,
+                    );
                     f.m_bar.clone()
                 }
                 kernel => {
@@ -98,7 +102,7 @@ impl Relative {
             let v = &scene.bodies[k].velocity;
             let mut w = v.angular.vec();
             let mut lin = v.linear.vec();
-            if self.dim == Dim::Planar {
+            if self.tree.dim == Dim::Planar {
                 w = Vector3::new(0.0, 0.0, w.z);
                 lin.z = 0.0;
             }
@@ -106,10 +110,10 @@ impl Relative {
             let mut target6 = Vector6::zeros();
             target6.fixed_rows_mut::<3>(0).copy_from(&s_dot);
             target6.fixed_rows_mut::<3>(3).copy_from(&w);
-            let nc = self.rigid_size + bk.n_modes;
+            let nc = self.tree.rigid_size + bk.n_modes;
             let mut target = DVector::zeros(nc);
-            for i in 0..self.rigid_size {
-                target[i] = target6[self.rigid_entries[i]];
+            for i in 0..self.tree.rigid_size {
+                target[i] = target6[self.tree.rigid_entries[i]];
             }
             let mt = &m_bar * &target;
             for c in 0..n {

@@ -15,10 +15,13 @@ impl Relative {
         for k in 0..self.bodies.len() {
             let state = self.body_state(k, z, zd);
             let frame = self.frame_motion(k);
-            let (rigid_size, rigid_entries, g) =
-                (self.rigid_size, self.rigid_entries, self.gravity);
+            let (rigid_size, rigid_entries, g) = (
+                self.tree.rigid_size,
+                self.tree.rigid_entries,
+                self.assembly.gravity,
+            );
             let zr = frame.velocity;
-            let (inertia_method, b) = (self.inertia_method, &mut self.bodies[k]);
+            let (inertia_method, b) = (self.assembly.inertia_method, &mut self.bodies[k]);
             let v = |i: usize| {
                 if i < rigid_size {
                     zr[rigid_entries[i]]
@@ -58,7 +61,7 @@ impl Relative {
             let (mass, mb) = b.kernel.mass_and_first_moment(state.y);
             e -= g.dot(&(state.r0 * mass + state.a * mb));
         }
-        e + self.force_elements.potential_energy(self, z, zd)
+        e + self.forces.elements.potential_energy(self, z, zd)
     }
 
     /// Names of the coordinates z (joint coordinates, then `body.y<m>`).
@@ -75,7 +78,7 @@ impl Relative {
     }
     /// Rigid velocity entries per body: 3 (2D: ṡx, ṡy, ωz) or 6 (3D: ṡ, ω).
     pub fn rigid_size(&self) -> usize {
-        self.rigid_size
+        self.tree.rigid_size
     }
     /// First modal coordinate of body k in z, and its number of modes.
     pub fn body_modes(&self, k: usize) -> (usize, usize) {
@@ -91,16 +94,16 @@ impl Relative {
     ) -> (DVector<f64>, DVector<f64>) {
         self.kinematics(z, zd);
         let b = &self.bodies[k];
-        let (zr, d) = (self.frame_velocity[b.frame], self.frame_bias[b.frame]);
-        let nc = self.rigid_size + b.n_modes;
+        let (zr, d) = (self.frames.velocity[b.frame], self.frames.bias[b.frame]);
+        let nc = self.tree.rigid_size + b.n_modes;
         let mut v = DVector::zeros(nc);
         let mut dv = DVector::zeros(nc);
-        for i in 0..self.rigid_size {
-            v[i] = zr[self.rigid_entries[i]];
-            dv[i] = d[self.rigid_entries[i]];
+        for i in 0..self.tree.rigid_size {
+            v[i] = zr[self.tree.rigid_entries[i]];
+            dv[i] = d[self.tree.rigid_entries[i]];
         }
         for m in 0..b.n_modes {
-            v[self.rigid_size + m] = zd[b.first_mode + m];
+            v[self.tree.rigid_size + m] = zd[b.first_mode + m];
         }
         (v, dv)
     }
@@ -116,8 +119,8 @@ impl Relative {
         let frame = self.frame_motion(k);
         let kernel = &self.bodies[k].kernel;
         match kernel.flexible() {
-            Some(f) => f.dense_terms(&self.rigid_entries[..self.rigid_size]),
-            None => rigid_dense_terms(kernel, &frame, &self.gravity)
+            Some(f) => f.dense_terms(&self.tree.rigid_entries[..self.tree.rigid_size]),
+            None => rigid_dense_terms(kernel, &frame, &self.assembly.gravity)
                 .expect("a body without a flexible kernel is rigid"),
         }
     }

@@ -32,56 +32,58 @@ impl Relative {
     /// `last_zd` and the caches of [`update_positions`](Self::update_positions) and
     /// [`update_velocities`](Self::update_velocities).
     pub(crate) fn kinematics(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
-        self.last_z.copy_from(z);
-        self.last_zd.copy_from(zd);
+        self.frames.last_z.copy_from(z);
+        self.frames.last_zd.copy_from(zd);
         self.positions();
-        self.positions_current = true;
+        self.frames.positions_current = true;
         self.velocities();
-        self.velocities_zd.copy_from(zd);
-        self.velocities_current = true;
+        self.frames.velocities_zd.copy_from(zd);
+        self.frames.velocities_current = true;
     }
 
     /// Positions (and twists) at z unless they are already those of `last_z`; invalidates
     /// the velocities when z changed.
     pub(crate) fn update_positions(&mut self, z: &DVector<f64>) {
-        if self.positions_current && self.last_z.as_slice() == z.as_slice() {
+        if self.frames.positions_current && self.frames.last_z.as_slice() == z.as_slice() {
             return;
         }
-        self.last_z.copy_from(z);
+        self.frames.last_z.copy_from(z);
         self.positions();
-        self.positions_current = true;
-        self.velocities_current = false;
+        self.frames.positions_current = true;
+        self.frames.velocities_current = false;
     }
 
     /// Velocities and D at `last_zd` unless already done at these positions and rates.
     pub(crate) fn update_velocities(&mut self) {
-        if self.velocities_current && self.velocities_zd.as_slice() == self.last_zd.as_slice() {
+        if self.frames.velocities_current
+            && self.frames.velocities_zd.as_slice() == self.frames.last_zd.as_slice()
+        {
             return;
         }
-        self.velocities_zd.copy_from(&self.last_zd);
+        self.frames.velocities_zd.copy_from(&self.frames.last_zd);
         self.velocities();
-        self.velocities_current = true;
+        self.frames.velocities_current = true;
     }
 
     /// Steps 1–2 at z = `last_z`: r_F, A_F of every frame and the twists v_e (they depend
     /// on positions only), root → leaves.
     #[inline(never)]
     pub(crate) fn positions(&mut self) {
-        self.marker_table.invalidate();
-        let z = self.last_z.as_slice();
+        self.forces.marker_table.invalidate();
+        let z = self.frames.last_z.as_slice();
         // The frame just computed, kept in registers: most frames' parent is the frame
         // before them (a chain), and reading it back from the arrays it was just stored to
         // stalls (a wide load over narrower stores cannot be forwarded).
         let (mut r_last, mut a_last) = (Vector3::zeros(), Matrix3::identity());
-        for f in 0..self.topology.frames.len() {
-            let (rp, ap) = match self.topology.frames[f].parent {
+        for f in 0..self.tree.topology.frames.len() {
+            let (rp, ap) = match self.tree.topology.frames[f].parent {
                 None => (Vector3::zeros(), Matrix3::identity()),
                 Some(p) if p + 1 == f => (r_last, a_last),
-                Some(p) => (self.frame_position[p], self.frame_rotation[p]),
+                Some(p) => (self.frames.position[p], self.frames.rotation[p]),
             };
-            let (r, a) = match &self.topology.frames[f].kind {
+            let (r, a) = match &self.tree.topology.frames[f].kind {
                 FrameKind::Fixed { offset, rot } => {
-                    if self.planar_frames {
+                    if self.tree.planar_frames {
                         // ap = [R_p 0; 0 1], rot = [R 0; 0 1]: the products' third terms
                         // are exact zeros.
                         let mut r = rp;
@@ -89,7 +91,7 @@ impl Relative {
                         r.y += ap[(1, 0)] * offset.x + ap[(1, 1)] * offset.y;
                         r.z += offset.z;
                         let mut a = ap;
-                        if !self.fixed_identity[f] {
+                        if !self.tree.fixed_identity[f] {
                             for i in 0..2 {
                                 let (p0, p1) = (ap[(i, 0)], ap[(i, 1)]);
                                 a[(i, 0)] = p0 * rot[(0, 0)] + p1 * rot[(1, 0)];
@@ -98,15 +100,19 @@ impl Relative {
                         }
                         (r, a)
                     } else {
-                        let a = if self.fixed_identity[f] { ap } else { ap * rot };
+                        let a = if self.tree.fixed_identity[f] {
+                            ap
+                        } else {
+                            ap * rot
+                        };
                         (rp + ap * offset, a)
                     }
                 }
                 FrameKind::Elem(e) => {
                     let e = *e;
-                    let el = &self.topology.elems[e];
+                    let el = &self.tree.topology.elems[e];
                     let mut val = 0.0;
-                    for &(c, k) in &self.elem_rate[e] {
+                    for &(c, k) in &self.tree.elem_rate[e] {
                         val += k * z[c];
                     }
                     let a = ap * el.axis;
@@ -138,12 +144,12 @@ impl Relative {
                             (rp + a * val, ap)
                         }
                     };
-                    self.elem_twist[e] = v;
+                    self.frames.elem_twist[e] = v;
                     moved
                 }
             };
-            self.frame_position[f] = r;
-            self.frame_rotation[f] = a;
+            self.frames.position[f] = r;
+            self.frames.rotation[f] = a;
             (r_last, a_last) = (r, a);
         }
     }
@@ -151,29 +157,29 @@ impl Relative {
     /// Step 3 at ż = `last_zd` (positions current): Z^r_F and D_F, root → leaves.
     #[inline(never)]
     pub(crate) fn velocities(&mut self) {
-        self.marker_table.invalidate();
-        let zd = self.last_zd.as_slice();
+        self.forces.marker_table.invalidate();
+        let zd = self.frames.last_zd.as_slice();
         // Only the frames of elementary joints (in tree order) and of bodies: a fixed frame
         // has its parent's Z and D.
         // The last joint's Z and D kept in registers, as in `positions` (most joints' parent
         // is the joint before them).
         let (mut z_last, mut d_last) = (Vector6::zeros(), Vector6::zeros());
-        for e in 0..self.topology.elems.len() {
-            let el = &self.topology.elems[e];
+        for e in 0..self.tree.topology.elems.len() {
+            let el = &self.tree.topology.elems[e];
             let f = el.frame;
-            let (zp, dp) = match self.elem_parent[e] {
+            let (zp, dp) = match self.tree.elem_parent[e] {
                 None => (Vector6::zeros(), Vector6::zeros()),
                 Some(pe) if pe + 1 == e => (z_last, d_last),
                 Some(pe) => {
-                    let pf = self.topology.elems[pe].frame;
-                    (self.frame_velocity[pf], self.frame_bias[pf])
+                    let pf = self.tree.topology.elems[pe].frame;
+                    (self.frames.velocity[pf], self.frames.bias[pf])
                 }
             };
             let mut rate = 0.0;
-            for &(c, k) in &self.elem_rate[e] {
+            for &(c, k) in &self.tree.elem_rate[e] {
                 rate += k * zd[c];
             }
-            let v = self.elem_twist[e];
+            let v = self.frames.elem_twist[e];
             let w_f = zp.fixed_rows::<3>(3).into_owned();
             let mut d = dp;
             match el.kind {
@@ -181,7 +187,7 @@ impl Relative {
                     // d = {(ṗ × a + p × (ω_f × a)) ė; (ω_f × a) ė}.
                     let a = v.fixed_rows::<3>(3).into_owned();
                     let wxa = w_f.cross(&a);
-                    let rp = self.frame_position[f];
+                    let rp = self.frames.position[f];
                     let s_f = zp.fixed_rows::<3>(0).into_owned();
                     let p_dot = s_f + w_f.cross(&rp);
                     let ds = (p_dot.cross(&a) + rp.cross(&wxa)) * rate;
@@ -200,22 +206,22 @@ impl Relative {
                 }
             }
             let z_f = zp + v * rate;
-            self.frame_velocity[f] = z_f;
-            self.frame_bias[f] = d;
+            self.frames.velocity[f] = z_f;
+            self.frames.bias[f] = d;
             // The bodies whose nearest elementary joint this is have its Z and D, written
             // from registers (copying them from the arrays just written would stall, as above).
-            for &k in &self.elem_bodies[e] {
+            for &k in &self.tree.elem_bodies[e] {
                 let bf = self.bodies[k].frame;
-                self.frame_velocity[bf] = z_f;
-                self.frame_bias[bf] = d;
+                self.frames.velocity[bf] = z_f;
+                self.frames.bias[bf] = d;
             }
             (z_last, d_last) = (z_f, d);
         }
         // A body with no elementary joint towards the root is fixed to the ground.
         for b in &self.bodies {
-            if self.paths[b.frame].is_empty() {
-                self.frame_velocity[b.frame] = Vector6::zeros();
-                self.frame_bias[b.frame] = Vector6::zeros();
+            if self.tree.paths[b.frame].is_empty() {
+                self.frames.velocity[b.frame] = Vector6::zeros();
+                self.frames.bias[b.frame] = Vector6::zeros();
             }
         }
     }
@@ -228,10 +234,10 @@ impl Relative {
     ) -> BodyState<'a> {
         let b = &self.bodies[k];
         let f = b.frame;
-        let zr = self.frame_velocity[f];
+        let zr = self.frames.velocity[f];
         BodyState {
-            r0: self.frame_position[f],
-            a: self.frame_rotation[f],
+            r0: self.frames.position[f],
+            a: self.frames.rotation[f],
             omega: zr.fixed_rows::<3>(3).into_owned(),
             s_dot: zr.fixed_rows::<3>(0).into_owned(),
             y: &z.as_slice()[b.first_mode..b.first_mode + b.n_modes],
@@ -253,9 +259,9 @@ pub(crate) fn point_at(rel: &Relative, s: &Side) -> (Vector3<f64>, Vector3<f64>)
     }
     let f = rel.bodies[k].frame;
     let (r0, a, zr) = (
-        &rel.frame_position[f],
-        &rel.frame_rotation[f],
-        &rel.frame_velocity[f],
+        &rel.frames.position[f],
+        &rel.frames.rotation[f],
+        &rel.frames.velocity[f],
     );
     let p = r0 + a * s.rbar;
     let sd = zr.fixed_rows::<3>(0).into_owned();
@@ -270,9 +276,9 @@ fn node_point_at(rel: &Relative, k: usize, s: &Side) -> (Vector3<f64>, Vector3<f
     let b = &rel.bodies[k];
     let f = b.frame;
     let (r0, a, zr) = (
-        rel.frame_position[f],
-        rel.frame_rotation[f],
-        rel.frame_velocity[f],
+        rel.frames.position[f],
+        rel.frames.rotation[f],
+        rel.frames.velocity[f],
     );
     let mut pl = s.rbar;
     let mut vl = Vector3::zeros();
@@ -283,8 +289,8 @@ fn node_point_at(rel: &Relative, k: usize, s: &Side) -> (Vector3<f64>, Vector3<f
         // FS0 (docs/methods.md §6.3): the node's axial shift −½ ē₁ yᵀF y and its rate.
         let ys = b.first_mode..b.first_mode + b.n_modes;
         let (y, yd) = (
-            &rel.last_z.as_slice()[ys.clone()],
-            &rel.last_zd.as_slice()[ys],
+            &rel.frames.last_z.as_slice()[ys.clone()],
+            &rel.frames.last_zd.as_slice()[ys],
         );
         let shift = b
             .kernel
@@ -312,7 +318,7 @@ pub(crate) fn dir_at(
     };
     let b = &rel.bodies[k];
     let f = b.frame;
-    let (a, zr) = (rel.frame_rotation[f], rel.frame_velocity[f]);
+    let (a, zr) = (rel.frames.rotation[f], rel.frames.velocity[f]);
     let w = zr.fixed_rows::<3>(3).into_owned();
     let (mut th, mut thd) = (Vector3::zeros(), Vector3::zeros());
     if let Some(node) = s.node {
@@ -334,7 +340,10 @@ fn add_node_modes(
     rows: impl Fn(usize, usize) -> f64,
 ) {
     for m in 0..b.n_modes {
-        let (y, yd) = (rel.last_z[b.first_mode + m], rel.last_zd[b.first_mode + m]);
+        let (y, yd) = (
+            rel.frames.last_z[b.first_mode + m],
+            rel.frames.last_zd[b.first_mode + m],
+        );
         for i in 0..3 {
             x[i] += rows(i, m) * y;
             xd[i] += rows(i, m) * yd;
@@ -347,11 +356,11 @@ pub(crate) fn angle_at(rel: &Relative, s: &Side) -> (f64, f64) {
     let Some(k) = s.body else { return (0.0, 0.0) };
     let b = &rel.bodies[k];
     let f = b.frame;
-    let (mut th, mut thd) = (angle_of(&rel.frame_rotation[f]), rel.frame_velocity[f][5]);
+    let (mut th, mut thd) = (angle_of(&rel.frames.rotation[f]), rel.frames.velocity[f][5]);
     if let Some(node) = s.node {
         for m in 0..b.n_modes {
-            th += b.node_rows.rotation_entry(node, 2, m) * rel.last_z[b.first_mode + m];
-            thd += b.node_rows.rotation_entry(node, 2, m) * rel.last_zd[b.first_mode + m];
+            th += b.node_rows.rotation_entry(node, 2, m) * rel.frames.last_z[b.first_mode + m];
+            thd += b.node_rows.rotation_entry(node, 2, m) * rel.frames.last_zd[b.first_mode + m];
         }
     }
     (th, thd)

@@ -61,7 +61,8 @@ impl MarkerKinematics for Relative {
         _q: &DVector<f64>,
         _qd: &DVector<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
-        self.marker_table
+        self.forces
+            .marker_table
             .state(marker)
             .unwrap_or_else(|| point_at(self, marker))
     }
@@ -72,7 +73,7 @@ impl MarkerKinematics for Relative {
         _q: &DVector<f64>,
         visit: &mut dyn FnMut(usize, Vector3<f64>),
     ) {
-        if let Some(columns) = self.marker_table.columns(marker) {
+        if let Some(columns) = self.forces.marker_table.columns(marker) {
             for &(i, c) in columns {
                 visit(i, c);
             }
@@ -91,13 +92,13 @@ impl Relative {
         p: &Vector3<f64>,
         visit: &mut dyn FnMut(usize, Vector3<f64>),
     ) {
-        let mut scratch = std::mem::take(&mut self.marker_jacobian);
+        let mut scratch = std::mem::take(&mut self.forces.marker_jacobian);
         let columns = &mut scratch.columns;
         columns.clear();
         self.point_columns(marker, p, columns);
         columns.sort_unstable_by_key(|&(w, _)| w);
         let distinct = columns.windows(2).all(|pair| pair[0].0 < pair[1].0);
-        if distinct && columns.last().is_none_or(|&(w, _)| w < self.n_z) {
+        if distinct && columns.last().is_none_or(|&(w, _)| w < self.tree.n_z) {
             // Every column is a z coordinate's (L's row is (w, 1)), each once: J_z's column
             // is 0 + 1·J_w's (the 0 + turns a −0 into the +0 the sum gives), in increasing z.
             for &(w, u) in columns.iter() {
@@ -109,7 +110,7 @@ impl Relative {
         } else {
             self.fold_through_l(&mut scratch, visit);
         }
-        self.marker_jacobian = scratch;
+        self.forces.marker_jacobian = scratch;
     }
 
     /// The marker `s`'s columns (w, ∂r_P/∂w_w) at the point `p`: u_a = ṡ_a + ω_a × r_P of the
@@ -117,7 +118,7 @@ impl Relative {
     fn point_columns(&self, s: &Side, p: &Vector3<f64>, columns: &mut Vec<(usize, Vector3<f64>)>) {
         let Some(k) = s.body else { return };
         let b = &self.bodies[k];
-        for &a in &self.paths[b.frame] {
+        for &a in &self.tree.paths[b.frame] {
             columns.push(self.column(s, p, ColumnSource::Joint(a)));
         }
         if s.node.is_some() {
@@ -133,7 +134,7 @@ impl Relative {
     pub(crate) fn column_sources(&self, s: &Side) -> Vec<ColumnSource> {
         let Some(k) = s.body else { return Vec::new() };
         let b = &self.bodies[k];
-        let mut sources: Vec<ColumnSource> = self.paths[b.frame]
+        let mut sources: Vec<ColumnSource> = self.tree.paths[b.frame]
             .iter()
             .map(|&a| ColumnSource::Joint(a))
             .collect();
@@ -146,7 +147,7 @@ impl Relative {
     /// The w coordinate of a column source of marker `s`.
     pub(crate) fn source_w(&self, s: &Side, source: ColumnSource) -> usize {
         match (source, s.body) {
-            (ColumnSource::Joint(a), _) => self.elem_w[a],
+            (ColumnSource::Joint(a), _) => self.tree.elem_w[a],
             (ColumnSource::Mode(m), Some(k)) => self.bodies[k].first_mode + m,
             (ColumnSource::Mode(_), None) => unreachable!("a ground marker has no modes"),
         }
@@ -163,14 +164,14 @@ impl Relative {
     ) -> (usize, Vector3<f64>) {
         match source {
             ColumnSource::Joint(a) => {
-                let elem_twist = &self.elem_twist[a];
+                let elem_twist = &self.frames.elem_twist[a];
                 let u = elem_twist.fixed_rows::<3>(0) + elem_twist.fixed_rows::<3>(3).cross(p);
-                (self.elem_w[a], u)
+                (self.tree.elem_w[a], u)
             }
             ColumnSource::Mode(m) => {
                 let b = &self.bodies[s.body.expect("a node marker is on a body")];
                 let node = s.node.expect("a mode column is a node marker's");
-                let col = self.frame_rotation[b.frame]
+                let col = self.frames.rotation[b.frame]
                     * Vector3::new(
                         b.node_rows.translation_entry(node, 0, m),
                         b.node_rows.translation_entry(node, 1, m),
@@ -208,7 +209,7 @@ impl Relative {
             if (0..3).all(|r| jw[(r, w)] == 0.0) {
                 continue;
             }
-            for &(c, a) in &self.l_rows[w] {
+            for &(c, a) in &self.tree.l_rows[w] {
                 for r in 0..3 {
                     jz[(r, c)] += a * jw[(r, w)];
                 }

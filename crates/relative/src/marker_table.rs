@@ -64,7 +64,7 @@ impl MarkerTable {
     /// columns (at most `n_z` each), so that filling allocates nothing.
     pub(crate) fn plan(&mut self, rel: &Relative) {
         self.offsets.push(0);
-        self.columns.reserve(self.sides.len() * rel.n_z);
+        self.columns.reserve(self.sides.len() * rel.tree.n_z);
         self.direct = self
             .sides
             .iter()
@@ -73,7 +73,7 @@ impl MarkerTable {
                 sources.sort_by_key(|&s| rel.source_w(side, s));
                 let w: Vec<usize> = sources.iter().map(|&s| rel.source_w(side, s)).collect();
                 let distinct = w.windows(2).all(|pair| pair[0] < pair[1]);
-                (distinct && w.last().is_none_or(|&w| w < rel.n_z)).then_some(sources)
+                (distinct && w.last().is_none_or(|&w| w < rel.tree.n_z)).then_some(sources)
             })
             .collect();
     }
@@ -99,7 +99,7 @@ impl MarkerTable {
 impl Relative {
     /// Evaluate every row of the marker table at the frames of the last kinematic pass.
     pub(crate) fn fill_marker_table(&mut self) {
-        let mut table = std::mem::take(&mut self.marker_table);
+        let mut table = std::mem::take(&mut self.forces.marker_table);
         table.columns.clear();
         for k in 0..table.sides.len() {
             let side = table.sides[k];
@@ -125,6 +125,6 @@ impl Relative {
         let rows = table.sides.len();
         table.offsets[rows] = table.columns.len();
         table.current = true;
-        self.marker_table = table;
+        self.forces.marker_table = table;
     }
 }

@@ -23,9 +23,9 @@ impl Relative {
     fn coordinate_set(&self, k: usize, modes: bool) -> Vec<usize> {
         let b = &self.bodies[k];
         let own = if modes { b.n_modes } else { 0 };
-        let mut set: Vec<usize> = self.paths[b.frame]
+        let mut set: Vec<usize> = self.tree.paths[b.frame]
             .iter()
-            .flat_map(|&a| self.elem_rate[a].iter().map(|&(c, _)| c))
+            .flat_map(|&a| self.tree.elem_rate[a].iter().map(|&(c, _)| c))
             .chain(b.first_mode..b.first_mode + own)
             .collect();
         set.sort_unstable();
@@ -52,14 +52,15 @@ impl Relative {
             .map(|k| self.coordinate_set(k, true))
             .collect();
         coupled.extend(
-            self.force_elements
+            self.forces
+                .elements
                 .markers_of_each()
                 .into_iter()
                 .map(|markers| self.sides_coordinate_set(markers)),
         );
         coupled.retain(|group| !group.is_empty());
         let mut jacobian_rows = Vec::new();
-        for c in &self.constraints {
+        for c in &self.rows.constraints {
             let columns = match c {
                 Constraint::Coord { z, .. } => vec![*z],
                 Constraint::Point { i, j }
@@ -68,7 +69,7 @@ impl Relative {
                 | Constraint::Perp { i, j, .. }
                 | Constraint::Distance { i, j, .. } => self.sides_coordinate_set([i, j]),
             };
-            for _ in 0..c.rows(self.dim) {
+            for _ in 0..c.rows(self.tree.dim) {
                 jacobian_rows.push(columns.clone());
             }
         }

@@ -80,7 +80,7 @@ impl Relative {
         let j = &scene.joints[ji];
         let a0 = |s: &Side| s.body.map_or(Matrix3::identity(), |b| infos[b].a0);
         Ok(RelativeJointCoordinate(
-            match (self.dim, &j.kind, &self.topology.tree[ji]) {
+            match (self.tree.dim, &j.kind, &self.tree.topology.tree[ji]) {
                 (Dim::Planar, JointKind::Revolute { .. }, _) => JointCoordinate::Angle2 {
                     i: si,
                     j: sj,
@@ -139,7 +139,7 @@ impl SensorQuery for Relative {
     /// From the last kinematics pass, which the caller has run at q.
     fn body_frame(&self, body: usize, _q: &DVector<f64>) -> (Vector3<f64>, Matrix3<f64>) {
         let f = self.bodies[body].frame;
-        (self.frame_position[f], self.frame_rotation[f])
+        (self.frames.position[f], self.frames.rotation[f])
     }
 
     fn joint_coordinate(
@@ -173,7 +173,7 @@ impl SensorQuery for Relative {
         q: &DVector<f64>,
         qd: &DVector<f64>,
     ) -> ElementReading {
-        self.force_elements.reading(element, self, q, qd)
+        self.forces.elements.reading(element, self, q, qd)
     }
 
     /// From the last kinematics pass (at q, q̇): the body frame's Z = {ṡ; ω} and
@@ -187,12 +187,15 @@ impl SensorQuery for Relative {
         qdd: &DVector<f64>,
     ) -> FrameMotion {
         let f = self.bodies[body].frame;
-        let (r0, rotation) = (self.frame_position[f], self.frame_rotation[f]);
-        let z = self.frame_velocity[f];
-        let mut zd = self.frame_bias[f];
-        for &e in &self.paths[f] {
-            let acceleration: f64 = self.elem_rate[e].iter().map(|&(c, k)| k * qdd[c]).sum();
-            zd += self.elem_twist[e] * acceleration;
+        let (r0, rotation) = (self.frames.position[f], self.frames.rotation[f]);
+        let z = self.frames.velocity[f];
+        let mut zd = self.frames.bias[f];
+        for &e in &self.tree.paths[f] {
+            let acceleration: f64 = self.tree.elem_rate[e]
+                .iter()
+                .map(|&(c, k)| k * qdd[c])
+                .sum();
+            zd += self.frames.elem_twist[e] * acceleration;
         }
         let omega = z.fixed_rows::<3>(3).into_owned();
         let omega_dot = zd.fixed_rows::<3>(3).into_owned();

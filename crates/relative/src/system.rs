@@ -41,21 +41,41 @@ pub(crate) struct RunTimeBody {
     pub(crate) node_rows: NodeRows,
 }
 
-/// The semi-recursive relative-coordinate formulation of one scene.
+/// The semi-recursive relative-coordinate formulation of one scene, in the parts a pass
+/// reads: the compiled tree and its maps, the bodies, the frames' kinematic state, the
+/// dynamics pass's assembly, the constraint rows and the force elements with their markers.
 pub struct Relative {
+    /// The augmented tree, its elementary joints and the maps between z and w (fixed).
+    pub(crate) tree: Tree,
+    pub(crate) bodies: Vec<RunTimeBody>,
+    /// Per frame and per elementary joint: the kinematics of the last pass.
+    pub(crate) frames: FrameStates,
+    /// The dynamics pass's body terms, subtree accumulations and w-space M_w, Q_w.
+    pub(crate) assembly: Assembly,
+    /// The cut-joint and driver constraints, their compiled paths and Φ_w.
+    pub(crate) rows: ConstraintRows,
+    /// Spring–dampers and the markers they read.
+    pub(crate) forces: ForceElementWork,
+    // Initial state and outputs.
+    /// Number, constraint count, z(0) and ż(0), coordinates the integrator holds (none).
+    pub(crate) coordinates: Coordinates,
+    pub(crate) sensors: RelativeSensors,
+    /// Names of the coordinates.
+    pub(crate) coordinate_names: Vec<String>,
+}
+
+/// The compiled tree: its frames and elementary joints, the paths, and the maps between
+/// the coordinates z and the joint velocities w = L ż. Fixed once the scene is compiled.
+pub(crate) struct Tree {
     pub(crate) dim: Dim,
     /// Number of rigid velocity entries per body (3 or 6) and their places in a 6-vector
     /// (`rigid_entries[..rigid_size]`: x, y, θz in 2D).
     pub(crate) rigid_size: usize,
     pub(crate) rigid_entries: [usize; 6],
-    pub(crate) inertia_method: InertiaMethod,
-    /// Gravity (m/s², ground components; z = 0 in 2D).
-    pub(crate) gravity: Vector3<f64>,
     /// Number of coordinates z (the length of `coordinates.q0`) and of velocity entries w.
     pub(crate) n_z: usize,
     pub(crate) n_w: usize,
     pub(crate) topology: Topology,
-    pub(crate) bodies: Vec<RunTimeBody>,
     /// w index of each elementary joint.
     pub(crate) elem_w: Vec<usize>,
     /// Elementary joints on the path root → frame (inclusive), per frame.
@@ -68,45 +88,31 @@ pub struct Relative {
     pub(crate) mass_map: Vec<(usize, usize, f64)>,
     /// Per elementary joint: its value (and rate) as a combination of z, (z index, coefficient).
     pub(crate) elem_rate: Vec<Vec<(usize, f64)>>,
-    /// The cut-joint and driver constraints, in the order of their rows in Φ.
-    pub(crate) constraints: Vec<Constraint>,
-    /// The elementary joints each constraint's rows walk, compiled as flat runs (the two
-    /// sides' shared path once, then each side's own; `constraints.rs`).
-    pub(crate) row_paths: RowPaths,
-    // Workspace.
-    /// Per frame (§4.5 steps 1–3): position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and
-    /// velocity-product acceleration D_F.
-    pub(crate) frame_position: Vec<Vector3<f64>>,
-    pub(crate) frame_rotation: Vec<Matrix3<f64>>,
-    pub(crate) frame_velocity: Vec<Vector6<f64>>,
-    pub(crate) frame_bias: Vec<Vector6<f64>>,
-    /// Per body: its rigid block of M̄_k and its P_k in the 6-layout (step 4).
-    pub(crate) body_mass: Vec<Matrix6<f64>>,
-    pub(crate) body_p: Vec<Vector6<f64>>,
-    /// Per elementary joint: 𝕄 and ℙ of the subtree its frame carries (step 5). Fixed
-    /// frames only relabel the same global quantities, so the accumulation runs over the
-    /// tree of elementary joints: an elementary joint's children, and the bodies whose
-    /// nearest elementary joint towards the root it is.
-    pub(crate) subtree_mass: Vec<Matrix6<f64>>,
-    pub(crate) subtree_p: Vec<Vector6<f64>>,
+    /// Per elementary joint: its children in the tree of elementary joints (fixed frames
+    /// only relabel the same global quantities, so the subtree accumulation runs over it),
+    /// its nearest elementary joint towards the root, and the bodies whose nearest
+    /// elementary joint towards the root it is.
     pub(crate) elem_children: Vec<Vec<usize>>,
-    /// Per elementary joint: its nearest elementary joint towards the root (frames in
-    /// between are fixed: the same Z and D).
     pub(crate) elem_parent: Vec<Option<usize>>,
     pub(crate) elem_bodies: Vec<Vec<usize>>,
+    /// Per frame: a `Fixed` frame whose rotation is exactly I.
+    pub(crate) fixed_identity: Vec<bool>,
+    /// Planar scene whose every rotation is about z (fixed rotations and revolute axes):
+    /// frame rotations then have the form [R 0; 0 1] and the fixed-frame products run
+    /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
+    pub(crate) planar_frames: bool,
+}
+
+/// The kinematics of the last pass (§4.5 steps 1–3), and what it was computed for.
+pub(crate) struct FrameStates {
+    /// Per frame: position r_F, rotation A_F, velocity Z^r_F = {ṡ; ω} and velocity-product
+    /// acceleration D_F.
+    pub(crate) position: Vec<Vector3<f64>>,
+    pub(crate) rotation: Vec<Matrix3<f64>>,
+    pub(crate) velocity: Vec<Vector6<f64>>,
+    pub(crate) bias: Vec<Vector6<f64>>,
     /// Per elementary joint: its twist v_e (depends on positions only).
     pub(crate) elem_twist: Vec<Vector6<f64>>,
-    pub(crate) m_w: DMatrix<f64>,
-    pub(crate) q_w: DVector<f64>,
-    /// Φ_w, of which a pass writes only the node-joint columns (w ≥ n_z): the z columns go
-    /// straight into Φ_z.
-    pub(crate) phi_w: DMatrix<f64>,
-    // Initial state and outputs.
-    /// Number, constraint count, z(0) and ż(0), coordinates the integrator holds (none).
-    pub(crate) coordinates: Coordinates,
-    pub(crate) sensors: RelativeSensors,
-    /// Names of the coordinates.
-    pub(crate) coordinate_names: Vec<String>,
     /// z and ż of the last kinematics pass.
     pub(crate) last_z: DVector<f64>,
     pub(crate) last_zd: DVector<f64>,
@@ -115,14 +121,37 @@ pub struct Relative {
     /// The frame velocities and D are those of `last_z` and `velocities_zd`.
     pub(crate) velocities_current: bool,
     pub(crate) velocities_zd: DVector<f64>,
-    /// Per frame: a `Fixed` frame whose rotation is exactly I.
-    pub(crate) fixed_identity: Vec<bool>,
-    /// Planar scene whose every rotation is about z (fixed rotations and revolute axes):
-    /// frame rotations then have the form [R 0; 0 1] and the fixed-frame products run
-    /// on the 2 × 2 blocks (the dropped terms are exact zeros, so the values are the same).
-    pub(crate) planar_frames: bool,
-    /// Spring–dampers and their Jacobian scratch.
-    pub(crate) force_elements: ForceElements<Side>,
+}
+
+/// What the dynamics pass assembles (§4.5 steps 4–7).
+pub(crate) struct Assembly {
+    pub(crate) inertia_method: InertiaMethod,
+    /// Gravity (m/s², ground components; z = 0 in 2D).
+    pub(crate) gravity: Vector3<f64>,
+    /// Per body: its rigid block of M̄_k and its P_k in the 6-layout (step 4).
+    pub(crate) body_mass: Vec<Matrix6<f64>>,
+    pub(crate) body_p: Vec<Vector6<f64>>,
+    /// Per elementary joint: 𝕄 and ℙ of the subtree its frame carries (step 5).
+    pub(crate) subtree_mass: Vec<Matrix6<f64>>,
+    pub(crate) subtree_p: Vec<Vector6<f64>>,
+    pub(crate) m_w: DMatrix<f64>,
+    pub(crate) q_w: DVector<f64>,
+}
+
+/// The cut-joint and driver constraints, in the order of their rows in Φ.
+pub(crate) struct ConstraintRows {
+    pub(crate) constraints: Vec<Constraint>,
+    /// The elementary joints each constraint's rows walk, compiled as flat runs (the two
+    /// sides' shared path once, then each side's own; `constraints.rs`).
+    pub(crate) paths: RowPaths,
+    /// Φ_w, of which a pass writes only the node-joint columns (w ≥ n_z): the z columns go
+    /// straight into Φ_z.
+    pub(crate) phi_w: DMatrix<f64>,
+}
+
+/// Spring–dampers and the scratch of their markers' Jacobians.
+pub(crate) struct ForceElementWork {
+    pub(crate) elements: ForceElements<Side>,
     /// Scratch of one marker's Jacobian (the force elements' query).
     pub(crate) marker_jacobian: MarkerJacobian,
     /// The force elements' markers, evaluated once per dynamics pass.
@@ -153,7 +182,7 @@ impl flexmbd_core::Formulation for Relative {
     fn constant_tangents(&self) -> bool {
         // K ≈ blockdiag K_ff, C ≈ blockdiag C_ff (§4.6): constant for rigid bodies and
         // linear elasticity, state-dependent for the stiffening models.
-        ElasticTangents::of(self.flexible_bodies()).linear && self.force_elements.is_empty()
+        ElasticTangents::of(self.flexible_bodies()).linear && self.forces.elements.is_empty()
     }
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         Some(self.pattern())
@@ -161,7 +190,7 @@ impl flexmbd_core::Formulation for Relative {
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         // Only the work the request needs: positions (and twists) when z changed, velocities
         // and D only for M, Q or c, and when z or ż changed.
-        self.last_zd.copy_from(state.qd);
+        self.frames.last_zd.copy_from(state.qd);
         self.update_positions(state.q);
         if req.dynamics || req.accel_term {
             self.update_velocities();
