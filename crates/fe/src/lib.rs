@@ -4,6 +4,7 @@
 //! mesh → sparse assembly (§1.2) → Craig–Bampton (§1.3–§1.4; the dynamic vectors
 //! chosen by [`ModeSelection`], §1.6; on dense matrices below [`SPARSE_FROM_DOFS`] FE DOFs,
 //! on sparse ones from there, [`sparse_reduction`]) → damping (§1.5)
+//! → the reference condition ([`mod@reference`]: interface-fixed, or the Buckens projection)
 //! → mass cloud (§2.7) → shape integrals (§2.3) → nodal mode rows → K_G (§6.1).
 //! The mesh is a polyline or a beam frame of named nodes and members, each with its own
 //! section ([`frame`]).
@@ -25,6 +26,7 @@ pub mod modal;
 pub mod participation;
 pub mod pod;
 pub mod reduced;
+pub mod reference;
 pub mod rigid;
 pub mod ritz;
 pub mod section;
@@ -50,6 +52,7 @@ pub use reduced::{
     Dof, MassCloud, ModeInventory, NodeDof, NodeModes, ReducedBody, ShapeIntegrals,
     StiffeningIntegrals,
 };
+pub use reference::ReferenceCondition;
 pub use selection::ModeSelection;
 pub use spec::{BeamBodySpec, Damping, Geometry, Material, ReferenceFrame, Section};
 
@@ -87,7 +90,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
     } else {
         spec.origin.as_str()
     };
-    let red = if mesh.n_dofs() >= SPARSE_FROM_DOFS {
+    let mut red = if mesh.n_dofs() >= SPARSE_FROM_DOFS {
         // The spec's checks refused other selections and axial modes here.
         sparse_reduction::reduce_sparse(
             &asm.k,
@@ -103,6 +106,13 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         reduce_dense(spec, &mesh, &asm, &sets, name, &frame_txt)?
     };
     let c_ff = craig_bampton::damping_matrix(&spec.damping, &red);
+    // Buckens: the same deformations modulo rigid motion, so K_ff and C_ff stay (K R = 0).
+    if spec.reference == ReferenceCondition::Buckens {
+        let r = reference::rigid_modes(&mesh);
+        let (x, m_ff) = reference::buckens_basis(&red.x, &asm.m, &r, name)?;
+        red.x = x;
+        red.m_ff = m_ff;
+    }
     let cloud = cloud::build_cloud(&mesh, &red.x);
     let shape_integrals = ShapeIntegrals::from_cloud(&cloud);
     let nodes = node_modes(&mesh, &red.x);
@@ -113,6 +123,7 @@ pub fn preprocess(spec: &BeamBodySpec) -> Result<Preprocessed, FeError> {
         frame_dofs,
         static_modes: spec.boundary.clone(),
         selection: spec.mode_selection,
+        reference: spec.reference,
         point_names: Vec::new(),
         normal_frequencies_hz: red
             .omega_sq

@@ -56,8 +56,12 @@ pub struct NodeDof {
 pub struct ModeInventory {
     /// DOFs of the free-floating FE model.
     pub n_fe_dofs: usize,
-    /// The reference DOFs taken by the floating frame (methods.md §1.4): every mode vanishes there.
+    /// The reference DOFs taken by the floating frame (methods.md §1.4): every mode vanishes
+    /// there when `reference` is interface-fixed.
     pub frame_dofs: Vec<NodeDof>,
+    /// The frame's reference condition ([`crate::reference`]).
+    #[serde(default)]
+    pub reference: crate::ReferenceCondition,
     /// One static (constraint) mode per boundary DOF, in mode order (they come first in **X**).
     pub static_modes: Vec<NodeDof>,
     /// Fixed-interface normal-mode frequencies in Hz, ascending (they follow the static modes in **X**);

@@ -78,6 +78,7 @@ impl ReducedBody {
                 static_modes: Vec::new(),
                 normal_frequencies_hz: Vec::new(),
                 selection: Default::default(),
+                reference: Default::default(),
                 point_names: Vec::new(),
             },
             modes: DMatrix::zeros(0, 0),

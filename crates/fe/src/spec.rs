@@ -152,6 +152,11 @@ pub struct BeamBodySpec {
     /// Reference conditions (default `Clamped(node: 0)`).
     #[serde(default)]
     pub frame: ReferenceFrame,
+    /// The floating frame's reference condition (default `InterfaceFixed`: the modes vanish
+    /// on `frame`'s DOFs; `Buckens`: they are made M-orthogonal to the rigid-body motions,
+    /// [`crate::reference`]).
+    #[serde(default)]
+    pub reference: crate::ReferenceCondition,
     /// Boundary DOFs: one static mode each, in this order (docs/methods.md §1.3–§1.4).
     #[serde(default)]
     pub boundary: Vec<NodeDof>,
@@ -221,6 +226,7 @@ impl BeamBodySpec {
                 members: Vec::new(),
             },
             frame: ReferenceFrame::Clamped { node: 0 },
+            reference: crate::ReferenceCondition::InterfaceFixed,
             boundary: Vec::new(),
             normal_modes: 0,
             axial_modes: 0,

@@ -31,7 +31,8 @@ pub struct PreparedBody {
     /// For each marker of the body, the FE node it sits on (flexible bodies only).
     pub marker_nodes: Vec<Option<usize>>,
     /// The FE node the floating frame is attached to (flexible beams only): the clamped
-    /// node, the chord frame's pinned node, or the first node of an explicit DOF set.
+    /// node, the chord frame's pinned node, or the first node of an explicit DOF set;
+    /// `None` for a beam with `reference: Buckens` (its frame is attached to no node).
     pub reference_node: Option<usize>,
     /// The outer surface of an imported body's FE elements, triangles of `nodes` indices
     /// (flexmbd_fe::imported::surface), to draw it; empty for other bodies.
@@ -104,7 +105,10 @@ impl Scene {
                     "a marker of a flexible body must sit on an FE node".to_string()
                 })?;
                 let flexible = b.flexible && reduced.n_modes() > 0;
-                let reference_node = flexible.then(|| match &spec.frame {
+                // A Buckens frame is the linearised mean axes: attached to no node.
+                let interface_fixed =
+                    spec.reference == flexmbd_fe::ReferenceCondition::InterfaceFixed;
+                let reference_node = (flexible && interface_fixed).then(|| match &spec.frame {
                     ReferenceFrame::Clamped { node } => *node,
                     ReferenceFrame::Chord { a, .. } => *a,
                     ReferenceFrame::Dofs(dofs) => dofs.first().map_or(0, |d| d.node),

@@ -17,7 +17,7 @@ pub use flexmbd_fe::import::{ImportOptions, PointMass};
 pub use flexmbd_fe::imported::{
     Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection, Xyz,
 };
-pub use flexmbd_fe::{BeamBodySpec, Dof, NodeDof};
+pub use flexmbd_fe::{BeamBodySpec, Dof, NodeDof, ReferenceCondition};
 
 /// A vector written with 2 (planar) or 3 numbers; stored with z = 0 in 2D.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]

@@ -586,6 +586,14 @@ fn spanning_tree(
             if let Some((child, Some((_, _, ji, _)))) =
                 best.iter().enumerate().find(|(_, b)| b.is_some())
             {
+                if let flexmbd_model::BodyModel::Beam(spec) = &scene.bodies[child].model
+                    && spec.reference == flexmbd_model::ReferenceCondition::Buckens
+                {
+                    return Err(ModelError::Unsupported(format!(
+                        "{}: flexible body `{}` has `reference: Buckens`: its frame is the linearised mean axes, and the node of joint `{}` moves with the body's modes; the relative formulation hangs a body from its parent at a node that carries its frame, so it runs a Buckens body only without joints (a floating body): use `--formulation absolute`, which attaches the joint at the node through its modal displacement, or `reference: InterfaceFixed`",
+                        scene.origin, bodies[child].name, scene.joints[*ji].name
+                    )));
+                }
                 return Err(ModelError::Unsupported(format!(
                     "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent where the frame is attached: a beam's `frame: Clamped(node: ..)` at that marker's node, an imported body's `frame: Interface(NAME)` with the marker on that interface; a free-free body (`frame: FreeFree`) sits at no node: give it no joint to a parent (a body without joints floats), or use the absolute formulation",
                     scene.origin, bodies[child].name, scene.joints[*ji].name

@@ -8,6 +8,7 @@ pub mod four_bar;
 pub mod iltis;
 pub mod inertia_cost;
 pub mod mesh_size;
+pub mod reference_conditions;
 pub mod solid_mesh;
 pub mod spin_up;
 pub mod spin_up_solid;
@@ -101,6 +102,11 @@ pub fn all() -> Vec<Study> {
             name: "term-weights",
             title: "Inertia terms by weight: which terms matter, and what dropping them saves (thesis ch. 5, issue 31)",
             run: term_weights::run,
+        },
+        Study {
+            name: "reference-conditions",
+            title: "Reference conditions: interface-fixed against Buckens (thesis ch. 5, issue 31)",
+            run: reference_conditions::run,
         },
     ]
 }

@@ -73,6 +73,7 @@ pub fn body_with_cloud(
             static_modes: vec![],
             normal_frequencies_hz: vec![1.0; n],
             selection: Default::default(),
+            reference: Default::default(),
             point_names: Vec::new(),
         },
         modes: DMatrix::zeros(0, n),

@@ -92,6 +92,13 @@ pub fn reduced_body(
             .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
             .collect(),
         selection: spec.mode_selection,
+        // Free-free elastic modes are M-orthogonal to the rigid-body modes: the Buckens
+        // conditions hold exactly (crate::reference).
+        reference: if modes.frame_point.is_none() {
+            crate::ReferenceCondition::Buckens
+        } else {
+            crate::ReferenceCondition::InterfaceFixed
+        },
         point_names: interfaces.iter().map(|i| i.name.clone()).collect(),
     };
     Ok(ReducedBody {

@@ -48,6 +48,7 @@ pub fn beam(
             members: Vec::new(),
         },
         frame,
+        reference: Default::default(),
         boundary,
         normal_modes,
         axial_modes: 0,

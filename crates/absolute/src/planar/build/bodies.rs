@@ -3,7 +3,8 @@
 //! A rigid body with two distinct joint points uses them as its basis x_b = (r_i, r_j), with
 //! |r_j − r_i|² = L², and u = R(−φ)(r_j − r_i)/L, r0 = r_i − C(r̄_i) u; any other body (and
 //! every flexible body) uses a point (its joint point at the reference node, its first joint
-//! point, or its own origin) and its own unit vector u, with |u|² = 1 and r0 = r_P − C(r̄_P) u.
+//! point — a rigid body's —, or its own origin, as a flexible body without a reference node,
+//! a Buckens beam, does) and its own unit vector u, with |u|² = 1 and r0 = r_P − C(r̄_P) u.
 //! Either way (r0, u) = T x_b with a constant T, and a rigid body's natural-set mass matrix
 //! and gravity force are projected once: Tᵀ M_f T, Tᵀ Q_g.
 
@@ -181,6 +182,9 @@ impl BodyBuilder<'_> {
                 .iter()
                 .copied()
                 .find(|&k| markers[k].node == Some(node)),
+            // A flexible body whose frame sits at no node (a Buckens beam): every joint
+            // point moves with the modes, so the basis takes a point of its own.
+            None if prep.flexible => None,
             None => joint_markers.first().copied(),
         };
         let mut basis_markers = Vec::new();
