@@ -112,7 +112,7 @@ impl Flex2 {
         // T_ext = blockdiag(T, I): only the 4 basis rows/columns are transformed.
         let nl = 4 + n;
         for c in 0..nl {
-            for r in 0..nl {
+            for r in 0..nl.min(if c < 4 { nl } else { 4 }) {
                 let mut v = 0.0;
                 match (r < 4, c < 4) {
                     (true, true) => {
@@ -134,9 +134,15 @@ impl Flex2 {
                             v += self.m_f[(r, b)] * t[(b, c)];
                         }
                     }
-                    (false, false) => v = self.m_f[(r, c)],
+                    (false, false) => unreachable!("the modal block is copied below"),
                 }
                 self.m_b[(r, c)] = v;
+            }
+            if c >= 4 {
+                // The modal block as it is (T_ext is the identity there).
+                let column = c * nl + 4..(c + 1) * nl;
+                self.m_b.as_mut_slice()[column.clone()]
+                    .copy_from_slice(&self.m_f.as_slice()[column]);
             }
         }
         for r in 0..nl {

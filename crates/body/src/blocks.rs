@@ -116,19 +116,23 @@ impl RelativeBlocks {
         };
         const E: [usize; 3] = [0, 1, 5];
         let n = self.modal_force.len();
+        // Column-major (3 + n)² slices: column c of the dense matrix at c (3 + n).
+        let (ms, qs, k) = (m.as_slice(), q.as_slice(), 3 + n);
         for (r, &er) in E.iter().enumerate() {
-            self.rigid_force[er] = q[r];
+            self.rigid_force[er] = qs[r];
             for (c, &ec) in E.iter().enumerate() {
-                self.rigid[(er, ec)] = m[(r, c)];
-            }
-            for (j, u) in self.coupling.iter_mut().enumerate() {
-                u[er] = m[(r, 3 + j)];
+                self.rigid[(er, ec)] = ms[c * k + r];
             }
         }
-        for i in 0..n {
-            self.modal_force[i] = q[3 + i];
-            for j in 0..n {
-                self.modal_mass[i * n + j] = m[(3 + i, 3 + j)];
+        for (column, u) in ms[3 * k..].chunks_exact(k).zip(&mut self.coupling) {
+            for (r, &er) in E.iter().enumerate() {
+                u[er] = column[r];
+            }
+        }
+        self.modal_force.copy_from_slice(&qs[3..]);
+        for (j, column) in ms[3 * k..].chunks_exact(k).enumerate() {
+            for (i, &v) in column[3..].iter().enumerate() {
+                self.modal_mass[i * n + j] = v;
             }
         }
         self.planar = Some((m, q));

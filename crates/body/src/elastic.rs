@@ -84,6 +84,9 @@ pub struct LinearElastic {
     k: Vec<f64>,
     /// C_ff row-major (n²).
     c: Vec<f64>,
+    /// C_ff has no non-zero entry (an undamped body): `forces` skips its products, whose
+    /// +0 terms leave every sum as it was.
+    undamped: bool,
 }
 
 impl LinearElastic {
@@ -101,10 +104,12 @@ impl LinearElastic {
             }
             v
         };
+        let c = row_major(c_ff);
         Self {
             n,
             k: row_major(k_ff),
-            c: row_major(c_ff),
+            undamped: c.iter().all(|&v| v == 0.0),
+            c,
         }
     }
 
@@ -122,6 +127,18 @@ impl ElasticModel for LinearElastic {
     fn forces(&self, y: &[f64], y_dot: &[f64], out: &mut [f64]) {
         let n = self.n;
         assert!(y.len() == n && y_dot.len() == n && out.len() == n);
+        if self.undamped {
+            // Each term k y + 0 ẏ is k y (or a zero, which adds nothing to a sum that starts
+            // at +0): the same sums as below.
+            for (i, o) in out.iter_mut().enumerate() {
+                let mut s = 0.0;
+                for (k, y) in self.k[i * n..(i + 1) * n].iter().zip(y) {
+                    s += k * y;
+                }
+                *o = -s;
+            }
+            return;
+        }
         for i in 0..n {
             let kr = &self.k[i * n..(i + 1) * n];
             let cr = &self.c[i * n..(i + 1) * n];

@@ -467,10 +467,8 @@ impl FlexibleBody {
             let sta = self.s[j] * ab.x + self.s[n + j] * ab.y;
             q_out[3 + j] = w * w * h[j] - 2.0 * w * g3yd[j] - sta;
         }
-        for i in 0..n {
-            for j in 0..n {
-                m_out[(3 + i, 3 + j)] = self.m_yy[i * n + j];
-            }
-        }
+        // M_yy is row-major: the column-major view of it is its transpose.
+        let m_yy = nalgebra::DMatrixView::from_slice(&self.m_yy, n, n);
+        m_out.view_mut((3, 3), (n, n)).tr_copy_from(&m_yy);
     }
 }

@@ -160,6 +160,10 @@ pub struct Ali3p {
     pred_err: Vec<(f64, f64)>,
     /// Newton's contraction of the steps before, for the first iterate's test.
     contraction: Contraction,
+    /// Passes that rewrote M, Q (K, C): the factor in hand is reused only while none ran.
+    dynamics_passes: usize,
+    /// What the factor in hand was formed from (`leading::FactorInputs`).
+    factored_from: leading::FactorInputs,
 }
 
 impl Ali3p {
@@ -214,6 +218,8 @@ impl Ali3p {
             extrapolate: vec![false; n],
             pred_err: vec![(0.0, 0.0); n],
             contraction: Contraction::default(),
+            dynamics_passes: 0,
+            factored_from: leading::FactorInputs::new(m, n),
             settings,
         };
         if s.symmetric && s.settings.structured_factorisation {
@@ -337,6 +343,9 @@ impl Ali3p {
         match &self.entries {
             Some(entries) => entries.clear(&mut self.terms, req),
             None => self.terms.clear(req),
+        }
+        if req.dynamics || req.tangents {
+            self.dynamics_passes += 1;
         }
         f.evaluate(State::new(self.t, &self.q, &self.qd), req, &mut self.terms);
         self.stats.evaluations += 1;
@@ -681,7 +690,9 @@ impl Ali3p {
         // the penalty h²α/4 ≈ 10⁴ m amplifies the O(ε_q) change of Φ_q. W = M + h/2 C +
         // h²/4 K is the last Newton iteration's: W only weights the (small) correction
         // q̇ − q̇*, so its O(ε_q) change moves q̇ by O(ε_q ‖q̇ − q̇*‖), and the formulation
-        // pass it would take (M, Q, K, C at the converged state) is saved.
+        // pass it would take (M, Q, K, C at the converged state) is saved. Where Φ_q did not
+        // change (a driven tree joint's row is constant) f_q is the last iteration's bit for
+        // bit, and its factor is kept (`form_and_factor`).
         self.form_and_factor()?;
         // f_q q̇ = W q̇* − h²/4 Φ_qᵀ α Φ_t, solved for the increment q̇ − q̇* (see
         // `project_increment`).

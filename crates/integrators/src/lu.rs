@@ -14,6 +14,12 @@ use nalgebra::{DMatrix, DVector};
 /// instead of faer's kernels (measured crossover: see `benches/dense.rs`).
 pub const SMALL: usize = 12;
 
+/// Above [`SMALL`] and up to this many coordinates faer factorises and the solves run
+/// `llt_solve_mirrored` on the factor with Lᵀ mirrored into its upper triangle: two
+/// column sweeps of n²/2 multiply–adds each, where faer's blocked triangular solves recurse
+/// into matrix–vector products whose set-up costs more than the arithmetic at these sizes.
+pub const MIRRORED_SOLVE: usize = 64;
+
 /// A reusable LU factorisation of an n × n matrix.
 pub struct DenseLu {
     n: usize,
@@ -132,6 +138,9 @@ pub struct DenseLlt {
     scratch: MemBuffer,
     /// Unblocked kernels (n ≤ [`SMALL`]).
     small: bool,
+    /// The mirrored solves (SMALL < n ≤ [`MIRRORED_SOLVE`]) and 1 / L_jj for them.
+    mirrored: bool,
+    inverse_diagonal: Vec<f64>,
 }
 
 /// The matrix is not (numerically) positive definite.
@@ -151,6 +160,8 @@ impl DenseLlt {
             l: DMatrix::zeros(n, n),
             scratch: MemBuffer::new(req),
             small: n <= SMALL,
+            mirrored: n > SMALL && n <= MIRRORED_SOLVE,
+            inverse_diagonal: vec![0.0; n],
         }
     }
 
@@ -165,8 +176,11 @@ impl DenseLlt {
         let mat = faer::MatMut::from_column_major_slice_mut(self.l.as_mut_slice(), n, n);
         let stack = MemStack::new(&mut self.scratch);
         llt::factor::cholesky_in_place(mat, Default::default(), Par::Seq, stack, Spec::default())
-            .map(|_| ())
-            .map_err(|_| NotPositiveDefinite)
+            .map_err(|_| NotPositiveDefinite)?;
+        if self.mirrored {
+            mirror_factor(self.l.as_mut_slice(), n, &mut self.inverse_diagonal);
+        }
+        Ok(())
     }
 
     /// Solve A x = b in place with the last factorisation.
@@ -177,6 +191,15 @@ impl DenseLlt {
             llt_solve_unblocked(self.l.as_slice(), n, b.as_mut_slice());
             return;
         }
+        if self.mirrored {
+            llt_solve_mirrored(
+                self.l.as_slice(),
+                &self.inverse_diagonal,
+                n,
+                b.as_mut_slice(),
+            );
+            return;
+        }
         let l = faer::MatRef::from_column_major_slice(self.l.as_slice(), n, n);
         let rhs = faer::MatMut::from_column_major_slice_mut(b.as_mut_slice(), n, 1);
         let stack = MemStack::new(&mut self.scratch);
@@ -184,7 +207,7 @@ impl DenseLlt {
     }
 
     /// The factor L of the last factorisation: column-major n × n, L in the lower triangle
-    /// (the strict upper triangle holds whatever the input had there).
+    /// (the strict upper triangle holds whatever the input had there, or Lᵀ).
     pub fn factor_data(&self) -> &[f64] {
         self.l.as_slice()
     }
@@ -370,6 +393,38 @@ fn llt_solve_unblocked_n(l: &[f64], b: &mut [f64], n: usize) {
     }
 }
 
+/// Copy L's strict lower triangle into its strict upper one (column j of Lᵀ above the
+/// diagonal is row j of L) and 1 / L_jj into `inverse_diagonal`, for [`llt_solve_mirrored`].
+fn mirror_factor(l: &mut [f64], n: usize, inverse_diagonal: &mut [f64]) {
+    for j in 0..n {
+        for i in 0..j {
+            l[j * n + i] = l[i * n + j];
+        }
+        inverse_diagonal[j] = 1.0 / l[j * n + j];
+    }
+}
+
+/// Solve LLᵀ x = b in place with a factor mirrored by [`mirror_factor`]: L y = b by columns
+/// of L, then Lᵀ x = y by columns of Lᵀ (its upper triangle), each an axpy on a contiguous
+/// slice; the only chain from one column to the next is one multiply by 1 / L_jj.
+fn llt_solve_mirrored(l: &[f64], inverse_diagonal: &[f64], n: usize, b: &mut [f64]) {
+    let (l, b) = (&l[..n * n], &mut b[..n]);
+    for j in 0..n {
+        let bj = b[j] * inverse_diagonal[j];
+        b[j] = bj;
+        for (x, v) in b[j + 1..].iter_mut().zip(&l[j * n + j + 1..(j + 1) * n]) {
+            *x -= v * bj;
+        }
+    }
+    for j in (0..n).rev() {
+        let xj = b[j] * inverse_diagonal[j];
+        b[j] = xj;
+        for (x, u) in b[..j].iter_mut().zip(&l[j * n..j * n + j]) {
+            *x -= u * xj;
+        }
+    }
+}
+
 #[cfg(test)]
 mod small_tests {
     use super::*;
@@ -387,7 +442,18 @@ mod small_tests {
     /// The unblocked kernels (n ≤ SMALL) and faer's (above) solve the same systems.
     #[test]
     fn small_and_faer_paths_agree_with_the_residual() {
-        for n in [1, 2, 5, 7, 8, SMALL, SMALL + 1, 20] {
+        for n in [
+            1,
+            2,
+            5,
+            7,
+            8,
+            SMALL,
+            SMALL + 1,
+            20,
+            MIRRORED_SOLVE,
+            MIRRORED_SOLVE + 1,
+        ] {
             for spd in [false, true] {
                 let a = matrix(n, spd);
                 let x = DVector::from_fn(n, |i, _| (i as f64 * 0.7).cos());

@@ -16,6 +16,20 @@ impl Planar {
     /// Scatter a body's local terms (basis order, then modes), the first `n_local` rows and
     /// columns of `local_mass` and `local_forces`, into the system.
     pub(super) fn scatter(&mut self, body_index: usize, n_local: usize, out: &mut SystemTerms) {
+        self.map_local_to_global(body_index);
+        let ld = self.local_mass.nrows();
+        scatter_into(
+            &self.local_to_global[..n_local],
+            self.local_mass.as_slice(),
+            ld,
+            self.local_forces.as_slice(),
+            out,
+        );
+    }
+
+    /// Body `body_index`'s local coordinates (basis, then modes) to system ones, into
+    /// `local_to_global` (`None`: a fixed basis point).
+    fn map_local_to_global(&mut self, body_index: usize) {
         let b = &self.bodies[body_index];
         for k in 0..4 {
             self.local_to_global[k] = match b.slots[k] {
@@ -25,17 +39,6 @@ impl Planar {
         }
         for j in 0..b.n_modes {
             self.local_to_global[4 + j] = Some(b.first_mode + j);
-        }
-        for c in 0..n_local {
-            let Some(qc) = self.local_to_global[c] else {
-                continue;
-            };
-            out.forces[qc] += self.local_forces[c];
-            for r in 0..n_local {
-                if let Some(qr) = self.local_to_global[r] {
-                    out.mass[(qr, qc)] += self.local_mass[(r, c)];
-                }
-            }
         }
     }
 
@@ -91,15 +94,50 @@ impl Planar {
             self.gravity,
             &b.frame_map,
         );
-        self.local_mass
-            .view_mut((0, 0), (n_local, n_local))
-            .copy_from(&ws.m_b);
-        self.local_forces.rows_mut(0, n_local).copy_from(&ws.q_b);
-        self.scatter(body_index, n_local, out);
+        // Straight from the body's workspace (the same additions as `scatter`).
+        self.map_local_to_global(body_index);
+        let ws = self.bodies[body_index]
+            .flexible_workspace
+            .as_ref()
+            .expect("flexible body has a workspace");
+        scatter_into(
+            &self.local_to_global[..n_local],
+            ws.m_b.as_slice(),
+            n_local,
+            ws.q_b.as_slice(),
+            out,
+        );
         if tangents {
             let b = &self.bodies[body_index];
             let (y, yd) = (&q.as_slice()[b.modes()], &qd.as_slice()[b.modes()]);
             add_elastic_tangents(&b.body, y, yd, b.first_mode, out);
+        }
+    }
+}
+
+/// Add local terms into the system: column c of the column-major `mass` (leading dimension
+/// `ld`) and `forces[c]` where `local_to_global[c]` names a system coordinate (each entry of
+/// M and Q receives one addition, in column order).
+fn scatter_into(
+    local_to_global: &[Option<usize>],
+    mass: &[f64],
+    ld: usize,
+    forces: &[f64],
+    out: &mut SystemTerms,
+) {
+    let nq = out.mass.nrows();
+    let system = out.mass.as_mut_slice();
+    for (c, &gc) in local_to_global.iter().enumerate() {
+        let Some(qc) = gc else {
+            continue;
+        };
+        out.forces[qc] += forces[c];
+        let column = &mass[c * ld..c * ld + local_to_global.len()];
+        let target = &mut system[qc * nq..(qc + 1) * nq];
+        for (&gr, &v) in local_to_global.iter().zip(column) {
+            if let Some(qr) = gr {
+                target[qr] += v;
+            }
         }
     }
 }

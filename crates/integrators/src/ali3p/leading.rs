@@ -18,6 +18,37 @@ use flexmbd_core::Formulation;
 /// 9 % (relative) and 15 % (absolute) of its run in the pattern-driven loop.
 const DENSE_PENALTY_UP_TO: usize = 8;
 
+/// Up to this many entries of Φ_q (m n) a factorisation keeps a copy of the Φ_q it was
+/// formed with, so that a later call with nothing changed keeps the factor; above, the copy
+/// would cost more than the rare reuse saves (a cut joint's rows change every step).
+const KEEP_FROM_AT_MOST: usize = 1024;
+
+/// The inputs of the factor in hand: W's pass (the count of M, Q, K, C passes before it),
+/// α, and Φ_q. f_q = W + h²/4 Φ_qᵀ α Φ_q is a function of these alone, so asked again with
+/// the same ones, the kernel would return the same factor bit for bit.
+pub(super) struct FactorInputs {
+    /// Φ_q is small enough to keep a copy of.
+    keep: bool,
+    valid: bool,
+    dynamics_passes: usize,
+    alpha: f64,
+    phi_q: Vec<f64>,
+}
+
+impl FactorInputs {
+    /// Room for an m × n Φ_q when it is small enough to keep (`KEEP_FROM_AT_MOST`).
+    pub(super) fn new(m: usize, n: usize) -> Self {
+        let keep = m * n <= KEEP_FROM_AT_MOST;
+        FactorInputs {
+            keep,
+            valid: false,
+            dynamics_passes: 0,
+            alpha: 0.0,
+            phi_q: Vec::with_capacity(if keep { m * n } else { 0 }),
+        }
+    }
+}
+
 impl Ali3p {
     /// Take the structure `f` declares, if any, for the run (issue 26 item 2): its arrow
     /// form when that pays (blocks of a tree's branches and the root's border, factorised by
@@ -160,7 +191,37 @@ impl Ali3p {
     /// Form and factorise the leading matrix: over the declared structure when there is
     /// one (`crate::declared_llt`), densely (`form_leading`, `factor_leading`) otherwise or
     /// when the declared factorisation fails (f_q not positive definite).
+    ///
+    /// The factor in hand is kept when it was formed from the same W (no M, Q, K, C pass
+    /// since), α and Φ_q (`FactorInputs`): the projections after a Newton iteration whose Φ_q
+    /// did not move.
     pub(super) fn form_and_factor(&mut self) -> Result<(), IntegratorError> {
+        let keep = self.factored_from.keep;
+        let phi_q = self.terms.phi_q.as_slice();
+        let from = &mut self.factored_from;
+        if keep
+            && from.valid
+            && from.dynamics_passes == self.dynamics_passes
+            && from.alpha == self.alpha
+            && from.phi_q.as_slice() == phi_q
+        {
+            return Ok(());
+        }
+        from.valid = false;
+        self.form_and_factor_anew()?;
+        if keep {
+            let from = &mut self.factored_from;
+            from.phi_q.clear();
+            from.phi_q.extend_from_slice(self.terms.phi_q.as_slice());
+            from.dynamics_passes = self.dynamics_passes;
+            from.alpha = self.alpha;
+            from.valid = true;
+        }
+        Ok(())
+    }
+
+    /// Form and factorise the leading matrix (see `form_and_factor`).
+    fn form_and_factor_anew(&mut self) -> Result<(), IntegratorError> {
         if let (Some(declared), Some(entries)) = (self.declared.as_mut(), self.entries.as_ref()) {
             let h = self.settings.step;
             let (a, b) = (0.5 * h, 0.25 * h * h);
