@@ -35,6 +35,21 @@ fn check_run(
     Ok(())
 }
 
+/// The scene of `models/FILE` with the `--set` overrides `sets` applied (not validated: the
+/// caller sets what it studies first).
+fn model_with_sets(
+    file: &str,
+    sets: &[String],
+) -> Result<flexmbd::model::Scene, Box<dyn std::error::Error>> {
+    let mut scene = flexmbd::model::Scene::load(crate::workspace_root().join("models").join(file))?;
+    let sets = sets
+        .iter()
+        .map(|s| flexmbd::model::parse_set(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    scene.apply_sets(&sets)?;
+    Ok(scene)
+}
+
 /// One study of the report.
 pub struct Study {
     /// Name for `--only`.

@@ -7,22 +7,17 @@
 
 use flexmbd::ancf::{CableSpec, History as CableHistory, run_spin_up};
 use flexmbd::core::Dim;
-use flexmbd::model::{FormulationKind, Scene, SensorKind, parse_set};
+use flexmbd::model::{FormulationKind, Scene, SensorKind};
 use flexmbd::simulation::{self, History, Summary};
 
-use super::{StudyResult, check_run};
+use super::{StudyResult, check_run, model_with_sets};
 use crate::Settings;
 use crate::report::Report;
 
 const CONDITIONS: [&str; 2] = ["InterfaceFixed", "Buckens"];
 
 fn load(file: &str, sets: &[String]) -> Result<Scene, Box<dyn std::error::Error>> {
-    let mut scene = Scene::load(crate::workspace_root().join("models").join(file))?;
-    let sets = sets
-        .iter()
-        .map(|s| parse_set(s))
-        .collect::<Result<Vec<_>, _>>()?;
-    scene.apply_sets(&sets)?;
+    let mut scene = model_with_sets(file, sets)?;
     scene.solver.formulation = FormulationKind::Absolute;
     scene.validate()?;
     Ok(scene)

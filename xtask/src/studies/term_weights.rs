@@ -11,12 +11,12 @@
 mod chart;
 
 use flexmbd::body::weights::{TermGroup, Weight};
-use flexmbd::model::{FormulationKind, Scene, parse_set};
+use flexmbd::model::{FormulationKind, Scene};
 use flexmbd::simulation::{self, History};
 use flexmbd::term_weights::{BodyWeights, TermChoice, apply_choice, pilot};
 use flexmbd_test_support::iltis::vehicle_flexible;
 
-use super::{StudyResult, check_run};
+use super::{StudyResult, check_run, model_with_sets};
 use crate::Settings;
 use crate::report::Report;
 
@@ -31,12 +31,7 @@ struct Case {
 }
 
 fn load(file: &str, sets: &[String], duration: f64) -> Result<Scene, Box<dyn std::error::Error>> {
-    let mut scene = Scene::load(crate::workspace_root().join("models").join(file))?;
-    let sets = sets
-        .iter()
-        .map(|s| parse_set(s))
-        .collect::<Result<Vec<_>, _>>()?;
-    scene.apply_sets(&sets)?;
+    let mut scene = model_with_sets(file, sets)?;
     scene.solver.formulation = FormulationKind::Relative;
     scene.solver.duration = duration;
     scene.validate()?;
