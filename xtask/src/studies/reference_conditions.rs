@@ -14,6 +14,8 @@ use super::{StudyResult, check_run, model_with_sets};
 use crate::Settings;
 use crate::report::Report;
 
+mod free_beam;
+
 const CONDITIONS: [&str; 2] = ["InterfaceFixed", "Buckens"];
 
 fn load(file: &str, sets: &[String]) -> Result<Scene, Box<dyn std::error::Error>> {
@@ -169,5 +171,5 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          more because the joint point is tied to the body through the modes (two coordinates \
          and two constraints more).\n",
     );
-    Ok(())
+    free_beam::section(report)
 }
