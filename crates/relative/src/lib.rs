@@ -17,7 +17,9 @@
 //! ```
 //!
 //! and the static modes of a parent node P are prismatic (translations) and revolute
-//! (rotations) elementary joints of the node frame (§4.3). Each elementary joint's
+//! (rotations) elementary joints of the node frame (§4.3); a Buckens child hung at a node
+//! that moves with its own modes gets the inverse chain, the same joints with rates −X_Q ẏ
+//! of its own modes between the joint frame and its frame ([`topology`]). Each elementary joint's
 //! rate is a constant combination of ż, ė = L_e ż (a joint coordinate, or X_P rows
 //! times ẏ), so Z = R_w w, w = L ż, with R_w the §4.4 matrix of one twist per
 //! elementary joint and one owner per modal coordinate; R is never formed.

@@ -16,7 +16,16 @@
 //!   in 2D the single rotation about z is exact). With Craig–Bampton modes and a joint
 //!   node in the boundary set, only P's static modes have non-zero rows, and this is
 //!   §4.3 verbatim; any other non-zero row (a child hanging from a node outside the
-//!   boundary set) is carried the same way.
+//!   boundary set) is carried the same way;
+//! - the frame of a child hung at a node Q that moves with the child's *own* modes (a beam
+//!   with `reference: Buckens`, whose floating frame is the linearised mean axes and sits
+//!   at no node) is placed by the inverse node chain, J = B ∘ node_Q(y) solved for B:
+//!   revolutes about the node axes by −X^r_{Q,a} y in reverse order (when the joint
+//!   transmits rotations or is driven), the offset −r̄_Q, then prismatics along the child's
+//!   axes by −X^t_{Q,a} y (`Topology::inverse_node_elems`). The rotation is the same
+//!   Cardan product as a parent node's (exact in 2D), so it agrees with the absolute
+//!   formulation's attachment, A (I + θ̃_Q) ā with θ_Q = X^r_Q y, to the first order in y
+//!   that the floating frame's model keeps.
 //!
 //! So the velocity transformation is Z = R_w w with w = L ż, where R_w has one twist
 //! per elementary joint and one owner per modal coordinate (§4.4), and L is constant.
@@ -25,7 +34,9 @@
 //! reached through one of the joints to bodies already in the tree, preferring (1)
 //! joints whose child-side marker can carry the child's frame (for a flexible child:
 //! a node where every mode row the joint transmits is zero, i.e. the frame's reference
-//! node), (2) joints with degrees of freedom, (3) scene order. All remaining joints are
+//! node), (2) joints with degrees of freedom, (3) scene order. A Buckens beam, which no
+//! marker carries directly, joins through its inverse node chain, in a layer of its own
+//! when no body of the layer can join directly. All remaining joints are
 //! cut into constraints (§4.6). A body with no joints at all is a floating base
 //! (2D: x, y, θ; 3D: x, y, z and three Cardan angles about the ground axes); any other
 //! body the tree does not reach is refused.
@@ -139,6 +150,16 @@ pub(crate) struct Topology {
     pub(crate) cuts: Vec<usize>,
     /// Elementary joint of each joint coordinate.
     pub(crate) coord_elem: Vec<usize>,
+}
+
+/// The axes of a node chain's rotations, in order: none when it does not turn, z in 2D, the
+/// Cardan x, y′, z″ in 3D (docs/methods.md §4.3).
+fn node_rotation_axes(dim: Dim, turns: bool) -> &'static [usize] {
+    match (turns, dim) {
+        (false, _) => &[],
+        (true, Dim::Planar) => &[2],
+        (true, Dim::Spatial) => &[0, 1, 2],
+    }
 }
 
 /// Does the joint pass rotations from parent to child (so the node frame must turn)?
@@ -312,13 +333,10 @@ impl Topology {
             && bodies[pb].flexible
         {
             let rows = &bodies[pb].node_rows;
-            let rotation_axes: &[usize] = match (turns, dim) {
-                (false, _) => &[],
-                (true, Dim::Planar) => &[2],
-                (true, Dim::Spatial) => &[0, 1, 2],
-            };
             let translations = (0..dim.n_trans()).map(|a| (a, false, ElemKind::Prismatic));
-            let rotations = rotation_axes.iter().map(|&a| (a, true, ElemKind::Revolute));
+            let rotations = node_rotation_axes(dim, turns)
+                .iter()
+                .map(|&a| (a, true, ElemKind::Revolute));
             for (a, rotation, kind) in translations.chain(rotations) {
                 let nz = nonzero_rows(rows, node, a, rotation);
                 if !nz.is_empty() {
@@ -331,6 +349,83 @@ impl Topology {
             }
         }
         f
+    }
+
+    /// The frame of a child whose marker Q (at FE node `cs.node`) moves with the child's own
+    /// modes (a Buckens beam), after the joint frame J at Q: the inverse of the node chain
+    /// J = B ∘ node_Q(y) of [`node_elems`](Self::node_elems). With C = A_J0ᵀ A_B0 the
+    /// t = 0 turn from J's axes to the child's,
+    ///
+    /// ```text
+    /// A_B = A_J C R_Q(y)⁻¹,  r_B = r_J − A_B (r̄_Q + X^t_Q y)
+    /// R_Q(y) = R_x(X^r_x y) R_y(X^r_y y) R_z(X^r_z y)   (3D; 2D: R_z(X^r_z y), exact)
+    /// ```
+    ///
+    /// as elementary joints of rates linear in the child's ẏ: revolutes about z, y, x of
+    /// the node frame by −X^r_a y (when the joint transmits rotations or is driven, as
+    /// for a parent node; otherwise the joint's own coordinates carry the child's
+    /// orientation and C alone turns it), the fixed offset −r̄_Q, and prismatics along the
+    /// child's axes by −X^t_a y. So ω_B = ω_J − A_B X^r_Q ẏ to first order (exactly in 2D)
+    /// and ṙ_B = ṙ_J − ω_B × A_B (r̄_Q + X^t_Q y) − A_B X^t_Q ẏ. Returns the child's frame.
+    fn inverse_node_elems(
+        &mut self,
+        dim: Dim,
+        bodies: &[BodyInfo],
+        cs: &Side,
+        mut f: usize,
+        (c, turns): (Matrix3<f64>, bool),
+    ) -> usize {
+        let (Some(b), Some(node)) = (cs.body, cs.node) else {
+            unreachable!("an inverse node chain is built for a marker at a node");
+        };
+        let rows = &bodies[b].node_rows;
+        // The node's axes: J's turned by C.
+        f = self.push_frame(
+            Some(f),
+            FrameKind::Fixed {
+                offset: Vector3::zeros(),
+                rot: c,
+            },
+        );
+        let rotations = node_rotation_axes(dim, turns)
+            .iter()
+            .rev()
+            .map(|&a| (a, true, ElemKind::Revolute));
+        for (a, rotation, kind) in rotations {
+            f = self.elem_against_modes(f, kind, (b, rows), (node, a, rotation));
+        }
+        f = self.push_frame(
+            Some(f),
+            FrameKind::Fixed {
+                offset: -cs.rbar,
+                rot: Matrix3::identity(),
+            },
+        );
+        for a in 0..dim.n_trans() {
+            f = self.elem_against_modes(f, ElemKind::Prismatic, (b, rows), (node, a, false));
+        }
+        f
+    }
+
+    /// After frame `f`, an elementary joint along (or about) axis `a` of value −X_a y, X_a
+    /// the translation (or rotation) row `a` of body `b` at `node`; none when the row is
+    /// zero. Returns the last frame.
+    fn elem_against_modes(
+        &mut self,
+        f: usize,
+        kind: ElemKind,
+        (b, rows): (usize, &NodeRows),
+        (node, a, rotation): (usize, usize, bool),
+    ) -> usize {
+        let nz = nonzero_rows(rows, node, a, rotation);
+        if nz.is_empty() {
+            return f;
+        }
+        let rate = nz
+            .iter()
+            .map(|&(m, v)| (CoordRef::Mode(b, m), -v))
+            .collect();
+        self.push_elem(Some(f), kind, Vector3::ith(a, 1.0), rate)
     }
 
     /// The elementary joints of tree joint `ji` (run from `ps` to `cs`, `reversed` when
@@ -454,41 +549,62 @@ impl Topology {
         );
         // Static modes (and any other non-zero node rows) of a flexible parent, §4.3.
         let driven = scene.drivers.iter().any(|d| d.joint == j.name);
-        f = self.node_elems(
-            dim,
-            bodies,
-            &ps,
-            f,
-            transmits_rotation(dim, &j.kind) || driven,
-        );
+        let turns = transmits_rotation(dim, &j.kind) || driven;
+        f = self.node_elems(dim, bodies, &ps, f, turns);
         // The joint's elementary joints, axes in P0 components at t = 0.
         let mut coords = Vec::new();
         f = self.joint_elems(scene, bodies, (ji, reversed), (&ps, &cs), f, &mut coords)?;
-        // The child's frame: A_j = A_J C, r_j = r_J − A_j r̄_Q.
+        // The child's frame: A_j = A_J C, r_j = r_J − A_j r̄_Q, or through the inverse node
+        // chain of its own modes.
         let info = &bodies[child];
         let c = a_parent0.transpose() * info.a0;
-        let bf = self.push_frame(
-            Some(f),
-            FrameKind::Fixed {
-                offset: -(c * cs.rbar),
-                rot: c,
-            },
-        );
+        let bf = match carriage(prepared, bodies, ji, !reversed) {
+            Carriage::InverseChain => {
+                if scene.solver.stiffening == flexmbd_model::Stiffening::Foreshortening {
+                    return Err(ModelError::Unsupported(format!(
+                        "{}: flexible body `{}` has `reference: Buckens` and hangs from joint `{}` at a node that moves with its modes; with `stiffening: Foreshortening` (FS0) that node also moves by its axial shift, quadratic in the modes, which the relative formulation's inverse node chain (linear in the modes) does not carry: use `--formulation absolute`, `reference: InterfaceFixed` or another stiffening method",
+                        scene.origin, info.name, j.name
+                    )));
+                }
+                self.inverse_node_elems(dim, bodies, &cs, f, (c, turns))
+            }
+            _ => self.push_frame(
+                Some(f),
+                FrameKind::Fixed {
+                    offset: -(c * cs.rbar),
+                    rot: c,
+                },
+            ),
+        };
         self.body_frame[child] = bf;
         self.tree[ji] = Some(TreeJoint { coords, reversed });
         Ok(())
     }
 }
 
-/// Can joint `ji` carry its child's frame at the child's marker (`child_is_body2`: the
-/// child is the joint's body2)? Always for a rigid child; for a flexible one, at a node
-/// where every mode row the joint transmits is zero.
-fn can_carry_frame(
+/// How a tree joint carries its child's frame at the child's marker; the spanning tree
+/// prefers `Directly` to `InverseChain` (ordered so).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Carriage {
+    /// It cannot: a flexible child whose marker moves with its modes, not a Buckens beam.
+    No,
+    /// Through the inverse node chain of the child's own modes
+    /// (`Topology::inverse_node_elems`): a Buckens beam, whose every node moves with its
+    /// modes.
+    InverseChain,
+    /// At the marker: a rigid child, or a node where every mode row the joint transmits is
+    /// zero (the frame's reference node).
+    Directly,
+}
+
+/// How joint `ji` can carry its child's frame at the child's marker (`child_is_body2`: the
+/// child is the joint's body2): see [`Carriage`].
+fn carriage(
     prepared: &PreparedScene,
     bodies: &[BodyInfo],
     ji: usize,
     child_is_body2: bool,
-) -> bool {
+) -> Carriage {
     let scene = prepared.scene();
     let dim = scene.dim;
     let j = &scene.joints[ji];
@@ -499,22 +615,39 @@ fn can_carry_frame(
         ends.first
     };
     let side = Side::at(prepared, bodies, child);
-    let Some(b) = side.body else { return false };
+    let Some(b) = side.body else {
+        return Carriage::No;
+    };
     let info = &bodies[b];
     if !info.flexible {
-        return true;
+        return Carriage::Directly;
     }
-    let Some(node) = side.node else { return false };
+    let Some(node) = side.node else {
+        return Carriage::No;
+    };
     let nt = dim.n_trans();
     let rot = transmits_rotation(dim, &j.kind);
-    (0..nt).all(|a| nonzero_rows(&info.node_rows, node, a, false).is_empty())
+    let zero_rows = (0..nt).all(|a| nonzero_rows(&info.node_rows, node, a, false).is_empty())
         && (!rot
             || match dim {
                 Dim::Planar => nonzero_rows(&info.node_rows, node, 2, true).is_empty(),
                 Dim::Spatial => {
                     (0..3).all(|a| nonzero_rows(&info.node_rows, node, a, true).is_empty())
                 }
-            })
+            });
+    if zero_rows {
+        Carriage::Directly
+    } else if is_buckens(scene, b) {
+        Carriage::InverseChain
+    } else {
+        Carriage::No
+    }
+}
+
+/// Is body `b` a beam with `reference: Buckens`?
+fn is_buckens(scene: &Scene, b: usize) -> bool {
+    matches!(&scene.bodies[b].model, flexmbd_model::BodyModel::Beam(spec)
+        if spec.reference == flexmbd_model::ReferenceCondition::Buckens)
 }
 
 /// The spanning tree chosen breadth-first from the ground (see the module doc).
@@ -546,7 +679,7 @@ fn spanning_tree(
     let mut order: Vec<(usize, bool)> = Vec::new();
     loop {
         // Candidate joints: one end in the tree (or ground), the other not.
-        let mut best: Vec<Option<(bool, bool, usize, bool)>> = vec![None; nb];
+        let mut best: Vec<Option<(Carriage, bool, usize, bool)>> = vec![None; nb];
         for (ji, &(b1, b2)) in ends.iter().enumerate() {
             if used[ji] {
                 continue;
@@ -557,43 +690,42 @@ fn spanning_tree(
                 (false, true) => (b1.expect("not ground"), true),
                 _ => continue,
             };
-            let valid = can_carry_frame(prepared, bodies, ji, !reversed);
+            let carried = carriage(prepared, bodies, ji, !reversed);
             let has_dof = !matches!(scene.joints[ji].kind, JointKind::Rigid);
-            let key = (valid, has_dof, ji, reversed);
+            let key = (carried, has_dof, ji, reversed);
             let better = match best[child] {
                 None => true,
-                Some((v, d, _, _)) => (valid, has_dof) > (v, d),
+                Some((v, d, _, _)) => (carried, has_dof) > (v, d),
             };
             if better {
                 best[child] = Some(key);
             }
         }
+        // The bodies carried directly join first; only when none can (so never in a scene
+        // that ran before the inverse chain), those carried by an inverse node chain.
         let mut added = false;
-        for (child, b) in best.iter().enumerate() {
-            let Some((valid, _, ji, reversed)) = *b else {
-                continue;
-            };
-            if !valid {
-                continue;
+        for level in [Carriage::Directly, Carriage::InverseChain] {
+            for (child, b) in best.iter().enumerate() {
+                let Some((carried, _, ji, reversed)) = *b else {
+                    continue;
+                };
+                if carried != level {
+                    continue;
+                }
+                in_tree[child] = true;
+                used[ji] = true;
+                order.push((ji, reversed));
+                added = true;
             }
-            in_tree[child] = true;
-            used[ji] = true;
-            order.push((ji, reversed));
-            added = true;
+            if added {
+                break;
+            }
         }
         if !added {
             // Flexible bodies reachable only through markers that cannot carry their frame.
             if let Some((child, Some((_, _, ji, _)))) =
                 best.iter().enumerate().find(|(_, b)| b.is_some())
             {
-                if let flexmbd_model::BodyModel::Beam(spec) = &scene.bodies[child].model
-                    && spec.reference == flexmbd_model::ReferenceCondition::Buckens
-                {
-                    return Err(ModelError::Unsupported(format!(
-                        "{}: flexible body `{}` has `reference: Buckens`: its frame is the linearised mean axes, and the node of joint `{}` moves with the body's modes; the relative formulation hangs a body from its parent at a node that carries its frame, so it runs a Buckens body only without joints (a floating body): use `--formulation absolute`, which attaches the joint at the node through its modal displacement, or `reference: InterfaceFixed`",
-                        scene.origin, bodies[child].name, scene.joints[*ji].name
-                    )));
-                }
                 return Err(ModelError::Unsupported(format!(
                     "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent where the frame is attached: a beam's `frame: Clamped(node: ..)` at that marker's node, an imported body's `frame: Interface(NAME)` with the marker on that interface; a free-free body (`frame: FreeFree`) sits at no node: give it no joint to a parent (a body without joints floats), or use the absolute formulation",
                     scene.origin, bodies[child].name, scene.joints[*ji].name

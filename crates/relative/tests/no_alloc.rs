@@ -31,6 +31,19 @@ fn steps_and_evaluations_do_not_allocate() {
     }
     // The scene's Distance and PointInPlane constraints as cut rows, on a flexible node.
     scenes.push(flexmbd_test_support::scenes::flexible_pendulum_3d_with_constraints());
+    // Buckens beams hung through the inverse node chain of their own modes: translations
+    // (the pendulum's pin), and the three rotations of the driven 3D spin-up beam's root.
+    for (file, body) in [
+        ("flexible_pendulum.ron", "bar"),
+        ("spin_up_beam_3d.ron", "beam"),
+    ] {
+        let set = format!("bodies.{body}.model.Beam.reference=Buckens");
+        scenes.push(model_with(
+            file,
+            flexmbd_model::FormulationKind::Relative,
+            &[set],
+        ));
+    }
     for scene in scenes {
         let mut f = relative(&scene);
         let (n, m) = (f.n_coordinates(), f.n_constraints());

@@ -1,7 +1,8 @@
 //! The declared pattern (issue 26 item 2) holds every entry of M, K, C and Φ_z that the
 //! passes write, at states away from the start (every coordinate and rate non-zero), on
 //! scenes of each kind the formulation runs: planar and spatial, rigid and flexible, bodies
-//! hung from flexible nodes (node joints), links, tyres, bearings and driven joints.
+//! hung from flexible nodes (node joints), Buckens beams hung through their own nodes, links,
+//! tyres, bearings and driven joints.
 
 mod common;
 use common::*;
@@ -46,6 +47,15 @@ fn vehicle(flexible: usize) -> Scene {
     )
 }
 
+/// A model whose beam `body` has `reference: Buckens`.
+fn buckens(file: &str, body: &str) -> Scene {
+    model_with(
+        file,
+        FormulationKind::Relative,
+        &[format!("bodies.{body}.model.Beam.reference=Buckens")],
+    )
+}
+
 #[test]
 fn the_declared_pattern_covers_every_entry_the_passes_write() {
     let scenes = [
@@ -62,6 +72,19 @@ fn the_declared_pattern_covers_every_entry_the_passes_write() {
         model("iltis_bump.ron"),
         model("iltis_suspension.ron"),
         vehicle(12),
+        // Buckens beams, hung through the inverse node chain of their own modes.
+        buckens("flexible_pendulum.ron", "bar"),
+        buckens("spin_up_beam_3d.ron", "beam"),
+        model_with(
+            "double_four_bar.ron",
+            FormulationKind::Relative,
+            &[
+                "bodies.crank1.flexible=true".to_string(),
+                "bodies.crank1.model.Beam.reference=Buckens".to_string(),
+                "bodies.coupler1.flexible=true".to_string(),
+                "bodies.coupler1.model.Beam.reference=Buckens".to_string(),
+            ],
+        ),
     ];
     for scene in &scenes {
         let pattern = declared(scene);

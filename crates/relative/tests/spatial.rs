@@ -130,6 +130,32 @@ fn spatial_terms_match_dense_products_lagrange_and_differences() {
     check_terms(&planar_scene_in_3d(&four_bar(0)));
 }
 
+/// `scene` with every beam's `reference: Buckens`.
+fn buckens(mut scene: Scene) -> Scene {
+    for b in &mut scene.bodies {
+        if let BodyModel::Beam(spec) = &mut b.model {
+            spec.reference = flexmbd_model::ReferenceCondition::Buckens;
+        }
+    }
+    scene
+}
+
+#[test]
+fn buckens_terms_match_dense_products_lagrange_and_differences() {
+    // The inverse node chain of a Buckens child's own modes (topology.rs): translations only
+    // (ball joints), a Buckens child at a moving node of a Buckens parent, and the three
+    // rotations of a revolute's node (the spin-up beam).
+    check_terms(&buckens(model("flexible_pendulum_3d.ron")));
+    check_terms(&buckens(flexible_chain_3d()));
+    // The 3D spin-up beam on its revolute, linear and undriven (the check's Lagrange
+    // equations know the linear elastic potential, its constraint rates no Φ_t).
+    let mut spin_up = model("spin_up_beam_3d.ron");
+    spin_up.solver.stiffening = flexmbd_model::Stiffening::Linear;
+    spin_up.drivers.clear();
+    check_terms(&spin_up);
+    check_terms(&buckens(spin_up));
+}
+
 #[test]
 fn flexible_pendulum_3d_conserves_energy() {
     for (scene, h) in [
