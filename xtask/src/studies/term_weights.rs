@@ -6,7 +6,9 @@
 //! CPU time of the run against the full model's, and the error they add against it (largest
 //! |Δ| over the judged sensors, relative to the sensor's range); the weights' choice and the
 //! choice confirmed at the same tolerance ([`flexmbd::term_weights::Pilot::confirm`]); and
-//! a work–precision chart of the 2D spin-up beam with the terms as an axis ([`chart`]).
+//! work–precision charts with the terms as an axis: the 2D spin-up beam against the ANCF
+//! cable ([`chart`]) and the double four-bar against its full model at a sixteenth of the
+//! step ([`chart::four_bar`]).
 
 mod chart;
 
@@ -275,5 +277,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          a confirmation one run per rung it tries.\n",
     );
     chart::run(settings, report, &spin_up_2d)?;
+    chart::four_bar::run(settings, report)?;
     Ok(())
 }
