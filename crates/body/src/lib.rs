@@ -60,9 +60,11 @@ mod natural;
 mod natural_points;
 mod natural_terms;
 mod node_rows;
+pub mod operations;
 mod shape;
 mod state;
 mod terms;
+mod vanished;
 pub mod weights;
 
 pub use blocks::RelativeBlocks;
@@ -81,6 +83,7 @@ pub(crate) use layout::{
 };
 pub use state::BodyState;
 pub use terms::InertiaTerms;
+pub use vanished::{VANISHING_TOLERANCE, VanishedIntegrals, vanishing_ratios};
 
 use nalgebra::{DMatrix, DMatrixViewMut, Dyn, Matrix, Matrix2, Matrix3, StorageMut, U1, Vector3};
 use serde::{Deserialize, Serialize};
@@ -191,14 +194,26 @@ pub struct FlexibleBody {
     pub(crate) fs: Option<foreshortening::Foreshortening>,
     /// The inertia terms kept (issue 31; `terms.rs`), all by default.
     terms: InertiaTerms,
+    /// The first-order integrals stored as zeros and skipped (`vanished.rs`).
+    pub(crate) vanished: VanishedIntegrals,
 }
 
 impl FlexibleBody {
     /// Build the run-time body: copies the invariants into contiguous storage,
     /// precomputes `G_1, G_2, G_3` and `M_yy`, sizes the workspace, and uses the
-    /// linear elastic model. Refuses inconsistent sizes, negative or non-finite
-    /// weights, and (2D) a cloud that leaves the plane z = 0.
+    /// linear elastic model; the first-order integrals that vanish (a mean-axis basis) are
+    /// stored as exact zeros and skipped by the kernels ([`vanished_integrals`](Self::vanished_integrals),
+    /// `vanished.rs`). Refuses inconsistent sizes, non-finite weights, and (2D) a cloud that
+    /// leaves the plane z = 0.
     pub fn new(reduced: &ReducedBody) -> Result<Self, InvalidValue> {
+        let mut body = Self::keeping_integrals(reduced)?;
+        body.zero_vanished(vanished::detect(reduced));
+        Ok(body)
+    }
+
+    /// As [`new`](Self::new) but every shape integral as `reduced` gives it, none skipped:
+    /// the full evaluation a body with vanished integrals is checked against.
+    pub fn keeping_integrals(reduced: &ReducedBody) -> Result<Self, InvalidValue> {
         check_reduced(reduced)?;
         let cloud = &reduced.cloud;
         let n = cloud.n_modes;
@@ -246,6 +261,7 @@ impl FlexibleBody {
                 reduced.foreshortening.is_some(),
             ))),
             terms: InertiaTerms::FULL,
+            vanished: VanishedIntegrals::NONE,
         })
     }
 
@@ -651,13 +667,7 @@ impl FlexibleBody {
                 (4, 2)
             }
         };
-        for j in 0..n {
-            let mut v = 0.0;
-            for a in 0..na {
-                v += self.s[a * n + j] * gb[a];
-            }
-            out[o + j] = v;
-        }
+        self.modal_gravity(&gb, na, &mut out[o..o + n]);
         self.add_fs_gravity(state.y, &gb, &mut out[o..]);
     }
 
@@ -695,13 +705,32 @@ impl FlexibleBody {
         let n = self.n;
         assert_eq!(y.len(), n);
         let mut m = self.m_u;
-        for a in 0..3 {
-            m[a] += dot(&self.s[a * n..(a + 1) * n], y);
+        if !self.first_moment_vanished() {
+            for a in 0..3 {
+                m[a] += dot(&self.s[a * n..(a + 1) * n], y);
+            }
         }
         if self.fs.is_some() {
             m += self.fs_first_moment(y);
         }
         m
+    }
+
+    /// The modal gravity force `Sᵀ ḡ` over the first `na` body axes into `out` (n), ḡ = Aᵀg;
+    /// zero without the products when S vanished (`vanished.rs`).
+    fn modal_gravity(&self, gb: &Vector3<f64>, na: usize, out: &mut [f64]) {
+        let n = self.n;
+        if self.first_moment_vanished() {
+            out.fill(0.0);
+            return;
+        }
+        for (j, o) in out.iter_mut().enumerate() {
+            let mut v = 0.0;
+            for a in 0..na {
+                v += self.s[a * n + j] * gb[a];
+            }
+            *o = v;
+        }
     }
 
     /// Gravity in the s form (docs/methods.md §2.6):
@@ -732,13 +761,7 @@ impl FlexibleBody {
             }
         }
         let na = if self.dim == Dim::Planar { 2 } else { 3 };
-        for j in 0..n {
-            let mut v = 0.0;
-            for a in 0..na {
-                v += self.s[a * n + j] * gb[a];
-            }
-            out[nr + j] = v;
-        }
+        self.modal_gravity(&gb, na, &mut out[nr..nr + n]);
         // FS0: Σ w X̂_kᵀ Aᵀ g adds −(Σ w F_k) y (ē₁ · Aᵀ g).
         self.add_fs_gravity(state.y, &gb, &mut out[nr..]);
     }

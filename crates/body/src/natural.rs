@@ -223,7 +223,7 @@ impl FlexibleBody {
         let ws = &mut nws.0;
         let moments = self.shape_moments(y, yd, ws);
         let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
-        let s_yd = rows_dot_3(s_rows, n, yd);
+        let s_yd = self.first_moment_times(s_rows, yd);
         write_natural_rigid_block_3d(m_out, self.mass, &moments.mb, &moments.p);
         let axial = moments.axial.as_ref().map(|ax| (a * ax.axis, ax));
         let mut q0 = -2.0 * (ad * s_yd);
@@ -253,6 +253,7 @@ impl FlexibleBody {
         }
         let gram = a.tr_mul(a); // e_a · e_b
         let cdot = a.tr_mul(ad); // e_a · ė_b
+        let s_rows = self.live_first_moment(s_rows);
         write_natural_couplings_3d(m_out, a, n, s_rows, &ws.l);
         let o = 12;
         if axial.is_some() {
@@ -357,8 +358,12 @@ impl FlexibleBody {
         let o = 4;
         let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         let l2 = moments.l2_row * n;
+        let s_rows = self.live_first_moment(s_rows);
         for j in 0..n {
-            let asj = a * Vector2::new(s_rows[j], s_rows[n + j]);
+            let asj = match s_rows {
+                Some(s) => a * Vector2::new(s[j], s[n + j]),
+                None => Vector2::zeros(),
+            };
             let l1 = Vector2::new(ws.l[j], ws.l[n + j]);
             let l2 = Vector2::new(ws.l[l2 + j], ws.l[l2 + n + j]);
             let uy = a * l1 - e2(a * l2);
@@ -548,20 +553,24 @@ impl FlexibleBody {
 }
 
 /// The rigid–modal couplings of a spatial natural-coordinate M, symmetric: `M_r0y = A S` and
-/// `M_eby = A L_b` from the body-frame rows of S (3 × n) and L ((L_b)_a at (3b + a) n).
+/// `M_eby = A L_b` from the body-frame rows of S (3 × n; `None` when S vanished, `vanished.rs`:
+/// zero without the products) and L ((L_b)_a at (3b + a) n).
 #[inline(always)]
 pub(crate) fn write_natural_couplings_3d<SM>(
     m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
     a: &Matrix3<f64>,
     n: usize,
-    s: &[f64],
+    s: Option<&[f64]>,
     l: &[f64],
 ) where
     SM: StorageMut<f64, Dyn, Dyn>,
 {
     let o = 12;
     for j in 0..n {
-        let asj = a * Vector3::new(s[j], s[n + j], s[2 * n + j]);
+        let asj = match s {
+            Some(s) => a * Vector3::new(s[j], s[n + j], s[2 * n + j]),
+            None => Vector3::zeros(),
+        };
         for i in 0..3 {
             m_out[(i, o + j)] = asj[i];
             m_out[(o + j, i)] = asj[i];

@@ -84,12 +84,17 @@ impl FlexibleBody {
             _ => rows_dot_9(&ws.l, n, yd),
         };
         let pdot = lam + lam.transpose();
-        let sigma = rows_dot_3(&self.s, n, yd);
+        let sigma = self.first_moment_times(&self.s, yd);
+        let s_live = self.live_first_moment(&self.s);
+        // C = C(Sᵃ) = 0 at order 0 when the skew part of Sᵃ vanished (`vanished.rs`).
+        let c_vanished = k == 0 && self.vanished.skew_first_moments;
         let linear = k >= 1 && n > 0;
         // C rows (3 × n) into ws.c, G_c y into ws.gy, K rows ((K_a)_b at (3a + b) n) into ws.l.
         let mut gamma = Vector3::zeros();
         if cpl && n > 0 {
-            c_rows(n, &self.sa, &mut ws.c);
+            if !c_vanished {
+                c_rows(n, &self.sa, &mut ws.c);
+            }
             if linear {
                 for (gy, row) in ws.gy.iter_mut().zip(self.g.chunks_exact(n)) {
                     *gy = dot(row, y);
@@ -100,7 +105,9 @@ impl FlexibleBody {
             } else {
                 ws.gy.fill(0.0);
             }
-            gamma = rows_dot_3(&ws.c, n, yd);
+            if !c_vanished {
+                gamma = rows_dot_3(&ws.c, n, yd);
+            }
             for aa in 0..3 {
                 for b in 0..3 {
                     let dst = (3 * aa + b) * n;
@@ -119,11 +126,11 @@ impl FlexibleBody {
                     }
                 }
             }
-            write_natural_couplings_3d(m_out, a, n, &self.s, &ws.l);
+            write_natural_couplings_3d(m_out, a, n, s_live, &ws.l);
         } else if n > 0 {
             ws.sy.fill(0.0);
             ws.l.fill(0.0);
-            write_natural_couplings_3d(m_out, a, n, &ws.sy, &ws.l);
+            write_natural_couplings_3d(m_out, a, n, Some(&ws.sy), &ws.l);
         }
         let (ck, cc) = (ind(k >= 1), ind(cpl));
         let q0 = -(ck + cc) * (ad * sigma);
@@ -161,7 +168,9 @@ impl FlexibleBody {
             if d != 0.0 {
                 let mut t = 0.0;
                 for aa in 0..3 {
-                    t += self.s[aa * n + j] * adr[aa];
+                    if let Some(s) = s_live {
+                        t += s[aa * n + j] * adr[aa];
+                    }
                     for b in 0..3 {
                         t += gdd[(aa, b)] * self.sa[(3 * aa + b) * n + j];
                     }
@@ -255,12 +264,14 @@ impl FlexibleBody {
         let adr = ad.tr_mul(&r0d); // (u̇·ṙ0, E u̇·ṙ0)
         let d = ck - cc;
         let u_eu = 2.0 * ud.dot(&eu);
+        let s_live = self.live_first_moment(&self.s);
         for j in 0..n {
             let (asj, uyj) = if cpl {
-                (
-                    a * Vector2::new(self.s[j], self.s[n + j]),
-                    u * h[j] + eu * ws.c[j],
-                )
+                let asj = match s_live {
+                    Some(s) => a * Vector2::new(s[j], s[n + j]),
+                    None => Vector2::zeros(),
+                };
+                (asj, u * h[j] + eu * ws.c[j])
             } else {
                 (Vector2::zeros(), Vector2::zeros())
             };
@@ -270,7 +281,10 @@ impl FlexibleBody {
                 m_out[(2 + i, o + j)] = uyj[i];
                 m_out[(o + j, 2 + i)] = uyj[i];
             }
-            let mut v = d * (self.s[j] * adr.x + self.s[n + j] * adr.y + uu * h[j]);
+            let mut v = match s_live {
+                Some(s) => d * (s[j] * adr.x + s[n + j] * adr.y + uu * h[j]),
+                None => d * (uu * h[j]),
+            };
             if k >= 2 {
                 v += uu * t[j];
             }

@@ -100,27 +100,40 @@ pub(crate) fn c_rows(n: usize, l: &[f64], c: &mut [f64]) {
 
 /// The modal inertia force of the body-frame origin form with the shift term,
 /// `q_y = −(Σ_ab (ω̃ω̃)_ab (L_b)_aᵀ + 2 G ẏ) − Sᵀ ā`, over `q` (n) which holds `G ẏ` on entry;
-/// `s` and `l` are the rows of S and L (3n, 9n).
+/// `s` and `l` are the rows of S and L (3n, 9n); `s` is `None` when S vanished (`vanished.rs`).
 #[inline(always)]
 pub(crate) fn modal_inertia_forces(
     wb: &Vector3<f64>,
     ab: &Vector3<f64>,
-    s: &[f64],
+    s: Option<&[f64]>,
     l: &[f64],
     q: &mut [f64],
 ) {
     let n = q.len();
     let ww = wb.norm_squared();
     let om = wb * wb.transpose() - Matrix3::identity() * ww; // (ω̃ω̃)_ab
-    for j in 0..n {
+    let centrifugal = |j: usize| {
         let mut t = 0.0;
         for c in 0..3 {
             for b in 0..3 {
                 t += om[(c, b)] * l[(3 * b + c) * n + j];
             }
         }
-        let sta = s[j] * ab.x + s[n + j] * ab.y + s[2 * n + j] * ab.z;
-        q[j] = -(t + 2.0 * q[j]) - sta;
+        t
+    };
+    match s {
+        Some(s) => {
+            for j in 0..n {
+                let t = centrifugal(j);
+                let sta = s[j] * ab.x + s[n + j] * ab.y + s[2 * n + j] * ab.z;
+                q[j] = -(t + 2.0 * q[j]) - sta;
+            }
+        }
+        None => {
+            for j in 0..n {
+                q[j] = -(centrifugal(j) + 2.0 * q[j]);
+            }
+        }
     }
 }
 
@@ -140,8 +153,10 @@ impl FlexibleBody {
         let n = if N == 0 { self.n } else { N };
         let n2 = n * n;
         let mut mb = self.m_u;
-        for c in 0..axes {
-            mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
+        if !self.first_moment_vanished() {
+            for c in 0..axes {
+                mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
+            }
         }
         let mut p = self.p_u;
         if n == 0 {
@@ -211,31 +226,73 @@ impl FlexibleBody {
 
     /// The rigid–modal couplings `M̄_sy = A S`, `M̄_ωy = r0 × (A S) + A C` from the body-frame
     /// rows of S and C (3 × n each), written in the layout of the body's dimension through the
-    /// global rows `translation` and `rotation` (3n each).
+    /// global rows `translation` and `rotation` (3n each). `None` for S (vanished,
+    /// `vanished.rs`) or C (vanished at order 0) skips its products: its rows are zero.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn write_shape_couplings<O: RelativeSink>(
         &self,
         a: &Matrix3<f64>,
         r0: &Vector3<f64>,
-        s: &[f64],
-        c: &[f64],
+        s: Option<&[f64]>,
+        c: Option<&[f64]>,
         translation: &mut [f64],
         rotation: &mut [f64],
         out: &mut O,
     ) {
         let n = self.n;
-        for j in 0..n {
-            let sj = Vector3::new(s[j], s[n + j], s[2 * n + j]);
-            let cj = Vector3::new(c[j], c[n + j], c[2 * n + j]);
-            let asj = a * sj;
-            let wyj = r0.cross(&asj) + a * cj;
-            for i in 0..3 {
-                translation[i * n + j] = asj[i];
-                rotation[i * n + j] = wyj[i];
+        let row = |v: &[f64], j: usize| Vector3::new(v[j], v[n + j], v[2 * n + j]);
+        match (s, c) {
+            (Some(s), Some(c)) => {
+                for j in 0..n {
+                    let asj = a * row(s, j);
+                    let wyj = r0.cross(&asj) + a * row(c, j);
+                    for i in 0..3 {
+                        translation[i * n + j] = asj[i];
+                        rotation[i * n + j] = wyj[i];
+                    }
+                }
+            }
+            (None, Some(c)) => {
+                translation.fill(0.0);
+                for j in 0..n {
+                    let wyj = a * row(c, j);
+                    for i in 0..3 {
+                        rotation[i * n + j] = wyj[i];
+                    }
+                }
+            }
+            (Some(s), None) => {
+                for j in 0..n {
+                    let asj = a * row(s, j);
+                    let wyj = r0.cross(&asj);
+                    for i in 0..3 {
+                        translation[i * n + j] = asj[i];
+                        rotation[i * n + j] = wyj[i];
+                    }
+                }
+            }
+            (None, None) => {
+                translation.fill(0.0);
+                rotation.fill(0.0);
             }
         }
         out.couplings(self.dim, n, translation, rotation);
+    }
+
+    /// The rows of S for a kernel to multiply, `None` when S vanished (`vanished.rs`).
+    #[inline(always)]
+    pub(crate) fn live_first_moment<'a>(&self, rows: &'a [f64]) -> Option<&'a [f64]> {
+        (!self.first_moment_vanished()).then_some(rows)
+    }
+
+    /// `S ẏ` from the rows of S (3n), zero without the products when S vanished.
+    #[inline(always)]
+    pub(crate) fn first_moment_times(&self, rows: &[f64], v: &[f64]) -> Vector3<f64> {
+        match self.live_first_moment(rows) {
+            Some(rows) => rows_dot_3(rows, self.n, v),
+            None => Vector3::zeros(),
+        }
     }
 
     /// The S rows (3 × n) of the moments just formed: the body's own for a linear body, FS0's
@@ -255,6 +312,9 @@ impl FlexibleBody {
         let n = self.n;
         let mut mb = self.m_u.xy();
         let mut s_yd = Vector2::zeros();
+        if self.first_moment_vanished() {
+            return (mb, s_yd);
+        }
         for c in 0..2 {
             let sr = &self.s[c * n..(c + 1) * n];
             mb[c] += dot(sr, y);
@@ -290,11 +350,8 @@ impl FlexibleBody {
         let (wb, ab) = body_frame_motion(st);
         let moments = self.shape_moments(y, yd, ws);
         let (mb, p) = (moments.mb, moments.p);
-        let s_yd = rows_dot_3(
-            self.first_moment_rows(moments.axial.is_some(), &ws.sy),
-            n,
-            yd,
-        );
+        let s_yd =
+            self.first_moment_times(self.first_moment_rows(moments.axial.is_some(), &ws.sy), yd);
         let mut lam = Matrix3::zeros(); // lam[(b, c)] = (L_b)_c · ẏ
         let mut h_yd = 0.0;
         if n > 0 {
@@ -333,7 +390,16 @@ impl FlexibleBody {
         let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
         let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
-        self.write_shape_couplings(&st.a, &st.r0, s_rows, &ws.c, &mut ws.ax, &mut ws.wy, out);
+        let s_rows = self.live_first_moment(s_rows);
+        self.write_shape_couplings(
+            &st.a,
+            &st.r0,
+            s_rows,
+            Some(&ws.c),
+            &mut ws.ax,
+            &mut ws.wy,
+            out,
+        );
         out.modal_rows(self.dim, modal_mass.unwrap_or(&yy), &qy);
         ws.qy = qy;
         ws.yy = yy;
@@ -364,12 +430,12 @@ impl FlexibleBody {
                 for j in 0..n {
                     qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
                 }
-                modal_inertia_forces(wb, ab, &self.s, &ws.l, qy);
+                modal_inertia_forces(wb, ab, self.live_first_moment(&self.s), &ws.l, qy);
                 Some(&self.m_yy)
             }
             Some(ax) => {
                 self.fs_gyroscopic(wb, &ax.axis, yd, ws, qy);
-                modal_inertia_forces(wb, ab, &ws.sy, &ws.l, qy);
+                modal_inertia_forces(wb, ab, Some(&ws.sy), &ws.l, qy);
                 self.fs_add_c_term(ws, &ax.axis, qy);
                 self.fs_yy(ws, &ax.axis, 1.0, &self.m_yy, yy);
                 None
@@ -460,12 +526,19 @@ impl FlexibleBody {
         let h = &ws.l[..n];
         let c3 = &ws.c[..n];
         let g3yd = &ws.u[2 * n..3 * n];
-        for j in 0..n {
-            let asj = a * Vector2::new(self.s[j], self.s[n + j]);
-            let wyj = r0.x * asj.y - r0.y * asj.x + c3[j];
-            write_planar_coupling(m_out, j, asj.x, asj.y, wyj);
-            let sta = self.s[j] * ab.x + self.s[n + j] * ab.y;
-            q_out[3 + j] = w * w * h[j] - 2.0 * w * g3yd[j] - sta;
+        if self.first_moment_vanished() {
+            for j in 0..n {
+                write_planar_coupling(m_out, j, 0.0, 0.0, c3[j]);
+                q_out[3 + j] = w * w * h[j] - 2.0 * w * g3yd[j];
+            }
+        } else {
+            for j in 0..n {
+                let asj = a * Vector2::new(self.s[j], self.s[n + j]);
+                let wyj = r0.x * asj.y - r0.y * asj.x + c3[j];
+                write_planar_coupling(m_out, j, asj.x, asj.y, wyj);
+                let sta = self.s[j] * ab.x + self.s[n + j] * ab.y;
+                q_out[3 + j] = w * w * h[j] - 2.0 * w * g3yd[j] - sta;
+            }
         }
         // M_yy is row-major: the column-major view of it is its transpose.
         let m_yy = nalgebra::DMatrixView::from_slice(&self.m_yy, n, n);

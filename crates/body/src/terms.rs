@@ -176,7 +176,7 @@ impl FlexibleBody {
             return self.linear_moments::<0>(y, 3, &mut ws.u, &mut ws.l);
         }
         let (mut mb, mut p) = (self.m_u, self.p_u);
-        if order >= 1 {
+        if order >= 1 && !self.first_moment_vanished() {
             for c in 0..3 {
                 mb[c] += dot(&self.s[c * n..(c + 1) * n], y);
             }
@@ -215,7 +215,7 @@ impl FlexibleBody {
         let need_u = n > 0 && k >= 2;
         let (mb, p) = self.truncated_moments(y, k, ws);
         let s_yd = if n > 0 && (k >= 1 || cpl) {
-            crate::shape::rows_dot_3(&self.s, n, yd)
+            self.first_moment_times(&self.s, yd)
         } else {
             Vector3::zeros()
         };
@@ -240,7 +240,9 @@ impl FlexibleBody {
         let s_kept = if cpl { s_yd } else { Vector3::zeros() };
         let qt = -wb.cross(&wb.cross(&mb)) - wb.cross(&(s_kept + mb_dot)) - self.mass * ab;
         let mut qr = -wb.cross(&(io * wb)) - io_dot * wb - mb.cross(&ab);
-        if cpl && n > 0 {
+        // C(y) = C(Sᵃ) = 0 at order 0 when the skew part of Sᵃ vanished (`vanished.rs`).
+        let c_vanished = k == 0 && self.vanished.skew_first_moments;
+        if cpl && n > 0 && !c_vanished {
             // C(y) rows into ws.c, then C ẏ.
             c_rows(n, if k >= 2 { &ws.l } else { &self.sa }, &mut ws.c);
             if k == 1 {
@@ -279,11 +281,14 @@ impl FlexibleBody {
             _ => Some(&ws.l),
         };
         let mut qy = std::mem::take(&mut ws.qy);
+        let s_live = self.live_first_moment(&self.s);
         for j in 0..n {
             let mut v = 0.0;
             if let Some(l) = li {
                 v -= centrifugal(&om, l, n, j);
-                v -= self.s[j] * ab.x + self.s[n + j] * ab.y + self.s[2 * n + j] * ab.z;
+                if let Some(s) = s_live {
+                    v -= s[j] * ab.x + s[n + j] * ab.y + s[2 * n + j] * ab.z;
+                }
             }
             if gyro {
                 v -= 2.0 * (wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j]);
@@ -291,7 +296,8 @@ impl FlexibleBody {
             qy[j] = v;
         }
         if cpl {
-            self.write_shape_couplings(&st.a, &st.r0, &self.s, &ws.c, &mut ws.ax, &mut ws.wy, out);
+            let c = (!c_vanished).then_some(&ws.c[..]);
+            self.write_shape_couplings(&st.a, &st.r0, s_live, c, &mut ws.ax, &mut ws.wy, out);
         } else {
             ws.ax.fill(0.0);
             ws.wy.fill(0.0);
@@ -380,17 +386,22 @@ impl FlexibleBody {
             return;
         }
         let g3yd = &ws.u[2 * n..3 * n];
+        let s_live = self.live_first_moment(&self.s);
         for j in 0..n {
-            if cpl {
-                let asj = a * Vector2::new(self.s[j], self.s[n + j]);
-                let wyj = r0.x * asj.y - r0.y * asj.x + ws.c[j];
-                write_planar_coupling(m_out, j, asj.x, asj.y, wyj);
-            } else {
-                write_planar_coupling(m_out, j, 0.0, 0.0, 0.0);
+            match (cpl, s_live) {
+                (true, Some(s)) => {
+                    let asj = a * Vector2::new(s[j], s[n + j]);
+                    let wyj = r0.x * asj.y - r0.y * asj.x + ws.c[j];
+                    write_planar_coupling(m_out, j, asj.x, asj.y, wyj);
+                }
+                (true, None) => write_planar_coupling(m_out, j, 0.0, 0.0, ws.c[j]),
+                (false, _) => write_planar_coupling(m_out, j, 0.0, 0.0, 0.0),
             }
             q_out[3 + j] = if k >= 1 {
-                let sta = self.s[j] * ab.x + self.s[n + j] * ab.y;
-                w * w * ws.l[j] - sta
+                match s_live {
+                    Some(s) => w * w * ws.l[j] - (s[j] * ab.x + s[n + j] * ab.y),
+                    None => w * w * ws.l[j],
+                }
             } else {
                 0.0
             } - 2.0 * w * g3yd[j];

@@ -97,3 +97,50 @@ impl Probe {
         }
     }
 }
+
+/// The imported steel bar of hex8 bricks (CalculiX export of `crates/fe/tests/data/import`,
+/// 0.2 × 0.02 × 0.02 m): clamped at its root face with static modes of its tip face (RBE2
+/// spiders), or free-free (`free_free`: the six rigid-body modes removed, so the Buckens
+/// conditions hold), with 4 normal modes.
+pub fn imported_bar(free_free: bool) -> flexmbd_fe::ReducedBody {
+    use flexmbd_fe::imported::{
+        Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection, Xyz,
+        import_body,
+    };
+    let plane = |name: &str, x: f64| InterfaceSpec {
+        name: name.into(),
+        nodes: NodeSelection::Plane {
+            point: Xyz([x, 0.0, 0.0]),
+            normal: Xyz([1.0, 0.0, 0.0]),
+            tolerance: 1e-6,
+        },
+        coupling: Coupling::Rbe2,
+    };
+    let (frame, boundary) = if free_free {
+        (ImportedFrame::FreeFree, vec![])
+    } else {
+        (ImportedFrame::Interface("root".into()), vec!["tip".into()])
+    };
+    let spec = ImportedBodySpec {
+        source: ImportSource::Calculix {
+            input: "bar_mesh.inp".into(),
+            dofs: "bar_free.dof".into(),
+            stiffness: "bar_free.sti".into(),
+            mass: "bar_free.mas".into(),
+        },
+        options: Default::default(),
+        interfaces: vec![plane("root", 0.0), plane("tip", 0.2)],
+        frame,
+        boundary,
+        normal_modes: 4,
+        mode_selection: Default::default(),
+        mode_candidates: None,
+        pilot_duration: None,
+        pilot: None,
+        damping: Default::default(),
+    };
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fe/tests/data/import");
+    import_body(&spec, &data, "bar")
+        .expect("the fixture's own export reduces")
+        .body
+}

@@ -9,6 +9,7 @@ pub mod iltis;
 pub mod inertia_cost;
 pub mod mesh_size;
 pub mod reference_conditions;
+pub mod reference_operations;
 pub mod solid_mesh;
 pub mod spin_up;
 pub mod spin_up_solid;
