@@ -14,7 +14,8 @@
 //!   `X ← X − R (Rᵀ M R)⁻¹ Rᵀ M X`,
 //!   R the rigid-body modes in FE DOFs (2D: u_x, u_y and θ_z about the frame's origin, node
 //!   rows (1, 0, 0), (0, 1, 0), (−y, x, 1); 3D: the three translations and the three
-//!   rotations θ_a, node rows (e_a × r̄, e_a)). The projection subtracts from each mode a
+//!   rotations θ_a, node rows (e_a × r̄, e_a); [`rigid_modes_of_dofs`] for any layout of
+//!   DOFs, such as an imported body's retained coordinates, `crate::imported::reduction`). The projection subtracts from each mode a
 //!   rigid motion, so X spans the same deformations modulo rigid motion and the strain is
 //!   unchanged: K R = 0, hence K_ff = XᵀKX and the damping on it are those of the
 //!   interface-fixed basis, while M_ff = XᵀMX is formed anew (it loses the rigid part,
