@@ -195,6 +195,7 @@ fn routes_agree_on_an_imported_solid() {
         options: Default::default(),
         interfaces: vec![plane("root", 0.0), plane("tip", 0.2)],
         frame: ImportedFrame::Interface("root".into()),
+        reference: Default::default(),
         boundary: vec!["tip".into()],
         normal_modes: 4,
         mode_selection: Default::default(),

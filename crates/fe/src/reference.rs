@@ -14,7 +14,8 @@
 //!   `X ← X − R (Rᵀ M R)⁻¹ Rᵀ M X`,
 //!   R the rigid-body modes in FE DOFs (2D: u_x, u_y and θ_z about the frame's origin, node
 //!   rows (1, 0, 0), (0, 1, 0), (−y, x, 1); 3D: the three translations and the three
-//!   rotations θ_a, node rows (e_a × r̄, e_a)). The projection subtracts from each mode a
+//!   rotations θ_a, node rows (e_a × r̄, e_a); [`rigid_modes_of_dofs`] for any layout of
+//!   DOFs, such as an imported body's retained coordinates, `crate::imported::reduction`). The projection subtracts from each mode a
 //!   rigid motion, so X spans the same deformations modulo rigid motion and the strain is
 //!   unchanged: K R = 0, hence K_ff = XᵀKX and the damping on it are those of the
 //!   interface-fixed basis, while M_ff = XᵀMX is formed anew (it loses the rigid part,
@@ -41,12 +42,13 @@
 //! (the absolute formulation does this for any node; the relative one needs a joint at a
 //! node with zero rows to hang a body from its parent and refuses such a body by name).
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Vector3};
 use serde::{Deserialize, Serialize};
 use sprs::CsMat;
 
 use crate::assembly::Mesh;
 use crate::error::FeError;
+use crate::reduced::Dof;
 use crate::sparse_reduction::{sparse_times_dense, symmetrise};
 use flexmbd_core::{Dim, InvalidValue};
 
@@ -73,34 +75,62 @@ impl ReferenceCondition {
 /// The rigid-body modes R (N × 3 in 2D, N × 6 in 3D) of `mesh` in its FE DOFs, about the
 /// body frame's origin: translations along the body axes, then rotations about them.
 pub fn rigid_modes(mesh: &Mesh) -> DMatrix<f64> {
-    let d = mesh.dofs_per_node();
-    let nr = mesh.dim.n_rigid();
-    let mut r = DMatrix::zeros(mesh.n_dofs(), nr);
-    for (k, p) in mesh.nodes.iter().enumerate() {
-        let o = k * d;
-        match mesh.dim {
-            Dim::Planar => {
+    match mesh.dim {
+        Dim::Planar => {
+            let d = mesh.dofs_per_node();
+            let mut r = DMatrix::zeros(mesh.n_dofs(), 3);
+            for (k, p) in mesh.nodes.iter().enumerate() {
+                let o = k * d;
                 r[(o, 0)] = 1.0;
                 r[(o + 1, 1)] = 1.0;
                 r[(o, 2)] = -p.y;
                 r[(o + 1, 2)] = p.x;
                 r[(o + 2, 2)] = 1.0;
             }
-            Dim::Spatial => {
-                for a in 0..3 {
-                    r[(o + a, a)] = 1.0;
-                    let mut e = nalgebra::Vector3::zeros();
-                    e[a] = 1.0;
-                    let u = e.cross(p);
-                    for b in 0..3 {
-                        r[(o + b, 3 + a)] = u[b];
-                    }
-                    r[(o + 3 + a, 3 + a)] = 1.0;
-                }
-            }
+            r
+        }
+        Dim::Spatial => rigid_modes_of_dofs(mesh.nodes.iter().flat_map(|p| {
+            [Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz].map(|dof| (*p, dof))
+        })),
+    }
+}
+
+/// The six rigid-body modes (3D) of any DOF layout, one row per `(position, dof)` in order
+/// (an imported body's retained coordinates: FE DOFs of nodes, and interface points' six):
+/// [`rigid_row`] of each.
+pub fn rigid_modes_of_dofs(dofs: impl IntoIterator<Item = (Vector3<f64>, Dof)>) -> DMatrix<f64> {
+    let rows: Vec<[f64; 6]> = dofs
+        .into_iter()
+        .map(|(p, dof)| rigid_row(&p, dof))
+        .collect();
+    DMatrix::from_fn(rows.len(), 6, |i, j| rows[i][j])
+}
+
+/// The row of R (3D) of one DOF of a point at `p` (body components, about the frame's
+/// origin): columns the translations t_a, then the rotations θ_a, whose displacement at
+/// `p` is e_a × p and whose rotation is e_a. A translational DOF u_b reads (e_b; (e_a × p)_b),
+/// a rotational one θ_b reads (0; e_b).
+pub fn rigid_row(p: &Vector3<f64>, dof: Dof) -> [f64; 6] {
+    let mut row = [0.0; 6];
+    let (rotational, b) = match dof {
+        Dof::Ux => (false, 0),
+        Dof::Uy => (false, 1),
+        Dof::Uz => (false, 2),
+        Dof::Rx => (true, 0),
+        Dof::Ry => (true, 1),
+        Dof::Rz => (true, 2),
+    };
+    if rotational {
+        row[3 + b] = 1.0;
+    } else {
+        row[b] = 1.0;
+        for a in 0..3 {
+            let mut e = Vector3::zeros();
+            e[a] = 1.0;
+            row[3 + a] = e.cross(p)[b];
         }
     }
-    r
+    row
 }
 
 /// The Buckens basis of `x` (module documentation): X − R (RᵀMR)⁻¹ RᵀMX, and its mass

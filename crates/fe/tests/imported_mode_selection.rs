@@ -109,6 +109,7 @@ fn imported_spec(
         options: ImportOptions::default(),
         interfaces,
         frame: ImportedFrame::Interface(frame.into()),
+        reference: Default::default(),
         boundary: boundary.iter().map(|b| b.to_string()).collect(),
         normal_modes,
         mode_selection: selection,
@@ -494,6 +495,7 @@ fn bad_selection_input_is_refused_by_name() {
 fn free_free_participation_keeps_the_modes_the_centrifugal_loads_excite() {
     let free = |selection, n, candidates| ImportedBodySpec {
         frame: ImportedFrame::FreeFree,
+        reference: Default::default(),
         interfaces: Vec::new(),
         boundary: Vec::new(),
         mode_candidates: candidates,
@@ -565,6 +567,7 @@ fn free_free_participation_keeps_the_modes_the_centrifugal_loads_excite() {
 fn free_free_ritz_vectors_reproduce_the_inertia_relief_response() {
     let free = |selection, n| ImportedBodySpec {
         frame: ImportedFrame::FreeFree,
+        reference: Default::default(),
         interfaces: vec![
             InterfaceSpec {
                 coupling: Coupling::Rbe3,

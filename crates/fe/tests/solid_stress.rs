@@ -63,6 +63,7 @@ fn cantilever_bending_stress_matches_the_beam_formula() {
             interface("tip", Coupling::Rbe3),
         ],
         frame: ImportedFrame::Interface("root".into()),
+        reference: Default::default(),
         boundary: vec!["tip".into()],
         normal_modes: 2,
         mode_selection: Default::default(),

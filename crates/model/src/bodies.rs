@@ -30,9 +30,10 @@ pub struct PreparedBody {
     pub flexible: bool,
     /// For each marker of the body, the FE node it sits on (flexible bodies only).
     pub marker_nodes: Vec<Option<usize>>,
-    /// The FE node the floating frame is attached to (flexible beams only): the clamped
-    /// node, the chord frame's pinned node, or the first node of an explicit DOF set;
-    /// `None` for a beam with `reference: Buckens` (its frame is attached to no node).
+    /// The FE node the floating frame is attached to (flexible bodies only): a beam's clamped
+    /// node, chord frame's pinned node, or first node of an explicit DOF set, an imported
+    /// body's frame interface point; `None` with `reference: Buckens` or `frame: FreeFree`
+    /// (the frame is attached to no node).
     pub reference_node: Option<usize>,
     /// The outer surface of an imported body's FE elements, triangles of `nodes` indices
     /// (flexmbd_fe::imported::surface), to draw it; empty for other bodies.
@@ -184,7 +185,9 @@ impl Scene {
                     .join(", ")
             )
         })?;
-        let reference_node = match (&spec.frame, flexible) {
+        // A Buckens frame is the linearised mean axes: attached to no interface point.
+        let interface_fixed = spec.reference == flexmbd_fe::ReferenceCondition::InterfaceFixed;
+        let reference_node = match (&spec.frame, flexible && interface_fixed) {
             (ImportedFrame::Interface(frame), true) => {
                 imported.interfaces.iter().position(|(n, _)| n == frame)
             }

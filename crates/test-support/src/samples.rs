@@ -138,6 +138,7 @@ pub fn imported_bar(free_free: bool) -> flexmbd_fe::ReducedBody {
         pilot_duration: None,
         pilot: None,
         damping: Default::default(),
+        reference: Default::default(),
     };
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fe/tests/data/import");
     import_body(&spec, &data, "bar")

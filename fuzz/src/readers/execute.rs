@@ -187,6 +187,7 @@ pub fn reduction_spec(reduction: Reduction) -> ImportedBodySpec {
             plane_x("tip", 0.2, Coupling::Rbe3),
         ],
         frame,
+        reference: Default::default(),
         boundary,
         normal_modes: 4,
         mode_selection: Default::default(),

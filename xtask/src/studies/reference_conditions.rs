@@ -3,7 +3,7 @@
 //! absolute formulation (the relative one refuses a jointed Buckens body). The flexible
 //! pendulum: each basis's tip error against its own 16-mode run and the gap between the
 //! two; the 2D spin-up beam (FNL1): error against the ANCF cable, coordinates, Newton
-//! iterations and CPU time.
+//! iterations and CPU time; an imported solid's pendulum (`imported`).
 
 use flexmbd::ancf::{CableSpec, History as CableHistory, run_spin_up};
 use flexmbd::core::Dim;
@@ -15,6 +15,7 @@ use crate::Settings;
 use crate::report::Report;
 
 mod free_beam;
+mod imported;
 
 const CONDITIONS: [&str; 2] = ["InterfaceFixed", "Buckens"];
 
@@ -174,5 +175,6 @@ pub fn run(settings: &Settings, report: &mut Report) -> StudyResult {
          and two constraints more).\n",
     );
     super::reference_operations::table(report, &runs)?;
-    free_beam::section(report)
+    free_beam::section(report)?;
+    imported::section(settings, report)
 }

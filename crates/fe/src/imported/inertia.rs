@@ -93,8 +93,11 @@ pub fn reduced_body(
             .collect(),
         selection: spec.mode_selection,
         // Free-free elastic modes are M-orthogonal to the rigid-body modes: the Buckens
-        // conditions hold exactly (crate::reference).
-        reference: if modes.frame_point.is_none() {
+        // conditions hold exactly (crate::reference), as they do after the projection of a
+        // clamped frame's modes (`reference: Buckens`, super::reduction).
+        reference: if modes.frame_point.is_none()
+            || spec.reference == crate::ReferenceCondition::Buckens
+        {
             crate::ReferenceCondition::Buckens
         } else {
             crate::ReferenceCondition::InterfaceFixed

@@ -253,6 +253,13 @@ pub struct ImportedBodySpec {
     pub interfaces: Vec<InterfaceSpec>,
     /// The reference frame.
     pub frame: ImportedFrame,
+    /// The floating frame's reference condition with `frame: Interface(NAME)` (default
+    /// `InterfaceFixed`: the modes vanish on the interface point's six coordinates;
+    /// `Buckens`: they are made M-orthogonal to the rigid-body motions, [`crate::reference`]).
+    /// A `FreeFree` body's modes satisfy the Buckens conditions already: either value is
+    /// accepted there and changes nothing.
+    #[serde(default)]
+    pub reference: crate::ReferenceCondition,
     /// Interfaces whose six coordinates get Craig–Bampton static modes (a clamped frame
     /// only); they come first in the mode matrix, six per interface.
     #[serde(default)]

@@ -7,18 +7,24 @@
 //! - or **free-free**: the 6 + n_d lowest modes of (K̃, M̃), of which the six lowest must be
 //!   rigid-body modes (|ω²| below 1e-6 of the first elastic ω²) and are dropped.
 //!
+//! A clamped frame with `reference: Buckens` then has its modes projected M̃-orthogonally
+//! off the rigid-body modes of the retained coordinates ([`retained_rigid_modes`]) by
+//! [`crate::reference::buckens_basis`], the beams' projection: X̃ ← X̃ − R̃ (R̃ᵀM̃R̃)⁻¹ R̃ᵀM̃X̃.
+//! The frame point's six rows are then no longer zero.
+//!
 //! No dense matrix larger than Ñ × n is formed.
 
 use nalgebra::DMatrix;
 use sprs::CsMat;
 
 use super::interfaces::{ResolvedInterface, RetainedMap};
-use super::{ImportedBodySpec, ImportedFrame, invalid, selection};
+use super::{ImportedBodySpec, ImportedFrame, POINT_DOFS, invalid, selection};
 use crate::assembly::DofSets;
 use crate::craig_bampton::Reduction;
 use crate::error::FeError;
 use crate::import::FeModel;
 use crate::modal::Eigenpairs;
+use crate::reference::{self, ReferenceCondition};
 use crate::selection::ModeSelection;
 use crate::sparse_eigen::{SparseEigenOptions, lowest_modes};
 use crate::sparse_reduction::{
@@ -118,7 +124,12 @@ pub fn reduce(
         }
         ImportedFrame::Interface(name) => {
             let frame = point(name).unwrap_or_default();
-            let red = clamped(&kt, &mt, model, map, frame, &boundary_points, spec, body)?;
+            let mut red = clamped(&kt, &mt, model, map, frame, &boundary_points, spec, body)?;
+            if spec.reference == ReferenceCondition::Buckens {
+                // The same deformations modulo rigid motion: K_ff stays (K̃ R̃ = 0).
+                let r = retained_rigid_modes(model, interfaces, map);
+                red.x = reference::buckens_basis(&red.x, &mt, &r, body)?.0;
+            }
             (red.x, red.k_ff, red.omega_sq, Some(frame))
         }
     };
@@ -129,6 +140,31 @@ pub fn reduce(
         frame_point,
         boundary_points,
     })
+}
+
+/// The six rigid-body modes R̃ on the retained coordinates ũ ([`reference::rigid_row`] of
+/// every independent FE DOF at its node, and of every interface point's six coordinates at
+/// the point). Both couplings carry a rigid motion exactly (an RBE2 spider by construction;
+/// an RBE3 point at its nodes' centroid takes their mean translation and, since
+/// Σ d_s × (θ × d_s) = J θ, their rotation), so T R̃ is the FE model's rigid-body modes
+/// and X̃ M̃-orthogonal to R̃ makes X = T X̃ M-orthogonal to them.
+pub fn retained_rigid_modes(
+    model: &FeModel,
+    interfaces: &[ResolvedInterface],
+    map: &RetainedMap,
+) -> DMatrix<f64> {
+    let mut dofs = vec![(nalgebra::Vector3::zeros(), crate::reduced::Dof::Ux); map.n_retained()];
+    for (row, d) in model.dofs.iter().enumerate() {
+        if let Some(c) = map.independent[row] {
+            dofs[c] = (model.mesh.nodes.positions[d.node], d.dof);
+        }
+    }
+    for (p, itf) in interfaces.iter().enumerate() {
+        for (c, dof) in POINT_DOFS.into_iter().enumerate() {
+            dofs[map.point_start(p) + c] = (itf.point, dof);
+        }
+    }
+    reference::rigid_modes_of_dofs(dofs)
 }
 
 /// Tᵀ A T (sparse), symmetrised exactly: (P + Pᵀ)/2 with P the product, so the pattern
