@@ -18,7 +18,7 @@
 //!   §4.3 verbatim; any other non-zero row (a child hanging from a node outside the
 //!   boundary set) is carried the same way;
 //! - the frame of a child hung at a node Q that moves with the child's *own* modes (a beam
-//!   with `reference: Buckens`, whose floating frame is the linearised mean axes and sits
+//!   or an imported body with `reference: Buckens`, whose floating frame is the linearised mean axes and sits
 //!   at no node) is placed by the inverse node chain, J = B ∘ node_Q(y) solved for B:
 //!   revolutes about the node axes by −X^r_{Q,a} y in reverse order (when the joint
 //!   transmits rotations or is driven), the offset −r̄_Q, then prismatics along the child's
@@ -34,7 +34,7 @@
 //! reached through one of the joints to bodies already in the tree, preferring (1)
 //! joints whose child-side marker can carry the child's frame (for a flexible child:
 //! a node where every mode row the joint transmits is zero, i.e. the frame's reference
-//! node), (2) joints with degrees of freedom, (3) scene order. A Buckens beam, which no
+//! node), (2) joints with degrees of freedom, (3) scene order. A Buckens body, which no
 //! marker carries directly, joins through its inverse node chain, in a layer of its own
 //! when no body of the layer can join directly. All remaining joints are
 //! cut into constraints (§4.6). A body with no joints at all is a floating base
@@ -352,7 +352,7 @@ impl Topology {
     }
 
     /// The frame of a child whose marker Q (at FE node `cs.node`) moves with the child's own
-    /// modes (a Buckens beam), after the joint frame J at Q: the inverse of the node chain
+    /// modes (a Buckens body), after the joint frame J at Q: the inverse of the node chain
     /// J = B ∘ node_Q(y) of [`node_elems`](Self::node_elems). With C = A_J0ᵀ A_B0 the
     /// t = 0 turn from J's axes to the child's,
     ///
@@ -586,10 +586,10 @@ impl Topology {
 /// prefers `Directly` to `InverseChain` (ordered so).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) enum Carriage {
-    /// It cannot: a flexible child whose marker moves with its modes, not a Buckens beam.
+    /// It cannot: a flexible child whose marker moves with its modes, not a Buckens body.
     No,
     /// Through the inverse node chain of the child's own modes
-    /// (`Topology::inverse_node_elems`): a Buckens beam, whose every node moves with its
+    /// (`Topology::inverse_node_elems`): a Buckens body, whose every node moves with its
     /// modes.
     InverseChain,
     /// At the marker: a rigid child, or a node where every mode row the joint transmits is
@@ -644,10 +644,14 @@ fn carriage(
     }
 }
 
-/// Is body `b` a beam with `reference: Buckens`?
+/// Is body `b` a beam or an imported body with `reference: Buckens`?
 fn is_buckens(scene: &Scene, b: usize) -> bool {
-    matches!(&scene.bodies[b].model, flexmbd_model::BodyModel::Beam(spec)
-        if spec.reference == flexmbd_model::ReferenceCondition::Buckens)
+    use flexmbd_model::{BodyModel, ReferenceCondition::Buckens};
+    match &scene.bodies[b].model {
+        BodyModel::Beam(spec) => spec.reference == Buckens,
+        BodyModel::Imported(spec) => spec.reference == Buckens,
+        _ => false,
+    }
 }
 
 /// The spanning tree chosen breadth-first from the ground (see the module doc).
