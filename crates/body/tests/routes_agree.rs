@@ -172,40 +172,7 @@ fn gravity_and_elastic_rows() {
 /// with negative node weights, and both routes agree on it as on any cloud.
 #[test]
 fn routes_agree_on_an_imported_solid() {
-    use flexmbd_fe::imported::{
-        Coupling, ImportSource, ImportedBodySpec, ImportedFrame, InterfaceSpec, NodeSelection, Xyz,
-        import_body,
-    };
-    let plane = |name: &str, x: f64| InterfaceSpec {
-        name: name.into(),
-        nodes: NodeSelection::Plane {
-            point: Xyz([x, 0.0, 0.0]),
-            normal: Xyz([1.0, 0.0, 0.0]),
-            tolerance: 1e-6,
-        },
-        coupling: Coupling::Rbe2,
-    };
-    let spec = ImportedBodySpec {
-        source: ImportSource::Calculix {
-            input: "bar_mesh.inp".into(),
-            dofs: "bar_free.dof".into(),
-            stiffness: "bar_free.sti".into(),
-            mass: "bar_free.mas".into(),
-        },
-        options: Default::default(),
-        interfaces: vec![plane("root", 0.0), plane("tip", 0.2)],
-        frame: ImportedFrame::Interface("root".into()),
-        reference: Default::default(),
-        boundary: vec!["tip".into()],
-        normal_modes: 4,
-        mode_selection: Default::default(),
-        mode_candidates: None,
-        pilot_duration: None,
-        pilot: None,
-        damping: Default::default(),
-    };
-    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fe/tests/data/import");
-    let rb = import_body(&spec, &data, "bar").unwrap().body;
+    let rb = flexmbd_test_support::samples::imported_bar(false);
     assert!(rb.cloud.weights.iter().any(|w| *w < 0.0));
     let n = rb.n_modes();
     let mut body = FlexibleBody::new(&rb).unwrap();

@@ -204,6 +204,31 @@ fn relative(mut scene: Scene) -> Scene {
     scene
 }
 
+/// The largest `gap` between the absolute run of `scene(h)` and its relative twin at h = 1,
+/// 0.5, 0.25 ms, printed under `what`: both formulations run the same model, so the gap is the
+/// integrators' and falls as h² (each halving cuts it by more than 3.5); the finest stays
+/// below `finest` (m).
+fn agrees_to_order_h2(
+    what: &str,
+    scene: impl Fn(f64) -> Scene,
+    gap: impl Fn(&flexmbd::History, &flexmbd::History) -> f64,
+    finest: f64,
+) {
+    let gaps: Vec<f64> = [1e-3, 5e-4, 2.5e-4]
+        .iter()
+        .map(|&h| gap(&run_ok(&scene(h)), &run_ok(&relative(scene(h)))))
+        .collect();
+    eprintln!(
+        "{what}: relative vs absolute Buckens, gap at h = 1, 0.5, 0.25 ms: {:?} m",
+        gaps.iter().map(|g| format!("{g:.3e}")).collect::<Vec<_>>()
+    );
+    assert!(gaps[2] < finest, "{what}: {gaps:?}");
+    assert!(
+        gaps[0] / gaps[1] > 3.5 && gaps[1] / gaps[2] > 3.5,
+        "{what}: not O(h²): {gaps:?}"
+    );
+}
+
 #[test]
 fn the_relative_buckens_pendulum_agrees_with_the_absolute_one() {
     // The relative formulation hangs the Buckens bar from the pin through the inverse node
@@ -212,22 +237,8 @@ fn the_relative_buckens_pendulum_agrees_with_the_absolute_one() {
     // same model and their gap is the integrators' O(h²). Measured (tip, m, h = 1, 0.5,
     // 0.25 ms, 1 s): 4 modes 9.07e-6, 2.27e-6, 5.66e-7.
     for modes in [1, 4, 8] {
-        let gaps: Vec<f64> = [1e-3, 5e-4, 2.5e-4]
-            .iter()
-            .map(|&h| {
-                let scene = pendulum(modes, "Buckens", h);
-                tip_gap(&run_ok(&scene), &run_ok(&relative(scene)))
-            })
-            .collect();
-        eprintln!(
-            "{modes} modes: relative vs absolute Buckens, tip gap at h = 1, 0.5, 0.25 ms: {:?} m",
-            gaps.iter().map(|g| format!("{g:.3e}")).collect::<Vec<_>>()
-        );
-        assert!(gaps[2] < 1e-6, "{modes} modes: {gaps:?}");
-        assert!(
-            gaps[0] / gaps[1] > 3.5 && gaps[1] / gaps[2] > 3.5,
-            "{modes} modes: not O(h²): {gaps:?}"
-        );
+        let scene = |h: f64| pendulum(modes, "Buckens", h);
+        agrees_to_order_h2(&format!("{modes} modes"), scene, tip_gap, 1e-6);
     }
 }
 
@@ -278,19 +289,7 @@ fn the_relative_buckens_pendulum_3d_agrees_with_the_absolute_one() {
             })
             .fold(0.0, f64::max)
     };
-    let gaps: Vec<f64> = [1e-3, 5e-4, 2.5e-4]
-        .iter()
-        .map(|&h| gap(&run_ok(&scene(h)), &run_ok(&relative(scene(h)))))
-        .collect();
-    eprintln!(
-        "3D pendulum: relative vs absolute Buckens, tip gap at h = 1, 0.5, 0.25 ms: {:?} m",
-        gaps.iter().map(|g| format!("{g:.3e}")).collect::<Vec<_>>()
-    );
-    assert!(gaps[2] < 5e-6, "{gaps:?}");
-    assert!(
-        gaps[0] / gaps[1] > 3.5 && gaps[1] / gaps[2] > 3.5,
-        "{gaps:?}"
-    );
+    agrees_to_order_h2("3D pendulum", scene, gap, 5e-6);
 }
 
 #[test]
@@ -325,19 +324,7 @@ fn the_relative_buckens_four_bar_agrees_with_the_absolute_one() {
             .map(|k| (ax[k] - bx[k]).hypot(ay[k] - by[k]))
             .fold(0.0, f64::max)
     };
-    let gaps: Vec<f64> = [1e-3, 5e-4, 2.5e-4]
-        .iter()
-        .map(|&h| gap(&run_ok(&scene(h)), &run_ok(&relative(scene(h)))))
-        .collect();
-    eprintln!(
-        "double four-bar, 2 Buckens bars: relative vs absolute B0 gap at h = 1, 0.5, 0.25 ms: {:?} m",
-        gaps.iter().map(|g| format!("{g:.3e}")).collect::<Vec<_>>()
-    );
-    assert!(gaps[2] < 2e-6, "{gaps:?}");
-    assert!(
-        gaps[0] / gaps[1] > 3.5 && gaps[1] / gaps[2] > 3.5,
-        "{gaps:?}"
-    );
+    agrees_to_order_h2("double four-bar, 2 Buckens bars", scene, gap, 2e-6);
 }
 
 #[test]
