@@ -446,11 +446,11 @@ impl FlexibleBody {
     {
         let terms = self.terms;
         match (method, self.dim, self.fs.is_some()) {
-            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) if !terms.is_full() => {
+            (InertiaMethod::ShapeIntegrals, Dim::Planar, false) if !terms.is_full_or_o2_nv() => {
                 self.shape_2d_terms(state, terms, ws, out.m, out.q)
             }
             (InertiaMethod::ShapeIntegrals, Dim::Planar, false) => {
-                self.shape_2d(state, ws, out.m, out.q)
+                self.shape_2d(state, terms.velocity, ws, out.m, out.q)
             }
             (InertiaMethod::BMatrix, Dim::Planar, false) => {
                 self.bmatrix_2d(state, ws, out.m, out.q)
@@ -469,10 +469,10 @@ impl FlexibleBody {
     ) {
         let terms = self.terms;
         match (method, self.fs.is_some()) {
-            (InertiaMethod::ShapeIntegrals, false) if !terms.is_full() => {
+            (InertiaMethod::ShapeIntegrals, false) if !terms.is_full_or_o2_nv() => {
                 self.shape_3d_terms(state, terms, ws, out)
             }
-            (InertiaMethod::ShapeIntegrals, _) => self.shape_3d(state, ws, out),
+            (InertiaMethod::ShapeIntegrals, _) => self.shape_3d(state, terms.velocity, ws, out),
             (InertiaMethod::BMatrix, false) => self.bmatrix_3d(state, Linear, ws, out),
             (InertiaMethod::BMatrix, true) => {
                 let mut scratch = std::mem::take(&mut ws.points);

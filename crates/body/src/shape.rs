@@ -342,6 +342,7 @@ impl FlexibleBody {
     pub(crate) fn shape_3d<O: RelativeSink>(
         &self,
         st: &BodyState<'_>,
+        gyroscopic: bool,
         ws: &mut Workspace,
         out: &mut O,
     ) {
@@ -387,7 +388,8 @@ impl FlexibleBody {
         }
         let mut qy = std::mem::take(&mut ws.qy);
         let mut yy = std::mem::take(&mut ws.yy);
-        let modal_mass = self.shape_modal_terms(&wb, &ab, yd, &moments, ws, &mut qy, &mut yy);
+        let modal_mass =
+            self.shape_modal_terms(&wb, &ab, yd, gyroscopic, &moments, ws, &mut qy, &mut yy);
         c_rows(n, &ws.l, &mut ws.c);
         let s_rows = self.first_moment_rows(moments.axial.is_some(), &ws.sy);
         let s_rows = self.live_first_moment(s_rows);
@@ -415,6 +417,7 @@ impl FlexibleBody {
         wb: &Vector3<f64>,
         ab: &Vector3<f64>,
         yd: &[f64],
+        gyroscopic: bool,
         moments: &ShapeMoments,
         ws: &mut Workspace,
         qy: &mut [f64],
@@ -423,12 +426,16 @@ impl FlexibleBody {
         let n = self.n;
         match &moments.axial {
             None => {
-                // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ.
-                for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
-                    *g = dot(row, yd);
-                }
-                for j in 0..n {
-                    qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
+                // G(ω̄) ẏ = Σ_c ω̄_c G_c ẏ, unless dropped (`o2-nv`, terms.rs).
+                if gyroscopic {
+                    for (row, g) in self.g.chunks_exact(n).zip(ws.gy.iter_mut()) {
+                        *g = dot(row, yd);
+                    }
+                    for j in 0..n {
+                        qy[j] = wb.x * ws.gy[j] + wb.y * ws.gy[n + j] + wb.z * ws.gy[2 * n + j];
+                    }
+                } else {
+                    qy[..n].fill(0.0);
                 }
                 modal_inertia_forces(wb, ab, self.live_first_moment(&self.s), &ws.l, qy);
                 Some(&self.m_yy)
@@ -446,6 +453,7 @@ impl FlexibleBody {
     pub(crate) fn shape_2d<SM, SQ>(
         &self,
         st: &BodyState<'_>,
+        gyroscopic: bool,
         ws: &mut Workspace,
         m_out: &mut Matrix<f64, Dyn, Dyn, SM>,
         q_out: &mut Matrix<f64, Dyn, U1, SQ>,
@@ -468,12 +476,21 @@ impl FlexibleBody {
             let (t, rest) = ws.u.split_at_mut(n);
             let (g3y, rest) = rest.split_at_mut(n);
             let g3yd = &mut rest[..n];
-            for i in 0..n {
-                let mr = &self.m_yy[i * n..(i + 1) * n];
-                let gr = &g3[i * n..(i + 1) * n];
-                t[i] = dot(mr, y);
-                g3y[i] = dot(gr, y);
-                g3yd[i] = dot(gr, yd);
+            if gyroscopic {
+                for i in 0..n {
+                    let mr = &self.m_yy[i * n..(i + 1) * n];
+                    let gr = &g3[i * n..(i + 1) * n];
+                    t[i] = dot(mr, y);
+                    g3y[i] = dot(gr, y);
+                    g3yd[i] = dot(gr, yd);
+                }
+            } else {
+                // `o2-nv` (terms.rs): no −2ω G_3 ẏ in q_y.
+                for i in 0..n {
+                    t[i] = dot(&self.m_yy[i * n..(i + 1) * n], y);
+                    g3y[i] = dot(&g3[i * n..(i + 1) * n], y);
+                }
+                g3yd.fill(0.0);
             }
             let s11 = &self.sa[0..n]; // S¹ row 1: (3·0 + 0) n
             let s22 = &self.sa[4 * n..5 * n]; // S² row 2: (3·1 + 1) n

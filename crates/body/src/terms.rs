@@ -86,6 +86,22 @@ impl InertiaTerms {
         *self == Self::FULL
     }
 
+    /// Every term but the workless modal gyroscopic force (`o2-nv`): the relative set's full
+    /// kernels run it with that force switched off, cheaper than the truncated path there
+    /// (bench `inertia_terms_*`); the natural set's truncated kernels are the cheaper ones.
+    pub fn is_full_but_gyroscopic(&self) -> bool {
+        *self
+            == Self {
+                velocity: false,
+                ..Self::FULL
+            }
+    }
+
+    /// Run by the relative set's full kernels: every term, or every term but the gyroscopic.
+    pub(crate) fn is_full_or_o2_nv(&self) -> bool {
+        self.is_full() || self.is_full_but_gyroscopic()
+    }
+
     /// Refuse an order above 2, naming `field`.
     pub fn check(&self, field: &str) -> Result<(), InvalidValue> {
         if self.order > 2 {
