@@ -644,12 +644,16 @@ fn carriage(
     }
 }
 
-/// Is body `b` a beam or an imported body with `reference: Buckens`?
+/// Are body `b`'s modes mean-axis ones, so that its frame sits at no node: a beam or an
+/// imported body with `reference: Buckens`, or an imported body with `frame: FreeFree`, whose
+/// modes satisfy the conditions whatever its `reference` says.
 fn is_buckens(scene: &Scene, b: usize) -> bool {
-    use flexmbd_model::{BodyModel, ReferenceCondition::Buckens};
+    use flexmbd_model::{BodyModel, ImportedFrame, ReferenceCondition::Buckens};
     match &scene.bodies[b].model {
         BodyModel::Beam(spec) => spec.reference == Buckens,
-        BodyModel::Imported(spec) => spec.reference == Buckens,
+        BodyModel::Imported(spec) => {
+            spec.reference == Buckens || matches!(spec.frame, ImportedFrame::FreeFree)
+        }
         _ => false,
     }
 }
@@ -731,7 +735,7 @@ fn spanning_tree(
                 best.iter().enumerate().find(|(_, b)| b.is_some())
             {
                 return Err(ModelError::Unsupported(format!(
-                    "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent where the frame is attached: a beam's `frame: Clamped(node: ..)` at that marker's node, an imported body's `frame: Interface(NAME)` with the marker on that interface; a free-free body (`frame: FreeFree`) sits at no node: give it no joint to a parent (a body without joints floats), or use the absolute formulation",
+                    "{}: flexible body `{}` can only join the kinematic tree through joint `{}`, whose marker on it is not where its frame is attached; the relative formulation needs the joint to its parent where the frame is attached: a beam's `frame: Clamped(node: ..)` at that marker's node, an imported body's `frame: Interface(NAME)` with the marker on that interface, or a body whose frame sits at no node (`reference: Buckens`, an imported `frame: FreeFree`), hung through its own modes; otherwise give it no joint to a parent (a body without joints floats), or use the absolute formulation",
                     scene.origin, bodies[child].name, scene.joints[*ji].name
                 )));
             }
