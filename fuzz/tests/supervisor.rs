@@ -83,9 +83,13 @@ fn a_worker_in_the_models_directory_runs_a_scene_with_an_imported_body() {
         let o = s.execute(&scene, f);
         assert_eq!(o.class, Class::Ok, "{f:?}: {}", o.detail);
     }
+    // A directory of its own, empty: the temp dir itself may hold an `fe/` of somebody else's.
+    let empty = std::env::temp_dir().join(format!("flexmbd-fuzz-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
     let mut elsewhere = config(env!("CARGO_BIN_EXE_flexmbd-fuzz").into(), 60.0);
-    elsewhere.directory = Some(std::env::temp_dir());
+    elsewhere.directory = Some(empty.clone());
     let o = Supervisor::new(elsewhere).execute(&scene, FormulationKind::Absolute);
+    std::fs::remove_dir_all(&empty).unwrap();
     assert_eq!(o.class, Class::Refused, "{}", o.detail);
     assert!(o.detail.contains("cannot read"), "{}", o.detail);
 }
