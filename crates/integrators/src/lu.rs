@@ -14,8 +14,9 @@ use nalgebra::{DMatrix, DVector};
 /// instead of faer's kernels (measured crossover: see `benches/dense.rs`).
 pub const SMALL: usize = 12;
 
-/// Above [`SMALL`] and up to this many coordinates faer factorises and the solves run
-/// `llt_solve_mirrored` on the factor with Lᵀ mirrored into its upper triangle: two
+/// Above [`SMALL`] and up to this many coordinates faer factorises (below it the unblocked
+/// loops do) and the solves run `llt_solve_mirrored` on the factor with Lᵀ mirrored into
+/// its upper triangle and 1 / L_jj kept (no division in the sweeps' dependency chain): two
 /// column sweeps of n²/2 multiply–adds each, where faer's blocked triangular solves recurse
 /// into matrix–vector products whose set-up costs more than the arithmetic at these sizes.
 pub const MIRRORED_SOLVE: usize = 64;
@@ -138,7 +139,8 @@ pub struct DenseLlt {
     scratch: MemBuffer,
     /// Unblocked kernels (n ≤ [`SMALL`]).
     small: bool,
-    /// The mirrored solves (SMALL < n ≤ [`MIRRORED_SOLVE`]) and 1 / L_jj for them.
+    /// Faer's factor with the mirrored solves (SMALL < n ≤ [`MIRRORED_SOLVE`]); the small
+    /// path mirrors too. 1 / L_jj for the mirrored solves.
     mirrored: bool,
     inverse_diagonal: Vec<f64>,
 }
@@ -171,7 +173,9 @@ impl DenseLlt {
         self.l.as_mut_slice().copy_from_slice(a.as_slice());
         let n = self.n;
         if self.small {
-            return llt_unblocked(self.l.as_mut_slice(), n);
+            llt_unblocked(self.l.as_mut_slice(), n)?;
+            mirror_factor(self.l.as_mut_slice(), n, &mut self.inverse_diagonal);
+            return Ok(());
         }
         let mat = faer::MatMut::from_column_major_slice_mut(self.l.as_mut_slice(), n, n);
         let stack = MemStack::new(&mut self.scratch);
@@ -187,11 +191,7 @@ impl DenseLlt {
     pub fn solve_in_place(&mut self, b: &mut DVector<f64>) {
         use faer::linalg::cholesky::llt;
         let n = self.n;
-        if self.small {
-            llt_solve_unblocked(self.l.as_slice(), n, b.as_mut_slice());
-            return;
-        }
-        if self.mirrored {
+        if self.small || self.mirrored {
             llt_solve_mirrored(
                 self.l.as_slice(),
                 &self.inverse_diagonal,
@@ -274,9 +274,6 @@ fn lu_solve_unblocked(a: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
 }
 fn llt_unblocked(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefinite> {
     sized!(llt_unblocked_n, n, a)
-}
-fn llt_solve_unblocked(l: &[f64], n: usize, b: &mut [f64]) {
-    sized!(llt_solve_unblocked_n, n, l, b)
 }
 
 /// Right-looking LU with partial pivoting (LAPACK's getf2) of a column-major n × n slice:
@@ -373,26 +370,6 @@ fn llt_unblocked_n(a: &mut [f64], n: usize) -> Result<(), NotPositiveDefinite> {
     Ok(())
 }
 
-/// Solve with the factor of [`llt_unblocked`], b ← A⁻¹ b.
-#[inline(always)]
-fn llt_solve_unblocked_n(l: &[f64], b: &mut [f64], n: usize) {
-    let (l, b) = (&l[..n * n], &mut b[..n]);
-    for j in 0..n {
-        b[j] /= l[j + j * n];
-        let bj = b[j];
-        for (x, v) in b[j + 1..].iter_mut().zip(&l[j * n + j + 1..(j + 1) * n]) {
-            *x -= v * bj;
-        }
-    }
-    for j in (0..n).rev() {
-        let mut s = b[j];
-        for (v, x) in l[j * n + j + 1..(j + 1) * n].iter().zip(&b[j + 1..]) {
-            s -= v * x;
-        }
-        b[j] = s / l[j + j * n];
-    }
-}
-
 /// Copy L's strict lower triangle into its strict upper one (column j of Lᵀ above the
 /// diagonal is row j of L) and 1 / L_jj into `inverse_diagonal`, for [`llt_solve_mirrored`].
 fn mirror_factor(l: &mut [f64], n: usize, inverse_diagonal: &mut [f64]) {
@@ -408,7 +385,12 @@ fn mirror_factor(l: &mut [f64], n: usize, inverse_diagonal: &mut [f64]) {
 /// of L, then Lᵀ x = y by columns of Lᵀ (its upper triangle), each an axpy on a contiguous
 /// slice; the only chain from one column to the next is one multiply by 1 / L_jj.
 fn llt_solve_mirrored(l: &[f64], inverse_diagonal: &[f64], n: usize, b: &mut [f64]) {
-    let (l, b) = (&l[..n * n], &mut b[..n]);
+    sized!(llt_solve_mirrored_n, n, l, inverse_diagonal, b)
+}
+
+#[inline(always)]
+fn llt_solve_mirrored_n(l: &[f64], inverse_diagonal: &[f64], b: &mut [f64], n: usize) {
+    let (l, inverse_diagonal, b) = (&l[..n * n], &inverse_diagonal[..n], &mut b[..n]);
     for j in 0..n {
         let bj = b[j] * inverse_diagonal[j];
         b[j] = bj;
