@@ -713,10 +713,7 @@ impl Ali3p {
             let evals = self.stats.time_evaluation - eval_before;
             self.stats.time_projection += self.time_weight * t0.elapsed().as_secs_f64() - evals;
         }
-        if !(self.qd.iter().all(|v| v.is_finite()) && self.qdd.iter().all(|v| v.is_finite())) {
-            self.stats.failed_steps += 1;
-            return Err(IntegratorError::Diverged { t: self.t });
-        }
+        // Non-finite rates are caught by the step's check of the whole state that follows.
         Ok(())
     }
 }
