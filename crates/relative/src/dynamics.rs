@@ -21,12 +21,14 @@
 //! stay at their compile-time zeros). M_w[i, j] goes straight into M when both are z indices
 //! (L = [I; L_node]), into M_w otherwise, whose structural non-zeros are then added to M
 //! through the compile-time mass map. A planar scene only has the x, y, θz entries of twists,
-//! 𝕄 and ℙ (the others are exact zeros), so the products run on those three.
+//! 𝕄 and ℙ (the others are exact zeros), so the products run on those three: the pass is
+//! generic over the [`Layout`] of its dimension.
 
 use flexmbd_core::{State, SystemTerms};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 use crate::body_kernels::{BodyKernel, FrameMotion};
+use crate::layout::{Layout, Planar, Spatial};
 use crate::system::Relative;
 
 /// Writes M_w[i, j] = v into M (column-major, n_z × n_z) when i and j are z indices, into
@@ -36,15 +38,6 @@ fn put(mass: &mut [f64], m_w: &mut DMatrix<f64>, n_z: usize, i: usize, j: usize,
         mass[i + j * n_z] = v;
     } else {
         m_w[(i, j)] = v;
-    }
-}
-
-/// aᵀ b of two 6-vectors, on the x, y, θz entries only for a planar scene.
-fn twist_dot(planar: bool, a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
-    if planar {
-        a[0] * b[0] + a[1] * b[1] + a[5] * b[5]
-    } else {
-        a.dot(b)
     }
 }
 
@@ -63,15 +56,22 @@ impl Relative {
     /// state of the last kinematics pass (the rigid bodies' terms are formed in
     /// [`body_rows`](Self::body_rows), in closed form).
     pub(crate) fn evaluate_bodies(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
+        if self.tree.rigid_size == 3 {
+            self.evaluate_bodies_in::<Planar>(z, zd);
+        } else {
+            self.evaluate_bodies_in::<Spatial>(z, zd);
+        }
+    }
+
+    fn evaluate_bodies_in<D: Layout>(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
         for k in 0..self.bodies.len() {
             if self.bodies[k].n_modes == 0 {
                 continue;
             }
             let state = self.body_state(k, z, zd);
             let (g, method) = (self.assembly.gravity, self.assembly.inertia_method);
-            let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
             if let BodyKernel::Flexible(f) = &mut self.bodies[k].kernel {
-                f.evaluate(&state, method, &g, entries);
+                f.evaluate(&state, method, &g, D::ENTRIES);
             }
         }
     }
@@ -92,12 +92,21 @@ impl Relative {
     /// when asked.
     #[inline(never)]
     pub(crate) fn dynamics(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
+        if self.tree.rigid_size == 3 {
+            self.dynamics_in::<Planar>(state, tangents, out);
+        } else {
+            self.dynamics_in::<Spatial>(state, tangents, out);
+        }
+    }
+
+    #[inline(always)]
+    fn dynamics_in<D: Layout>(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
         let (z, zd) = (state.q, state.qd);
-        self.evaluate_bodies(z, zd);
+        self.evaluate_bodies_in::<D>(z, zd);
         let mass = out.mass.as_mut_slice();
-        self.body_rows(mass);
-        self.accumulate_subtrees();
-        self.elem_rows(mass);
+        self.body_rows::<D>(mass);
+        self.accumulate_subtrees::<D>();
+        self.elem_rows::<D>(mass);
         // M = Lᵀ M_w L, Q = Lᵀ Q_w. The z × z block was written into `out` directly; the
         // node-joint rows and columns of M_w (only its structural non-zeros) are added
         // through L.
@@ -124,7 +133,7 @@ impl Relative {
     /// Step 4: P_k = Q̄_k − M̄_k {D_k; 0} and the bodies' rigid blocks in the 6-layout, by the
     /// rigid kernels in closed form or from a flexible body's dense terms, with its modal rows
     /// of M_w and Q_w.
-    fn body_rows(&mut self, mass: &mut [f64]) {
+    fn body_rows<D: Layout>(&mut self, mass: &mut [f64]) {
         for k in 0..self.bodies.len() {
             // The frame's motion by reference: a planar body reads its entries in place
             // (copying the motion whole would read the kinematic pass's fresh stores back
@@ -153,7 +162,7 @@ impl Relative {
                 BodyKernel::RigidPlanar(r) => r.terms_at(motion, &self.assembly.gravity, mm, pp),
                 BodyKernel::Flexible(_) => {
                     let d = *motion.3;
-                    self.flexible_body_rows(k, &d, mass)
+                    self.flexible_body_rows::<D>(k, &d, mass)
                 }
             }
         }
@@ -164,10 +173,9 @@ impl Relative {
     /// into 𝕄's part M̄_k, P_k = Q̄_k − M̄_k[:, rigid] D (per row in the order of the rigid
     /// entries), the coupling columns into M_w's rows of the joints that move body k and
     /// M̄_yy into M.
-    fn flexible_body_rows(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
-        let entries = &self.tree.rigid_entries[..self.tree.rigid_size];
+    fn flexible_body_rows<D: Layout>(&mut self, k: usize, d: &Vector6<f64>, mass: &mut [f64]) {
+        let entries = D::ENTRIES;
         let nz = self.tree.n_z;
-        let planar = self.tree.rigid_size == 3;
         let b = &self.bodies[k];
         let BodyKernel::Flexible(flexible) = &b.kernel else {
             return;
@@ -201,7 +209,7 @@ impl Relative {
         for (m, u) in blocks.coupling.iter().enumerate() {
             let wm = b.first_mode + m;
             for &a in &self.tree.paths[f] {
-                let val = twist_dot(planar, &self.frames.elem_twist[a], u);
+                let val = D::dot(&self.frames.elem_twist[a], u);
                 let wa = self.tree.elem_w[a];
                 put(mass, &mut self.assembly.m_w, nz, wa, wm, val);
                 put(mass, &mut self.assembly.m_w, nz, wm, wa, val);
@@ -215,8 +223,8 @@ impl Relative {
 
     /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
     /// elementary joints (a child's index is larger than its parent's).
-    fn accumulate_subtrees(&mut self) {
-        if self.tree.rigid_size == 3 {
+    fn accumulate_subtrees<D: Layout>(&mut self) {
+        if D::ENTRIES.len() == 3 {
             self.accumulate_planar_subtrees();
             return;
         }
@@ -244,8 +252,7 @@ impl Relative {
     /// stay at their zeros). Accumulating into a whole zeroed 6 × 6 and storing it would
     /// read narrow stores back with wide loads (a stall per joint).
     fn accumulate_planar_subtrees(&mut self) {
-        let [r0, r1, r2, ..] = self.tree.rigid_entries;
-        let entries = [r0, r1, r2];
+        let entries = Planar::ENTRIES;
         for e in (0..self.tree.topology.elems.len()).rev() {
             let (mut m, mut pv) = ([[0.0; 3]; 3], [0.0; 3]);
             let parts = self.tree.elem_bodies[e]
@@ -279,33 +286,20 @@ impl Relative {
 
     /// Steps 6–7 for the elementary joints: `M_w[a, e] = v_aᵀ 𝕄_{F(e)} v_e` for a on the path
     /// of e, and `Q_w[e] = v_eᵀ ℙ_{F(e)}`.
-    fn elem_rows(&mut self, mass: &mut [f64]) {
+    fn elem_rows<D: Layout>(&mut self, mass: &mut [f64]) {
         let nz = self.tree.n_z;
-        let planar = self.tree.rigid_size == 3;
         for e in 0..self.tree.topology.elems.len() {
             let f = self.tree.topology.elems[e].frame;
             let (me, ve) = (&self.assembly.subtree_mass[e], &self.frames.elem_twist[e]);
-            let ke = if planar {
-                let mut ke = Vector6::zeros();
-                for r in [0, 1, 5] {
-                    ke[r] = me[(r, 0)] * ve[0] + me[(r, 1)] * ve[1] + me[(r, 5)] * ve[5];
-                }
-                ke
-            } else {
-                me * ve
-            };
+            let ke = D::inertia_times(me, ve);
             let we = self.tree.elem_w[e];
             for &a in &self.tree.paths[f] {
-                let val = twist_dot(planar, &self.frames.elem_twist[a], &ke);
+                let val = D::dot(&self.frames.elem_twist[a], &ke);
                 let wa = self.tree.elem_w[a];
                 put(mass, &mut self.assembly.m_w, nz, wa, we, val);
                 put(mass, &mut self.assembly.m_w, nz, we, wa, val);
             }
-            self.assembly.q_w[we] = twist_dot(
-                planar,
-                &self.frames.elem_twist[e],
-                &self.assembly.subtree_p[e],
-            );
+            self.assembly.q_w[we] = D::dot(&self.frames.elem_twist[e], &self.assembly.subtree_p[e]);
         }
     }
 
@@ -339,14 +333,6 @@ mod tests {
         let mut out = [0.25, -0.25];
         fold_w_to_z(&l_rows, &v, &mut out);
         assert_eq!(out, [0.25 + 1.0 + 200.0, -0.25 + 10.0 - 50.0]);
-    }
-
-    #[test]
-    fn twist_dot_planar_uses_x_y_theta_z_only() {
-        let a = Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
-        let b = Vector6::new(0.5, -1.0, 7.0, 8.0, 9.0, 2.0);
-        assert_eq!(twist_dot(true, &a, &b), 0.5 - 2.0 + 12.0);
-        assert_eq!(twist_dot(false, &a, &b), a.dot(&b));
     }
 
     #[test]

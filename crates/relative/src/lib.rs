@@ -66,6 +66,7 @@ mod dynamics;
 mod initial_state;
 mod inspection;
 mod kinematics;
+mod layout;
 mod marker_kinematics;
 mod marker_table;
 mod pattern;
