@@ -212,6 +212,12 @@ impl DenseLlt {
         self.l.as_slice()
     }
 
+    /// Whether [`factor_data`](Self::factor_data) holds Lᵀ in its strict upper triangle
+    /// (SMALL < n ≤ [`MIRRORED_SOLVE`]).
+    pub fn upper_holds_transpose(&self) -> bool {
+        self.mirrored
+    }
+
     /// L⁻¹ B in place for a column-major n × k matrix B (faer's blocked triangular solve).
     pub fn solve_lower_many_in_place(&self, b: &mut DMatrix<f64>) {
         let n = self.n;
