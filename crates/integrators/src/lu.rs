@@ -213,9 +213,9 @@ impl DenseLlt {
     }
 
     /// Whether [`factor_data`](Self::factor_data) holds Lᵀ in its strict upper triangle
-    /// (SMALL < n ≤ [`MIRRORED_SOLVE`]).
+    /// (n ≤ [`MIRRORED_SOLVE`]).
     pub fn upper_holds_transpose(&self) -> bool {
-        self.mirrored
+        self.small || self.mirrored
     }
 
     /// L⁻¹ B in place for a column-major n × k matrix B (faer's blocked triangular solve).
