@@ -109,6 +109,13 @@ impl Flex2 {
         for j in 0..n {
             self.q_f[4 + j] += self.elastic[j];
         }
+        // A basis point at the frame's origin (r̄_P = 0, the spin-up beam's root) makes T
+        // the identity: M_b = M_f, Q_b = Q_f (the products below would only add zeros).
+        if *t == Matrix4::identity() {
+            self.m_b.copy_from(&self.m_f);
+            self.q_b.copy_from(&self.q_f);
+            return;
+        }
         // T_ext = blockdiag(T, I): only the 4 basis rows/columns are transformed.
         let nl = 4 + n;
         for c in 0..nl {

@@ -83,6 +83,9 @@ impl Formulation for Absolute {
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         both!(self, f => f.declared_pattern())
     }
+    fn predictor_repeats_miss(&self) -> bool {
+        both!(self, f => f.predictor_repeats_miss())
+    }
 }
 
 impl flexmbd_core::Observe for Absolute {

@@ -251,6 +251,15 @@ pub trait Formulation {
     fn declared_pattern(&self) -> Option<crate::DeclaredPattern> {
         None
     }
+    /// True when the converged positions miss the integrator's predictor by about the same
+    /// amount step after step, so that the last step's miss is worth adding to the
+    /// prediction (a third predictor, chosen per coordinate where it has done best). The
+    /// projections of q̈ onto nonlinear constraints (a turning unit vector's length and a
+    /// driven angle) move q̈ off the trapezoidal rule's q̈* by an offset that persists while
+    /// the motion is steady, and the mass matrix carries it to the modal coordinates.
+    fn predictor_repeats_miss(&self) -> bool {
+        false
+    }
 }
 
 /// The sensors of a compiled scene, read at output instants only: outside the integrator's

@@ -24,8 +24,13 @@
 //! C) and Φ_q at the predictor, one Φ, Φ_q pass after each update (each further iteration
 //! adds an M, Q pass), one pass for c; one factorisation per iteration and one for the
 //! projections, unless the last correction was far below the tolerance (Newton's factor
-//! then serves them: `newton_factor_serves`). The predictor is per coordinate the trapezoidal rule with q̈_{n+1} = q̈_n
-//! or with q̈_{n+1} = 2q̈_n − q̈_{n−1}, whichever has recently been nearer the solution.
+//! then serves them: `newton_factor_serves`). The predictor is per coordinate the
+//! trapezoidal rule with q̈_{n+1} = q̈_n or with q̈_{n+1} = 2q̈_n − q̈_{n−1}, whichever has
+//! recently been nearer the solution; a formulation may ask for a third
+//! (`Formulation::predictor_repeats_miss`): the first plus the last step's miss, q_n − its
+//! prediction. The miss is h²/4 (q̈*_n − q̈_{n−1}) with q̈* the trapezoidal rule's
+//! acceleration before the projection, so where the projections move q̈ by a steady offset
+//! this predicts it, and elsewhere it is the extrapolation again.
 //!
 //! Deviations from the literal text, both from methods.md's checked corrections:
 //! the penalty scales with h² (α = 4·10⁴ m_ref / h², §5.3), and a step that reaches the
@@ -73,6 +78,14 @@ pub struct Checkpoint {
     /// Newton's contraction of the steps before (`crate::contraction`).
     #[serde(default)]
     contraction: Contraction,
+    /// The third predictor's state (`Formulation::predictor_repeats_miss`); empty in a
+    /// checkpoint written before it existed, which restores as no miss recorded.
+    #[serde(default)]
+    miss: Vec<f64>,
+    #[serde(default)]
+    miss_err: Vec<f64>,
+    #[serde(default)]
+    repeat_miss: Vec<bool>,
 }
 
 impl Checkpoint {
@@ -159,6 +172,14 @@ pub struct Ali3p {
     pred_d: DVector<f64>,
     extrapolate: Vec<bool>,
     pred_err: Vec<(f64, f64)>,
+    /// The formulation asked for the third predictor (`Formulation::predictor_repeats_miss`):
+    /// the plain one plus the last step's miss `miss` (q − the plain prediction), per
+    /// coordinate where its error, averaged like the other two's (`miss_err`), is under half
+    /// of theirs (`repeat_miss`).
+    repeats_miss: bool,
+    miss: Vec<f64>,
+    miss_err: Vec<f64>,
+    repeat_miss: Vec<bool>,
     /// Newton's contraction of the steps before, for the first iterate's test.
     contraction: Contraction,
     /// Passes that rewrote M, Q (K, C): the factor in hand is reused only while none ran.
@@ -227,6 +248,10 @@ impl Ali3p {
             pred_d: DVector::zeros(n),
             extrapolate: vec![false; n],
             pred_err: vec![(0.0, 0.0); n],
+            repeats_miss: f.predictor_repeats_miss(),
+            miss: vec![0.0; n],
+            miss_err: vec![0.0; n],
+            repeat_miss: vec![false; n],
             contraction: Contraction::default(),
             dynamics_passes: 0,
             factored_from: leading::FactorInputs::new(m, n),
@@ -262,6 +287,9 @@ impl Ali3p {
             extrapolate: self.extrapolate.clone(),
             pred_err: self.pred_err.clone(),
             contraction: self.contraction,
+            miss: self.miss.clone(),
+            miss_err: self.miss_err.clone(),
+            repeat_miss: self.repeat_miss.clone(),
         }
     }
 
@@ -290,6 +318,9 @@ impl Ali3p {
         c.extrapolate.copy_from_slice(&self.extrapolate);
         c.pred_err.copy_from_slice(&self.pred_err);
         c.contraction = self.contraction;
+        c.miss.clone_from(&self.miss);
+        c.miss_err.clone_from(&self.miss_err);
+        c.repeat_miss.clone_from(&self.repeat_miss);
     }
 
     /// Return to a checkpoint of this integrator, so that the next step is the same step
@@ -318,6 +349,15 @@ impl Ali3p {
         self.extrapolate.copy_from_slice(&c.extrapolate);
         self.pred_err.copy_from_slice(&c.pred_err);
         self.contraction = c.contraction;
+        if c.miss.len() == self.miss.len() {
+            self.miss.copy_from_slice(&c.miss);
+            self.miss_err.copy_from_slice(&c.miss_err);
+            self.repeat_miss.copy_from_slice(&c.repeat_miss);
+        } else {
+            self.miss.fill(0.0);
+            self.miss_err.fill(0.0);
+            self.repeat_miss.fill(false);
+        }
     }
 
     /// The current state (t, q, q̇) with its accelerations q̈, to evaluate the formulation or
@@ -543,12 +583,19 @@ impl Ali3p {
             &mut self.pred_d.as_mut_slice()[..n],
         );
         let extrapolate = &self.extrapolate[..n];
+        let (miss, repeat_miss) = (&self.miss[..n], &self.repeat_miss[..n]);
         for i in 0..n {
             let p = q[i] + h * qd[i] + c2 * qdd[i];
             let d = c4 * qdd[i] - c4 * qdd_prev[i];
             pred[i] = p;
             pred_d[i] = d;
-            q[i] = if extrapolate[i] { p + d } else { p };
+            q[i] = if repeat_miss[i] {
+                p + miss[i]
+            } else if extrapolate[i] {
+                p + d
+            } else {
+                p
+            };
             qdd_prev[i] = qdd[i];
         }
         self.have_qdd_prev = true;
@@ -639,6 +686,16 @@ impl Ali3p {
             e.0 = 0.5 * e.0 + (q[i] - pred[i]).abs();
             e.1 = 0.5 * e.1 + (q[i] - (pred[i] + pred_d[i])).abs();
             extrapolate[i] = e.1 < 0.5 * e.0;
+        }
+        if self.repeats_miss {
+            let (miss, miss_err) = (&mut self.miss[..n], &mut self.miss_err[..n]);
+            let repeat_miss = &mut self.repeat_miss[..n];
+            for i in 0..n {
+                let m = q[i] - pred[i];
+                miss_err[i] = 0.5 * miss_err[i] + (m - miss[i]).abs();
+                miss[i] = m;
+                repeat_miss[i] = miss_err[i] < 0.5 * err[i].0.min(err[i].1);
+            }
         }
     }
 

@@ -49,4 +49,7 @@ impl<F: Formulation + ?Sized> Formulation for StartFrom<'_, F> {
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         self.inner.declared_pattern()
     }
+    fn predictor_repeats_miss(&self) -> bool {
+        self.inner.predictor_repeats_miss()
+    }
 }
