@@ -200,10 +200,16 @@ fn inertia_routes_give_the_same_runs() {
     }
 }
 
-/// Measured 1.8e-15 / 1.8e-15 m (2D relative / absolute), 1.2e-14 / 1.8e-15 m (3D, tip
-/// scale 1.05 m); 1e-13 m leaves a margin of 8. (Before the ALI3-P projections were solved
-/// in increment form, their solve round-off made it 4e-12 to 1e-11 m in 3D.)
-const ROUTE_TOL: f64 = 1e-13;
+/// Measured 1.8e-15 / 8.9e-13 m (2D relative / absolute, tip scale 0.22 m), 1.2e-14 /
+/// 1.8e-15 m (3D, tip scale 1.05 m); 1e-11 m leaves a margin of 11 and is three orders
+/// under what Newton's tolerance allows a step (ε_q max(1, ‖q‖∞) ≈ 1e-8 m). The bound is
+/// the run's own sensitivity to round-off, not the routes': changing only the rounding of
+/// the small Cholesky solves (n ≤ 12, multiplies by 1/L_jj for divisions) moves the 2D
+/// absolute run by 3.1e-13 m (B-matrix) and 7.8e-13 m (shape integrals) over the 3 s, with
+/// the same 3000 Newton iterations; before it, the two routes' round-off happened to
+/// coincide to 1.8e-15 m. (Before the ALI3-P projections were solved in increment form,
+/// their solve round-off made it 4e-12 to 1e-11 m in 3D.)
+const ROUTE_TOL: f64 = 1e-11;
 
 #[test]
 fn fs0_refusals_are_clear() {
