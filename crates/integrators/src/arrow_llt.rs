@@ -26,7 +26,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::lu::DenseLlt;
+use crate::lu::{DenseLlt, backward_mirrored};
 
 /// The smallest system for which the arrow form is looked for. Smaller ones keep the dense
 /// kernels, which factorise and solve them in about a microsecond (`benches/dense.rs`:
@@ -275,7 +275,7 @@ impl ArrowLlt {
             }
             let factor = &self.factors[k];
             if factor.upper_holds_transpose() {
-                backward_by_columns(factor.factor_data(), &self.inverse_diagonals[k], y);
+                backward_mirrored(factor.factor_data(), &self.inverse_diagonals[k], y);
             } else {
                 backward(factor.factor_data(), &self.inverse_diagonals[k], y);
             }
@@ -348,21 +348,6 @@ fn backward(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
     let s = y.len();
     for j in (0..s).rev() {
         y[j] = (y[j] - dot(&l[j * s + j + 1..(j + 1) * s], &y[j + 1..])) * inverse_diagonal[j];
-    }
-}
-
-/// Lᵀ x = y in place for a factor that holds Lᵀ in its strict upper triangle
-/// ([`DenseLlt::upper_holds_transpose`]): by columns of Lᵀ, each an axpy on a contiguous
-/// slice, so that the only chain from one column to the next is a multiply by 1 / L_jj (the
-/// dot products of [`backward`] each end in a horizontal sum that the next row waits for).
-fn backward_by_columns(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
-    let s = y.len();
-    for j in (0..s).rev() {
-        let xj = y[j] * inverse_diagonal[j];
-        y[j] = xj;
-        for (x, u) in y[..j].iter_mut().zip(&l[j * s..j * s + j]) {
-            *x -= u * xj;
-        }
     }
 }
 

@@ -139,8 +139,8 @@ pub struct DenseLlt {
     scratch: MemBuffer,
     /// Unblocked kernels (n ≤ [`SMALL`]).
     small: bool,
-    /// Faer's factor with the mirrored solves (SMALL < n ≤ [`MIRRORED_SOLVE`]); the small
-    /// path mirrors too. 1 / L_jj for the mirrored solves.
+    /// The factor mirrored, solved by column sweeps (n ≤ [`MIRRORED_SOLVE`]), and 1 / L_jj
+    /// for them.
     mirrored: bool,
     inverse_diagonal: Vec<f64>,
 }
@@ -162,7 +162,7 @@ impl DenseLlt {
             l: DMatrix::zeros(n, n),
             scratch: MemBuffer::new(req),
             small: n <= SMALL,
-            mirrored: n > SMALL && n <= MIRRORED_SOLVE,
+            mirrored: n <= MIRRORED_SOLVE,
             inverse_diagonal: vec![0.0; n],
         }
     }
@@ -174,13 +174,18 @@ impl DenseLlt {
         let n = self.n;
         if self.small {
             llt_unblocked(self.l.as_mut_slice(), n)?;
-            mirror_factor(self.l.as_mut_slice(), n, &mut self.inverse_diagonal);
-            return Ok(());
-        }
-        let mat = faer::MatMut::from_column_major_slice_mut(self.l.as_mut_slice(), n, n);
-        let stack = MemStack::new(&mut self.scratch);
-        llt::factor::cholesky_in_place(mat, Default::default(), Par::Seq, stack, Spec::default())
+        } else {
+            let mat = faer::MatMut::from_column_major_slice_mut(self.l.as_mut_slice(), n, n);
+            let stack = MemStack::new(&mut self.scratch);
+            llt::factor::cholesky_in_place(
+                mat,
+                Default::default(),
+                Par::Seq,
+                stack,
+                Spec::default(),
+            )
             .map_err(|_| NotPositiveDefinite)?;
+        }
         if self.mirrored {
             mirror_factor(self.l.as_mut_slice(), n, &mut self.inverse_diagonal);
         }
@@ -191,7 +196,7 @@ impl DenseLlt {
     pub fn solve_in_place(&mut self, b: &mut DVector<f64>) {
         use faer::linalg::cholesky::llt;
         let n = self.n;
-        if self.small || self.mirrored {
+        if self.mirrored {
             llt_solve_mirrored(
                 self.l.as_slice(),
                 &self.inverse_diagonal,
@@ -215,7 +220,7 @@ impl DenseLlt {
     /// Whether [`factor_data`](Self::factor_data) holds Lᵀ in its strict upper triangle
     /// (n ≤ [`MIRRORED_SOLVE`]).
     pub fn upper_holds_transpose(&self) -> bool {
-        self.small || self.mirrored
+        self.mirrored
     }
 
     /// L⁻¹ B in place for a column-major n × k matrix B (faer's blocked triangular solve).
@@ -404,10 +409,20 @@ fn llt_solve_mirrored_n(l: &[f64], inverse_diagonal: &[f64], b: &mut [f64], n: u
             *x -= v * bj;
         }
     }
-    for j in (0..n).rev() {
-        let xj = b[j] * inverse_diagonal[j];
-        b[j] = xj;
-        for (x, u) in b[..j].iter_mut().zip(&l[j * n..j * n + j]) {
+    backward_mirrored(l, inverse_diagonal, b);
+}
+
+/// Lᵀ x = y in place, y of length s, for an s × s factor holding Lᵀ in its strict upper
+/// triangle ([`mirror_factor`]): by columns of Lᵀ, each an axpy on a contiguous slice, so
+/// that the only chain from one column to the next is a multiply by 1 / L_jj (a dot product
+/// per row would end in a horizontal sum that the next row waits for).
+#[inline(always)]
+pub(crate) fn backward_mirrored(l: &[f64], inverse_diagonal: &[f64], y: &mut [f64]) {
+    let s = y.len();
+    for j in (0..s).rev() {
+        let xj = y[j] * inverse_diagonal[j];
+        y[j] = xj;
+        for (x, u) in y[..j].iter_mut().zip(&l[j * s..j * s + j]) {
             *x -= u * xj;
         }
     }
