@@ -86,6 +86,12 @@ impl Formulation for Absolute {
     fn predictor_repeats_miss(&self) -> bool {
         both!(self, f => f.predictor_repeats_miss())
     }
+    fn driven_coordinates(&self) -> Option<flexmbd_core::DrivenCoordinates> {
+        both!(self, f => f.driven_coordinates())
+    }
+    fn driven_motion(&self, t: f64, out: &mut [[f64; 3]]) {
+        both!(self, f => f.driven_motion(t, out))
+    }
 }
 
 impl flexmbd_core::Observe for Absolute {

@@ -260,6 +260,15 @@ pub trait Formulation {
     fn predictor_repeats_miss(&self) -> bool {
         false
     }
+    /// The coordinates that are known functions of time (a joint driven by a law) and the
+    /// rows that only prescribe them, for [`DrivenEliminated`](crate::DrivenEliminated) to
+    /// take out of the unknowns; `None` (the default) when there are none.
+    fn driven_coordinates(&self) -> Option<crate::DrivenCoordinates> {
+        None
+    }
+    /// (q, q̇, q̈) of each driven coordinate at time t, in the order of
+    /// [`driven_coordinates`](Formulation::driven_coordinates).
+    fn driven_motion(&self, _t: f64, _out: &mut [[f64; 3]]) {}
 }
 
 /// The sensors of a compiled scene, read at output instants only: outside the integrator's

@@ -6,10 +6,12 @@
 
 #![warn(missing_docs)]
 
+pub mod driven;
 pub mod formulation;
 pub mod kinematics;
 pub mod pattern;
 
+pub use driven::{DrivenCoordinates, DrivenEliminated};
 pub use formulation::{
     BodyMotion, BodyPose, CompiledScene, Coordinates, Formulation, Observe, Request, State,
     SystemTerms,

@@ -27,13 +27,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use flexmbd_core::CompiledScene;
+use flexmbd_core::{CompiledScene, DrivenEliminated};
 use flexmbd_integrators::{
     Ali3p, Ali3pSettings, Checkpoint as IntegratorCheckpoint, StartFrom, StaticSettings, Stats,
     solve_static,
 };
 use flexmbd_model::inputs::InputTable;
-use flexmbd_model::{FormulationKind, InitialState, PreparedScene, Scene, Solver, Stiffening};
+use flexmbd_model::{
+    DriverHandling, FormulationKind, InitialState, PreparedScene, Scene, Solver, Stiffening,
+};
 use serde::Serialize;
 
 use crate::Error;
@@ -147,6 +149,10 @@ fn build_formulation(scene: &Scene, stop: &AtomicBool) -> Result<Built, Error> {
     let formulation: Box<dyn CompiledScene> = match scene.solver.formulation {
         FormulationKind::Absolute => Box::new(flexmbd_absolute::compile(&prepared)?),
         FormulationKind::Relative => Box::new(flexmbd_relative::compile(&prepared)?),
+    };
+    let formulation = match scene.solver.drivers {
+        DriverHandling::Eliminated => DrivenEliminated::wrap(formulation),
+        DriverHandling::Constraint => formulation,
     };
     Ok((formulation, prepared.inputs().clone(), Arc::new(prepared)))
 }

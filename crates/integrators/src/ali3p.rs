@@ -24,7 +24,8 @@
 //! C) and Φ_q at the predictor, one Φ, Φ_q pass after each update (each further iteration
 //! adds an M, Q pass), one pass for c; one factorisation per iteration and one for the
 //! projections, unless the last correction was far below the tolerance (Newton's factor
-//! then serves them: `newton_factor_serves`). The predictor is per coordinate the
+//! then serves them: `newton_factor_serves`); without constraints (m = 0) neither the Φ
+//! passes nor the projections, which would change nothing. The predictor is per coordinate the
 //! trapezoidal rule with q̈_{n+1} = q̈_n or with q̈_{n+1} = 2q̈_n − q̈_{n−1}, whichever has
 //! recently been nearer the solution; a formulation may ask for a third
 //! (`Formulation::predictor_repeats_miss`): the first plus the last step's miss, q_n − its
@@ -522,8 +523,11 @@ impl Ali3p {
         }
         self.choose_predictor();
         self.set_newmark_rates();
-        let refactor = !self.newton_factor_serves(moved, boosts);
-        self.project(f, refactor)?;
+        // Without constraints the projections leave q̇, q̈ as the trapezoidal rule gives them.
+        if !self.lambda.is_empty() {
+            let refactor = !self.newton_factor_serves(moved, boosts);
+            self.project(f, refactor)?;
+        }
         if !self.state_is_finite() {
             self.stats.failed_steps += 1;
             return Err(IntegratorError::Diverged { t: self.t });
@@ -595,6 +599,9 @@ impl Ali3p {
     /// q (Φ_q for the next iteration or the projections), λ* += αΦ; returns ‖Φ‖∞.
     #[inline]
     fn update_multipliers<F: Formulation + ?Sized>(&mut self, f: &mut F) -> f64 {
+        if self.lambda.is_empty() {
+            return 0.0;
+        }
         // Φ for the multiplier update and the test, Φ_q for the next iteration or the
         // projections (they depend on q and t only).
         self.eval(

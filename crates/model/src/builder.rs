@@ -33,8 +33,9 @@ use flexmbd_fe::BeamBodySpec;
 
 use crate::error::ModelError;
 use crate::scene::{
-    Axis, Body, BodyModel, Driver, Force, FormulationKind, Inertia, InitialState, Joint, JointKind,
-    Marker, MotionLaw, Orientation, Scene, Sensor, SensorKind, Solver, Stiffening, V3, Velocity,
+    Axis, Body, BodyModel, Driver, DriverHandling, Force, FormulationKind, Inertia, InitialState,
+    Joint, JointKind, Marker, MotionLaw, Orientation, Scene, Sensor, SensorKind, Solver,
+    Stiffening, V3, Velocity,
 };
 use flexmbd_body::InertiaMethod;
 
@@ -349,6 +350,7 @@ impl Solver {
             newton_tolerance: 1e-9,
             max_iterations: 20,
             penalty: None,
+            drivers: DriverHandling::Eliminated,
             initial_state: InitialState::Given,
         }
     }

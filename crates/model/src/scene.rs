@@ -589,9 +589,26 @@ pub struct Solver {
     /// Penalty α; 4·10⁴ m_ref / h² when omitted (docs/methods.md §5.3).
     #[serde(default)]
     pub penalty: Option<f64>,
+    /// How the drivers of tree joints enter the equations (`Eliminated` when omitted).
+    #[serde(default)]
+    pub drivers: DriverHandling,
     /// How the run starts (`Given` when omitted).
     #[serde(default)]
     pub initial_state: InitialState,
+}
+
+/// How a joint driven by a law, z_c = s θ(t), enters the equations of motion
+/// (`flexmbd_core::driven`). Both give the same motion to the Newton tolerance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DriverHandling {
+    /// The driven coordinate is taken out of the unknowns: its position, rate and
+    /// acceleration come from the law, and it needs no constraint row (the relative
+    /// formulation's driven tree joints; a formulation without such coordinates keeps its
+    /// driver rows).
+    #[default]
+    Eliminated,
+    /// Every driver is a constraint row, z_c − s θ(t) = 0, enforced with the others.
+    Constraint,
 }
 
 /// The state a run starts from, before ALI3-P makes it consistent (docs/methods.md §5.4).

@@ -42,7 +42,9 @@
 //! markers (point coincidence r_i − r_j; 2D angle sin(ψ − ψ₀); perpendicularity a·b;
 //! sliding n·(r_j − r_i)), with Φ_z = Σ_k Φ_{Z_k} R_k (walk from each body to the root)
 //! and c = Σ_k Φ_{Z_k} {D_k; 0} + the Cartesian velocity-product terms + Φ̇_t. A driven
-//! tree joint adds z_c − θ(t); a driven planar cut revolute adds the angle form. The
+//! tree joint adds z_c − θ(t), a row the integrator may do without: the coordinate is
+//! declared driven (`Formulation::driven_coordinates`) and `flexmbd_core::DrivenEliminated`
+//! takes it out of the unknowns. A driven planar cut revolute adds the angle form. The
 //! scene's constraints between markers (docs/methods.md §3.4) are never tree edges: a
 //! `Distance` adds ½(|r_j − r_i|² − L²), a `PointInPlane` the sliding row with n fixed in
 //! body 1.

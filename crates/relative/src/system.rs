@@ -187,6 +187,37 @@ impl flexmbd_core::Formulation for Relative {
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         Some(self.pattern())
     }
+    /// The tree joints a law drives, z_c = s θ(t), each with its row z_c − s θ(t) = 0
+    /// (none when a coordinate is driven twice: its rows then stay constraints).
+    fn driven_coordinates(&self) -> Option<flexmbd_core::DrivenCoordinates> {
+        let mut driven = flexmbd_core::DrivenCoordinates::default();
+        let mut row = 0;
+        for c in &self.rows.constraints {
+            if let Constraint::Coord { z, .. } = c {
+                driven.coordinates.push(*z);
+                driven.rows.push(row);
+            }
+            row += c.rows(self.tree.dim);
+        }
+        let k = driven.coordinates.len();
+        driven.coordinates.sort_unstable();
+        driven.coordinates.dedup();
+        (k > 0 && driven.coordinates.len() == k).then_some(driven)
+    }
+    fn driven_motion(&self, t: f64, out: &mut [[f64; 3]]) {
+        let driven_z = || {
+            self.rows.constraints.iter().filter_map(|c| match c {
+                Constraint::Coord { z, law, sign } => Some((*z, law, *sign)),
+                _ => None,
+            })
+        };
+        for (z, law, sign) in driven_z() {
+            // Its place among the driven coordinates, which are declared in increasing order.
+            let k = driven_z().filter(|d| d.0 < z).count();
+            let (th, thd, thdd) = law.eval(t);
+            out[k] = [sign * th, sign * thd, sign * thdd];
+        }
+    }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
         // Only the work the request needs: positions (and twists) when z changed, velocities
         // and D only for M, Q or c, and when z or ż changed.

@@ -50,6 +50,7 @@ mod algebra;
 mod body;
 mod build;
 mod constraints;
+mod driven;
 mod dynamics;
 mod energy;
 mod kinematics;
@@ -92,6 +93,8 @@ pub struct Planar {
     local_forces: DVector<f64>,
     /// Coordinate of each local row (`None`: a fixed basis value).
     local_to_global: Vec<Option<usize>>,
+    /// The unit vectors a driven angle prescribes (`driven.rs`).
+    driven_frames: Vec<driven::DrivenFrame>,
 }
 
 impl flexmbd_core::Formulation for Planar {
@@ -125,6 +128,12 @@ impl flexmbd_core::Formulation for Planar {
         // it to a flexible body's modes (the spin-up beam's first mode missed by 1.3e-8
         // every step, 13× ε_q), and the rigid double four-bar's points miss likewise.
         true
+    }
+    fn driven_coordinates(&self) -> Option<flexmbd_core::DrivenCoordinates> {
+        self.driven_declaration()
+    }
+    fn driven_motion(&self, t: f64, out: &mut [[f64; 3]]) {
+        self.driven_frame_motion(t, out)
     }
 }
 

@@ -69,11 +69,13 @@ impl Planar {
             local_mass: DMatrix::zeros(0, 0),
             local_forces: DVector::zeros(0),
             local_to_global: Vec::new(),
+            driven_frames: Vec::new(),
         };
         constraints.extend(planar.joint_constraints(prepared, &q0)?);
         constraints.extend(planar.marker_constraints(prepared)?);
         planar.coordinates.n_constraints = constraints.iter().map(Constraint::rows).sum();
         planar.constraints = constraints;
+        planar.driven_frames = planar.find_driven_frames();
         planar.force_elements = planar.build_force_elements(prepared, &q0)?;
         planar.sensors = planar.build_sensors(prepared, &q0)?;
         planar.assemble_rigid_terms();
