@@ -207,8 +207,8 @@ fn sensor_diff(a: &[Vec<f64>], b: &[Vec<f64>], full: &[Vec<f64>]) -> f64 {
 }
 
 /// Measured (largest sensor difference over the full model's range): absolute against relative
-/// ≤ 5.3e-5 at h = 1 ms and ≤ 8.9e-6 at 0.5 ms for every choice, 2D and 3D (falling 2.7 to 7.5
-/// times per halving; o0-nc 4e-10), while each truncation moves the tip by 0.39 to 1.0 of that
+/// ≤ 5.8e-5 at h = 1 ms and ≤ 8.9e-6 at 0.5 ms for every choice in 3D (falling 2.7 to 7.5
+/// times per halving; o0-nc 4e-10), ≤ 3.6e-11 at both steps in 2D (the same unknowns), while each truncation moves the tip by 0.39 to 1.0 of that
 /// range (1.0: at order ≤ 1 a spin about z no longer bends the 3D beam's droop).
 #[test]
 fn formulations_agree_per_truncation_on_the_spin_up_beams() {
@@ -230,7 +230,17 @@ fn formulations_agree_per_truncation_on_the_spin_up_beams() {
                 "{file} {t}: absolute vs relative {:.2e} (h = 1 ms), {:.2e} (0.5 ms) of the range",
                 d[0], d[1]
             );
-            assert!(d[1] < d[0], "{file} {t}: does not converge: {d:?}");
+            // In 2D both formulations take the driven hub angle out of the unknowns
+            // (`solver.drivers`), the absolute one with it the unit vector u: their unknowns
+            // are the beam's modes alone, the equations the same, and they agree to the
+            // Newton tolerance at both steps (3.6e-11 of the range). Otherwise (3D, where
+            // the absolute formulation keeps its driver rows) they differ by the step's
+            // error, which must fall with h.
+            let same_unknowns = d[0] < 1e-9 && d[1] < 1e-9;
+            assert!(
+                d[1] < d[0] || same_unknowns,
+                "{file} {t}: does not converge: {d:?}"
+            );
         }
     }
 }
