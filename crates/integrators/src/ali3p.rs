@@ -256,7 +256,7 @@ impl Ali3p {
             repeat_miss: vec![false; n],
             contraction: Contraction::default(),
             dynamics_passes: 0,
-            factored_from: leading::FactorInputs::new(m, n),
+            factored_from: leading::FactorInputs::new(m, n, f.constant_tangents()),
             settings,
         };
         if s.symmetric && s.settings.structured_factorisation {

@@ -25,27 +25,43 @@ const KEEP_FROM_AT_MOST: usize = 1024;
 
 /// The inputs of the factor in hand: W's pass (the count of M, Q, K, C passes before it),
 /// α, and Φ_q. f_q = W + h²/4 Φ_qᵀ α Φ_q is a function of these alone, so asked again with
-/// the same ones, the kernel would return the same factor bit for bit.
+/// the same ones, the kernel would return the same factor bit for bit. With constant K and C
+/// (kept from the first pass) W is a function of M alone, so a later pass whose M is the
+/// same bit for bit leaves W as it was too: the modal coordinates of a spin-up beam whose
+/// driven hub angle left the unknowns (`flexmbd_core::driven`) have the constant modal mass.
 pub(super) struct FactorInputs {
     /// Φ_q is small enough to keep a copy of.
     keep: bool,
+    /// M is kept too (constant K and C, and n² within `KEEP_FROM_AT_MOST`).
+    keep_mass: bool,
     valid: bool,
     dynamics_passes: usize,
     alpha: f64,
     phi_q: Vec<f64>,
+    mass: Vec<f64>,
 }
 
 impl FactorInputs {
-    /// Room for an m × n Φ_q when it is small enough to keep (`KEEP_FROM_AT_MOST`).
-    pub(super) fn new(m: usize, n: usize) -> Self {
+    /// Room for an m × n Φ_q when it is small enough to keep (`KEEP_FROM_AT_MOST`), and for
+    /// the n × n M when the tangents are constant and it is too.
+    pub(super) fn new(m: usize, n: usize, constant_tangents: bool) -> Self {
         let keep = m * n <= KEEP_FROM_AT_MOST;
+        let keep_mass = keep && constant_tangents && n * n <= KEEP_FROM_AT_MOST;
         FactorInputs {
             keep,
+            keep_mass,
             valid: false,
             dynamics_passes: 0,
             alpha: 0.0,
             phi_q: Vec::with_capacity(if keep { m * n } else { 0 }),
+            mass: Vec::with_capacity(if keep_mass { n * n } else { 0 }),
         }
+    }
+
+    /// W is the one the factor was formed with: no M, Q, K, C pass since, or (constant K
+    /// and C) a pass whose M is the same bit for bit.
+    fn same_w(&self, dynamics_passes: usize, mass: &[f64]) -> bool {
+        self.dynamics_passes == dynamics_passes || (self.keep_mass && self.mass == mass)
     }
 }
 
@@ -193,18 +209,20 @@ impl Ali3p {
     /// when the declared factorisation fails (f_q not positive definite).
     ///
     /// The factor in hand is kept when it was formed from the same W (no M, Q, K, C pass
-    /// since), α and Φ_q (`FactorInputs`): the projections after a Newton iteration whose Φ_q
-    /// did not move.
+    /// since, or the same M with constant K, C), α and Φ_q (`FactorInputs`): the projections
+    /// after a Newton iteration whose Φ_q did not move, every iteration of a system whose
+    /// leading matrix is constant.
     pub(super) fn form_and_factor(&mut self) -> Result<(), IntegratorError> {
         let keep = self.factored_from.keep;
-        let phi_q = self.terms.phi_q.as_slice();
+        let (phi_q, mass) = (self.terms.phi_q.as_slice(), self.terms.mass.as_slice());
         let from = &mut self.factored_from;
         if keep
             && from.valid
-            && from.dynamics_passes == self.dynamics_passes
+            && from.same_w(self.dynamics_passes, mass)
             && from.alpha == self.alpha
             && from.phi_q.as_slice() == phi_q
         {
+            from.dynamics_passes = self.dynamics_passes;
             return Ok(());
         }
         from.valid = false;
@@ -213,6 +231,10 @@ impl Ali3p {
             let from = &mut self.factored_from;
             from.phi_q.clear();
             from.phi_q.extend_from_slice(self.terms.phi_q.as_slice());
+            if from.keep_mass {
+                from.mass.clear();
+                from.mass.extend_from_slice(self.terms.mass.as_slice());
+            }
             from.dynamics_passes = self.dynamics_passes;
             from.alpha = self.alpha;
             from.valid = true;
