@@ -363,17 +363,21 @@ mod tests {
         fn body_poses(&mut self, _: State<'_>, _: &mut [BodyPose]) {}
     }
 
-    #[test]
-    fn the_free_equations_take_the_law_through_the_driven_columns() {
-        let toy = Toy {
+    /// The toy at q = (0, 2), q̇ = (0.5, 0.25), a = 0.75.
+    fn toy() -> Box<dyn CompiledScene> {
+        Box::new(Toy {
             coordinates: Coordinates::new(
                 DVector::from_vec(vec![0.0, 2.0]),
                 DVector::from_vec(vec![0.5, 0.25]),
                 2,
             ),
             a: 0.75,
-        };
-        let mut f = DrivenEliminated::wrap(Box::new(toy));
+        })
+    }
+
+    #[test]
+    fn the_free_equations_take_the_law_through_the_driven_columns() {
+        let mut f = DrivenEliminated::wrap(toy());
         assert_eq!((f.n_coordinates(), f.n_constraints()), (1, 1));
         let (t, q1, qd1) = (2.0, 0.4, -0.3);
         let (q0, qd0, qdd0) = (0.75 * t * t, 1.5 * t, 1.5);
@@ -395,15 +399,7 @@ mod tests {
     fn start_rates_are_projected_as_under_the_driver_rows() {
         // At t = 0 the law has q̇₀ = 0 where the guess says 0.5: the free rate moves by
         // −M₁₁⁻¹ M₁₀ (0 − 0.5) = 0.5 / 3.
-        let toy = Toy {
-            coordinates: Coordinates::new(
-                DVector::from_vec(vec![0.0, 2.0]),
-                DVector::from_vec(vec![0.5, 0.25]),
-                2,
-            ),
-            a: 0.75,
-        };
-        let f = DrivenEliminated::wrap(Box::new(toy));
+        let f = DrivenEliminated::wrap(toy());
         let c = f.coordinates();
         assert_eq!(c.q0.as_slice(), &[2.0]);
         assert!(
