@@ -251,8 +251,9 @@ fn spatial_tips(form: FormulationKind, h: f64, duration: f64) -> (Vec<Vec<f64>>,
     let mut s = scene_of("spin_up_beam_3d.ron", duration);
     s.solver.formulation = form;
     s.solver.step = h;
-    // The hub's driver as a constraint row in both formulations (the 3D absolute one has no
-    // other way), so that they discretise the same equations.
+    // The hub's driver as a constraint row in both formulations, so that they discretise the
+    // same equations in different coordinates (without the rows both have the beam's modes
+    // alone, `tests/driven_coordinates.rs`).
     s.solver.drivers = DriverHandling::Constraint;
     // Newton near round-off, so the comparison sees the step error, not the stop test.
     s.solver.newton_tolerance = 1e-13;

@@ -68,8 +68,10 @@ impl Spatial {
             inertia_method: method,
             force_elements: ForceElements::default(),
             zero_rates: DVector::zeros(n),
+            driven_frames: Vec::new(),
         };
         spatial.set_reference_angles();
+        spatial.driven_frames = spatial.find_driven_frames();
         spatial.sensors = spatial.build_sensors(prepared, sensor_terms)?;
         let (q0, qd0) = (
             spatial.coordinates.q0.clone(),

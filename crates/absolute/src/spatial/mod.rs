@@ -79,6 +79,7 @@
 
 mod build;
 mod constraints;
+mod driven;
 mod dynamics;
 mod energy;
 mod joints;
@@ -149,6 +150,8 @@ pub struct Spatial {
     force_elements: ForceElements<Term>,
     /// Zero rates (n), to evaluate a term's position alone.
     zero_rates: DVector<f64>,
+    /// The bodies a driven revolute to the ground turns (`driven.rs`).
+    driven_frames: Vec<driven::DrivenFrame>,
 }
 
 impl flexmbd_core::Formulation for Spatial {
@@ -174,6 +177,12 @@ impl flexmbd_core::Formulation for Spatial {
     }
     fn declared_pattern(&self) -> Option<flexmbd_core::DeclaredPattern> {
         Some(self.pattern())
+    }
+    fn driven_coordinates(&self) -> Option<flexmbd_core::DrivenCoordinates> {
+        self.driven_declaration()
+    }
+    fn driven_motion(&self, t: f64, out: &mut [[f64; 3]]) {
+        self.driven_frame_motion(t, out)
     }
 }
 
