@@ -110,8 +110,8 @@ impl DrivenEliminated {
         }
     }
 
-    /// The whole q, q̇ (and q̈ when `qdd` is given; the driven ones otherwise) at the reduced
-    /// state, with the driven coordinates' motion at t.
+    /// The whole q, q̇, q̈ at the reduced state: the free coordinates from it (q̈ = 0 when it
+    /// has none), the driven ones from the law at t.
     fn expand(&mut self, state: State<'_>) {
         self.inner.driven_motion(state.t, &mut self.motion);
         for (k, &i) in self.free.iter().enumerate() {
