@@ -35,9 +35,10 @@ use crate::{
 /// rows that do nothing but prescribe them.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct DrivenCoordinates {
-    /// The driven coordinates (indices into q), increasing, without repeats.
+    /// The driven coordinates (indices into q), without repeats, in the order in which
+    /// [`Formulation::driven_motion`] gives their motion.
     pub coordinates: Vec<usize>,
-    /// The rows of Φ that prescribe them (z_c − s θ(t) = 0), increasing, without repeats.
+    /// The rows of Φ that prescribe them (z_c − s θ(t) = 0), without repeats.
     pub rows: Vec<usize>,
 }
 
@@ -48,7 +49,7 @@ pub struct DrivenEliminated {
     inner: Box<dyn CompiledScene>,
     /// The free coordinates (indices into the whole q), increasing.
     free: Vec<usize>,
-    /// The driven coordinates, increasing.
+    /// The driven coordinates, in the order of their motion.
     driven: Vec<usize>,
     /// The rows of Φ that stay, increasing.
     kept_rows: Vec<usize>,
@@ -76,12 +77,8 @@ impl DrivenEliminated {
 
     fn new(mut inner: Box<dyn CompiledScene>, d: DrivenCoordinates) -> Self {
         let (n, m) = (inner.n_coordinates(), inner.n_constraints());
-        let free: Vec<usize> = (0..n)
-            .filter(|i| d.coordinates.binary_search(i).is_err())
-            .collect();
-        let kept_rows: Vec<usize> = (0..m)
-            .filter(|r| d.rows.binary_search(r).is_err())
-            .collect();
+        let free: Vec<usize> = (0..n).filter(|i| !d.coordinates.contains(i)).collect();
+        let kept_rows: Vec<usize> = (0..m).filter(|r| !d.rows.contains(r)).collect();
         let (mut q0, mut qd0) = (DVector::zeros(n), DVector::zeros(n));
         inner.initial_guess(&mut q0, &mut qd0);
         start_velocities_for_the_law(inner.as_mut(), &free, &d.coordinates, &mut q0, &mut qd0);

@@ -85,7 +85,7 @@ impl Planar {
             }
             frames.push(DrivenFrame {
                 u: [ux, uy],
-                rows: [unit_row.min(angle_row), unit_row.max(angle_row)],
+                rows: [unit_row, angle_row],
                 beta0: angle_of(&ground.abar) + sign * a.phi0 - angle_of(&on_body.abar),
                 sign,
                 law: a.law.clone(),
@@ -94,37 +94,26 @@ impl Planar {
         frames
     }
 
-    /// The coordinates and rows of the driven unit vectors, increasing.
+    /// The coordinates and rows of the driven unit vectors, frame by frame (u_x, u_y).
     pub(super) fn driven_declaration(&self) -> Option<DrivenCoordinates> {
         let mut d = DrivenCoordinates::default();
         for f in &self.driven_frames {
             d.coordinates.extend(f.u);
             d.rows.extend(f.rows);
         }
-        d.coordinates.sort_unstable();
-        d.rows.sort_unstable();
         (!d.coordinates.is_empty()).then_some(d)
     }
 
-    /// (u, u̇, ü) of every driven unit vector's components at t, in increasing order of
-    /// their coordinates.
+    /// (u, u̇, ü) of every driven unit vector's components at t, in the order of
+    /// [`driven_declaration`](Self::driven_declaration).
     pub(super) fn driven_frame_motion(&self, t: f64, out: &mut [[f64; 3]]) {
-        for f in &self.driven_frames {
+        for (f, out) in self.driven_frames.iter().zip(out.chunks_exact_mut(2)) {
             let (th, thd, thdd) = f.law.eval(t);
             let (beta, rate, accel) = (f.beta0 + f.sign * th, f.sign * thd, f.sign * thdd);
             let (s, c) = beta.sin_cos();
             // u = (c, s), u̇ = β̇ (−s, c), ü = β̈ (−s, c) − β̇² (c, s).
-            let x = [c, -rate * s, -accel * s - rate * rate * c];
-            let y = [s, rate * c, accel * c - rate * rate * s];
-            for (coordinate, motion) in f.u.into_iter().zip([x, y]) {
-                let place = self
-                    .driven_frames
-                    .iter()
-                    .flat_map(|g| g.u)
-                    .filter(|&k| k < coordinate)
-                    .count();
-                out[place] = motion;
-            }
+            out[0] = [c, -rate * s, -accel * s - rate * rate * c];
+            out[1] = [s, rate * c, accel * c - rate * rate * s];
         }
     }
 }

@@ -104,7 +104,6 @@ impl Spatial {
             let mut rows: Vec<usize> = (starts[o]..starts[o] + 6).collect();
             rows.extend(starts[k - 3]..starts[k - 3] + 3);
             rows.extend([starts[k - 2], starts[k - 1], starts[k]]);
-            rows.sort_unstable();
             let (r0, frame0) = frame_of(q0.as_slice(), offset);
             let pivot = ground_point.undeformed;
             frames.push(DrivenFrame {
@@ -118,23 +117,21 @@ impl Spatial {
                 law: law.clone(),
             });
         }
-        frames.sort_by_key(|f| f.offset);
         frames
     }
 
-    /// The coordinates and rows of the driven frames, increasing.
+    /// The coordinates and rows of the driven frames, frame by frame ({r0; u; v; w}).
     pub(super) fn driven_declaration(&self) -> Option<DrivenCoordinates> {
         let mut d = DrivenCoordinates::default();
         for f in &self.driven_frames {
             d.coordinates.extend(f.offset..f.offset + 12);
             d.rows.extend(&f.rows);
         }
-        d.rows.sort_unstable();
         (!d.coordinates.is_empty()).then_some(d)
     }
 
-    /// (q, q̇, q̈) of every driven frame's twelve coordinates {r0; u; v; w} at t, frame by
-    /// frame in increasing order of coordinate.
+    /// (q, q̇, q̈) of every driven frame's twelve coordinates {r0; u; v; w} at t, in the
+    /// order of [`driven_declaration`](Self::driven_declaration).
     pub(super) fn driven_frame_motion(&self, t: f64, out: &mut [[f64; 3]]) {
         for (f, out) in self.driven_frames.iter().zip(out.chunks_exact_mut(12)) {
             let (th, thd, thdd) = f.law.eval(t);
