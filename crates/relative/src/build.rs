@@ -65,10 +65,7 @@ impl Relative {
             l_rows,
             paths,
         } = coordinates;
-        let (rigid_size, rigid_entries) = match dim {
-            Dim::Planar => (3, [0, 1, 5, 0, 0, 0]),
-            Dim::Spatial => (6, [0, 1, 2, 3, 4, 5]),
-        };
+        let rigid_size = dim.n_trans() + dim.n_rot();
         let bodies = run_time_bodies(infos, flex, &topology.body_frame, &first_mode, rigid_size);
         let coordinate_names = names_of_coordinates(topology.n_joint, infos);
         let n_constraints = constraints.iter().map(|c| c.rows(dim)).sum();
@@ -86,8 +83,6 @@ impl Relative {
         Relative {
             tree: Tree {
                 dim,
-                rigid_size,
-                rigid_entries,
                 n_z,
                 n_w,
                 topology,

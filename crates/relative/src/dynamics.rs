@@ -24,7 +24,7 @@
 //! 𝕄 and ℙ (the others are exact zeros), so the products run on those three: the pass is
 //! generic over the [`Layout`] of its dimension.
 
-use flexmbd_core::{State, SystemTerms};
+use flexmbd_core::{Dim, State, SystemTerms};
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 use crate::body_kernels::{BodyKernel, FrameMotion};
@@ -56,7 +56,7 @@ impl Relative {
     /// state of the last kinematics pass (the rigid bodies' terms are formed in
     /// [`body_rows`](Self::body_rows), in closed form).
     pub(crate) fn evaluate_bodies(&mut self, z: &DVector<f64>, zd: &DVector<f64>) {
-        if self.tree.rigid_size == 3 {
+        if self.tree.dim == Dim::Planar {
             self.evaluate_bodies_in::<Planar>(z, zd);
         } else {
             self.evaluate_bodies_in::<Spatial>(z, zd);
@@ -92,7 +92,7 @@ impl Relative {
     /// when asked.
     #[inline(never)]
     pub(crate) fn dynamics(&mut self, state: State<'_>, tangents: bool, out: &mut SystemTerms) {
-        if self.tree.rigid_size == 3 {
+        if self.tree.dim == Dim::Planar {
             self.dynamics_in::<Planar>(state, tangents, out);
         } else {
             self.dynamics_in::<Spatial>(state, tangents, out);
@@ -224,7 +224,7 @@ impl Relative {
     /// Step 5: 𝕄 and ℙ of every elementary joint's subtree, leaves → root over the tree of
     /// elementary joints (a child's index is larger than its parent's).
     fn accumulate_subtrees<D: Layout>(&mut self) {
-        if D::ENTRIES.len() == 3 {
+        if D::ENTRIES == Planar::ENTRIES {
             self.accumulate_planar_subtrees();
             return;
         }

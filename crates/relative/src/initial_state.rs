@@ -51,14 +51,14 @@ impl Relative {
             self.kinematics(&q0, &e);
             for k in 0..nb {
                 let bk = &self.bodies[k];
-                let nc = self.tree.rigid_size + bk.n_modes;
+                let nc = self.tree.rigid_size() + bk.n_modes;
                 let z = self.frames.velocity[bk.frame];
                 let mut col = DVector::zeros(nc);
-                for i in 0..self.tree.rigid_size {
-                    col[i] = z[self.tree.rigid_entries[i]];
+                for i in 0..self.tree.rigid_size() {
+                    col[i] = z[self.tree.rigid_entries()[i]];
                 }
                 for mm in 0..bk.n_modes {
-                    col[self.tree.rigid_size + mm] = e[bk.first_mode + mm];
+                    col[self.tree.rigid_size() + mm] = e[bk.first_mode + mm];
                 }
                 cols[k].push(col);
             }
@@ -110,10 +110,10 @@ impl Relative {
             let mut target6 = Vector6::zeros();
             target6.fixed_rows_mut::<3>(0).copy_from(&s_dot);
             target6.fixed_rows_mut::<3>(3).copy_from(&w);
-            let nc = self.tree.rigid_size + bk.n_modes;
+            let nc = self.tree.rigid_size() + bk.n_modes;
             let mut target = DVector::zeros(nc);
-            for i in 0..self.tree.rigid_size {
-                target[i] = target6[self.tree.rigid_entries[i]];
+            for i in 0..self.tree.rigid_size() {
+                target[i] = target6[self.tree.rigid_entries()[i]];
             }
             let mt = &m_bar * &target;
             for c in 0..n {

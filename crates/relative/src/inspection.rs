@@ -16,8 +16,8 @@ impl Relative {
             let state = self.body_state(k, z, zd);
             let frame = self.frame_motion(k);
             let (rigid_size, rigid_entries, g) = (
-                self.tree.rigid_size,
-                self.tree.rigid_entries,
+                self.tree.rigid_size(),
+                self.tree.rigid_entries(),
                 self.assembly.gravity,
             );
             let zr = frame.velocity;
@@ -78,7 +78,7 @@ impl Relative {
     }
     /// Rigid velocity entries per body: 3 (2D: ṡx, ṡy, ωz) or 6 (3D: ṡ, ω).
     pub fn rigid_size(&self) -> usize {
-        self.tree.rigid_size
+        self.tree.rigid_size()
     }
     /// First modal coordinate of body k in z, and its number of modes.
     pub fn body_modes(&self, k: usize) -> (usize, usize) {
@@ -95,15 +95,15 @@ impl Relative {
         self.kinematics(z, zd);
         let b = &self.bodies[k];
         let (zr, d) = (self.frames.velocity[b.frame], self.frames.bias[b.frame]);
-        let nc = self.tree.rigid_size + b.n_modes;
+        let nc = self.tree.rigid_size() + b.n_modes;
         let mut v = DVector::zeros(nc);
         let mut dv = DVector::zeros(nc);
-        for i in 0..self.tree.rigid_size {
-            v[i] = zr[self.tree.rigid_entries[i]];
-            dv[i] = d[self.tree.rigid_entries[i]];
+        for i in 0..self.tree.rigid_size() {
+            v[i] = zr[self.tree.rigid_entries()[i]];
+            dv[i] = d[self.tree.rigid_entries()[i]];
         }
         for m in 0..b.n_modes {
-            v[self.tree.rigid_size + m] = zd[b.first_mode + m];
+            v[self.tree.rigid_size() + m] = zd[b.first_mode + m];
         }
         (v, dv)
     }
@@ -119,7 +119,7 @@ impl Relative {
         let frame = self.frame_motion(k);
         let kernel = &self.bodies[k].kernel;
         match kernel.flexible() {
-            Some(f) => f.dense_terms(&self.tree.rigid_entries[..self.tree.rigid_size]),
+            Some(f) => f.dense_terms(self.tree.rigid_entries()),
             None => rigid_dense_terms(kernel, &frame, &self.assembly.gravity)
                 .expect("a body without a flexible kernel is rigid"),
         }

@@ -68,10 +68,6 @@ pub struct Relative {
 /// the coordinates z and the joint velocities w = L ż. Fixed once the scene is compiled.
 pub(crate) struct Tree {
     pub(crate) dim: Dim,
-    /// Number of rigid velocity entries per body (3 or 6) and their places in a 6-vector
-    /// (`rigid_entries[..rigid_size]`: x, y, θz in 2D).
-    pub(crate) rigid_size: usize,
-    pub(crate) rigid_entries: [usize; 6],
     /// Number of coordinates z (the length of `coordinates.q0`) and of velocity entries w.
     pub(crate) n_z: usize,
     pub(crate) n_w: usize,
@@ -138,6 +134,23 @@ pub(crate) struct Assembly {
     pub(crate) q_w: DVector<f64>,
 }
 
+impl Tree {
+    /// The rigid velocity entries of a body in the 6-layout: x, y, θz in 2D, all six in 3D
+    /// (the dynamics pass's [`Layout`](crate::layout::Layout)).
+    pub(crate) fn rigid_entries(&self) -> &'static [usize] {
+        use crate::layout::{Layout, Planar, Spatial};
+        match self.dim {
+            Dim::Planar => Planar::ENTRIES,
+            Dim::Spatial => Spatial::ENTRIES,
+        }
+    }
+
+    /// Their number (3 or 6).
+    pub(crate) fn rigid_size(&self) -> usize {
+        self.rigid_entries().len()
+    }
+}
+
 /// The cut-joint and driver constraints, in the order of their rows in Φ.
 pub(crate) struct ConstraintRows {
     pub(crate) constraints: Vec<Constraint>,
@@ -199,23 +212,21 @@ impl flexmbd_core::Formulation for Relative {
             }
             row += c.rows(self.tree.dim);
         }
+        let mut distinct = driven.coordinates.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
         let k = driven.coordinates.len();
-        driven.coordinates.sort_unstable();
-        driven.coordinates.dedup();
-        (k > 0 && driven.coordinates.len() == k).then_some(driven)
+        (k > 0 && distinct.len() == k).then_some(driven)
     }
+    /// In the order of the driver rows, as declared.
     fn driven_motion(&self, t: f64, out: &mut [[f64; 3]]) {
-        let driven_z = || {
-            self.rows.constraints.iter().filter_map(|c| match c {
-                Constraint::Coord { z, law, sign } => Some((*z, law, *sign)),
-                _ => None,
-            })
-        };
-        for (z, law, sign) in driven_z() {
-            // Its place among the driven coordinates, which are declared in increasing order.
-            let k = driven_z().filter(|d| d.0 < z).count();
+        let drivers = self.rows.constraints.iter().filter_map(|c| match c {
+            Constraint::Coord { law, sign, .. } => Some((law, *sign)),
+            _ => None,
+        });
+        for ((law, sign), out) in drivers.zip(out) {
             let (th, thd, thdd) = law.eval(t);
-            out[k] = [sign * th, sign * thd, sign * thdd];
+            *out = [sign * th, sign * thd, sign * thdd];
         }
     }
     fn evaluate(&mut self, state: State<'_>, req: Request, out: &mut SystemTerms) {
